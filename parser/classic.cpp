@@ -1,0 +1,667 @@
+#include "parser/classic.h"
+
+#include <algorithm>
+#include <unordered_set>
+
+#include "parser/field_value.h"
+#include "parser/lexer.h"
+
+namespace vr {
+namespace {
+
+// Nodes whose interface is partly declared in the file itself (Script and the X3D shader nodes).
+bool has_dynamic_interface(std::string_view type) {
+    return type == "Script" || type == "ComposedShader" || type == "PackagedShader" ||
+           type == "ShaderProgram";
+}
+
+// One stream of tokens being read: the file itself, or the body of a PROTO being expanded.
+struct Frame {
+    Lexer lexer;
+    uint32_t file;
+    std::unordered_map<Name, NodeId> defs;  // DEF names of this scope (file, or one PROTO instance)
+    // PROTO interface defaults may USE what the enclosing scope DEFined, but their own DEFs stay theirs.
+    const std::unordered_map<Name, NodeId>* outer_defs = nullptr;
+    std::shared_ptr<ProtoScope> protos;
+    const std::unordered_map<Name, FieldEntry>* is_values = nullptr;  // inside a PROTO body
+    const ProtoDecl* proto = nullptr;
+    size_t proto_depth = 0;
+};
+
+class Reader {
+public:
+    Reader(LoadedScene& scene, Spec spec, const LoadLimits& limits, const ExternProtoResolver& resolver)
+        : scene_(scene),
+          tree_(scene.tree),
+          registry_(Registry::builtin()),
+          spec_(spec),
+          limits_(limits),
+          resolver_(resolver) {}
+
+    ClassicResult read_file(uint32_t file) {
+        ClassicResult result;
+        error_file_ = file;
+        const std::string& text = scene_.sources.file(file).text;
+        Frame frame{Lexer(text), file, {}, nullptr, std::make_shared<ProtoScope>()};
+        result.protos = frame.protos;
+        try {
+            while (frame.lexer.peek().kind != TokenKind::End) {
+                NodeId id = statement(frame, 0);
+                if (id != kNullNode) result.roots.push_back(id);
+            }
+        } catch (const SyntaxError& e) {
+            scene_.diagnostics.error({error_file_, e.offset}, e.message);
+            result.ok = false;
+        }
+        return result;
+    }
+
+private:
+    // ---- tokens ------------------------------------------------------------------------------
+
+    [[noreturn]] void fail(Frame& f, const Token& t, std::string message) {
+        error_file_ = f.file;
+        throw SyntaxError{t.offset, std::move(message)};
+    }
+
+    std::string describe(Frame& f, const Token& t) {
+        switch (t.kind) {
+            case TokenKind::End: return "end of file";
+            case TokenKind::LBrace: return "'{'";
+            case TokenKind::RBrace: return "'}'";
+            case TokenKind::LBracket: return "'['";
+            case TokenKind::RBracket: return "']'";
+            case TokenKind::String: return "a string";
+            case TokenKind::BadString: return "an unterminated string";
+            case TokenKind::Word: {
+                std::string_view w = f.lexer.text(t);
+                return "'" + std::string(w.substr(0, 40)) + (w.size() > 40 ? "...'" : "'");
+            }
+        }
+        return "?";
+    }
+
+    Token expect(Frame& f, TokenKind kind, const char* what) {
+        Token t = f.lexer.next();
+        if (t.kind != kind) fail(f, t, std::string("expected ") + what + ", found " + describe(f, t));
+        return t;
+    }
+
+    std::string_view expect_word(Frame& f, const char* what) {
+        Token t = f.lexer.next();
+        if (t.kind != TokenKind::Word) fail(f, t, std::string("expected ") + what + ", found " + describe(f, t));
+        return f.lexer.text(t);
+    }
+
+    bool peek_word(Frame& f, std::string_view word) {
+        const Token& t = f.lexer.peek();
+        return t.kind == TokenKind::Word && f.lexer.text(t) == word;
+    }
+
+    void warn(Frame& f, uint32_t offset, std::string message, const std::string& cause) {
+        scene_.diagnostics.warning({f.file, offset}, std::move(message), cause);
+    }
+
+    // Skips a balanced { ... } or [ ... ] group whose opening token is next.
+    void skip_group(Frame& f) {
+        Token open = f.lexer.next();
+        if (open.kind != TokenKind::LBrace && open.kind != TokenKind::LBracket)
+            fail(f, open, "expected '{' or '[', found " + describe(f, open));
+        size_t depth = 1;
+        while (depth > 0) {
+            Token t = f.lexer.next();
+            switch (t.kind) {
+                case TokenKind::LBrace:
+                case TokenKind::LBracket: ++depth; break;
+                case TokenKind::RBrace:
+                case TokenKind::RBracket: --depth; break;
+                case TokenKind::End: fail(f, open, "this group is not closed before the end of the file");
+                case TokenKind::BadString: fail(f, t, "string is not closed before the end of the file");
+                default: break;
+            }
+        }
+    }
+
+    // ---- statements ---------------------------------------------------------------------------
+
+    // A statement at file or body level; returns the node it makes, or kNullNode.
+    NodeId statement(Frame& f, size_t depth) {
+        const Token t = f.lexer.peek();
+        if (t.kind != TokenKind::Word) fail(f, t, "expected a node or statement, found " + describe(f, t));
+        std::string_view w = f.lexer.text(t);
+        if (w == "PROTO") {
+            proto_declaration(f);
+            return kNullNode;
+        }
+        if (w == "EXTERNPROTO") {
+            externproto_declaration(f);
+            return kNullNode;
+        }
+        if (w == "ROUTE") {
+            route(f);
+            return kNullNode;
+        }
+        {
+            // X3D classic statements; accepted in .wrl files too, where they never occur.
+            if (w == "PROFILE") {
+                f.lexer.next();
+                expect_word(f, "a profile name");
+                return kNullNode;
+            }
+            if (w == "COMPONENT" || w == "UNIT") {
+                f.lexer.next();
+                expect_word(f, "a component name");
+                if (w == "UNIT") {
+                    expect_word(f, "a unit name");
+                    expect_word(f, "a conversion factor");
+                } else if (f.lexer.peek().kind == TokenKind::Word && f.lexer.text(f.lexer.peek()).front() == ':') {
+                    f.lexer.next();  // "name :level" written with a space
+                }
+                return kNullNode;
+            }
+            if (w == "META") {
+                f.lexer.next();
+                expect(f, TokenKind::String, "a META name string");
+                expect(f, TokenKind::String, "a META value string");
+                return kNullNode;
+            }
+            if (w == "IMPORT") {
+                f.lexer.next();
+                expect_word(f, "an inline's exported name");
+                if (peek_word(f, "AS")) {
+                    f.lexer.next();
+                    expect_word(f, "a name after AS");
+                }
+                return kNullNode;
+            }
+            if (w == "EXPORT") {
+                f.lexer.next();
+                expect_word(f, "a DEF name to export");
+                if (peek_word(f, "AS")) {
+                    f.lexer.next();
+                    expect_word(f, "a name after AS");
+                }
+                return kNullNode;
+            }
+        }
+        return node_statement(f, depth);
+    }
+
+    void route(Frame& f) {
+        f.lexer.next();
+        expect_word(f, "the source of a ROUTE (node.event)");
+        std::string_view to = expect_word(f, "TO");
+        if (to != "TO") fail(f, f.lexer.peek(), "expected TO in ROUTE");
+        expect_word(f, "the destination of a ROUTE (node.event)");
+        ++scene_.stats.routes;
+    }
+
+    // DEF name node | USE name | node
+    NodeId node_statement(Frame& f, size_t depth) {
+        Token t = f.lexer.next();
+        std::string_view w = f.lexer.text(t);
+        if (w == "DEF") {
+            std::string_view name = expect_word(f, "a name after DEF");
+            Name def = intern(name);
+            Token type = f.lexer.next();
+            if (type.kind != TokenKind::Word) fail(f, type, "expected a node type after DEF " + std::string(name));
+            NodeId id = node(f, type, depth);
+            if (id != kNullNode) {
+                if (tree_.nodes[id].def_name == kNoName) tree_.nodes[id].def_name = def;
+                ++scene_.stats.def_count;
+            }
+            f.defs[def] = id;
+            return id;
+        }
+        if (w == "USE") {
+            Token nt = f.lexer.next();
+            if (nt.kind != TokenKind::Word) fail(f, nt, "expected a name after USE");
+            Name name = intern(f.lexer.text(nt));
+            auto it = f.defs.find(name);
+            if (it == f.defs.end() && f.outer_defs) {
+                auto outer = f.outer_defs->find(name);
+                if (outer != f.outer_defs->end()) {
+                    ++scene_.stats.use_count;
+                    return outer->second;
+                }
+            }
+            if (it == f.defs.end())
+                fail(f, nt, "USE of '" + std::string(f.lexer.text(nt)) + "', which no DEF before it names" +
+                                (f.is_values ? " in this PROTO body" : ""));
+            ++scene_.stats.use_count;
+            return it->second;
+        }
+        if (t.kind != TokenKind::Word) fail(f, t, "expected a node, found " + describe(f, t));
+        return node(f, t, depth);
+    }
+
+    // ---- nodes --------------------------------------------------------------------------------
+
+    NodeId node(Frame& f, const Token& type_token, size_t depth) {
+        if (depth > limits_.max_nesting_depth)
+            fail(f, type_token, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) + " (limit)");
+        std::string_view type = f.lexer.text(type_token);
+        Name type_name = intern(type);
+        if (const ProtoDecl* proto = f.protos->find(type_name)) return proto_instance(f, type_token, *proto, depth);
+        const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
+        if (!decl) {
+            if (f.lexer.peek().kind != TokenKind::LBrace)
+                fail(f, f.lexer.peek(), "expected '{' after node type '" + std::string(type) + "', found " +
+                                            describe(f, f.lexer.peek()));
+            warn(f, type_token.offset, "unknown node type '" + std::string(type) + "' skipped",
+                 "unknown-node:" + std::string(type));
+            ++scene_.stats.skipped_nodes[std::string(type)];
+            skip_group(f);
+            return kNullNode;
+        }
+        const bool dynamic = has_dynamic_interface(type);
+        Token open = f.lexer.next();
+        if (open.kind != TokenKind::LBrace)
+            fail(f, open, "expected '{' after node type '" + std::string(type) + "', found " + describe(f, open));
+
+        const size_t mark = scratch_.size();
+        std::vector<std::pair<Name, FieldType>> dynamic_fields;  // declared in a Script's body
+        for (;;) {
+            Token t = f.lexer.peek();
+            if (t.kind == TokenKind::RBrace) {
+                f.lexer.next();
+                break;
+            }
+            if (t.kind != TokenKind::Word)
+                fail(f, t, "expected a field name or '}' in " + std::string(type) + ", found " + describe(f, t));
+            std::string_view w = f.lexer.text(t);
+            if (w == "ROUTE") {
+                route(f);
+                continue;
+            }
+            if (w == "PROTO") {
+                proto_declaration(f);
+                continue;
+            }
+            if (w == "EXTERNPROTO") {
+                externproto_declaration(f);
+                continue;
+            }
+            if (dynamic && parse_access(w) && !peek_is_field(f, decl)) {
+                dynamic_fields.push_back(dynamic_field(f, depth));
+                continue;
+            }
+            f.lexer.next();
+            Name field_name = intern(w);
+            const FieldDecl* field = registry_.lookup_field(spec_, *decl, field_name);
+            if (!field && dynamic) {
+                // A field the Script declared itself: `name IS protoField` or `name value`; dropped.
+                auto it = std::find_if(dynamic_fields.begin(), dynamic_fields.end(),
+                                       [&](const auto& d) { return d.first == field_name; });
+                if (it != dynamic_fields.end()) {
+                    if (peek_word(f, "IS")) {
+                        f.lexer.next();
+                        expect_word(f, "a PROTO field name after IS");
+                    } else {
+                        FieldEntry dropped;
+                        field_value(f, it->second, dropped, depth);
+                    }
+                    continue;
+                }
+            }
+            if (!field)
+                fail(f, t, "unknown field '" + std::string(w) + "' in node " + std::string(type));
+            if (field->extension)
+                warn(f, t.offset, "non-standard field '" + std::string(w) + "' of " + std::string(type) +
+                                      " (a browser extension) read and ignored",
+                     "extension-field:" + std::string(type) + "." + std::string(w));
+            if (peek_word(f, "IS")) {
+                f.lexer.next();
+                is_mapping(f, field->name, field->type, field->access, mark);
+                continue;
+            }
+            if (!has_value(field->access))
+                fail(f, t, "'" + std::string(w) + "' is an event of " + std::string(type) + " and takes no value here");
+            FieldEntry entry;
+            entry.name = field->name;
+            field_value(f, field->type, entry, depth);
+            push_field(f, mark, entry, t);
+        }
+        return make_node(f, decl, type_name, type_token, mark);
+    }
+
+    // True when the word at the lexer is an access keyword but also the name of a real field
+    // (no such clash exists today; kept so a future field named like a keyword still reads).
+    bool peek_is_field(Frame& f, const NodeTypeDecl* decl) {
+        return decl->find(f.lexer.text(f.lexer.peek())) != nullptr;
+    }
+
+    // Script/shader interface declarations: access type name [value | IS name]. Read and dropped.
+    std::pair<Name, FieldType> dynamic_field(Frame& f, size_t depth) {
+        Token at = f.lexer.next();
+        Access access = *parse_access(f.lexer.text(at));
+        Token type_token = f.lexer.next();
+        auto type = type_token.kind == TokenKind::Word ? parse_type_name(f.lexer.text(type_token)) : std::nullopt;
+        if (!type) fail(f, type_token, "expected a field type, found " + describe(f, type_token));
+        Name name = intern(expect_word(f, "a field name"));
+        if (peek_word(f, "IS")) {
+            f.lexer.next();
+            expect_word(f, "a PROTO field name after IS");
+        } else if (has_value(access)) {
+            FieldEntry scratch;
+            field_value(f, *type, scratch, depth);
+        }
+        return {name, *type};
+    }
+
+    void push_field(Frame& f, size_t mark, const FieldEntry& entry, const Token& at) {
+        for (size_t i = mark; i < scratch_.size(); ++i) {
+            if (scratch_[i].name == entry.name) {
+                warn(f, at.offset, "field '" + std::string(name_text(entry.name)) + "' given twice; the last value is used",
+                     "duplicate-field");
+                scratch_[i] = entry;
+                return;
+            }
+        }
+        scratch_.push_back(entry);
+    }
+
+    NodeId make_node(Frame& f, const NodeTypeDecl* decl, Name type_name, const Token& at, size_t mark) {
+        if (tree_.nodes.size() >= limits_.max_nodes)
+            fail(f, at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
+        Node n;
+        n.decl = decl;
+        n.type = type_name;
+        n.loc = {f.file, at.offset};
+        n.first_field = static_cast<uint32_t>(tree_.fields.size());
+        n.field_count = static_cast<uint32_t>(scratch_.size() - mark);
+        tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark), scratch_.end());
+        scratch_.resize(mark);
+        tree_.nodes.push_back(n);
+        return static_cast<NodeId>(tree_.nodes.size() - 1);
+    }
+
+    // A field value of any type, including node values.
+    void field_value(Frame& f, FieldType type, FieldEntry& entry, size_t depth) {
+        if (type.kind != ValueKind::Node) {
+            ValueContext ctx{tree_, f.lexer, &scene_.diagnostics, f.file, limits_.max_mf_values};
+            try {
+                read_field_value(ctx, type, entry);
+            } catch (const SyntaxError&) {
+                error_file_ = f.file;
+                throw;
+            }
+            return;
+        }
+        entry.type = type;
+        Token first = f.lexer.peek();
+        entry.loc = {f.file, first.offset};
+        std::vector<NodeId> ids;
+        if (!type.multi) {
+            if (peek_word(f, "NULL")) {
+                f.lexer.next();
+                ids.push_back(kNullNode);
+            } else {
+                if (first.kind != TokenKind::Word) fail(f, first, "expected a node or NULL, found " + describe(f, first));
+                ids.push_back(node_statement(f, depth + 1));
+            }
+        } else if (first.kind == TokenKind::LBracket) {
+            f.lexer.next();
+            for (;;) {
+                Token t = f.lexer.peek();
+                if (t.kind == TokenKind::RBracket) {
+                    f.lexer.next();
+                    break;
+                }
+                if (t.kind == TokenKind::End) fail(f, first, "'[' is not closed before the end of the file");
+                if (t.kind != TokenKind::Word) fail(f, t, "expected a node or ']', found " + describe(f, t));
+                if (f.lexer.text(t) == "NULL") {  // not valid in MFNode, but written by some exporters
+                    f.lexer.next();
+                    continue;
+                }
+                if (f.lexer.text(t) == "ROUTE") {  // some exporters put ROUTEs among children
+                    route(f);
+                    continue;
+                }
+                if (f.lexer.text(t) == "PROTO") {
+                    proto_declaration(f);
+                    continue;
+                }
+                NodeId id = node_statement(f, depth + 1);
+                if (id != kNullNode) ids.push_back(id);
+                if (ids.size() > limits_.max_mf_values) fail(f, first, "too many nodes in one field (limit)");
+            }
+        } else {
+            if (first.kind != TokenKind::Word) fail(f, first, "expected a node or '[', found " + describe(f, first));
+            if (!peek_word(f, "NULL")) {
+                NodeId id = node_statement(f, depth + 1);
+                if (id != kNullNode) ids.push_back(id);
+            } else {
+                f.lexer.next();
+            }
+        }
+        entry.begin = static_cast<uint32_t>(tree_.node_refs.size());
+        tree_.node_refs.insert(tree_.node_refs.end(), ids.begin(), ids.end());
+        entry.count = static_cast<uint32_t>(ids.size());
+    }
+
+    // `field IS protoField` inside a PROTO body: the node's field takes the instance's value.
+    void is_mapping(Frame& f, Name field, FieldType type, Access access, size_t mark) {
+        Token t = f.lexer.next();
+        if (t.kind != TokenKind::Word) fail(f, t, "expected a PROTO field name after IS");
+        if (!f.is_values)
+            fail(f, t, "IS may only be used inside a PROTO body");
+        Name proto_field = intern(f.lexer.text(t));
+        const ProtoField* pf = f.proto->find(proto_field);
+        if (!pf) fail(f, t, "IS names '" + std::string(f.lexer.text(t)) + "', which is not a field of PROTO " +
+                                std::string(name_text(f.proto->name)));
+        if (pf->type != type)
+            fail(f, t, "IS connects a " + std::string(type_name(type)) + " field to PROTO field '" +
+                           std::string(name_text(pf->name)) + "' of type " + std::string(type_name(pf->type)));
+        if (!has_value(access)) return;  // events carry no value at time 0
+        auto it = f.is_values->find(proto_field);
+        if (it == f.is_values->end()) return;  // PROTO event: the node keeps its default
+        FieldEntry entry = it->second;
+        entry.name = field;
+        push_field(f, mark, entry, t);
+    }
+
+    // ---- PROTO --------------------------------------------------------------------------------
+
+    std::vector<ProtoField> interface_declarations(Frame& f, bool external, size_t depth) {
+        expect(f, TokenKind::LBracket, "'[' to open the PROTO interface");
+        std::vector<ProtoField> fields;
+        // Default values are DEF scopes of their own; they may USE the enclosing scope's names.
+        std::unordered_map<Name, NodeId> saved;
+        saved.swap(f.defs);
+        const auto* saved_outer = f.outer_defs;
+        f.outer_defs = &saved;
+        for (;;) {
+            Token t = f.lexer.next();
+            if (t.kind == TokenKind::RBracket) break;
+            if (t.kind != TokenKind::Word) fail(f, t, "expected a field declaration or ']', found " + describe(f, t));
+            auto access = parse_access(f.lexer.text(t));
+            if (!access) fail(f, t, "expected eventIn, eventOut, field or exposedField, found " + describe(f, t));
+            Token type_token = f.lexer.next();
+            auto type = type_token.kind == TokenKind::Word ? parse_type_name(f.lexer.text(type_token)) : std::nullopt;
+            if (!type) fail(f, type_token, "expected a field type, found " + describe(f, type_token));
+            ProtoField pf;
+            pf.name = intern(expect_word(f, "a field name"));
+            pf.type = *type;
+            pf.access = *access;
+            if (has_value(*access) && !external) {
+                f.defs.clear();  // each default value is a DEF scope of its own
+                pf.has_default = true;
+                pf.default_value.name = pf.name;
+                field_value(f, pf.type, pf.default_value, depth);
+            }
+            fields.push_back(pf);
+        }
+        saved.swap(f.defs);
+        f.outer_defs = saved_outer;
+        return fields;
+    }
+
+    void proto_declaration(Frame& f) {
+        f.lexer.next();  // PROTO
+        Token name_token = f.lexer.next();
+        if (name_token.kind != TokenKind::Word) fail(f, name_token, "expected a PROTO name");
+        auto decl = std::make_shared<ProtoDecl>();
+        decl->name = intern(f.lexer.text(name_token));
+        decl->spec = spec_;
+        decl->fields = interface_declarations(f, false, 0);
+        Token open = expect(f, TokenKind::LBrace, "'{' to open the PROTO body");
+        decl->file = f.file;
+        decl->body_begin = open.offset + 1;
+        // Find the matching '}' without building anything: the body is read per instance.
+        size_t depth = 1;
+        Token t;
+        while (depth > 0) {
+            t = f.lexer.next();
+            if (t.kind == TokenKind::LBrace || t.kind == TokenKind::LBracket) ++depth;
+            if (t.kind == TokenKind::RBrace || t.kind == TokenKind::RBracket) --depth;
+            if (t.kind == TokenKind::End) fail(f, open, "PROTO body is not closed before the end of the file");
+            if (t.kind == TokenKind::BadString) fail(f, t, "string is not closed before the end of the file");
+        }
+        decl->body_end = t.offset;
+        decl->scope = f.protos;
+        if (!f.protos->protos.count(decl->name)) f.protos->order.push_back(decl->name);
+        f.protos->protos[decl->name] = decl;
+        ++scene_.stats.proto_declarations;
+    }
+
+    void externproto_declaration(Frame& f) {
+        Token kw = f.lexer.next();  // EXTERNPROTO
+        Token name_token = f.lexer.next();
+        if (name_token.kind != TokenKind::Word) fail(f, name_token, "expected an EXTERNPROTO name");
+        auto decl = std::make_shared<ProtoDecl>();
+        decl->name = intern(f.lexer.text(name_token));
+        decl->spec = spec_;
+        decl->external = true;
+        decl->fields = interface_declarations(f, true, 0);
+        FieldEntry urls;
+        ValueContext ctx{tree_, f.lexer, &scene_.diagnostics, f.file, limits_.max_mf_values};
+        try {
+            read_field_value(ctx, FieldType{ValueKind::String, true}, urls);
+        } catch (const SyntaxError&) {
+            error_file_ = f.file;
+            throw;
+        }
+        std::vector<std::string> url_list(tree_.strings.begin() + urls.begin,
+                                          tree_.strings.begin() + urls.begin + urls.count);
+        decl->scope = f.protos;
+        if (resolver_) decl->implementation = resolver_(url_list, f.file, {f.file, kw.offset}, decl->name);
+        if (!f.protos->protos.count(decl->name)) f.protos->order.push_back(decl->name);
+        f.protos->protos[decl->name] = decl;
+        ++scene_.stats.externproto_declarations;
+    }
+
+    NodeId proto_instance(Frame& f, const Token& type_token, const ProtoDecl& proto, size_t depth) {
+        expect(f, TokenKind::LBrace, "'{' after PROTO instance type");
+        std::unordered_map<Name, FieldEntry> values;
+        for (;;) {
+            Token t = f.lexer.next();
+            if (t.kind == TokenKind::RBrace) break;
+            if (t.kind != TokenKind::Word)
+                fail(f, t, "expected a field name or '}' in " + std::string(name_text(proto.name)) + ", found " +
+                               describe(f, t));
+            Name field_name = intern(f.lexer.text(t));
+            const ProtoField* pf = proto.find(field_name);
+            if (!pf)
+                fail(f, t, "unknown field '" + std::string(f.lexer.text(t)) + "' in PROTO instance " +
+                               std::string(name_text(proto.name)));
+            if (peek_word(f, "IS")) {
+                f.lexer.next();
+                Token is_name = f.lexer.next();
+                if (!f.is_values) fail(f, is_name, "IS may only be used inside a PROTO body");
+                Name outer = intern(f.lexer.text(is_name));
+                const ProtoField* opf = f.proto->find(outer);
+                if (!opf) fail(f, is_name, "IS names a field that PROTO " + std::string(name_text(f.proto->name)) + " does not have");
+                if (opf->type != pf->type) fail(f, is_name, "IS connects fields of different types");
+                auto it = f.is_values->find(outer);
+                if (it != f.is_values->end()) values[field_name] = it->second;
+                continue;
+            }
+            if (!has_value(pf->access)) fail(f, t, "'" + std::string(f.lexer.text(t)) + "' is an event and takes no value");
+            FieldEntry entry;
+            entry.name = field_name;
+            field_value(f, pf->type, entry, depth);
+            values[field_name] = entry;
+        }
+        ++scene_.stats.proto_instances;
+
+        const ProtoDecl* impl = &proto;
+        if (proto.external) {
+            impl = proto.implementation.get();
+            if (!impl) {
+                warn(f, type_token.offset,
+                     "instance of EXTERNPROTO " + std::string(name_text(proto.name)) + " skipped: it was not resolved",
+                     "unresolved-externproto:" + std::string(name_text(proto.name)));
+                ++scene_.stats.skipped_nodes[std::string(name_text(proto.name))];
+                return kNullNode;
+            }
+        }
+        if (impl->builtin) return builtin_instance(f, type_token, *impl->builtin, values);
+        // Every field of the implementation gets a value: the instance's, else the PROTO default.
+        std::unordered_map<Name, FieldEntry> bound;
+        for (const ProtoField& pf : impl->fields) {
+            auto it = values.find(pf.name);
+            if (it != values.end()) {
+                if (it->second.type != pf.type)
+                    fail(f, type_token, "field '" + std::string(name_text(pf.name)) + "' of EXTERNPROTO " +
+                                            std::string(name_text(proto.name)) + " has another type in its implementation");
+                bound[pf.name] = it->second;
+            } else if (pf.has_default) {
+                bound[pf.name] = pf.default_value;
+            }
+        }
+        if (f.proto_depth + 1 > limits_.max_proto_depth)
+            fail(f, type_token, "PROTO instances nested deeper than " + std::to_string(limits_.max_proto_depth) +
+                                    " (limit; a PROTO that instantiates itself?)");
+        const std::string& text = scene_.sources.file(impl->file).text;
+        Frame body{Lexer(text, impl->body_begin, impl->body_end), impl->file, {}, nullptr,
+                   std::make_shared<ProtoScope>(), &bound, impl, f.proto_depth + 1};
+        body.protos->parent = impl->scope;
+        NodeId first = kNullNode;
+        bool have_first = false;
+        while (body.lexer.peek().kind != TokenKind::End) {
+            NodeId id = statement(body, depth + 1);
+            if (!have_first && id != kNullNode) {
+                first = id;
+                have_first = true;
+            }
+        }
+        return first;
+    }
+
+    // An EXTERNPROTO that names a built-in node: the instance is that node with the fields it was given.
+    NodeId builtin_instance(Frame& f, const Token& at, const NodeTypeDecl& decl,
+                            const std::unordered_map<Name, FieldEntry>& values) {
+        const size_t mark = scratch_.size();
+        for (const auto& [name, entry] : values) {
+            const FieldDecl* field = decl.find(name);
+            if (!field || field->type != entry.type || !has_value(field->access)) {
+                warn(f, at.offset, "field '" + std::string(name_text(name)) + "' does not match built-in node " +
+                                       std::string(name_text(decl.name)) + "; ignored",
+                     "builtin-proto-field:" + std::string(name_text(name)));
+                continue;
+            }
+            scratch_.push_back(entry);
+        }
+        return make_node(f, &decl, decl.name, at, mark);
+    }
+
+    LoadedScene& scene_;
+    NodeTree& tree_;
+    const Registry& registry_;
+    Spec spec_;
+    const LoadLimits& limits_;
+    const ExternProtoResolver& resolver_;
+    std::vector<FieldEntry> scratch_;  // fields of the nodes being read, innermost last
+    uint32_t error_file_ = 0;
+};
+
+}  // namespace
+
+ClassicResult read_classic(LoadedScene& scene, uint32_t file, Spec spec, const LoadLimits& limits,
+                           const ExternProtoResolver& resolve_externproto) {
+    Reader reader(scene, spec, limits, resolve_externproto);
+    return reader.read_file(file);
+}
+
+}  // namespace vr

@@ -1,0 +1,36 @@
+// The field types of VRML97 and X3D, and how many numbers one value of each holds.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace vr {
+
+enum class ValueKind : uint8_t {
+    Bool, Int32, Float, Double, Time, String,
+    Vec2f, Vec3f, Vec4f, Vec2d, Vec3d, Vec4d,
+    Rotation, Color, ColorRGBA, Image, Node,
+    Matrix3f, Matrix4f, Matrix3d, Matrix4d,
+};
+
+struct FieldType {
+    ValueKind kind = ValueKind::Float;
+    bool multi = false;  // MF (true) or SF (false)
+    bool operator==(const FieldType&) const = default;
+};
+
+// Numbers in one value of this kind (SFImage: 0, it is variable; String and Node: 0, they are not numbers).
+int components(ValueKind kind);
+bool is_numeric(ValueKind kind);
+// "SFVec3f", "MFNode", ...
+std::string_view type_name(FieldType type);
+std::optional<FieldType> parse_type_name(std::string_view name);
+
+// How a field may be used: VRML97 field/exposedField/eventIn/eventOut, X3D initializeOnly/inputOutput/...
+enum class Access : uint8_t { Field, ExposedField, EventIn, EventOut };
+std::optional<Access> parse_access(std::string_view word);  // both VRML97 and X3D spellings, and [in,out] forms
+std::string_view access_name_vrml97(Access access);
+std::string_view access_name_x3d(Access access);
+inline bool has_value(Access access) { return access == Access::Field || access == Access::ExposedField; }
+
+}  // namespace vr

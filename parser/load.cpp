@@ -1,0 +1,435 @@
+#include "parser/load.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "parser/classic.h"
+#include "parser/x3d_xml.h"
+
+namespace vr {
+
+namespace fs = std::filesystem;
+
+std::string_view encoding_name(Encoding e) {
+    switch (e) {
+        case Encoding::Vrml97: return "VRML97 (classic)";
+        case Encoding::X3dClassic: return "X3D classic";
+        case Encoding::X3dXml: return "X3D XML";
+        case Encoding::Vrml1: return "VRML 1.0";
+        case Encoding::Unknown: return "unknown";
+    }
+    return "unknown";
+}
+
+static std::string gunzip(const std::string& data, size_t max_bytes) {
+    z_stream zs{};
+    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::runtime_error("cannot start gzip decompression");
+    zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+    zs.avail_in = static_cast<uInt>(data.size());
+    std::string out;
+    char buffer[1 << 16];
+    int ret = Z_OK;
+    while (ret != Z_STREAM_END) {
+        zs.next_out = reinterpret_cast<Bytef*>(buffer);
+        zs.avail_out = sizeof(buffer);
+        ret = inflate(&zs, Z_NO_FLUSH);
+        if (ret != Z_OK && ret != Z_STREAM_END) {
+            inflateEnd(&zs);
+            throw std::runtime_error("gzip data is corrupt or truncated");
+        }
+        out.append(buffer, sizeof(buffer) - zs.avail_out);
+        if (out.size() > max_bytes) {
+            inflateEnd(&zs);
+            throw std::runtime_error("decompressed size exceeds the limit of " + std::to_string(max_bytes) + " bytes");
+        }
+        if (ret == Z_OK && zs.avail_in == 0 && zs.avail_out != 0) {
+            inflateEnd(&zs);
+            throw std::runtime_error("gzip data is truncated");
+        }
+    }
+    inflateEnd(&zs);
+    return out;
+}
+
+std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw std::runtime_error("is a directory, not a file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open file: " + std::string(std::strerror(errno)));
+    in.seekg(0, std::ios::end);
+    std::streamoff size = in.tellg();
+    if (size < 0) throw std::runtime_error("cannot read file");
+    if (static_cast<uint64_t>(size) > max_bytes)
+        throw std::runtime_error("file is larger than the limit of " + std::to_string(max_bytes) + " bytes");
+    in.seekg(0);
+    std::string data(static_cast<size_t>(size), '\0');
+    in.read(data.data(), size);
+    if (!in) throw std::runtime_error("cannot read file");
+    if (data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f && static_cast<unsigned char>(data[1]) == 0x8b)
+        return gunzip(data, max_bytes);
+    return data;
+}
+
+static Encoding detect_encoding(const std::string& text, std::string& header) {
+    size_t start = 0;
+    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) start = 3;  // UTF-8 byte order mark
+    size_t end = text.find_first_of("\r\n", start);
+    header = text.substr(start, std::min<size_t>(end == std::string::npos ? text.size() : end, start + 80) - start);
+    auto starts = [&](const char* prefix) { return text.compare(start, std::strlen(prefix), prefix) == 0; };
+    if (starts("#VRML V2.0")) return Encoding::Vrml97;
+    if (starts("#X3D V3.") || starts("#X3D V4.")) return Encoding::X3dClassic;
+    if (starts("#VRML V1.0")) return Encoding::Vrml1;
+    size_t p = text.find_first_not_of(" \t\r\n", start);
+    if (p != std::string::npos && text.compare(p, 1, "<") == 0) return Encoding::X3dXml;
+    return Encoding::Unknown;
+}
+
+static bool is_under(const fs::path& path, const fs::path& root) {
+    auto r = root.begin(), p = path.begin();
+    for (; r != root.end(); ++r, ++p) {
+        if (r->empty()) continue;  // trailing separator
+        if (p == path.end() || *p != *r) return false;
+    }
+    return true;
+}
+
+static std::string percent_decode(const std::string& s) {
+    std::string out;
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
+            out += static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            out += s[i];
+        }
+    }
+    return out;
+}
+
+fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const std::vector<fs::path>& allowed_roots,
+                     std::string& why) {
+    std::string url = url_in;
+    while (!url.empty() && std::isspace(static_cast<unsigned char>(url.back()))) url.pop_back();
+    while (!url.empty() && std::isspace(static_cast<unsigned char>(url.front()))) url.erase(url.begin());
+    if (url.empty()) {
+        why = "empty URL";
+        return {};
+    }
+    std::string lower = url;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (lower.rfind("file://", 0) == 0) {
+        url = url.substr(7);
+    } else if (lower.rfind("file:", 0) == 0) {
+        url = url.substr(5);
+    } else {
+        size_t colon = url.find(':');
+        size_t slash = url.find('/');
+        // "C:/..." is a drive letter, not a scheme; anything else before ':' is a scheme.
+        if (colon != std::string::npos && colon > 1 && (slash == std::string::npos || colon < slash)) {
+            why = "network or non-file URL '" + url_in + "' is never fetched";
+            return {};
+        }
+    }
+    url = percent_decode(url);
+    fs::path candidate = fs::path(url).is_absolute() ? fs::path(url) : from_file.parent_path() / url;
+    std::error_code ec;
+    fs::path canonical = fs::weakly_canonical(candidate, ec);
+    if (ec) canonical = candidate.lexically_normal();
+    bool allowed = false;
+    for (const fs::path& root : allowed_roots) {
+        if (is_under(canonical, root)) {
+            allowed = true;
+            break;
+        }
+    }
+    if (!allowed) {
+        why = "'" + url_in + "' lies outside the scene's folder (use --allow-path to permit it)";
+        return {};
+    }
+    if (!fs::is_regular_file(canonical, ec)) {
+        why = "file '" + candidate.string() + "' not found";
+        return {};
+    }
+    return canonical;
+}
+
+namespace {
+
+Spec spec_of(Encoding e) {
+    switch (e) {
+        case Encoding::X3dClassic:
+        case Encoding::X3dXml: return Spec::X3d;
+        case Encoding::Vrml1: return Spec::Vrml1;
+        default: return Spec::Vrml97;
+    }
+}
+
+// Reads the main file and, recursively, what its Inline and EXTERNPROTO URLs name.
+class Loader {
+public:
+    Loader(LoadedScene& scene, const LoadOptions& options) : scene_(scene), options_(options) {}
+
+    // Reads one file's text (already added as source `file`); returns its top-level nodes.
+    ClassicResult read_source(uint32_t file, size_t inline_depth) {
+        const SourceFile& src = scene_.sources.file(file);
+        std::string header;
+        Encoding enc = detect_encoding(src.text, header);
+        if (file == 0) scene_.encoding = enc;
+        ClassicResult result;
+        const size_t first_node = scene_.tree.nodes.size();
+        switch (enc) {
+            case Encoding::Vrml97:
+            case Encoding::X3dClassic: {
+                check_header(file, enc, header);
+                ExternProtoResolver resolver = [this, inline_depth](const std::vector<std::string>& urls,
+                                                                    uint32_t from, SourceLoc where, Name name) {
+                    return resolve_externproto(urls, from, where, name, inline_depth);
+                };
+                result = read_classic(scene_, file, spec_of(enc), options_.limits, resolver);
+                break;
+            }
+            case Encoding::X3dXml:
+                result = read_x3d_xml(scene_, file, options_.limits);
+                break;
+            case Encoding::Vrml1:
+                scene_.diagnostics.error({file, 0}, "VRML 1.0 files are not supported yet (header '" + header + "')");
+                result.ok = false;
+                break;
+            case Encoding::Unknown:
+                scene_.diagnostics.error({file, 0}, "not a VRML97 or X3D file: the first line is '" + header +
+                                                        "', expected '#VRML V2.0 utf8', '#X3D V3.x utf8' or an XML document");
+                result.ok = false;
+                break;
+        }
+        if (result.ok && options_.resolve_inlines) resolve_inlines(file, first_node, inline_depth);
+        return result;
+    }
+
+private:
+    // Reads an Inline or EXTERNPROTO file: its errors become warnings of the including scene, which
+    // still renders without it.
+    ClassicResult read_demoting_errors(uint32_t file, size_t depth, const char* what) {
+        Diagnostics outer;
+        std::swap(outer, scene_.diagnostics);
+        ClassicResult r = read_source(file, depth);
+        std::swap(outer, scene_.diagnostics);
+        for (const Diagnostic& d : outer.all()) {
+            std::string message = d.severity == Severity::Error
+                                      ? std::string(what) + " file not used: " + d.message
+                                      : d.message;
+            std::string cause = std::string(what) + ":" + std::to_string(d.loc.file) + ":" +
+                                std::to_string(d.loc.offset) + ":" + d.message;
+            for (uint32_t i = 0; i < d.count; ++i) {
+                if (d.loc.valid())
+                    scene_.diagnostics.warning(d.loc, message, cause);
+                else
+                    scene_.diagnostics.warning_in_file(d.file, message, cause);
+            }
+        }
+        if (!r.ok) r.roots.clear();
+        return r;
+    }
+
+    void check_header(uint32_t file, Encoding enc, const std::string& header) {
+        // "#VRML V2.0 utf8" / "#X3D V3.3 utf8"; exporters add text after utf8, which is allowed.
+        size_t space = header.find(' ', 6);
+        std::string rest = space == std::string::npos ? "" : header.substr(space + 1);
+        if (rest.rfind("utf8", 0) != 0) {
+            scene_.diagnostics.warning({file, 0}, "header should say 'utf8' after the version: '" + header + "'",
+                                       "header-utf8");
+        }
+    }
+
+    void resolve_inlines(uint32_t file, size_t first_node, size_t depth) {
+        static const Name kInline = intern("Inline");
+        static const Name kUrl = intern("url");
+        NodeTree& tree = scene_.tree;
+        const size_t end = tree.nodes.size();
+        for (size_t id = first_node; id < end; ++id) {
+            if (tree.nodes[id].type != kInline) continue;
+            FieldView urls = tree.get(static_cast<NodeId>(id), kUrl);
+            std::vector<std::string> list(urls.strings.begin(), urls.strings.end());
+            SourceLoc where = tree.nodes[id].loc;
+            auto roots = load_inline(list, file, where, depth);
+            if (roots) tree.inline_roots[static_cast<NodeId>(id)] = *roots;
+        }
+    }
+
+    std::optional<std::vector<NodeId>> load_inline(const std::vector<std::string>& urls, uint32_t from, SourceLoc where,
+                                                   size_t depth) {
+        std::string reasons;
+        for (const std::string& url : urls) {
+            std::string why;
+            fs::path path = resolve_url(url, scene_.sources.file(from).path, scene_.allowed_roots, why);
+            if (path.empty()) {
+                reasons += (reasons.empty() ? "" : "; ") + why;
+                continue;
+            }
+            std::string key = path.string();
+            if (std::find(stack_.begin(), stack_.end(), key) != stack_.end()) {
+                scene_.diagnostics.warning(where, "Inline '" + url + "' includes itself (a cycle); skipped",
+                                           "inline-cycle:" + key);
+                return std::nullopt;
+            }
+            auto cached = inline_cache_.find(key);
+            if (cached != inline_cache_.end()) return cached->second;
+            if (depth + 1 > options_.limits.max_inline_depth) {
+                scene_.diagnostics.warning(where, "Inline nesting deeper than " +
+                                                      std::to_string(options_.limits.max_inline_depth) + " (limit); skipped",
+                                           "inline-depth");
+                return std::nullopt;
+            }
+            if (++inline_files_ > options_.limits.max_inline_files) {
+                scene_.diagnostics.warning(where, "more than " + std::to_string(options_.limits.max_inline_files) +
+                                                      " Inline files (limit); skipped",
+                                           "inline-count");
+                return std::nullopt;
+            }
+            uint32_t file;
+            try {
+                file = scene_.sources.add(key, read_file_bytes(path, options_.limits.max_file_bytes));
+            } catch (const std::exception& e) {
+                reasons += (reasons.empty() ? "" : "; ") + key + ": " + e.what();
+                continue;
+            }
+            ++scene_.stats.inline_files;
+            stack_.push_back(key);
+            ClassicResult r = read_demoting_errors(file, depth + 1, "Inline");
+            stack_.pop_back();
+            inline_cache_[key] = r.roots;
+            return r.roots;
+        }
+        scene_.diagnostics.warning(where, "Inline not loaded: " + (reasons.empty() ? std::string("no URL") : reasons),
+                                   "inline-missing:" + reasons);
+        return std::nullopt;
+    }
+
+    std::shared_ptr<const ProtoDecl> resolve_externproto(const std::vector<std::string>& urls, uint32_t from,
+                                                         SourceLoc where, Name name, size_t depth) {
+        std::string reasons;
+        for (const std::string& full : urls) {
+            // "urn:web3d:vrml97:node:Shape" / "urn:web3d:x3d:node:Shape" name a built-in node type.
+            for (const char* prefix : {"urn:web3d:vrml97:node:", "urn:web3d:x3d:node:"}) {
+                if (full.rfind(prefix, 0) != 0) continue;
+                std::string type = full.substr(std::strlen(prefix));
+                Spec spec = std::strstr(prefix, "x3d") ? Spec::X3d : Spec::Vrml97;
+                if (const NodeTypeDecl* decl = Registry::builtin().lookup(spec, intern(type))) {
+                    auto proto = std::make_shared<ProtoDecl>();
+                    proto->name = name;
+                    proto->builtin = decl;
+                    return proto;
+                }
+            }
+            std::string url = full, fragment;
+            size_t hash = url.find('#');
+            if (hash != std::string::npos) {
+                fragment = url.substr(hash + 1);
+                url = url.substr(0, hash);
+            }
+            if (url.empty()) continue;  // "#Name" alone refers to this file: not supported by VRML97
+            std::string why;
+            fs::path path = resolve_url(url, scene_.sources.file(from).path, scene_.allowed_roots, why);
+            if (path.empty()) {
+                reasons += (reasons.empty() ? "" : "; ") + why;
+                continue;
+            }
+            std::string key = path.string();
+            std::shared_ptr<ProtoScope> scope;
+            auto cached = proto_files_.find(key);
+            if (cached != proto_files_.end()) {
+                scope = cached->second;
+            } else {
+                if (std::find(stack_.begin(), stack_.end(), key) != stack_.end() ||
+                    depth + 1 > options_.limits.max_inline_depth) {
+                    reasons += (reasons.empty() ? "" : "; ") + key + " refers back to itself";
+                    continue;
+                }
+                uint32_t file;
+                try {
+                    file = scene_.sources.add(key, read_file_bytes(path, options_.limits.max_file_bytes));
+                } catch (const std::exception& e) {
+                    reasons += (reasons.empty() ? "" : "; ") + key + ": " + e.what();
+                    continue;
+                }
+                stack_.push_back(key);
+                // The PROTO file's own scene nodes are read but not part of the scene.
+                ClassicResult r = read_demoting_errors(file, depth + 1, "EXTERNPROTO");
+                stack_.pop_back();
+                scope = r.protos ? r.protos : std::make_shared<ProtoScope>();
+                proto_files_[key] = scope;
+            }
+            Name wanted = fragment.empty() ? name : intern(fragment);
+            auto it = scope->protos.find(wanted);
+            if (it == scope->protos.end() && fragment.empty() && !scope->order.empty())
+                it = scope->protos.find(scope->order.front());
+            if (it != scope->protos.end()) {
+                const ProtoDecl* found = it->second.get();
+                if (found->external) {
+                    if (found->implementation) return found->implementation;
+                    reasons += (reasons.empty() ? "" : "; ") + key + " declares it as an EXTERNPROTO that is not resolved";
+                    continue;
+                }
+                return it->second;
+            }
+            reasons += (reasons.empty() ? "" : "; ") + key + " has no PROTO named '" +
+                       (fragment.empty() ? std::string(name_text(name)) : fragment) + "'";
+        }
+        scene_.diagnostics.warning(where,
+                                   "EXTERNPROTO " + std::string(name_text(name)) + " not resolved: " +
+                                       (reasons.empty() ? std::string("no URL") : reasons),
+                                   "externproto:" + std::string(name_text(name)));
+        return nullptr;
+    }
+
+    LoadedScene& scene_;
+    const LoadOptions& options_;
+    std::vector<std::string> stack_;  // files being read, to refuse cycles
+    std::map<std::string, std::vector<NodeId>> inline_cache_;
+    std::map<std::string, std::shared_ptr<ProtoScope>> proto_files_;
+    size_t inline_files_ = 0;
+};
+
+void set_roots(LoadedScene& scene, const fs::path& main, const LoadOptions& options) {
+    std::error_code ec;
+    fs::path folder = fs::weakly_canonical(fs::absolute(main, ec).parent_path(), ec);
+    scene.allowed_roots.push_back(folder);
+    for (const fs::path& p : options.allowed_roots) {
+        fs::path c = fs::weakly_canonical(fs::absolute(p, ec), ec);
+        scene.allowed_roots.push_back(c);
+    }
+    scene.main_file = main;
+}
+
+}  // namespace
+
+LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options) {
+    LoadedScene scene;
+    set_roots(scene, path, options);
+    uint32_t file = scene.sources.add(path, std::move(text));
+    Loader loader(scene, options);
+    ClassicResult r = loader.read_source(file, 0);
+    scene.tree.roots = std::move(r.roots);
+    return scene;
+}
+
+LoadedScene load_scene(const fs::path& path, const LoadOptions& options) {
+    std::string text;
+    try {
+        text = read_file_bytes(path, options.limits.max_file_bytes);
+    } catch (const std::exception& e) {
+        LoadedScene scene;
+        scene.main_file = path;
+        scene.diagnostics.error_in_file(path.string(), e.what());
+        return scene;
+    }
+    return load_scene_text(std::move(text), path.string(), options);
+}
+
+}  // namespace vr

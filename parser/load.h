@@ -1,0 +1,59 @@
+// Reading a scene file of any supported encoding, with its Inlines and EXTERNPROTOs, into one node tree.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "parser/diagnostics.h"
+#include "parser/node_tree.h"
+#include "parser/registry.h"
+#include "parser/source.h"
+
+namespace vr {
+
+enum class Encoding : uint8_t { Vrml97, X3dClassic, X3dXml, Vrml1, Unknown };
+std::string_view encoding_name(Encoding encoding);
+
+struct LoadLimits {
+    size_t max_nesting_depth = 1000;       // nodes inside nodes (also bounds the reader's recursion)
+    size_t max_proto_depth = 64;           // PROTO instances inside PROTO bodies
+    size_t max_nodes = 50'000'000;         // total nodes, including expanded PROTO bodies
+    size_t max_inline_depth = 16;
+    size_t max_inline_files = 1000;
+    size_t max_file_bytes = size_t(4) << 30;  // after decompression
+    size_t max_mf_values = size_t(1) << 28;   // numbers or strings in one field
+};
+
+struct LoadOptions {
+    LoadLimits limits;
+    bool resolve_inlines = true;
+    // Folders besides the main file's own that Inline/EXTERNPROTO/texture URLs may reach.
+    std::vector<std::filesystem::path> allowed_roots;
+};
+
+struct LoadedScene {
+    SourceManager sources;
+    Diagnostics diagnostics;
+    NodeTree tree;
+    ReadStats stats;
+    Encoding encoding = Encoding::Unknown;
+    std::filesystem::path main_file;
+    std::vector<std::filesystem::path> allowed_roots;  // main file's folder + LoadOptions::allowed_roots
+    bool ok() const { return !diagnostics.has_errors(); }
+};
+
+// Reads `path` (gzip detected by magic bytes). Never throws for bad input: errors land in diagnostics.
+LoadedScene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
+// Reads scene text held in memory (tests, fuzzers). `path` names it in messages and anchors relative URLs.
+LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options = {});
+
+// Resolves a URL found in `from_file` to a local path that lies under one of `allowed_roots`.
+// Returns an empty path and sets `why` when the URL is remote, missing, or outside the allowed folders.
+std::filesystem::path resolve_url(const std::string& url, const std::filesystem::path& from_file,
+                                  const std::vector<std::filesystem::path>& allowed_roots,
+                                  std::string& why);
+
+// Reads a whole file, decompressing gzip data (found by its magic bytes). Throws std::runtime_error.
+std::string read_file_bytes(const std::filesystem::path& path, size_t max_bytes);
+
+}  // namespace vr

@@ -1,0 +1,76 @@
+#include "parser/node_tree.h"
+
+#include "parser/registry.h"
+
+namespace vr {
+
+size_t FieldView::size() const {
+    if (type.kind == ValueKind::Node) return nodes.size();
+    if (type.kind == ValueKind::String) return strings.size();
+    if (type.kind == ValueKind::Image) {
+        // Images are variable-length: walk them.
+        size_t n = 0, i = 0;
+        while (i + 3 <= numbers.size()) {
+            i += 3 + static_cast<size_t>(numbers[i] * numbers[i + 1]);
+            ++n;
+        }
+        return n;
+    }
+    return numbers.size() / static_cast<size_t>(components(type.kind));
+}
+
+static FieldView view_in(const NodeTree& tree, const FieldEntry& e, bool is_default) {
+    FieldView v;
+    v.type = e.type;
+    v.loc = e.loc;
+    v.is_default = is_default;
+    v.found = true;
+    if (e.type.kind == ValueKind::Node) {
+        v.nodes = {tree.node_refs.data() + e.begin, e.count};
+    } else if (e.type.kind == ValueKind::String) {
+        v.strings = {tree.strings.data() + e.begin, e.count};
+    } else {
+        v.numbers = {tree.numbers.data() + e.begin, e.count};
+    }
+    return v;
+}
+
+FieldView NodeTree::view(const FieldEntry& entry) const { return view_in(*this, entry, false); }
+
+FieldView NodeTree::get(NodeId id, Name field) const {
+    const Node& n = nodes[id];
+    for (uint32_t i = 0; i < n.field_count; ++i) {
+        const FieldEntry& e = fields[n.first_field + i];
+        if (e.name == field) return view_in(*this, e, false);
+    }
+    if (!n.decl) return {};
+    const Registry& reg = Registry::builtin();
+    const FieldDecl* decl = reg.lookup_field(n.decl->spec, *n.decl, field);
+    if (!decl || decl->default_field == UINT32_MAX) return {};
+    const NodeTree& defaults = reg.defaults();
+    return view_in(defaults, defaults.fields[decl->default_field], true);
+}
+
+FieldView NodeTree::get(NodeId node, std::string_view field) const { return get(node, intern(field)); }
+
+bool NodeTree::get_bool(NodeId node, Name field) const {
+    FieldView v = get(node, field);
+    return !v.numbers.empty() && v.numbers[0] != 0.0;
+}
+
+int32_t NodeTree::get_int(NodeId node, Name field) const {
+    FieldView v = get(node, field);
+    return v.numbers.empty() ? 0 : static_cast<int32_t>(v.numbers[0]);
+}
+
+double NodeTree::get_number(NodeId node, Name field) const {
+    FieldView v = get(node, field);
+    return v.numbers.empty() ? 0.0 : v.numbers[0];
+}
+
+NodeId NodeTree::get_node(NodeId node, Name field) const {
+    FieldView v = get(node, field);
+    return v.nodes.empty() ? kNullNode : v.nodes[0];
+}
+
+}  // namespace vr

@@ -1,0 +1,98 @@
+// The generic node tree both readers produce: an arena of nodes whose field values live in shared pools.
+// DEF/USE is a shared NodeId (instancing, not copying). PROTO instances are already expanded: a PROTO
+// instance appears as the first node of its body, with IS fields filled in.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "parser/field_type.h"
+#include "parser/name.h"
+#include "parser/source.h"
+
+namespace vr {
+
+struct NodeTypeDecl;
+class Registry;
+
+using NodeId = uint32_t;
+constexpr NodeId kNullNode = UINT32_MAX;
+
+// One field value set in a file. `begin`/`count` index the pool that fits the type: numbers for numeric
+// kinds (count = number of doubles, i.e. values * components), strings for String, node_refs for Node.
+struct FieldEntry {
+    Name name = kNoName;
+    FieldType type;
+    SourceLoc loc;
+    uint32_t begin = 0;
+    uint32_t count = 0;
+};
+
+struct Node {
+    const NodeTypeDecl* decl = nullptr;  // the interface the node was read with
+    Name type = kNoName;                 // node type name, e.g. "Transform"
+    Name def_name = kNoName;             // DEF name, if any
+    SourceLoc loc;                       // where the node's type name stands
+    uint32_t first_field = 0;            // into NodeTree::fields
+    uint32_t field_count = 0;
+};
+
+// A read-only view of one field's value: the value set in the file, or the grammar default.
+struct FieldView {
+    FieldType type;
+    std::span<const double> numbers;        // numeric kinds (Bool is 0/1, Int32 exact)
+    std::span<const std::string> strings;   // String kind
+    std::span<const NodeId> nodes;          // Node kind (kNullNode for NULL)
+    SourceLoc loc;                          // invalid for defaults
+    bool is_default = true;
+    bool found = false;                     // false: the node type has no such field
+
+    // Number of values (for MF fields), e.g. 3 numbers of an MFVec3f make 1 value.
+    size_t size() const;
+};
+
+struct NodeTree {
+    std::vector<Node> nodes;
+    std::vector<FieldEntry> fields;
+    std::vector<double> numbers;
+    std::vector<std::string> strings;
+    std::vector<NodeId> node_refs;
+
+    std::vector<NodeId> roots;  // top-level nodes of the main file, in order
+    // Inline nodes that were resolved: the top-level nodes of the file they name.
+    std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;
+
+    // Field access. `registry` supplies defaults for fields the file did not set.
+    FieldView get(NodeId node, Name field) const;
+    FieldView get(NodeId node, std::string_view field) const;  // convenience (interns the name)
+    // Explicitly set fields of a node, in file order.
+    std::span<const FieldEntry> set_fields(NodeId node) const {
+        const Node& n = nodes[node];
+        return {fields.data() + n.first_field, n.field_count};
+    }
+    FieldView view(const FieldEntry& entry) const;
+
+    // Typed helpers for the scene builder; they return the default when the field is not set.
+    bool get_bool(NodeId node, Name field) const;
+    int32_t get_int(NodeId node, Name field) const;
+    double get_number(NodeId node, Name field) const;  // SFFloat, SFDouble, SFTime
+    NodeId get_node(NodeId node, Name field) const;    // SFNode; kNullNode if NULL
+    std::string_view type_name(NodeId node) const { return name_text(nodes[node].type); }
+    std::string_view def_name(NodeId node) const { return name_text(nodes[node].def_name); }
+};
+
+// Statistics the readers keep for `vrmlray info`.
+struct ReadStats {
+    size_t def_count = 0;
+    size_t use_count = 0;
+    size_t proto_declarations = 0;
+    size_t externproto_declarations = 0;
+    size_t proto_instances = 0;
+    size_t inline_files = 0;
+    size_t routes = 0;
+    std::unordered_map<std::string, size_t> skipped_nodes;  // node type -> count (unknown or not modelled)
+};
+
+}  // namespace vr

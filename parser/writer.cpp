@@ -1,0 +1,202 @@
+#include "parser/writer.h"
+
+#include <charconv>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "parser/registry.h"
+
+namespace vr {
+
+std::string format_number(double v) {
+    if (v == 0.0) return "0";
+    char buf[32];
+    auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, r.ptr);
+}
+
+namespace {
+
+class Writer {
+public:
+    Writer(const NodeTree& tree, Encoding target) : tree_(tree), target_(target) {}
+
+    std::string run() {
+        count_references();
+        out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n" : "#VRML V2.0 utf8\n\n";
+        for (NodeId root : tree_.roots) {
+            write_node(root, 0);
+            out_ += "\n";
+        }
+        return std::move(out_);
+    }
+
+private:
+    void count_references() {
+        std::vector<NodeId> stack(tree_.roots.rbegin(), tree_.roots.rend());
+        std::unordered_set<NodeId> seen;
+        while (!stack.empty()) {
+            NodeId id = stack.back();
+            stack.pop_back();
+            if (id == kNullNode) continue;
+            if (++references_[id] > 1 || !seen.insert(id).second) continue;
+            for (const FieldEntry& e : tree_.set_fields(id)) {
+                if (e.type.kind != ValueKind::Node) continue;
+                for (uint32_t i = 0; i < e.count; ++i) stack.push_back(tree_.node_refs[e.begin + i]);
+            }
+        }
+    }
+
+    // The DEF name a node is written with: its own, made unique, or a made-up one if it is shared.
+    std::string def_name_for(NodeId id) {
+        auto it = names_.find(id);
+        if (it != names_.end()) return it->second;
+        std::string name(tree_.def_name(id));
+        if (name.empty() && references_[id] > 1) name = "_shared" + std::to_string(id);
+        if (!name.empty()) {
+            std::string unique = name;
+            for (int k = 2; used_names_.count(unique); ++k) unique = name + "_" + std::to_string(k);
+            used_names_.insert(unique);
+            name = unique;
+        }
+        names_[id] = name;
+        return name;
+    }
+
+    void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
+
+    std::string_view field_name(NodeId id, Name field) {
+        std::string_view type = tree_.type_name(id);
+        std::string_view name = name_text(field);
+        if (target_ == Encoding::X3dClassic) {
+            if (type == "Switch" && name == "choice") return "children";
+            if (type == "LOD" && name == "level") return "children";
+        } else {
+            if (type == "Switch" && name == "children") return "choice";
+            if (type == "LOD" && name == "children") return "level";
+        }
+        return name;
+    }
+
+    void write_node(NodeId id, int depth) {
+        if (id == kNullNode) {
+            out_ += "NULL";
+            return;
+        }
+        if (written_.count(id)) {
+            out_ += "USE " + def_name_for(id);
+            return;
+        }
+        written_.insert(id);
+        std::string def = def_name_for(id);
+        if (!def.empty()) out_ += "DEF " + def + " ";
+        out_ += tree_.type_name(id);
+        auto fields = tree_.set_fields(id);
+        if (fields.empty()) {
+            out_ += " {}";
+            return;
+        }
+        out_ += " {\n";
+        for (const FieldEntry& e : fields) {
+            indent(depth + 1);
+            out_ += field_name(id, e.name);
+            out_ += " ";
+            write_value(e, depth + 1);
+            out_ += "\n";
+        }
+        indent(depth);
+        out_ += "}";
+    }
+
+    void write_string(const std::string& s) {
+        out_ += '"';
+        for (char c : s) {
+            if (c == '"' || c == '\\') out_ += '\\';
+            out_ += c;
+        }
+        out_ += '"';
+    }
+
+    void write_value(const FieldEntry& e, int depth) {
+        FieldView v = tree_.view(e);
+        const FieldType t = e.type;
+        if (t.kind == ValueKind::Node) {
+            if (!t.multi) return write_node(v.nodes.empty() ? kNullNode : v.nodes[0], depth);
+            if (v.nodes.empty()) {
+                out_ += "[]";
+                return;
+            }
+            out_ += "[\n";
+            for (NodeId child : v.nodes) {
+                indent(depth + 1);
+                write_node(child, depth + 1);
+                out_ += "\n";
+            }
+            indent(depth);
+            out_ += "]";
+            return;
+        }
+        if (t.kind == ValueKind::String) {
+            if (t.multi) out_ += "[";
+            for (size_t i = 0; i < v.strings.size(); ++i) {
+                if (i) out_ += t.multi ? ", " : " ";
+                write_string(v.strings[i]);
+            }
+            if (t.multi) out_ += "]";
+            return;
+        }
+        if (t.kind == ValueKind::Image) {
+            if (t.multi) out_ += "[";
+            size_t i = 0;
+            bool first = true;
+            while (i + 3 <= v.numbers.size()) {
+                if (!first) out_ += ", ";
+                first = false;
+                size_t n = static_cast<size_t>(v.numbers[i] * v.numbers[i + 1]);
+                out_ += format_number(v.numbers[i]) + " " + format_number(v.numbers[i + 1]) + " " +
+                        format_number(v.numbers[i + 2]);
+                for (size_t k = 0; k < n && i + 3 + k < v.numbers.size(); ++k) {
+                    char buf[16];
+                    std::snprintf(buf, sizeof(buf), " 0x%X", static_cast<unsigned>(v.numbers[i + 3 + k]));
+                    out_ += buf;
+                }
+                i += 3 + n;
+            }
+            if (t.multi) out_ += "]";
+            return;
+        }
+        const size_t n = static_cast<size_t>(components(t.kind));
+        if (t.multi) out_ += "[";
+        for (size_t i = 0; i < v.numbers.size(); ++i) {
+            if (i) {
+                bool value_break = i % n == 0;
+                if (value_break && t.multi && (i / n) % 8 == 0) {
+                    out_ += ",\n";
+                    indent(depth + 1);
+                } else {
+                    out_ += value_break && t.multi ? ", " : " ";
+                }
+            }
+            if (t.kind == ValueKind::Bool) {
+                out_ += v.numbers[i] != 0.0 ? "TRUE" : "FALSE";
+            } else {
+                out_ += format_number(v.numbers[i]);
+            }
+        }
+        if (t.multi) out_ += "]";
+    }
+
+    const NodeTree& tree_;
+    Encoding target_;
+    std::string out_;
+    std::unordered_map<NodeId, uint32_t> references_;
+    std::unordered_map<NodeId, std::string> names_;
+    std::unordered_set<std::string> used_names_;
+    std::unordered_set<NodeId> written_;
+};
+
+}  // namespace
+
+std::string write_classic(const NodeTree& tree, Encoding target) { return Writer(tree, target).run(); }
+
+}  // namespace vr

@@ -1,0 +1,78 @@
+// vrmlray convert IN OUT: rewrite a scene in the encoding OUT's extension names.
+#include <zlib.h>
+
+#include <fstream>
+#include <iostream>
+
+#include "app/commands.h"
+#include "app/pipeline.h"
+#include "parser/writer.h"
+
+namespace vr {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+struct Target {
+    Encoding encoding = Encoding::Unknown;
+    bool gzip = false;
+};
+
+Target target_for(std::string name) {
+    for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    Target t;
+    if (ends_with(name, ".gz")) {
+        t.gzip = true;
+        name.resize(name.size() - 3);
+    }
+    if (ends_with(name, ".wrz")) return {Encoding::Vrml97, true};
+    if (ends_with(name, ".x3dvz")) return {Encoding::X3dClassic, true};
+    if (ends_with(name, ".x3dz")) return {Encoding::X3dXml, true};
+    if (ends_with(name, ".wrl")) t.encoding = Encoding::Vrml97;
+    if (ends_with(name, ".x3dv")) t.encoding = Encoding::X3dClassic;
+    if (ends_with(name, ".x3d")) t.encoding = Encoding::X3dXml;
+    return t;
+}
+
+bool write_output(const std::string& path, const std::string& text, bool gzip) {
+    if (gzip) {
+        gzFile f = gzopen(path.c_str(), "wb9");
+        if (!f) return false;
+        bool ok = text.empty() || gzwrite(f, text.data(), static_cast<unsigned>(text.size())) > 0;
+        return gzclose(f) == Z_OK && ok;
+    }
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.close();
+    return static_cast<bool>(out);
+}
+
+}  // namespace
+
+int run_convert(const std::string& in, const std::string& out, const CommonOptions& common) {
+    Target target = target_for(out);
+    if (target.encoding == Encoding::Unknown) {
+        std::cerr << "vrmlray: error: cannot tell the output encoding from '" << out
+                  << "': use .wrl, .x3dv or .x3d (optionally .gz, or .wrz/.x3dvz/.x3dz)\n";
+        return kExitUsage;
+    }
+    if (target.encoding == Encoding::X3dXml) {
+        std::cerr << "vrmlray: error: writing X3D XML is not supported yet; use .wrl or .x3dv\n";
+        return kExitUsage;
+    }
+    LoadedScene scene;
+    if (!load_and_report(in, common, scene)) return kExitBadInput;
+    std::string text = write_classic(scene.tree, target.encoding);
+    if (!write_output(out, text, target.gzip)) {
+        std::cerr << out << ": error: cannot write the output file\n";
+        return kExitOutput;
+    }
+    if (!common.quiet)
+        std::cerr << "wrote " << out << " (" << encoding_name(target.encoding) << (target.gzip ? ", gzip" : "")
+                  << ", " << scene.tree.nodes.size() << " nodes read)\n";
+    return kExitOk;
+}
+
+}  // namespace vr

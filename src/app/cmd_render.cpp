@@ -1,0 +1,115 @@
+// vrmlray render: load -> build scene -> flatten -> camera -> render -> write image.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "app/commands.h"
+#include "app/pipeline.h"
+#include "app/progress.h"
+#include "image/image.h"
+#include "render/flatten.h"
+#include "render/render.h"
+#include "scene/build.h"
+
+namespace vr {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+double peak_memory_mb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+}
+
+}  // namespace
+
+int run_render(const RenderCommand& cmd) {
+    auto t0 = std::chrono::steady_clock::now();
+    LoadedScene loaded;
+    if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
+    const double parse_seconds = seconds_since(t0);
+
+    auto t1 = std::chrono::steady_clock::now();
+    Diagnostics diagnostics;
+    Scene scene = build_scene(loaded, diagnostics);
+    FlattenOptions flatten_options;
+    flatten_options.spheres = cmd.options.spheres;
+    flatten_options.density = cmd.options.density;
+    flatten_options.viewpoint = cmd.options.viewpoint;
+    flatten_options.scene_file = loaded.main_file;
+    flatten_options.allowed_roots = loaded.allowed_roots;
+    FlattenStats flatten_stats;
+    FlatScene flat = flatten_scene(scene, flatten_options, diagnostics, flatten_stats);
+    print_diagnostics(diagnostics, loaded.sources, cmd.common.quiet);
+    if (diagnostics.has_errors()) return kExitBadInput;
+    const double scene_seconds = seconds_since(t1);
+
+    Camera camera;
+    std::string error;
+    if (!make_camera(flat, cmd.options, camera, error)) {
+        std::cerr << "vrmlray: error: " << error << "\n";
+        return kExitUsage;
+    }
+
+    ProgressBar bar(!cmd.common.quiet);
+    RenderStats stats;
+    Image image = render_image(
+        flat, camera, cmd.options, [&](double fraction, uint64_t rays) { bar.update(fraction, rays); }, stats);
+    bar.finish();
+
+    std::string output = cmd.output;
+    if (output.empty()) output = std::filesystem::path(cmd.scene).filename().string();
+    if (cmd.output.empty()) {
+        // "scene.wrl.gz" -> "scene.png"
+        std::filesystem::path p(output);
+        while (p.has_extension()) p = p.stem();
+        output = p.string() + ".png";
+    }
+    auto t3 = std::chrono::steady_clock::now();
+    if (!write_image(output, image, cmd.options.srgb, error)) {
+        std::cerr << output << ": error: " << error << "\n";
+        return kExitOutput;
+    }
+    const double write_seconds = seconds_since(t3);
+    const double total = seconds_since(t0);
+
+    if (!cmd.common.quiet) {
+        std::fprintf(stderr,
+                     "%s: %dx%d, %zu spheres, %zu quadrics, %zu triangles; parse %.3fs, scene %.3fs, build %.3fs, "
+                     "render %.3fs (%.2f Mrays/s), total %.3fs -> %s\n",
+                     cmd.scene.c_str(), cmd.options.width, cmd.options.height, flat.spheres.size(),
+                     flat.quadrics.size(), flat.triangle_count(), parse_seconds, scene_seconds, stats.build_seconds,
+                     stats.render_seconds, stats.rays_per_second() * 1e-6, total, output.c_str());
+    }
+    if (!cmd.stats_path.empty()) {
+        std::ofstream out(cmd.stats_path);
+        out << "{\n"
+            << "  \"scene\": \"" << cmd.scene << "\",\n"
+            << "  \"width\": " << cmd.options.width << ",\n  \"height\": " << cmd.options.height << ",\n"
+            << "  \"seconds\": {\"parse\": " << parse_seconds << ", \"scene\": " << scene_seconds
+            << ", \"build\": " << stats.build_seconds << ", \"render\": " << stats.render_seconds
+            << ", \"write\": " << write_seconds << ", \"total\": " << total << "},\n"
+            << "  \"primitives\": {\"spheres\": " << flat.spheres.size() << ", \"quadrics\": " << flat.quadrics.size()
+            << ", \"meshes\": " << flat.meshes.size() << ", \"triangles\": " << flat.triangle_count()
+            << ", \"materials\": " << flat.materials.size() << ", \"lights\": " << flat.lights.size()
+            << ", \"bvh_nodes\": " << stats.bvh_nodes << "},\n"
+            << "  \"rays\": {\"primary\": " << stats.primary_rays << ", \"shadow\": " << stats.shadow_rays
+            << ", \"secondary\": " << stats.secondary_rays << ", \"per_pixel\": "
+            << static_cast<double>(stats.primary_rays) / (double(cmd.options.width) * cmd.options.height)
+            << ", \"per_second\": " << stats.rays_per_second() << "},\n"
+            << "  \"peak_memory_mb\": " << peak_memory_mb() << "\n}\n";
+        if (!out) {
+            std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
+            return kExitOutput;
+        }
+    }
+    return kExitOk;
+}
+
+}  // namespace vr

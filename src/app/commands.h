@@ -1,0 +1,40 @@
+// The subcommands of the vrmlray program. Each returns the process exit code (SPEC section 1).
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/options.h"
+
+namespace vr {
+
+enum ExitCode : int { kExitOk = 0, kExitCompareFailed = 1, kExitUsage = 2, kExitBadInput = 3, kExitOutput = 4 };
+
+struct CommonOptions {
+    bool quiet = false;
+    std::vector<std::filesystem::path> allow_paths;  // --allow-path: folders URLs may reach besides the scene's
+};
+
+struct RenderCommand {
+    std::string scene;
+    std::string output;  // empty: the scene's stem + ".png" in the current folder
+    RenderOptions options;
+    std::string stats_path;
+    CommonOptions common;
+};
+
+struct CompareCommand {
+    std::string a, b;
+    std::optional<double> max_rmse, min_psnr, min_ssim, max_abs, max_fail_percent;
+    double pixel_threshold = 1.0 / 255.0;
+    std::string diff_path;
+    bool json = false;
+};
+
+int run_render(const RenderCommand& cmd);
+int run_info(const std::string& scene, const CommonOptions& common);
+int run_convert(const std::string& in, const std::string& out, const CommonOptions& common);
+int run_compare(const CompareCommand& cmd);
+
+}  // namespace vr

@@ -1,0 +1,115 @@
+// vrmlray: command line. Reads like the pipeline: parse options, run one subcommand, return its exit code.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "app/commands.h"
+
+namespace {
+
+// "R,G,B" -> Vec3
+std::optional<vr::Vec3> parse_rgb(const std::string& text) {
+    vr::Vec3 c;
+    char extra;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &c.x, &c.y, &c.z, &extra) != 3) return std::nullopt;
+    return c;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"vrmlray: a ray tracer for VRML97 and X3D scene files"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "vrmlray 0.1.0");
+
+    vr::CommonOptions common;
+    auto add_common = [&](CLI::App* sub) {
+        sub->add_flag("-q,--quiet", common.quiet, "Print errors only");
+        sub->add_option("--allow-path", common.allow_paths,
+                        "Folder that Inline/EXTERNPROTO/texture URLs may reach besides the scene's own (repeatable)");
+    };
+
+    // render
+    vr::RenderCommand render;
+    std::string background, spheres = "hints", camera = "viewpoint";
+    CLI::App* r = app.add_subcommand("render", "Render a scene to an image");
+    r->add_option("scene", render.scene, "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv)")->required();
+    r->add_option("-o,--output", render.output, "Output image; the format follows the extension (default: SCENE's stem + .png)");
+    r->add_option("-W,--width", render.options.width, "Image width in pixels")->check(CLI::Range(1, 65536));
+    r->add_option("-H,--height", render.options.height, "Image height in pixels")->check(CLI::Range(1, 65536));
+    r->add_option("--spheres", spheres, "How spheres render: opaque, gas, or hints (per-node hints, else opaque)")
+        ->check(CLI::IsMember({"opaque", "gas", "hints"}));
+    r->add_option("--viewpoint", render.options.viewpoint, "Viewpoint to use: DEF name or description");
+    r->add_flag("--fit", render.options.fit, "Move the camera to frame the scene's bounds");
+    r->add_option("--camera", camera, "perspective, ortho, or viewpoint (as the viewpoint says)")
+        ->check(CLI::IsMember({"perspective", "ortho", "viewpoint"}));
+    r->add_option("--spp", render.options.spp, "Samples per pixel")->check(CLI::Range(1, 65536));
+    r->add_option("--sampler", render.options.sampler, "Anti-aliasing sampler: center, grid");
+    r->add_option("--max-depth", render.options.max_depth, "Maximum reflection/refraction depth")->check(CLI::Range(0, 1000));
+    r->add_option("--threads", render.options.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+    r->add_option("--tolerance", render.options.tolerance, "Relative tolerance of the gas integrator")
+        ->check(CLI::Range(1e-12, 1.0));
+    r->add_option("--density", render.options.density, "Gas extinction per scene unit")->check(CLI::NonNegativeNumber);
+    r->add_option("--background", background, "Background colour R,G,B (overrides the scene's Background)");
+    r->add_flag("--srgb", render.options.srgb, "sRGB-encode integer image formats");
+    r->add_option("--seed", render.options.seed, "Random seed for stochastic samplers");
+    r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file");
+    add_common(r);
+
+    // info
+    std::string info_scene;
+    CLI::App* i = app.add_subcommand("info", "Tell what a scene file holds and what the tracer will get");
+    i->add_option("scene", info_scene, "Scene file")->required();
+    add_common(i);
+
+    // convert
+    std::string convert_in, convert_out;
+    CLI::App* c = app.add_subcommand("convert", "Rewrite a scene as VRML97 (.wrl) or X3D classic (.x3dv), gzip by .gz/.wrz/.x3dvz");
+    c->add_option("in", convert_in, "Input scene")->required();
+    c->add_option("out", convert_out, "Output scene")->required();
+    add_common(c);
+
+    // compare
+    vr::CompareCommand compare;
+    CLI::App* cmp = app.add_subcommand("compare", "Compare two images (golden-image test)");
+    cmp->add_option("a", compare.a, "First image")->required();
+    cmp->add_option("b", compare.b, "Second image")->required();
+    cmp->add_option("--max-rmse", compare.max_rmse, "Fail if RMSE is above this");
+    cmp->add_option("--min-psnr", compare.min_psnr, "Fail if PSNR (dB) is below this");
+    cmp->add_option("--min-ssim", compare.min_ssim, "Fail if SSIM is below this");
+    cmp->add_option("--max-abs", compare.max_abs, "Fail if the largest absolute difference is above this");
+    cmp->add_option("--max-fail-percent", compare.max_fail_percent,
+                    "Fail if more than this percentage of pixels differ by more than --pixel-threshold");
+    cmp->add_option("--pixel-threshold", compare.pixel_threshold, "A pixel fails when a channel differs by more (default 1/255)");
+    cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference");
+    cmp->add_flag("--json", compare.json, "Print the figures as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        int code = app.exit(e);
+        return code == 0 ? vr::kExitOk : vr::kExitUsage;
+    }
+
+    if (r->parsed()) {
+        render.common = common;
+        render.options.spheres = spheres == "opaque" ? vr::SpheresOption::Opaque
+                                 : spheres == "gas"  ? vr::SpheresOption::Gas
+                                                     : vr::SpheresOption::FromHints;
+        render.options.camera = camera == "perspective" ? vr::CameraMode::Perspective
+                                : camera == "ortho"     ? vr::CameraMode::Ortho
+                                                        : vr::CameraMode::FromViewpoint;
+        if (!background.empty()) {
+            render.options.background = parse_rgb(background);
+            if (!render.options.background) {
+                std::cerr << "vrmlray: error: --background wants R,G,B (three numbers separated by commas)\n";
+                return vr::kExitUsage;
+            }
+        }
+        return vr::run_render(render);
+    }
+    if (i->parsed()) return vr::run_info(info_scene, common);
+    if (c->parsed()) return vr::run_convert(convert_in, convert_out, common);
+    if (cmp->parsed()) return vr::run_compare(compare);
+    return vr::kExitUsage;
+}

@@ -1,0 +1,147 @@
+// What the tracer sees: world-space primitives in plain arrays, materials, lights, cameras, background.
+// Built by the flattening step (src/render/flatten.*) from the typed scene; knows nothing of VRML nodes.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace vr {
+
+enum class SphereMode : uint8_t { Opaque, Gas };
+
+struct Texture {
+    int width = 0;
+    int height = 0;
+    int channels = 0;          // 1 intensity, 2 intensity+alpha, 3 RGB, 4 RGBA (VRML's texture types)
+    std::vector<float> texels; // channels floats a texel, row 0 = BOTTOM of the image (VRML t = 0)
+    bool repeat_s = true;
+    bool repeat_t = true;
+};
+
+// A resolved Appearance: VRML Material fields plus our hints.
+struct Material {
+    bool lit = true;  // false when the Appearance has no Material: unlit, colour = texture or white
+    Vec3 diffuse{0.8};
+    Vec3 specular{0.0};
+    Vec3 emissive{0.0};
+    double ambient_intensity = 0.2;
+    double shininess = 0.2;
+    double transparency = 0.0;
+    double reflectivity = 0.0;  // hint
+    double ior = 1.0;           // hint
+    int32_t texture = -1;       // index into FlatScene::textures
+    Mat3 texture_transform{1.0};  // applied to (s, t, 1)
+    // Gas hints (SPEC section 6); negative/unset values mean "use the global option or the default".
+    int8_t sphere_mode = -1;    // -1 unset, else SphereMode
+    double density = -1.0;
+    Vec3 albedo{-1.0};
+    Vec3 emission{-1.0};
+};
+
+// Which material and which lights shade a primitive (DirectionalLight is scoped to its group).
+struct Shading {
+    uint32_t material = 0;
+    uint32_t light_set = 0;  // index into FlatScene::light_sets
+};
+
+struct Sphere {
+    Vec3 center;
+    double radius = 1.0;
+    uint32_t shading = 0;
+    bool gas = false;  // resolved from hints and --spheres by flatten
+};
+
+// Box, Cylinder, Cone, or a sphere under a non-uniform scale (ellipsoid), kept analytic in object space.
+enum class QuadricKind : uint8_t { Box, Cylinder, Cone, Ellipsoid };
+struct Quadric {
+    QuadricKind kind = QuadricKind::Box;
+    Mat4 world_from_object{1.0};
+    Mat4 object_from_world{1.0};
+    Vec3 size{2.0};          // Box: full size; Cylinder/Cone: (2*radius, height, 2*radius); Ellipsoid: 2*radius
+    bool side = true, top = true, bottom = true;  // Cylinder/Cone parts
+    uint32_t shading = 0;
+};
+
+// Triangles with per-corner attributes; corner k of triangle t has index 3*t + k.
+struct Mesh {
+    std::vector<Vec3> positions;      // world space
+    std::vector<uint32_t> triangles;  // 3 position indices a triangle
+    std::vector<Vec3> normals;        // per corner, world space, unit; empty: flat (geometric) normals
+    std::vector<Vec2> uvs;            // per corner; empty: no texture coordinates
+    std::vector<Vec3> colors;         // per corner (Color node); empty: material colour
+    bool solid = true;                // false: both sides are lit (two-sided)
+    uint32_t shading = 0;
+    size_t triangle_count() const { return triangles.size() / 3; }
+};
+
+enum class LightKind : uint8_t { Directional, Point, Spot };
+struct Light {
+    LightKind kind = LightKind::Directional;
+    Vec3 color{1.0};
+    double intensity = 1.0;
+    double ambient_intensity = 0.0;
+    Vec3 position{0.0};           // world (point, spot)
+    Vec3 direction{0.0, 0.0, -1.0};  // world, unit: the direction light travels (directional, spot)
+    Vec3 attenuation{1.0, 0.0, 0.0};
+    double radius = 100.0;        // world units (point, spot)
+    double beam_width = 1.570796;
+    double cutoff_angle = 0.785398;
+    bool headlight = false;       // follows the camera: direction set per render, never shadowed
+};
+
+struct Viewpoint {
+    std::string def_name;
+    std::string description;
+    bool ortho = false;
+    Vec3 position{0.0, 0.0, 10.0};   // world
+    Mat3 world_from_camera{1.0};      // columns: camera right (+x), up (+y), backward (+z); looks along -z
+    double field_of_view = 0.785398;  // perspective: angle spanning the smaller image dimension
+    // OrthoViewpoint: extents (min x, min y, max x, max y) in camera units; the smaller dimension is fit.
+    double ortho_extent[4] = {-1.0, -1.0, 1.0, 1.0};
+};
+
+struct Background {
+    std::vector<Vec3> sky_colors{Vec3(0.0)};
+    std::vector<double> sky_angles;
+    std::vector<Vec3> ground_colors;
+    std::vector<double> ground_angles;
+    int32_t panorama[6] = {-1, -1, -1, -1, -1, -1};  // front back left right top bottom -> textures
+    Mat3 world_from_background{1.0};  // Background is rotated by its parent transforms
+    bool present = false;             // a Background node was bound
+};
+
+enum class FogKind : uint8_t { None, Linear, Exponential };
+struct Fog {
+    FogKind kind = FogKind::None;
+    Vec3 color{1.0};
+    double visibility_range = 0.0;  // world units; 0 disables fog
+};
+
+struct Bounds3 {
+    Vec3 lo{kInf};
+    Vec3 hi{-kInf};
+    bool empty() const { return lo.x > hi.x; }
+    void extend(const Vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+    void extend(const Bounds3& b) { lo = glm::min(lo, b.lo); hi = glm::max(hi, b.hi); }
+};
+
+struct FlatScene {
+    std::vector<Sphere> spheres;
+    std::vector<Quadric> quadrics;
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Shading> shadings;
+    std::vector<Texture> textures;
+    std::vector<Light> lights;                      // scene lights (no headlight)
+    std::vector<std::vector<uint32_t>> light_sets;  // indices into lights
+    bool headlight = true;                          // NavigationInfo headlight
+    std::vector<Viewpoint> viewpoints;              // in file order
+    Background background;
+    Fog fog;
+    Bounds3 bounds() const;                         // of all renderable primitives
+    size_t triangle_count() const;
+};
+
+}  // namespace vr

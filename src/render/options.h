@@ -1,0 +1,33 @@
+// Everything a render can be told from the command line, with its default (SPEC section 1).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "core/math.h"
+
+namespace vr {
+
+enum class CameraMode : uint8_t { FromViewpoint, Perspective, Ortho };
+enum class SpheresOption : uint8_t { FromHints, Opaque, Gas };
+
+struct RenderOptions {
+    int width = 640;
+    int height = 480;
+    SpheresOption spheres = SpheresOption::FromHints;  // hints win; otherwise opaque
+    std::string viewpoint;          // DEF name or description; empty: first in file order
+    bool fit = false;               // move the camera to frame the scene's bounds
+    CameraMode camera = CameraMode::FromViewpoint;
+    int spp = 1;
+    std::string sampler = "center";
+    int max_depth = 8;
+    int threads = 0;                // 0: all cores
+    double tolerance = 1e-4;        // gas integrator, relative
+    double density = 1.0;           // gas extinction per scene unit
+    std::optional<Vec3> background; // overrides the scene's Background
+    bool srgb = false;
+    uint64_t seed = 0;
+    double min_weight = 1e-3;       // a path whose weight drops below this stops (SPEC section 5)
+};
+
+}  // namespace vr
