@@ -1,6 +1,8 @@
 // Double-precision vector types used everywhere in src/ (single precision fails far tiny spheres and
 // scenes translated by 1e5: SPEC section 8).
 #pragma once
+#include <limits>
+
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -13,6 +15,6 @@ using Mat3 = glm::dmat3;
 using Mat4 = glm::dmat4;
 
 inline constexpr double kPi = 3.14159265358979323846;
-inline constexpr double kInf = 1e300 * 1e10;
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 }  // namespace vr

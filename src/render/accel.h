@@ -1,0 +1,63 @@
+// The tracer's view of a FlatScene: compact copies of every primitive's intersection data, stored in
+// BVH leaf order (so a leaf's primitives sit together in memory), one BVH over all of them, and the
+// two queries the integrator asks: closest hit, and how much light passes along a shadow segment.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/ray.h"
+#include "render/bvh.h"
+#include "render/flat_scene.h"
+#include "render/intersect.h"
+
+namespace vr {
+
+struct Hit {
+    double t = kInf;
+    uint32_t prim = 0;  // packed reference (intersect.h)
+    uint8_t part = 0;   // quadric part
+    double b1 = 0.0, b2 = 0.0;  // triangle barycentrics
+};
+
+class Accel {
+public:
+    // threads: for the BVH build (0 or 1: one thread).
+    void build(const FlatScene& scene, int threads);
+
+    // Closest hit with t in (0, ray.t_max).
+    bool intersect(const Ray& ray, Hit& hit) const;
+    // The fraction of light passing along the segment t in (0, ray.t_max): 0 if an opaque surface
+    // crosses it, else the product of transparency over every see-through surface crossing (a
+    // see-through sphere crossed through counts twice: t^2, SPEC section 5). Order independent, so
+    // deterministic.
+    double transmittance(const Ray& ray) const;
+
+    SurfaceHit surface(const Ray& ray, const Hit& hit) const;
+
+    size_t node_count() const { return bvh_.nodes.size(); }
+    size_t primitive_count() const { return prims_.size(); }
+    const Bvh& bvh() const { return bvh_; }
+
+    // Brute force over every primitive, for tests.
+    bool intersect_brute_force(const Ray& ray, Hit& hit) const;
+
+private:
+    bool test_primitive(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray,
+                        double& t_max, Hit& hit) const;
+    int crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray) const;
+
+    const FlatScene* scene_ = nullptr;
+    Bvh bvh_;
+    std::vector<uint32_t> prims_;  // packed references in leaf order
+    std::vector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
+    bool any_transparent_ = false;
+
+    std::vector<SphereGeom> spheres_;
+    std::vector<uint32_t> sphere_source_;  // index into scene.spheres
+    std::vector<QuadricGeom> quadrics_;
+    std::vector<uint32_t> quadric_source_;
+    std::vector<TriangleGeom> triangles_;
+    std::vector<uint32_t> triangle_mesh_, triangle_index_;
+};
+
+}  // namespace vr

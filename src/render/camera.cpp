@@ -1,0 +1,148 @@
+#include "render/camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vr {
+namespace {
+
+bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// An orthonormal right-handed basis from the viewpoint's (possibly sloppy) rotation.
+Mat3 orthonormal(const Mat3& m) {
+    Vec3 back = m[2], up = m[1];
+    if (!finite3(back) || glm::dot(back, back) == 0.0) back = Vec3(0.0, 0.0, 1.0);
+    back = glm::normalize(back);
+    Vec3 right = glm::cross(up, back);
+    if (!finite3(right) || glm::dot(right, right) == 0.0) {
+        // Up parallel to the view: any perpendicular will do.
+        right = glm::cross(std::fabs(back.y) < 0.9 ? Vec3(0.0, 1.0, 0.0) : Vec3(1.0, 0.0, 0.0), back);
+    }
+    right = glm::normalize(right);
+    up = glm::cross(back, right);
+    return Mat3(right, up, back);
+}
+
+// Distance from the scene's bounding-box centre at which a perspective camera looking along
+// `forward` sees all eight corners of the box.
+double fit_distance(const Bounds3& b, const Camera& cam, double tan_x, double tan_y) {
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    const Vec3 right = cam.world_from_camera[0], up = cam.world_from_camera[1], fwd = cam.forward();
+    double d = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        Vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+        Vec3 q = corner - c;
+        double qx = std::fabs(glm::dot(q, right)), qy = std::fabs(glm::dot(q, up)), qf = glm::dot(q, fwd);
+        d = std::max(d, qx / tan_x - qf);
+        d = std::max(d, qy / tan_y - qf);
+    }
+    return d;
+}
+
+}  // namespace
+
+bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera, std::string& error) {
+    if (options.width < 1 || options.height < 1) {
+        error = "image size must be at least 1x1 (got " + std::to_string(options.width) + "x" +
+                std::to_string(options.height) + ")";
+        return false;
+    }
+    if (!make_sampler(options, camera.sampler, error)) return false;
+
+    Viewpoint vp;  // the VRML default
+    bool found = false;
+    if (!options.viewpoint.empty()) {
+        for (const Viewpoint& v : scene.viewpoints) {
+            if (v.def_name == options.viewpoint || v.description == options.viewpoint) {
+                vp = v;
+                found = true;
+                break;
+            }
+        }
+        if (!found) {
+            error = "no viewpoint named '" + options.viewpoint + "'";
+            if (!scene.viewpoints.empty()) {
+                error += " (the scene has:";
+                for (const Viewpoint& v : scene.viewpoints) {
+                    std::string name = !v.def_name.empty() ? v.def_name : v.description;
+                    error += " '" + name + "'";
+                }
+                error += ")";
+            }
+            return false;
+        }
+    } else if (!scene.viewpoints.empty()) {
+        vp = scene.viewpoints.front();
+    }
+
+    if (!finite3(vp.position)) {
+        error = "viewpoint position is not finite";
+        return false;
+    }
+    camera.position = vp.position;
+    camera.world_from_camera = orthonormal(vp.world_from_camera);
+    camera.ortho = vp.ortho;
+    const double smaller = std::min(options.width, options.height);
+    if (vp.ortho) {
+        const double* e = vp.ortho_extent;
+        double w = e[2] - e[0], h = e[3] - e[1];
+        if (!(w > 0.0) || !(h > 0.0) || !std::isfinite(w) || !std::isfinite(h)) {
+            error = "OrthoViewpoint fieldOfView must give min < max in both directions";
+            return false;
+        }
+        camera.ortho_size = options.width <= options.height ? w : h;
+        camera.ortho_center = Vec2(0.5 * (e[0] + e[2]), 0.5 * (e[1] + e[3]));
+    } else {
+        if (!(vp.field_of_view > 0.0 && vp.field_of_view < kPi)) {
+            error = "viewpoint fieldOfView must lie in (0, pi), got " + std::to_string(vp.field_of_view);
+            return false;
+        }
+        camera.field_of_view = vp.field_of_view;
+    }
+
+    const Bounds3 bounds = scene.bounds();
+    const bool have_bounds = !bounds.empty();
+    const Vec3 centre = have_bounds ? 0.5 * (bounds.lo + bounds.hi) : Vec3(0.0);
+    // Distance from the camera to the scene centre along the view, for switching projections.
+    double centre_depth = glm::dot(centre - camera.position, camera.forward());
+    if (!(centre_depth > 0.0)) centre_depth = glm::length(centre - camera.position);
+    if (!(centre_depth > 0.0)) centre_depth = 10.0;  // the VRML default viewing distance
+
+    if (options.camera == CameraMode::Ortho && !camera.ortho) {
+        camera.ortho = true;
+        camera.ortho_size = 2.0 * centre_depth * std::tan(0.5 * camera.field_of_view);
+        camera.ortho_center = Vec2(0.0);
+    } else if (options.camera == CameraMode::Perspective && camera.ortho) {
+        camera.ortho = false;
+        // The same window seen from the camera at the scene centre's depth; the window's offset is lost.
+        camera.field_of_view = 2.0 * std::atan(0.5 * camera.ortho_size / centre_depth);
+    }
+
+    if (options.fit && have_bounds) {
+        const Vec3 fwd = camera.forward();
+        const double radius = 0.5 * glm::length(bounds.hi - bounds.lo);
+        if (camera.ortho) {
+            const Vec3 right = camera.world_from_camera[0], up = camera.world_from_camera[1];
+            double max_x = 0.0, max_y = 0.0;
+            for (int i = 0; i < 8; ++i) {
+                Vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x, (i & 2) ? bounds.hi.y : bounds.lo.y,
+                            (i & 4) ? bounds.hi.z : bounds.lo.z);
+                max_x = std::max(max_x, std::fabs(glm::dot(corner - centre, right)));
+                max_y = std::max(max_y, std::fabs(glm::dot(corner - centre, up)));
+            }
+            double pixel = std::max(2.0 * max_x / options.width, 2.0 * max_y / options.height);
+            if (pixel > 0.0) camera.ortho_size = pixel * smaller;
+            camera.ortho_center = Vec2(0.0);
+            // Start the rays outside the scene.
+            camera.position = centre - fwd * (2.0 * radius);
+        } else {
+            const double t = std::tan(0.5 * camera.field_of_view);
+            const double tan_x = t * options.width / smaller, tan_y = t * options.height / smaller;
+            double d = fit_distance(bounds, camera, tan_x, tan_y);
+            if (d > 0.0) camera.position = centre - fwd * d;
+        }
+    }
+    return true;
+}
+
+}  // namespace vr

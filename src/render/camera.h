@@ -1,0 +1,53 @@
+// The camera (SPEC section 4): VRML conventions, a pinhole or orthographic projection, and the pixel
+// sampler chosen for the render.
+#pragma once
+#include <cmath>
+#include <string>
+
+#include "core/math.h"
+#include "core/ray.h"
+#include "render/flat_scene.h"
+#include "render/options.h"
+#include "render/sampling.h"
+
+namespace vr {
+
+struct Camera {
+    bool ortho = false;
+    Vec3 position{0.0, 0.0, 10.0};     // world
+    Mat3 world_from_camera{1.0};       // columns: right (+x), up (+y), backward (+z); looks along -z
+    double field_of_view = kPi / 4.0;  // perspective: angle across the smaller image dimension
+    double ortho_size = 2.0;           // ortho: world extent across the smaller image dimension
+    Vec2 ortho_center{0.0};            // ortho: window centre in camera (x, y)
+    PixelSampler sampler;
+
+    Vec3 forward() const { return glm::normalize(-world_from_camera[2]); }
+
+    // The ray through image point (x, y) in pixel units of a width x height image: x from the left,
+    // y from the top, so pixel (i, j) has its centre at (i + 0.5, j + 0.5). Unit direction.
+    Ray ray(double x, double y, int width, int height) const {
+        const double smaller = double(width < height ? width : height);
+        const double cx = x - 0.5 * width, cy = 0.5 * height - y;
+        Ray r;
+        if (ortho) {
+            const double pixel = ortho_size / smaller;
+            r.o = position + world_from_camera * Vec3(ortho_center.x + cx * pixel, ortho_center.y + cy * pixel, 0.0);
+            r.d = forward();
+        } else {
+            const double pixel = 2.0 * std::tan(0.5 * field_of_view) / smaller;
+            r.o = position;
+            r.d = glm::normalize(world_from_camera * Vec3(cx * pixel, cy * pixel, -1.0));
+        }
+        r.t_max = kInf;
+        return r;
+    }
+};
+
+// Chooses the camera: options.viewpoint (DEF name or description; error if not found), else the first
+// viewpoint, else the VRML default (position 0 0 10, fov pi/4). options.fit moves the camera along its
+// view direction so the bounds of the scene fill the view; options.camera forces perspective or ortho
+// (for ortho from a perspective viewpoint: extent = the view's size at the distance of the scene
+// centre). Also validates the sampler options. Returns false and sets `error` on failure.
+bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera, std::string& error);
+
+}  // namespace vr

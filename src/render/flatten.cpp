@@ -1,0 +1,616 @@
+#include "render/flatten.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <unordered_map>
+
+#include "geometry/mesh_nodes.h"
+#include "parser/load.h"
+#include "scene/image_file.h"
+#include "scene/report.h"
+#include "scene/transform.h"
+
+namespace vr {
+
+namespace {
+
+// Every field of a Material, as doubles: equal keys are equal materials.
+using MaterialKey = std::array<double, 34>;
+
+MaterialKey key_of(const Material& m) {
+    MaterialKey k{};
+    size_t i = 0;
+    auto put = [&](double d) { k[i++] = d == 0.0 ? 0.0 : d; };  // -0 and +0 are one material
+    auto put3 = [&](const Vec3& v) { put(v.x), put(v.y), put(v.z); };
+    put(m.lit);
+    put3(m.diffuse);
+    put3(m.specular);
+    put3(m.emissive);
+    put(m.ambient_intensity);
+    put(m.shininess);
+    put(m.transparency);
+    put(m.reflectivity);
+    put(m.ior);
+    put(m.texture);
+    for (int c = 0; c < 3; ++c) put3(m.texture_transform[c]);
+    put(m.sphere_mode);
+    put(m.density);
+    put3(m.albedo);
+    put3(m.emission);
+    return k;
+}
+
+struct MaterialKeyHash {
+    size_t operator()(const MaterialKey& k) const {
+        uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes
+        const auto* bytes = reinterpret_cast<const unsigned char*>(k.data());
+        for (size_t i = 0; i < sizeof(MaterialKey); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+        return size_t(h);
+    }
+};
+struct MaterialKeyEqual {
+    bool operator()(const MaterialKey& a, const MaterialKey& b) const {
+        return std::memcmp(a.data(), b.data(), sizeof(MaterialKey)) == 0;
+    }
+};
+
+double finite_or(double d, double fallback) { return std::isfinite(d) ? d : fallback; }
+Vec3 finite_or(const Vec3& v, const Vec3& fallback) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : fallback;
+}
+
+// The rotation a Billboard applies to its children, given the viewer in the billboard's local space.
+Mat3 billboard_rotation(const Vec3& axis, const Vec3& viewer_local, const Vec3& viewer_up_local) {
+    const double to_viewer = glm::length(viewer_local);
+    if (!(to_viewer > 0.0) || !std::isfinite(to_viewer)) return Mat3(1.0);
+    const double axis_length = glm::length(axis);
+    if (!(axis_length > 0.0)) {
+        // Viewer-aligned: +Z at the viewer, +Y along the viewer's up.
+        const Vec3 z = viewer_local / to_viewer;
+        Vec3 y = viewer_up_local - glm::dot(viewer_up_local, z) * z;
+        const double y_length = glm::length(y);
+        if (!(y_length > 1e-12)) return Mat3(1.0);
+        y /= y_length;
+        return Mat3(glm::cross(y, z), y, z);
+    }
+    const Vec3 a = axis / axis_length;
+    const Vec3 w = viewer_local - glm::dot(viewer_local, a) * a;  // viewer direction in the plane across the axis
+    const Vec3 z = Vec3(0, 0, 1) - a.z * a;                      // local +Z in that plane
+    if (!(glm::length(w) > 1e-12 * to_viewer) || !(glm::length(z) > 1e-12)) return Mat3(1.0);
+    const double angle = std::atan2(glm::dot(a, glm::cross(z, w)), glm::dot(z, w));
+    return rotation_matrix(a, angle);
+}
+
+class Flattener {
+public:
+    Flattener(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics, FlattenStats& stats)
+        : scene_(scene), options_(options), diagnostics_(diagnostics), stats_(stats) {}
+
+    FlatScene run() {
+        if (scene_.groups.empty()) return std::move(out_);
+        texture_index_.assign(scene_.textures.size(), kUnloaded);
+        mesh_cache_[0].resize(scene_.geometries.size());
+        mesh_cache_[1].resize(scene_.geometries.size());
+        appearance_material_.assign(scene_.appearances.size() + 1, -1);
+
+        collect_bindables();
+        choose_viewer();
+        out_.light_sets.emplace_back();  // light set 0: no scoped lights
+        visit(Scene::kRoot, Mat4(1.0), 0, 0);
+        for (auto& set : out_.light_sets) set.insert(set.end(), global_lights_.begin(), global_lights_.end());
+
+        stats_.materials = out_.materials.size();
+        stats_.lights = out_.lights.size();
+        stats_.textures = out_.textures.size();
+        return std::move(out_);
+    }
+
+private:
+    static constexpr int32_t kUnloaded = -2;
+
+    // ---- bindable nodes (first pass) -------------------------------------------------------------------
+
+    struct Bindables {
+        std::vector<Viewpoint> viewpoints;
+        std::optional<Background> background;
+        std::optional<Fog> fog;
+        std::optional<bool> headlight;
+    };
+    Bindables main_, inlined_;
+
+    // Groups whose subtree holds a bindable node (memoised over the DAG).
+    bool has_bindable(sg::Index g) {
+        if (bindable_memo_.empty()) bindable_memo_.assign(scene_.groups.size(), -1);
+        if (bindable_memo_[g] >= 0) return bindable_memo_[g] != 0;
+        bindable_memo_[g] = 0;  // also guards against revisiting while in progress
+        bool found = false;
+        for (const sg::ChildRef& c : scene_.groups[g].children) {
+            if (c.kind == sg::NodeKind::Group) found = has_bindable(c.index) || found;
+            else if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light) found = true;
+        }
+        bindable_memo_[g] = found ? 1 : 0;
+        return found;
+    }
+
+    void collect_bindables() { collect(Scene::kRoot, Mat4(1.0), false, 0); }
+
+    void collect(sg::Index g, const Mat4& parent, bool in_inline, size_t depth) {
+        const sg::Group& group = scene_.groups[g];
+        if (group.singular || depth > options_.max_depth || !has_bindable(g)) return;
+        const Mat4 m = group.has_transform ? parent * group.local_from_child : parent;
+        in_inline = in_inline || group.inline_content;
+        Bindables& b = in_inline ? inlined_ : main_;
+        for (const sg::ChildRef& c : group.children) {
+            switch (c.kind) {
+                case sg::NodeKind::Group: collect(c.index, m, in_inline, depth + 1); break;
+                case sg::NodeKind::Viewpoint: b.viewpoints.push_back(make_viewpoint(scene_.viewpoints[c.index], m)); break;
+                case sg::NodeKind::Background:
+                    if (!b.background) b.background = make_background(scene_.backgrounds[c.index], m);
+                    break;
+                case sg::NodeKind::Fog:
+                    if (!b.fog) b.fog = make_fog(scene_.fogs[c.index], m);
+                    break;
+                case sg::NodeKind::NavigationInfo:
+                    if (!b.headlight) b.headlight = scene_.navigation_infos[c.index].headlight;
+                    break;
+                default: break;
+            }
+        }
+    }
+
+    Viewpoint make_viewpoint(const sg::Viewpoint& v, const Mat4& m) {
+        Viewpoint out;
+        out.def_name = v.def_name;
+        out.description = v.description;
+        out.ortho = v.ortho;
+        const Mat3 linear = linear_part(m);
+        out.position = transform_point(m, finite_or(v.position, Vec3(0.0, 0.0, 10.0)));
+        out.world_from_camera = orthonormalize(linear) * rotation_matrix(v.orientation);
+        out.field_of_view = v.field_of_view;
+        if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
+            NodeReport(diagnostics_, v.origin).warn("field-of-view", "fieldOfView must lie in (0, pi); using 0.785398");
+            out.field_of_view = 0.785398;
+        }
+        const double s = mean_scale(linear);
+        for (int i = 0; i < 4; ++i) out.ortho_extent[i] = v.ortho_extent[i] * s;
+        return out;
+    }
+
+    Background make_background(const sg::Background& b, const Mat4& m) {
+        Background out;
+        out.present = true;
+        out.world_from_background = orthonormalize(linear_part(m));
+        out.sky_colors = b.sky_color;
+        out.sky_angles = b.sky_angle;
+        out.ground_colors = b.ground_color;
+        out.ground_angles = b.ground_angle;
+        NodeReport report(diagnostics_, b.origin);
+        if (out.sky_colors.empty()) out.sky_colors.push_back(Vec3(0.0));
+        if (out.sky_angles.size() + 1 != out.sky_colors.size()) {
+            report.warn("angles", "skyColor needs one value more than skyAngle; the extra values are ignored");
+            const size_t n = std::min(out.sky_angles.size(), out.sky_colors.size() - 1);
+            out.sky_angles.resize(n);
+            out.sky_colors.resize(n + 1);
+        }
+        if (!out.ground_colors.empty() && out.ground_angles.size() + 1 != out.ground_colors.size()) {
+            report.warn("angles", "groundColor needs one value more than groundAngle; the extra values are ignored");
+            const size_t n = std::min(out.ground_angles.size(), out.ground_colors.size() - 1);
+            out.ground_angles.resize(n);
+            out.ground_colors.resize(n + 1);
+        }
+        for (int face = 0; face < 6; ++face) {
+            if (b.urls[face].empty()) continue;
+            out.panorama[face] = load_image(b.urls[face], b.from_file, false, false, b.origin);
+        }
+        return out;
+    }
+
+    Fog make_fog(const sg::Fog& f, const Mat4& m) {
+        Fog out;
+        out.color = f.color;
+        out.visibility_range = f.visibility_range * mean_scale(linear_part(m));
+        if (!(out.visibility_range > 0.0) || !std::isfinite(out.visibility_range)) {
+            out.visibility_range = 0.0;
+            return out;  // 0 disables fog
+        }
+        out.kind = f.exponential ? FogKind::Exponential : FogKind::Linear;
+        return out;
+    }
+
+    void choose_viewer() {
+        out_.viewpoints = std::move(main_.viewpoints);
+        out_.viewpoints.insert(out_.viewpoints.end(), inlined_.viewpoints.begin(), inlined_.viewpoints.end());
+        if (main_.background) out_.background = *main_.background;
+        else if (inlined_.background) out_.background = *inlined_.background;
+        if (main_.fog) out_.fog = *main_.fog;
+        else if (inlined_.fog) out_.fog = *inlined_.fog;
+        out_.headlight = main_.headlight ? *main_.headlight : inlined_.headlight.value_or(true);
+
+        const Viewpoint* chosen = out_.viewpoints.empty() ? nullptr : &out_.viewpoints.front();
+        if (!options_.viewpoint.empty()) {
+            for (const Viewpoint& v : out_.viewpoints)
+                if (v.def_name == options_.viewpoint || v.description == options_.viewpoint) {
+                    chosen = &v;
+                    break;
+                }
+        }
+        if (chosen) {
+            viewer_position_ = chosen->position;
+            viewer_up_ = chosen->world_from_camera[1];
+        }
+    }
+
+    // ---- graph (second pass) ---------------------------------------------------------------------------
+
+    void visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_t depth) {
+        if (stopped_) return;
+        const sg::Group& group = scene_.groups[g];
+        if (group.singular) return;
+        if (depth > options_.max_depth) {
+            NodeReport(diagnostics_, group.origin)
+                .warn("depth", "is nested more than " + std::to_string(options_.max_depth) + " levels deep; skipped");
+            return;
+        }
+        Mat4 m = group.has_transform ? parent * group.local_from_child : parent;
+        if (group.billboard) {
+            const Mat4 local_from_world = glm::inverse(m);
+            const Vec3 viewer = transform_point(local_from_world, viewer_position_);
+            const Vec3 up = glm::inverse(linear_part(m)) * viewer_up_;
+            m = m * Mat4(billboard_rotation(group.billboard_axis, viewer, up));
+        }
+
+        // Scoped lights among the children light this group's whole subtree.
+        const size_t scoped_before = scoped_.size();
+        for (const sg::ChildRef& c : group.children)
+            if (c.kind == sg::NodeKind::Light) {
+                const sg::Light& l = scene_.lights[c.index];
+                if (!l.on || l.global) continue;
+                if (const auto index = add_light(l, m)) scoped_.push_back(*index);
+            }
+        if (scoped_.size() != scoped_before) light_set = light_set_of(scoped_);
+
+        for (const sg::ChildRef& c : group.children) {
+            switch (c.kind) {
+                case sg::NodeKind::Group: visit(c.index, m, light_set, depth + 1); break;
+                case sg::NodeKind::Shape: emit_shape(scene_.shapes[c.index], m, light_set); break;
+                case sg::NodeKind::Light: {
+                    const sg::Light& l = scene_.lights[c.index];
+                    if (l.on && l.global)
+                        if (const auto index = add_light(l, m)) global_lights_.push_back(*index);
+                    break;
+                }
+                default: break;  // bindable nodes: first pass
+            }
+        }
+        scoped_.resize(scoped_before);
+    }
+
+    uint32_t light_set_of(const std::vector<uint32_t>& lights) {
+        const auto [it, inserted] = light_set_index_.try_emplace(lights, uint32_t(out_.light_sets.size()));
+        if (inserted) out_.light_sets.push_back(lights);
+        return it->second;
+    }
+
+    std::optional<uint32_t> add_light(const sg::Light& l, const Mat4& m) {
+        NodeReport report(diagnostics_, l.origin);
+        Light out;
+        out.kind = l.type == sg::LightType::Directional ? LightKind::Directional
+                   : l.type == sg::LightType::Point     ? LightKind::Point
+                                                        : LightKind::Spot;
+        out.color = finite_or(l.color, Vec3(1.0));
+        out.intensity = finite_or(l.intensity, 1.0);
+        out.ambient_intensity = finite_or(l.ambient_intensity, 0.0);
+        out.attenuation = finite_or(l.attenuation, Vec3(1.0, 0.0, 0.0));
+        out.beam_width = finite_or(l.beam_width, out.beam_width);
+        out.cutoff_angle = finite_or(l.cut_off_angle, out.cutoff_angle);
+        const Mat3 linear = linear_part(m);
+        if (out.kind != LightKind::Point) {
+            const Vec3 d = linear * l.direction;
+            const double length = glm::length(d);
+            if (!(length > 0.0) || !std::isfinite(length)) {
+                report.warn("direction", "direction is zero or not finite; the light is dropped");
+                return std::nullopt;
+            }
+            out.direction = d / length;
+        }
+        if (out.kind != LightKind::Directional) {
+            out.position = transform_point(m, l.location);
+            out.radius = l.radius * mean_scale(linear);
+            if (!std::isfinite(out.position.x + out.position.y + out.position.z) || !(out.radius >= 0.0)) {
+                report.warn("location", "location or radius is not finite or negative; the light is dropped");
+                return std::nullopt;
+            }
+        }
+        out_.lights.push_back(out);
+        return uint32_t(out_.lights.size() - 1);
+    }
+
+    // ---- shapes ------------------------------------------------------------------------------------------
+
+    void emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light_set) {
+        const sg::Geometry& g = scene_.geometries[shape.geometry];
+        if (std::holds_alternative<std::monostate>(g.shape)) {
+            ++stats_.skipped_shapes;
+            return;
+        }
+        if (stats_.spheres + stats_.quadrics + stats_.meshes >= options_.max_primitives) return stop("primitives");
+        const uint32_t material = material_of(shape, g);
+        const uint32_t shading = shading_of(material, light_set);
+
+        if (const auto* s = std::get_if<sg::Sphere>(&g.shape)) {
+            const double scale = uniform_scale(linear_part(m));
+            if (scale > 0.0) {
+                Sphere sphere;
+                sphere.center = transform_point(m, Vec3(0.0));
+                sphere.radius = s->radius * scale;
+                sphere.shading = shading;
+                sphere.gas = gas_of(out_.materials[material]);
+                out_.spheres.push_back(sphere);
+                ++stats_.spheres;
+            } else {
+                add_quadric(QuadricKind::Ellipsoid, m, Vec3(2.0 * s->radius), shading);
+            }
+            return;
+        }
+        if (const auto* b = std::get_if<sg::Box>(&g.shape)) {
+            add_quadric(QuadricKind::Box, m, b->size, shading);
+            return;
+        }
+        if (const auto* c = std::get_if<sg::Cylinder>(&g.shape)) {
+            Quadric& q = add_quadric(QuadricKind::Cylinder, m, Vec3(2 * c->radius, c->height, 2 * c->radius), shading);
+            q.side = c->side, q.top = c->top, q.bottom = c->bottom;
+            return;
+        }
+        if (const auto* c = std::get_if<sg::Cone>(&g.shape)) {
+            Quadric& q = add_quadric(QuadricKind::Cone, m, Vec3(2 * c->bottom_radius, c->height, 2 * c->bottom_radius),
+                                     shading);
+            q.side = c->side, q.top = false, q.bottom = c->bottom;
+            return;
+        }
+        const bool want_uvs = out_.materials[material].texture >= 0;
+        std::optional<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
+        if (!cached) cached = triangulate_geometry(g, want_uvs, diagnostics_);
+        if (cached->triangles.empty()) {
+            ++stats_.skipped_shapes;
+            return;
+        }
+        if (stats_.triangles + cached->triangle_count() > options_.max_triangles) return stop("triangles");
+        out_.meshes.push_back(world_mesh(*cached, m, shading));
+        ++stats_.meshes;
+        stats_.triangles += cached->triangle_count();
+    }
+
+    Quadric& add_quadric(QuadricKind kind, const Mat4& m, const Vec3& size, uint32_t shading) {
+        Quadric q;
+        q.kind = kind;
+        q.world_from_object = m;
+        q.object_from_world = glm::inverse(m);
+        q.size = size;
+        q.shading = shading;
+        out_.quadrics.push_back(q);
+        ++stats_.quadrics;
+        return out_.quadrics.back();
+    }
+
+    static Mesh world_mesh(const TriMesh& t, const Mat4& m, uint32_t shading) {
+        Mesh mesh;
+        mesh.solid = t.solid;
+        mesh.shading = shading;
+        mesh.positions.resize(t.positions.size());
+        for (size_t i = 0; i < t.positions.size(); ++i) mesh.positions[i] = transform_point(m, t.positions[i]);
+        mesh.triangles = t.triangles;
+        mesh.uvs = t.uvs;
+        mesh.colors = t.colors;
+        const Mat3 linear = linear_part(m);
+        if (!t.normals.empty()) {
+            const Mat3 normal_from_object = glm::transpose(glm::inverse(linear));
+            mesh.normals.resize(t.normals.size());
+            for (size_t i = 0; i < t.normals.size(); ++i) {
+                const Vec3 n = normal_from_object * t.normals[i];
+                const double length = glm::length(n);
+                mesh.normals[i] = length > 0.0 ? n / length : n;
+            }
+        }
+        if (glm::determinant(linear) < 0.0) {
+            // A mirror turns counter-clockwise into clockwise: swap two corners to keep the front side.
+            for (size_t c = 0; c + 2 < mesh.triangles.size(); c += 3) {
+                std::swap(mesh.triangles[c + 1], mesh.triangles[c + 2]);
+                if (!mesh.normals.empty()) std::swap(mesh.normals[c + 1], mesh.normals[c + 2]);
+                if (!mesh.uvs.empty()) std::swap(mesh.uvs[c + 1], mesh.uvs[c + 2]);
+                if (!mesh.colors.empty()) std::swap(mesh.colors[c + 1], mesh.colors[c + 2]);
+            }
+        }
+        return mesh;
+    }
+
+    void stop(const char* what) {
+        if (!stopped_)
+            diagnostics_.error(SourceLoc{}, std::string("the scene expands to more ") + what +
+                                                " than the limit allows (DEF/USE instancing); the rest is not rendered");
+        stopped_ = true;
+    }
+
+    bool gas_of(const Material& m) const {
+        if (m.sphere_mode >= 0) return m.sphere_mode == int8_t(SphereMode::Gas);
+        return options_.spheres == SpheresOption::Gas;
+    }
+
+    // ---- materials -----------------------------------------------------------------------------------
+
+    uint32_t material_of(const sg::Shape& shape, const sg::Geometry& g) {
+        const bool plain = !shape.hints.any() && !g.hints.any();
+        const size_t slot = shape.appearance == sg::kNone ? scene_.appearances.size() : shape.appearance;
+        if (plain && appearance_material_[slot] >= 0) return uint32_t(appearance_material_[slot]);
+        const uint32_t index = intern_material(resolve_material(shape, g));
+        if (plain) appearance_material_[slot] = int32_t(index);
+        return index;
+    }
+
+    uint32_t intern_material(const Material& m) {
+        const auto [it, inserted] = material_index_.try_emplace(key_of(m), uint32_t(out_.materials.size()));
+        if (inserted) out_.materials.push_back(m);
+        return it->second;
+    }
+
+    uint32_t shading_of(uint32_t material, uint32_t light_set) {
+        const uint64_t key = (uint64_t(material) << 32) | light_set;
+        const auto [it, inserted] = shading_index_.try_emplace(key, uint32_t(out_.shadings.size()));
+        if (inserted) out_.shadings.push_back(Shading{material, light_set});
+        return it->second;
+    }
+
+    Material resolve_material(const sg::Shape& shape, const sg::Geometry& g) {
+        Material out;
+        sg::Hints hints;
+        const sg::Appearance* app = shape.appearance == sg::kNone ? nullptr : &scene_.appearances[shape.appearance];
+        if (app && app->texture != sg::kNone) out.texture = texture_of(app->texture);
+        if (app && app->has_texture_transform) {
+            const sg::TextureTransform& t = app->texture_transform;
+            out.texture_transform = texture_transform_matrix(t.center, t.rotation, t.scale, t.translation);
+        }
+        if (!app || app->material == sg::kNone) {
+            out.lit = false;
+        } else {
+            const sg::Material& m = scene_.materials[app->material];
+            hints = m.hints;
+            NodeReport report(diagnostics_, m.origin);
+            auto colour = [&](const Vec3& c, const Vec3& fallback) {
+                if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) return glm::clamp(c, 0.0, 1.0);
+                report.warn("non-finite", "has a NaN or infinite colour; using the default");
+                return fallback;
+            };
+            auto unit = [&](double d, double fallback) {
+                if (std::isfinite(d)) return std::clamp(d, 0.0, 1.0);
+                report.warn("non-finite", "has a NaN or infinite value; using the default");
+                return fallback;
+            };
+            out.diffuse = colour(m.diffuse_color, Vec3(0.8));
+            out.specular = colour(m.specular_color, Vec3(0.0));
+            out.emissive = colour(m.emissive_color, Vec3(0.0));
+            out.ambient_intensity = unit(m.ambient_intensity, 0.2);
+            out.shininess = unit(m.shininess, 0.2);
+            out.transparency = unit(m.transparency, 0.0);
+            if (m.model == sg::MaterialModel::Physical) {
+                out.specular = Vec3(0.0);
+                out.reflectivity = unit(m.metallic, 0.0) * (1.0 - unit(m.roughness, 1.0));
+            } else if (m.model == sg::MaterialModel::Unlit) {
+                out.diffuse = out.specular = Vec3(0.0);
+                out.ambient_intensity = 0.0;
+                if (out.texture >= 0) out.lit = false;
+            }
+        }
+        hints.override_with(shape.hints);
+        hints.override_with(g.hints);
+        if (hints.reflectivity >= 0.0) out.reflectivity = hints.reflectivity;
+        if (hints.ior >= 0.0) out.ior = hints.ior;
+        if (hints.sphere_mode != sg::SphereHint::Unset)
+            out.sphere_mode = int8_t(hints.sphere_mode == sg::SphereHint::Gas ? SphereMode::Gas : SphereMode::Opaque);
+        out.density = hints.density >= 0.0 ? hints.density : options_.density;
+        out.albedo = hints.albedo.x >= 0.0 ? hints.albedo : out.diffuse;
+        out.emission = hints.emission.x >= 0.0 ? hints.emission : out.emissive;
+        return out;
+    }
+
+    // ---- textures ----------------------------------------------------------------------------------------
+
+    int32_t texture_of(sg::Index t) {
+        if (texture_index_[t] != kUnloaded) return texture_index_[t];
+        const sg::Texture& tex = scene_.textures[t];
+        int32_t index = -1;
+        if (tex.kind == sg::TextureKind::Pixel) {
+            Texture out;
+            out.width = tex.width;
+            out.height = tex.height;
+            out.channels = tex.components;
+            out.repeat_s = tex.repeat_s;
+            out.repeat_t = tex.repeat_t;
+            out.texels.resize(size_t(tex.width) * tex.height * tex.components);
+            for (size_t p = 0; p < tex.pixels.size(); ++p)
+                for (int c = 0; c < tex.components; ++c) {
+                    // Packed high byte first: 0xRRGGBB, 0xIIAA, ...
+                    const int shift = 8 * (tex.components - 1 - c);
+                    out.texels[p * tex.components + c] = float((tex.pixels[p] >> shift) & 0xFFu) / 255.0f;
+                }
+            out_.textures.push_back(std::move(out));
+            index = int32_t(out_.textures.size() - 1);
+        } else {
+            index = load_image(tex.urls, tex.from_file, tex.repeat_s, tex.repeat_t, tex.origin);
+        }
+        texture_index_[t] = index;
+        return index;
+    }
+
+    int32_t load_image(const std::vector<std::string>& urls, const std::filesystem::path& from_file, bool repeat_s,
+                       bool repeat_t, const sg::Origin& origin) {
+        std::vector<std::filesystem::path> roots = options_.allowed_roots;
+        if (roots.empty()) roots = scene_.allowed_roots;
+        std::filesystem::path from = from_file;
+        if (from.empty()) from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
+        if (roots.empty() && !from.empty()) roots.push_back(from.parent_path());
+        std::string reasons;
+        for (const std::string& url : urls) {
+            std::string why;
+            const std::filesystem::path path = resolve_url(url, from, roots, why);
+            if (path.empty()) {
+                reasons += (reasons.empty() ? "" : "; ") + url + ": " + why;
+                continue;
+            }
+            const std::string key = path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
+            if (const auto it = image_index_.find(key); it != image_index_.end()) return it->second;
+            ImageData image;
+            std::string error;
+            if (!read_image_file(path, image, error)) {
+                reasons += (reasons.empty() ? "" : "; ") + url + ": " + error;
+                continue;
+            }
+            Texture out;
+            out.width = image.width;
+            out.height = image.height;
+            out.channels = image.channels;
+            out.texels = std::move(image.texels);
+            out.repeat_s = repeat_s;
+            out.repeat_t = repeat_t;
+            out_.textures.push_back(std::move(out));
+            const int32_t index = int32_t(out_.textures.size() - 1);
+            image_index_[key] = index;
+            return index;
+        }
+        NodeReport(diagnostics_, origin).warn("texture", "no texture image could be loaded (" + reasons + "); untextured");
+        return -1;
+    }
+
+    const Scene& scene_;
+    const FlattenOptions& options_;
+    Diagnostics& diagnostics_;
+    FlattenStats& stats_;
+    FlatScene out_;
+
+    Vec3 viewer_position_{0.0, 0.0, 10.0};
+    Vec3 viewer_up_{0.0, 1.0, 0.0};
+    std::vector<int8_t> bindable_memo_;
+    std::vector<uint32_t> scoped_;        // scoped lights in effect along the current path
+    std::vector<uint32_t> global_lights_;
+    std::map<std::vector<uint32_t>, uint32_t> light_set_index_;
+    std::unordered_map<MaterialKey, uint32_t, MaterialKeyHash, MaterialKeyEqual> material_index_;
+    std::vector<int32_t> appearance_material_;  // per appearance (+1: none) without extra hints
+    std::unordered_map<uint64_t, uint32_t> shading_index_;
+    std::vector<int32_t> texture_index_;
+    std::unordered_map<std::string, int32_t> image_index_;
+    std::vector<std::optional<TriMesh>> mesh_cache_[2];  // per geometry, without / with texture coordinates
+    bool stopped_ = false;
+};
+
+}  // namespace
+
+FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
+                        FlattenStats& stats) {
+    stats = FlattenStats{};
+    Flattener flattener(scene, options, diagnostics, stats);
+    return flattener.run();
+}
+
+}  // namespace vr

@@ -1,0 +1,178 @@
+#include "render/integrator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/lights.h"
+
+namespace vr {
+
+double fresnel_dielectric(double cos_i, double eta, double& cos_t) {
+    cos_i = std::clamp(cos_i, 0.0, 1.0);
+    const double sin2_t = eta * eta * std::max(0.0, 1.0 - cos_i * cos_i);
+    if (sin2_t >= 1.0) {
+        cos_t = 0.0;
+        return 1.0;
+    }
+    cos_t = std::sqrt(1.0 - sin2_t);
+    // Reflection amplitudes for s and p polarisation (Fresnel equations divided by n_transmitted).
+    const double rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    const double rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+bool refract_direction(const Vec3& d, const Vec3& n, double eta, Vec3& out) {
+    const double cos_i = -glm::dot(d, n);
+    const double sin2_t = eta * eta * std::max(0.0, 1.0 - cos_i * cos_i);
+    if (sin2_t >= 1.0) return false;
+    const double cos_t = std::sqrt(1.0 - sin2_t);
+    out = glm::normalize(eta * d + (eta * cos_i - cos_t) * n);
+    return true;
+}
+
+Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera& camera,
+                       const RenderOptions& options)
+    : scene_(scene), accel_(accel), options_(options), background_(scene, options.background) {
+    const Vec3 view = camera.forward();
+    lights_ = scene.lights;
+    for (Light& l : lights_) {
+        if (l.headlight) l.direction = view;
+        double len = glm::length(l.direction);
+        l.direction = len > 0.0 && std::isfinite(len) ? l.direction / len : Vec3(0.0, 0.0, -1.0);
+    }
+    // NavigationInfo headlight: directional along the view, intensity 1, ambient 0, white.
+    has_headlight_ = scene.headlight;
+    headlight_.kind = LightKind::Directional;
+    headlight_.color = Vec3(1.0);
+    headlight_.intensity = 1.0;
+    headlight_.ambient_intensity = 0.0;
+    headlight_.direction = view;
+    headlight_.headlight = true;
+}
+
+Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng, const Vec3& ns,
+                             const Vec3& to_viewer, RayCounters& counters) const {
+    if (!look.lit) return look.diffuse;
+    Vec3 color = look.emissive;
+    const double exponent = look.shininess * 128.0;
+
+    auto add_light = [&](const Light& light) {
+        const LightIncidence inc = light_incidence(light, hit.p);
+        if (!(inc.factor > 0.0)) return;
+        const Vec3 light_rgb = light.color * inc.factor;
+        // The ambient term is never shadowed (SPEC section 5).
+        Vec3 term = light.ambient_intensity * look.ambient_intensity * look.diffuse;
+        const Vec3& l = inc.to_light;
+        const double n_dot_l = glm::dot(ns, l);
+        // Lights behind the surface add only their ambient term, and then no specular either (the
+        // OpenGL convention VRML browsers follow; the VRML97 formula leaves N.H unguarded).
+        if (n_dot_l > 0.0 && light.intensity > 0.0) {
+            double visibility = 1.0;
+            if (!light.headlight) {
+                Ray shadow = light.kind == LightKind::Directional ? spawn_ray(hit.p, hit.p_error, ng, l)
+                                                                  : spawn_ray_to(hit.p, hit.p_error, ng, light.position);
+                ++counters.shadow;
+                visibility = accel_.transmittance(shadow);
+            }
+            if (visibility > 0.0) {
+                Vec3 h = l + to_viewer;
+                double h_len = glm::length(h);
+                double n_dot_h = h_len > 0.0 ? std::max(glm::dot(ns, h / h_len), 0.0) : 0.0;
+                Vec3 lit = look.diffuse * n_dot_l + look.specular * std::pow(n_dot_h, exponent);
+                term += (visibility * light.intensity) * lit;
+            }
+        }
+        color += light_rgb * term;
+    };
+
+    if (hit.shading < scene_.shadings.size()) {
+        uint32_t set = scene_.shadings[hit.shading].light_set;
+        if (set < scene_.light_sets.size()) {
+            for (uint32_t li : scene_.light_sets[set])
+                if (li < lights_.size()) add_light(lights_[li]);
+        }
+    }
+    if (has_headlight_) add_light(headlight_);
+    return color;
+}
+
+SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
+    ++counters.primary;
+    return trace(ray, 0, 1.0, counters);
+}
+
+SampleValue Integrator::trace(const Ray& ray, int depth, double weight, RayCounters& counters) const {
+    SampleValue out;
+    Hit hit;
+    if (!accel_.intersect(ray, hit)) {
+        out.color = background_.radiance(ray.d);
+        out.background = 1.0;
+        return out;
+    }
+    const SurfaceHit s = accel_.surface(ray, hit);
+    // Gas spheres (s.gas) belong to the gas integrator (SPEC section 6), which will integrate the
+    // volume along [0, hit.t] around this call; until then they are shaded as opaque surfaces.
+    const SurfaceLook look = look_up_surface(scene_, s);
+
+    const double len = glm::length(ray.d);
+    const Vec3 d = ray.d / len;
+    // Normals face the incoming ray: VRML `solid TRUE` allows culling back faces, but a ray tracer
+    // sees both sides (through transparent or reflecting surfaces too), so we shade both.
+    const bool front = glm::dot(s.ng, d) < 0.0;
+    const Vec3 ng = front ? s.ng : -s.ng;
+    const Vec3 ns = front ? s.ns : -s.ns;
+    const Vec3 to_viewer = -d;
+
+    const double kt = look.transparency, kr = look.reflectivity;
+    const double local_weight = std::max(0.0, 1.0 - kr - kt);
+    Vec3 color(0.0);
+    if (local_weight > 0.0) color += local_weight * shade_local(s, look, ng, ns, to_viewer, counters);
+
+    double background = 0.0;
+    if (depth + 1 < options_.max_depth && (kr > 0.0 || kt > 0.0)) {
+        double w_reflect = kr, w_transmit = kt;
+        Vec3 t_dir = d;
+        if (kt > 0.0 && look.ior != 1.0) {
+            // Refraction: the outside medium is taken as vacuum; `front` says whether we enter.
+            const double eta = front ? 1.0 / look.ior : look.ior;
+            double cos_t;
+            const double cos_i = std::clamp(glm::dot(to_viewer, ns), 0.0, 1.0);
+            const double f = fresnel_dielectric(cos_i, eta, cos_t);
+            w_reflect += kt * f;
+            w_transmit = kt * (1.0 - f);
+            if (w_transmit > 0.0 && !refract_direction(d, ns, eta, t_dir)) {
+                w_reflect += w_transmit;
+                w_transmit = 0.0;
+            }
+            // A shading normal may bend the refracted ray back over the surface: use the true one.
+            if (w_transmit > 0.0 && glm::dot(t_dir, ng) >= 0.0 && !refract_direction(d, ng, eta, t_dir)) {
+                w_reflect += w_transmit;
+                w_transmit = 0.0;
+            }
+        }
+        if (w_reflect > 0.0 && weight * w_reflect >= options_.min_weight) {
+            Vec3 r_dir = d - 2.0 * glm::dot(d, ns) * ns;
+            if (glm::dot(r_dir, ng) <= 0.0) r_dir = d - 2.0 * glm::dot(d, ng) * ng;
+            ++counters.secondary;
+            SampleValue r = trace(spawn_ray(s.p, s.p_error, ng, r_dir), depth + 1, weight * w_reflect, counters);
+            color += w_reflect * r.color;
+        }
+        if (w_transmit > 0.0 && weight * w_transmit >= options_.min_weight) {
+            ++counters.secondary;
+            SampleValue t = trace(spawn_ray(s.p, s.p_error, ng, t_dir), depth + 1, weight * w_transmit, counters);
+            color += w_transmit * t.color;
+            background += w_transmit * t.background;
+        }
+    }
+
+    if (scene_.fog.kind != FogKind::None) {
+        const double f = fog_factor(scene_.fog, s.t * len);
+        color = f * color + (1.0 - f) * scene_.fog.color;
+        background *= f;
+    }
+    out.color = color;
+    out.background = background;
+    return out;
+}
+
+}  // namespace vr

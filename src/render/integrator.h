@@ -1,0 +1,63 @@
+// The opaque-mode integrator (SPEC section 5): Whitted-style recursion with the VRML97 lighting
+// equation at every hit, shadow rays with see-through attenuation, mirror reflection and
+// refraction/see-through transparency by the reflectivity/transparency/ior hints.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/ray.h"
+#include "render/accel.h"
+#include "render/background.h"
+#include "render/camera.h"
+#include "render/flat_scene.h"
+#include "render/options.h"
+#include "render/sampling.h"
+#include "render/shading.h"
+
+namespace vr {
+
+struct RayCounters {
+    uint64_t primary = 0, shadow = 0, secondary = 0;
+    void add(const RayCounters& o) {
+        primary += o.primary;
+        shadow += o.shadow;
+        secondary += o.secondary;
+    }
+    uint64_t total() const { return primary + shadow + secondary; }
+};
+
+// Exact dielectric Fresnel reflectance for unpolarised light; eta = n_incident / n_transmitted,
+// cos_i > 0. Returns 1 on total internal reflection, and sets cos_t otherwise.
+double fresnel_dielectric(double cos_i, double eta, double& cos_t);
+
+// Refracted direction of unit `d` through a surface with unit normal `n` facing the incoming ray
+// (dot(d, n) < 0); false on total internal reflection.
+bool refract_direction(const Vec3& d, const Vec3& n, double eta, Vec3& out);
+
+class Integrator {
+public:
+    Integrator(const FlatScene& scene, const Accel& accel, const Camera& camera, const RenderOptions& options);
+
+    // A camera ray: colour and the weight with which the background reaches it (alpha = 1 - that).
+    SampleValue trace_camera_ray(const Ray& ray, RayCounters& counters) const;
+
+    // Any ray at recursion depth `depth` (camera rays: 0) whose contribution to the pixel is scaled
+    // by `weight`.
+    SampleValue trace(const Ray& ray, int depth, double weight, RayCounters& counters) const;
+
+    // The local VRML97 colour at a hit: emissive + sum over lights of on * att * spot * colour *
+    // (ambient + visibility * (diffuse + specular)). `ng`/`ns` face the viewer, `to_viewer` is unit.
+    Vec3 shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng, const Vec3& ns,
+                     const Vec3& to_viewer, RayCounters& counters) const;
+
+private:
+    const FlatScene& scene_;
+    const Accel& accel_;
+    const RenderOptions& options_;
+    BackgroundModel background_;
+    std::vector<Light> lights_;  // scene lights with unit directions; headlights aimed along the view
+    bool has_headlight_ = false;
+    Light headlight_;
+};
+
+}  // namespace vr

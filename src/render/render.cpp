@@ -1,0 +1,142 @@
+#include "render/render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "render/accel.h"
+#include "render/integrator.h"
+
+namespace vr {
+namespace {
+
+constexpr int kTileSize = 16;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Finite, and inside float's range.
+float to_output(double v, uint64_t& nonfinite) {
+    if (!std::isfinite(v)) {
+        ++nonfinite;
+        return 0.0f;
+    }
+    constexpr double kMax = std::numeric_limits<float>::max();
+    return float(std::clamp(v, -kMax, kMax));
+}
+
+}  // namespace
+
+double RenderStats::rays_per_second() const {
+    double rays = double(primary_rays + shadow_rays + secondary_rays);
+    return render_seconds > 0.0 ? rays / render_seconds : 0.0;
+}
+
+Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
+                   const ProgressFn& progress, RenderStats& stats) {
+    stats = RenderStats();
+    const int width = std::max(options.width, 0), height = std::max(options.height, 0);
+    int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
+    threads = std::max(threads, 1);
+
+    const auto build_start = Clock::now();
+    Accel accel;
+    accel.build(scene, threads);
+    stats.build_seconds = seconds_since(build_start);
+    stats.bvh_nodes = accel.node_count();
+    stats.primitives = accel.primitive_count();
+
+    Image image(width, height);
+    if (width == 0 || height == 0) {
+        if (progress) progress(1.0, 0);
+        return image;
+    }
+
+    const auto render_start = Clock::now();
+    const Integrator integrator(scene, accel, camera, options);
+    const int tiles_x = (width + kTileSize - 1) / kTileSize, tiles_y = (height + kTileSize - 1) / kTileSize;
+    const int tile_count = tiles_x * tiles_y;
+    threads = std::min(threads, tile_count);
+
+    std::atomic<int> next_tile{0};
+    std::atomic<int> tiles_done{0};
+    std::atomic<uint64_t> rays_done{0};
+    // One cache line per thread: the counters change on every ray.
+    struct alignas(64) PerThread {
+        RayCounters rays;
+        uint64_t nonfinite = 0;
+    };
+    std::vector<PerThread> per_thread(static_cast<size_t>(threads));
+    std::mutex mutex;
+    std::condition_variable finished;
+
+    auto worker = [&](int id) {
+        RayCounters& c = per_thread[size_t(id)].rays;
+        uint64_t& bad = per_thread[size_t(id)].nonfinite;
+        for (;;) {
+            const int tile = next_tile.fetch_add(1, std::memory_order_relaxed);
+            if (tile >= tile_count) break;
+            const uint64_t before = c.total();
+            const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
+            const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    SampleValue v = camera.sampler.pixel(x, y, [&](double px, double py) {
+                        return integrator.trace_camera_ray(camera.ray(px, py, width, height), c);
+                    });
+                    float* out = image.pixel(x, y);
+                    out[0] = to_output(v.color.x, bad);
+                    out[1] = to_output(v.color.y, bad);
+                    out[2] = to_output(v.color.z, bad);
+                    double alpha = 1.0 - v.background;
+                    out[3] = std::isfinite(alpha) ? float(std::clamp(alpha, 0.0, 1.0)) : 1.0f;
+                }
+            }
+            rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);
+            if (tiles_done.fetch_add(1, std::memory_order_acq_rel) + 1 == tile_count) {
+                std::lock_guard<std::mutex> lock(mutex);
+                finished.notify_all();
+            }
+        }
+    };
+
+    std::vector<std::thread> pool;
+    if (progress) {
+        // Every thread renders; this one reports progress until the last tile is done.
+        for (int i = 0; i < threads; ++i) pool.emplace_back(worker, i);
+        std::unique_lock<std::mutex> lock(mutex);
+        while (tiles_done.load(std::memory_order_acquire) < tile_count) {
+            finished.wait_for(lock, std::chrono::milliseconds(100));
+            int done = tiles_done.load(std::memory_order_acquire);
+            if (done < tile_count) {
+                lock.unlock();
+                progress(double(done) / tile_count, rays_done.load(std::memory_order_relaxed));
+                lock.lock();
+            }
+        }
+    } else {
+        for (int i = 1; i < threads; ++i) pool.emplace_back(worker, i);
+        worker(0);
+    }
+    for (std::thread& t : pool) t.join();
+
+    RayCounters total;
+    for (const PerThread& p : per_thread) {
+        total.add(p.rays);
+        stats.nonfinite_values += p.nonfinite;
+    }
+    stats.primary_rays = total.primary;
+    stats.shadow_rays = total.shadow;
+    stats.secondary_rays = total.secondary;
+    stats.render_seconds = seconds_since(render_start);
+    if (progress) progress(1.0, total.total());
+    return image;
+}
+
+}  // namespace vr

@@ -1,0 +1,96 @@
+#include "render/shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vr {
+namespace {
+
+double clamp01(double v) { return std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 0.0; }
+Vec3 clamp01(const Vec3& v) { return Vec3(clamp01(v.x), clamp01(v.y), clamp01(v.z)); }
+
+// Texel index and weight along one axis for a coordinate in texel units (centre of texel i at i + 0.5).
+void axis_lookup(double x, int size, bool repeat, int& i0, int& i1, double& frac) {
+    double f = std::floor(x - 0.5);
+    frac = (x - 0.5) - f;
+    long long a = static_cast<long long>(f), b = a + 1;
+    if (repeat) {
+        a %= size;
+        if (a < 0) a += size;
+        b %= size;
+        if (b < 0) b += size;
+    } else {
+        a = std::clamp<long long>(a, 0, size - 1);
+        b = std::clamp<long long>(b, 0, size - 1);
+    }
+    i0 = int(a);
+    i1 = int(b);
+}
+
+}  // namespace
+
+TexelValue sample_texture(const Texture& tex, Vec2 st, bool clamp) {
+    TexelValue out;
+    const int w = tex.width, h = tex.height, ch = tex.channels;
+    if (w <= 0 || h <= 0 || ch < 1 || ch > 4 || tex.texels.size() < size_t(w) * size_t(h) * size_t(ch)) return out;
+    if (!std::isfinite(st.x)) st.x = 0.0;
+    if (!std::isfinite(st.y)) st.y = 0.0;
+    // Keep coordinates in a range where the integer conversions below are exact.
+    const bool repeat_s = tex.repeat_s && !clamp, repeat_t = tex.repeat_t && !clamp;
+    double s = repeat_s ? st.x - std::floor(st.x) : std::clamp(st.x, 0.0, 1.0);
+    double t = repeat_t ? st.y - std::floor(st.y) : std::clamp(st.y, 0.0, 1.0);
+    int x0, x1, y0, y1;
+    double fx, fy;
+    axis_lookup(s * w, w, repeat_s, x0, x1, fx);
+    axis_lookup(t * h, h, repeat_t, y0, y1, fy);
+    double v[4] = {0.0, 0.0, 0.0, 0.0};
+    auto add = [&](int x, int y, double weight) {
+        const float* p = tex.texels.data() + (size_t(y) * size_t(w) + size_t(x)) * size_t(ch);
+        for (int c = 0; c < ch; ++c) v[c] += weight * p[c];
+    };
+    add(x0, y0, (1.0 - fx) * (1.0 - fy));
+    add(x1, y0, fx * (1.0 - fy));
+    add(x0, y1, (1.0 - fx) * fy);
+    add(x1, y1, fx * fy);
+    switch (ch) {
+        case 1: out.rgb = Vec3(v[0]); break;
+        case 2: out.rgb = Vec3(v[0]); out.a = v[1]; break;
+        case 3: out.rgb = Vec3(v[0], v[1], v[2]); break;
+        default: out.rgb = Vec3(v[0], v[1], v[2]); out.a = v[3]; break;
+    }
+    return out;
+}
+
+SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit) {
+    SurfaceLook look;
+    const Material* m = nullptr;
+    if (hit.shading < scene.shadings.size()) {
+        uint32_t mi = scene.shadings[hit.shading].material;
+        if (mi < scene.materials.size()) m = &scene.materials[mi];
+    }
+    static const Material kDefault;
+    if (!m) m = &kDefault;
+    look.lit = m->lit;
+    look.specular = clamp01(m->specular);
+    look.emissive = clamp01(m->emissive);
+    look.ambient_intensity = clamp01(m->ambient_intensity);
+    look.shininess = clamp01(m->shininess);
+    look.transparency = clamp01(m->transparency);
+    look.reflectivity = clamp01(m->reflectivity);
+    look.ior = std::isfinite(m->ior) && m->ior > 0.0 ? m->ior : 1.0;
+
+    // The colour the texture modulates, or the colour itself without a texture.
+    Vec3 base = hit.has_color ? clamp01(hit.color) : (m->lit ? clamp01(m->diffuse) : Vec3(1.0));
+    look.diffuse = base;
+    if (m->texture >= 0 && size_t(m->texture) < scene.textures.size()) {
+        const Texture& tex = scene.textures[size_t(m->texture)];
+        Vec3 st = m->texture_transform * Vec3(hit.uv, 1.0);
+        TexelValue tv = sample_texture(tex, Vec2(st.x, st.y));
+        if (tex.channels <= 2) look.diffuse = clamp01(tv.rgb.x) * base;
+        else look.diffuse = clamp01(tv.rgb);
+        if (tex.channels == 2 || tex.channels == 4) look.transparency = 1.0 - clamp01(tv.a);
+    }
+    return look;
+}
+
+}  // namespace vr

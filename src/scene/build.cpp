@@ -1,0 +1,528 @@
+// Node tree -> typed scene: grouping nodes, Shape/Appearance/Material/textures, lights and bindable nodes.
+// Geometry nodes are in build_geometry.cpp.
+#include "scene/build.h"
+
+#include <cmath>
+#include <unordered_map>
+
+#include "scene/build_internal.h"
+#include "scene/hints.h"
+#include "scene/report.h"
+#include "scene/transform.h"
+
+namespace vr {
+namespace detail {
+
+const Names& names() {
+    static const Names n;
+    return n;
+}
+
+namespace {
+
+enum class ChildKind : uint8_t {
+    Group, Transform, Billboard, Switch, LOD, Inline, CADFace, Shape, Light, Viewpoint, Background, Fog,
+    NavigationInfo, Silent, NotModelled,
+};
+
+ChildKind child_kind(Name type) {
+    static const std::unordered_map<Name, ChildKind> table = [] {
+        std::unordered_map<Name, ChildKind> t;
+        for (const char* n : {"Group", "StaticGroup", "Collision", "Anchor", "CADAssembly", "CADLayer",
+                              "PickableGroup", "ViewpointGroup"})
+            t[intern(n)] = ChildKind::Group;
+        for (const char* n : {"Transform", "CADPart"}) t[intern(n)] = ChildKind::Transform;
+        t[intern("Billboard")] = ChildKind::Billboard;
+        t[intern("Switch")] = ChildKind::Switch;
+        t[intern("LOD")] = ChildKind::LOD;
+        t[intern("Inline")] = ChildKind::Inline;
+        t[intern("CADFace")] = ChildKind::CADFace;
+        t[intern("Shape")] = ChildKind::Shape;
+        for (const char* n : {"DirectionalLight", "PointLight", "SpotLight"}) t[intern(n)] = ChildKind::Light;
+        for (const char* n : {"Viewpoint", "OrthoViewpoint"}) t[intern(n)] = ChildKind::Viewpoint;
+        t[intern("Background")] = ChildKind::Background;
+        t[intern("Fog")] = ChildKind::Fog;
+        t[intern("NavigationInfo")] = ChildKind::NavigationInfo;
+        // Nodes that draw nothing at time 0 (SPEC section 2: parsed and ignored).
+        for (const char* n : {"WorldInfo", "Script", "Sound", "AudioClip", "MetadataSet", "MetadataString",
+                              "MetadataFloat", "MetadataDouble", "MetadataInteger", "MetadataBoolean",
+                              "BooleanToggle", "IntegerTrigger", "TimeTrigger", "BooleanTrigger", "FontStyle",
+                              "ScreenFontStyle", "EspduTransform", "SignalPdu", "ReceiverPdu", "TransmitterPdu"})
+            t[intern(n)] = ChildKind::Silent;
+        return t;
+    }();
+    const auto it = table.find(type);
+    if (it != table.end()) return it->second;
+    const std::string_view text = name_text(type);
+    for (std::string_view suffix : {"Sensor", "Interpolator", "Sequencer", "Trigger", "Filter", "Chaser", "Damper"})
+        if (text.size() > suffix.size() && text.substr(text.size() - suffix.size()) == suffix) return ChildKind::Silent;
+    return ChildKind::NotModelled;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------
+// Field readers
+
+double Builder::number(NodeId n, Name f, double fallback) const {
+    const FieldView v = tree_.get(n, f);
+    return v.numbers.empty() ? fallback : v.numbers[0];
+}
+int32_t Builder::integer(NodeId n, Name f, int32_t fallback) const {
+    const FieldView v = tree_.get(n, f);
+    return v.numbers.empty() ? fallback : static_cast<int32_t>(v.numbers[0]);
+}
+bool Builder::boolean(NodeId n, Name f, bool fallback) const {
+    const FieldView v = tree_.get(n, f);
+    return v.numbers.empty() ? fallback : v.numbers[0] != 0.0;
+}
+Vec2 Builder::vec2(NodeId n, Name f, Vec2 fallback) const {
+    const FieldView v = tree_.get(n, f);
+    return v.numbers.size() < 2 ? fallback : Vec2(v.numbers[0], v.numbers[1]);
+}
+Vec3 Builder::vec3(NodeId n, Name f, Vec3 fallback) const {
+    const FieldView v = tree_.get(n, f);
+    return v.numbers.size() < 3 ? fallback : Vec3(v.numbers[0], v.numbers[1], v.numbers[2]);
+}
+Vec4 Builder::rotation(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    if (v.numbers.size() < 4) return Vec4(0.0, 0.0, 1.0, 0.0);
+    return Vec4(v.numbers[0], v.numbers[1], v.numbers[2], v.numbers[3]);
+}
+std::vector<double> Builder::numbers(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    return {v.numbers.begin(), v.numbers.end()};
+}
+std::vector<int32_t> Builder::integers(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    std::vector<int32_t> out(v.numbers.size());
+    for (size_t i = 0; i < out.size(); ++i) {
+        const double d = v.numbers[i];
+        // Out-of-int32 values cannot be valid indices; -2 is rejected by every index check.
+        out[i] = d >= -2147483648.0 && d <= 2147483647.0 ? static_cast<int32_t>(d) : -2;
+    }
+    return out;
+}
+std::vector<Vec2> Builder::vec2s(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    std::vector<Vec2> out(v.numbers.size() / 2);
+    for (size_t i = 0; i < out.size(); ++i) out[i] = Vec2(v.numbers[2 * i], v.numbers[2 * i + 1]);
+    return out;
+}
+std::vector<Vec3> Builder::vec3s(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    const size_t stride = v.type.kind == ValueKind::ColorRGBA || v.type.kind == ValueKind::Vec4f ||
+                                  v.type.kind == ValueKind::Vec4d
+                              ? 4
+                              : 3;
+    std::vector<Vec3> out(v.numbers.size() / stride);
+    for (size_t i = 0; i < out.size(); ++i)
+        out[i] = Vec3(v.numbers[stride * i], v.numbers[stride * i + 1], v.numbers[stride * i + 2]);
+    return out;
+}
+std::vector<std::string> Builder::strings(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    return {v.strings.begin(), v.strings.end()};
+}
+NodeId Builder::node(NodeId n, Name f) const {
+    const FieldView v = tree_.get(n, f);
+    return v.nodes.empty() ? kNullNode : v.nodes[0];
+}
+std::span<const NodeId> Builder::nodes(NodeId n, Name f) const { return tree_.get(n, f).nodes; }
+bool Builder::has_field(NodeId n, Name f) const { return tree_.get(n, f).found; }
+
+sg::Origin Builder::origin(NodeId n) const {
+    const Node& node = tree_.nodes[n];
+    return sg::Origin{n, name_text(node.type), name_text(node.def_name), node.loc};
+}
+
+void Builder::warn(NodeId n, std::string_view cause, const std::string& message) {
+    const sg::Origin o = origin(n);
+    std::string key(o.type);
+    key += ':';
+    key += cause;
+    diagnostics_.warning(o.loc, node_label(o) + ": " + message, key);
+}
+
+std::filesystem::path Builder::file_of(NodeId n) const {
+    const SourceLoc loc = tree_.nodes[n].loc;
+    if (loc.valid() && loc.file < loaded_.sources.size()) return loaded_.sources.file(loc.file).path;
+    return loaded_.main_file;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Graph
+
+Builder::Builder(const LoadedScene& loaded, Diagnostics& diagnostics)
+    : loaded_(loaded), tree_(loaded.tree), diagnostics_(diagnostics) {
+    const size_t count = tree_.nodes.size();
+    memo_.assign(count, sg::kNone);
+    memo_child_.assign(count, sg::ChildRef{});
+    state_.assign(count, 0);
+}
+
+Scene Builder::build() {
+    scene_.main_file = loaded_.main_file;
+    scene_.allowed_roots = loaded_.allowed_roots;
+    scene_.groups.emplace_back();  // the root
+    scene_.groups[Scene::kRoot].origin.type = "(root)";
+    add_children(Scene::kRoot, tree_.roots);
+    return std::move(scene_);
+}
+
+void Builder::add_children(sg::Index group, std::span<const NodeId> children) {
+    std::vector<sg::ChildRef> refs;
+    refs.reserve(children.size());
+    for (NodeId id : children) {
+        if (id == kNullNode || id >= tree_.nodes.size()) continue;
+        if (const auto ref = child(id)) refs.push_back(*ref);
+    }
+    scene_.groups[group].children = std::move(refs);
+}
+
+std::optional<sg::ChildRef> Builder::child(NodeId id) {
+    if (state_[id] == 2) {
+        const sg::ChildRef ref = memo_child_[id];
+        if (ref.index == sg::kNone) return std::nullopt;
+        return ref;
+    }
+    if (state_[id] == 1) {
+        warn(id, "cycle", "is used inside itself (DEF/USE cycle); the inner use is skipped");
+        return std::nullopt;
+    }
+    if (depth_ >= kMaxDepth) {
+        warn(id, "depth", "is nested more than " + std::to_string(kMaxDepth) + " levels deep; skipped");
+        return std::nullopt;
+    }
+    state_[id] = 1;
+    ++depth_;
+    const std::optional<sg::ChildRef> ref = make_child(id);
+    --depth_;
+    state_[id] = 2;
+    memo_child_[id] = ref ? *ref : sg::ChildRef{sg::NodeKind::Group, sg::kNone};
+    return ref;
+}
+
+std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
+    using sg::NodeKind;
+    switch (child_kind(type(id))) {
+        case ChildKind::Group:
+        case ChildKind::Transform:
+        case ChildKind::Billboard:
+        case ChildKind::Switch:
+        case ChildKind::LOD:
+        case ChildKind::Inline:
+        case ChildKind::CADFace: return sg::ChildRef{NodeKind::Group, make_group(id)};
+        case ChildKind::Shape: return make_shape(id);
+        case ChildKind::Light: return sg::ChildRef{NodeKind::Light, make_light(id)};
+        case ChildKind::Viewpoint: return sg::ChildRef{NodeKind::Viewpoint, make_viewpoint(id)};
+        case ChildKind::Background: return sg::ChildRef{NodeKind::Background, make_background(id)};
+        case ChildKind::Fog: return sg::ChildRef{NodeKind::Fog, make_fog(id)};
+        case ChildKind::NavigationInfo: return sg::ChildRef{NodeKind::NavigationInfo, make_navigation_info(id)};
+        case ChildKind::Silent: return std::nullopt;
+        case ChildKind::NotModelled:
+            diagnostics_.warning(tree_.nodes[id].loc,
+                                 std::string(tree_.type_name(id)) + " is not rendered by vrmlray; skipped",
+                                 "not-modelled:" + std::string(tree_.type_name(id)));
+            return std::nullopt;
+    }
+    return std::nullopt;
+}
+
+sg::Index Builder::make_group(NodeId id) {
+    const Names& n = names();
+    const sg::Index index = static_cast<sg::Index>(scene_.groups.size());
+    scene_.groups.emplace_back();
+    sg::Group group;
+    group.origin = origin(id);
+    std::span<const NodeId> children;
+    std::vector<NodeId> chosen;  // Switch/LOD: the one active child
+    switch (child_kind(type(id))) {
+        case ChildKind::Transform: {
+            TransformFields f;
+            f.translation = vec3(id, n.translation, f.translation);
+            f.rotation = rotation(id, n.rotation);
+            f.scale = vec3(id, n.scale, f.scale);
+            f.scale_orientation = rotation(id, n.scale_orientation);
+            f.center = vec3(id, n.center, f.center);
+            group.has_transform = true;
+            group.local_from_child = transform_matrix(f);
+            if (is_singular(group.local_from_child)) {
+                group.singular = true;
+                warn(id, "singular", all_finite(group.local_from_child)
+                                         ? "has a singular transform (a zero scale); its children are skipped"
+                                         : "has a NaN or infinite transform value; its children are skipped");
+            }
+            children = nodes(id, n.children);
+            break;
+        }
+        case ChildKind::Billboard:
+            group.billboard = true;
+            group.billboard_axis = vec3(id, n.axis_of_rotation, group.billboard_axis);
+            children = nodes(id, n.children);
+            break;
+        case ChildKind::Switch: {
+            const std::span<const NodeId> all = has_field(id, n.choice) ? nodes(id, n.choice) : nodes(id, n.children);
+            const int32_t which = integer(id, n.which_choice, -1);
+            if (which >= 0 && static_cast<size_t>(which) < all.size()) chosen.push_back(all[which]);
+            children = chosen;
+            break;
+        }
+        case ChildKind::LOD: {
+            const std::span<const NodeId> all = has_field(id, n.level) ? nodes(id, n.level) : nodes(id, n.children);
+            if (!all.empty()) chosen.push_back(all[0]);
+            children = chosen;
+            break;
+        }
+        case ChildKind::Inline: {
+            group.inline_content = true;
+            const auto it = tree_.inline_roots.find(id);
+            if (it != tree_.inline_roots.end() && boolean(id, n.load, true)) children = it->second;
+            break;
+        }
+        case ChildKind::CADFace:
+            chosen.push_back(node(id, n.shape));
+            children = chosen;
+            break;
+        default: children = nodes(id, n.children); break;
+    }
+    scene_.groups[index] = std::move(group);
+    add_children(index, children);
+    return index;
+}
+
+std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
+    const Names& n = names();
+    if (!boolean(id, n.visible, true)) return std::nullopt;  // X3D 4 Shape.visible
+    sg::Shape shape;
+    shape.origin = origin(id);
+    shape.hints = read_hints(tree_, node(id, n.metadata), diagnostics_);
+    const NodeId app = node(id, n.appearance);
+    if (app != kNullNode) shape.appearance = appearance(app);
+    const NodeId geo = node(id, n.geometry);
+    if (geo != kNullNode) shape.geometry = geometry(geo);
+    if (shape.geometry == sg::kNone) return std::nullopt;
+    const sg::Index index = static_cast<sg::Index>(scene_.shapes.size());
+    scene_.shapes.push_back(std::move(shape));
+    return sg::ChildRef{sg::NodeKind::Shape, index};
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Appearance
+
+sg::Index Builder::appearance(NodeId id) {
+    const Names& n = names();
+    if (memo_[id] != sg::kNone) return memo_[id];
+    if (type(id) != n.Appearance) {
+        warn(id, "wrong-type", "cannot be an appearance; the shape is drawn with the default appearance");
+        return sg::kNone;
+    }
+    sg::Appearance a;
+    a.origin = origin(id);
+    if (const NodeId m = node(id, n.material); m != kNullNode) a.material = material(m);
+    if (const NodeId t = node(id, n.texture); t != kNullNode) a.texture = texture(t);
+    if (const NodeId tt = node(id, n.texture_transform); tt != kNullNode) read_texture_transform(tt, a);
+    memo_[id] = static_cast<sg::Index>(scene_.appearances.size());
+    scene_.appearances.push_back(std::move(a));
+    return memo_[id];
+}
+
+sg::Index Builder::material(NodeId id) {
+    const Names& n = names();
+    if (memo_[id] != sg::kNone) return memo_[id];
+    sg::Material m;
+    m.origin = origin(id);
+    const Name t = type(id);
+    if (t == n.Material || t == n.TwoSidedMaterial) {
+        // TwoSidedMaterial: its front-face fields (the back ones are not modelled).
+        m.model = sg::MaterialModel::Phong;
+        m.ambient_intensity = number(id, n.ambient_intensity, m.ambient_intensity);
+        m.diffuse_color = vec3(id, n.diffuse_color, m.diffuse_color);
+        m.specular_color = vec3(id, n.specular_color, m.specular_color);
+        m.shininess = number(id, n.shininess, m.shininess);
+    } else if (t == n.PhysicalMaterial) {
+        m.model = sg::MaterialModel::Physical;
+        m.diffuse_color = vec3(id, n.base_color, m.diffuse_color);
+        m.metallic = number(id, n.metallic, m.metallic);
+        m.roughness = number(id, n.roughness, m.roughness);
+    } else if (t == n.UnlitMaterial) {
+        m.model = sg::MaterialModel::Unlit;
+    } else {
+        warn(id, "wrong-type", "cannot be a material; the shape is unlit");
+        return sg::kNone;
+    }
+    m.emissive_color = vec3(id, n.emissive_color, m.emissive_color);
+    m.transparency = number(id, n.transparency, m.transparency);
+    m.hints = read_hints(tree_, node(id, n.metadata), diagnostics_);
+    memo_[id] = static_cast<sg::Index>(scene_.materials.size());
+    scene_.materials.push_back(std::move(m));
+    return memo_[id];
+}
+
+sg::Index Builder::texture(NodeId id) {
+    const Names& n = names();
+    if (memo_[id] != sg::kNone) return memo_[id];
+    const Name t = type(id);
+    if (t == n.MultiTexture) {
+        // The first texture stands for the stack (multi-texturing is not modelled).
+        for (NodeId inner : nodes(id, n.texture))
+            if (inner != kNullNode && type(inner) != n.MultiTexture) return memo_[id] = texture(inner);
+        return sg::kNone;
+    }
+    sg::Texture tex;
+    tex.origin = origin(id);
+    tex.repeat_s = boolean(id, n.repeat_s, true);
+    tex.repeat_t = boolean(id, n.repeat_t, true);
+    if (t == n.ImageTexture) {
+        tex.kind = sg::TextureKind::Image;
+        tex.urls = strings(id, n.url);
+        tex.from_file = file_of(id);
+        if (tex.urls.empty()) return sg::kNone;
+    } else if (t == n.PixelTexture) {
+        tex.kind = sg::TextureKind::Pixel;
+        const FieldView image = tree_.get(id, n.image);
+        const auto& v = image.numbers;
+        if (v.size() < 3) return sg::kNone;
+        const double w = v[0], h = v[1], c = v[2];
+        const bool ok = w >= 0 && h >= 0 && c >= 1 && c <= 4 && w * h + 3 <= double(v.size());
+        if (!ok) {
+            warn(id, "image", "has an SFImage whose size does not match its pixels; the shape is untextured");
+            return sg::kNone;
+        }
+        if (w == 0 || h == 0) return sg::kNone;  // the default: no image
+        tex.width = int(w);
+        tex.height = int(h);
+        tex.components = int(c);
+        tex.pixels.resize(size_t(w) * size_t(h));
+        for (size_t i = 0; i < tex.pixels.size(); ++i) tex.pixels[i] = static_cast<uint32_t>(int64_t(v[3 + i]));
+    } else {
+        warn(id, "not-modelled", "is not a texture type vrmlray renders; the shape is untextured");
+        return sg::kNone;
+    }
+    memo_[id] = static_cast<sg::Index>(scene_.textures.size());
+    scene_.textures.push_back(std::move(tex));
+    return memo_[id];
+}
+
+void Builder::read_texture_transform(NodeId id, sg::Appearance& a) {
+    const Names& n = names();
+    if (type(id) == n.MultiTextureTransform) {
+        const auto inner = nodes(id, n.texture_transform);
+        if (!inner.empty() && inner[0] != kNullNode && type(inner[0]) == n.TextureTransform)
+            read_texture_transform(inner[0], a);
+        return;
+    }
+    if (type(id) != n.TextureTransform) {
+        warn(id, "wrong-type", "cannot be a texture transform; ignored");
+        return;
+    }
+    a.has_texture_transform = true;
+    sg::TextureTransform& tt = a.texture_transform;
+    tt.center = vec2(id, n.center, tt.center);
+    tt.rotation = number(id, n.rotation, tt.rotation);
+    tt.scale = vec2(id, n.scale, tt.scale);
+    tt.translation = vec2(id, n.translation, tt.translation);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Lights and bindable nodes
+
+sg::Index Builder::make_light(NodeId id) {
+    const Names& n = names();
+    sg::Light l;
+    l.origin = origin(id);
+    const std::string_view t = tree_.type_name(id);
+    l.type = t == "DirectionalLight" ? sg::LightType::Directional
+             : t == "PointLight"     ? sg::LightType::Point
+                                     : sg::LightType::Spot;
+    l.on = boolean(id, n.on, true);
+    // VRML97 has no `global` field: directional lights are scoped, point and spot lights global.
+    l.global = has_field(id, n.global) ? boolean(id, n.global, false) : l.type != sg::LightType::Directional;
+    l.color = vec3(id, n.color, l.color);
+    l.intensity = number(id, n.intensity, l.intensity);
+    l.ambient_intensity = number(id, n.ambient_intensity, l.ambient_intensity);
+    l.direction = vec3(id, n.direction, l.direction);
+    l.location = vec3(id, n.location, l.location);
+    l.attenuation = vec3(id, n.attenuation, l.attenuation);
+    l.radius = number(id, n.radius, l.radius);
+    l.beam_width = number(id, n.beam_width, l.beam_width);
+    l.cut_off_angle = number(id, n.cut_off_angle, l.cut_off_angle);
+    const sg::Index index = static_cast<sg::Index>(scene_.lights.size());
+    scene_.lights.push_back(std::move(l));
+    return index;
+}
+
+sg::Index Builder::make_viewpoint(NodeId id) {
+    const Names& n = names();
+    sg::Viewpoint v;
+    v.origin = origin(id);
+    v.def_name = std::string(tree_.def_name(id));
+    v.ortho = tree_.type_name(id) == "OrthoViewpoint";
+    v.position = vec3(id, n.position, v.position);
+    v.orientation = rotation(id, n.orientation);
+    const std::vector<std::string> description = strings(id, n.description);
+    if (!description.empty()) v.description = description[0];
+    const FieldView fov = tree_.get(id, n.field_of_view);
+    if (v.ortho) {
+        if (fov.numbers.size() >= 4) {
+            for (int i = 0; i < 4; ++i) v.ortho_extent[i] = fov.numbers[i];
+        } else if (!fov.numbers.empty()) {
+            warn(id, "field-of-view", "fieldOfView needs 4 numbers (min x, min y, max x, max y); using -1 -1 1 1");
+        }
+    } else if (!fov.numbers.empty()) {
+        v.field_of_view = fov.numbers[0];
+    }
+    const sg::Index index = static_cast<sg::Index>(scene_.viewpoints.size());
+    scene_.viewpoints.push_back(std::move(v));
+    return index;
+}
+
+sg::Index Builder::make_background(NodeId id) {
+    const Names& n = names();
+    sg::Background b;
+    b.origin = origin(id);
+    b.sky_color = vec3s(id, n.sky_color);
+    b.sky_angle = numbers(id, n.sky_angle);
+    b.ground_color = vec3s(id, n.ground_color);
+    b.ground_angle = numbers(id, n.ground_angle);
+    const Name urls[6] = {n.front_url, n.back_url, n.left_url, n.right_url, n.top_url, n.bottom_url};
+    for (int i = 0; i < 6; ++i) b.urls[i] = strings(id, urls[i]);
+    b.from_file = file_of(id);
+    const sg::Index index = static_cast<sg::Index>(scene_.backgrounds.size());
+    scene_.backgrounds.push_back(std::move(b));
+    return index;
+}
+
+sg::Index Builder::make_fog(NodeId id) {
+    const Names& n = names();
+    sg::Fog f;
+    f.origin = origin(id);
+    f.color = vec3(id, n.color, f.color);
+    f.visibility_range = number(id, n.visibility_range, f.visibility_range);
+    const std::vector<std::string> kind = strings(id, n.fog_type);
+    if (!kind.empty()) {
+        if (kind[0] == "EXPONENTIAL") f.exponential = true;
+        else if (kind[0] != "LINEAR") warn(id, "fog-type", "fogType '" + kind[0] + "' is neither LINEAR nor EXPONENTIAL; using LINEAR");
+    }
+    const sg::Index index = static_cast<sg::Index>(scene_.fogs.size());
+    scene_.fogs.push_back(std::move(f));
+    return index;
+}
+
+sg::Index Builder::make_navigation_info(NodeId id) {
+    sg::NavigationInfo info;
+    info.origin = origin(id);
+    info.headlight = boolean(id, names().headlight, true);
+    const sg::Index index = static_cast<sg::Index>(scene_.navigation_infos.size());
+    scene_.navigation_infos.push_back(std::move(info));
+    return index;
+}
+
+}  // namespace detail
+
+Scene build_scene(const LoadedScene& loaded, Diagnostics& diagnostics) {
+    detail::Builder builder(loaded, diagnostics);
+    return builder.build();
+}
+
+}  // namespace vr

@@ -1,0 +1,263 @@
+// The typed scene graph: the node tree's nodes that vrmlray models, as plain structs with resolved values.
+// It knows nothing of rendering (the flattening step in src/render/flatten.* turns it into primitives).
+//
+// Shape of the graph: arenas of typed nodes referring to each other by index. A node DEF'd once and USEd
+// many times is built once and referenced from every place it is used (the graph is a DAG, never a
+// cycle: build_scene cuts cycles with a warning). Group children are only the *active* children: a
+// Switch keeps its chosen child, a LOD its first level, an Inline the top-level nodes of its file.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "core/math.h"
+#include "parser/node_tree.h"
+#include "parser/source.h"
+
+namespace vr::sg {
+
+using Index = uint32_t;
+inline constexpr Index kNone = UINT32_MAX;
+
+// Where a typed node came from, for messages.
+struct Origin {
+    NodeId node = kNullNode;
+    std::string_view type;      // node type name (interned: valid for the life of the program)
+    std::string_view def_name;  // DEF name, empty if none (interned)
+    SourceLoc loc;
+};
+
+// Renderer hints (SPEC section 3) read from a MetadataSet named "vrmlray". Negative means "not set".
+enum class SphereHint : int8_t { Unset = -1, Opaque = 0, Gas = 1 };
+struct Hints {
+    SphereHint sphere_mode = SphereHint::Unset;
+    double density = -1.0;       // gas extinction per scene unit
+    double reflectivity = -1.0;  // 0..1
+    double ior = -1.0;           // index of refraction (> 0)
+    Vec3 albedo{-1.0};           // gas colours
+    Vec3 emission{-1.0};
+
+    bool any() const;
+    // Fields set in `more_specific` replace ours (Sphere hints win over Shape hints over Material hints).
+    void override_with(const Hints& more_specific);
+};
+
+enum class MaterialModel : uint8_t { Phong, Physical, Unlit };  // Material, PhysicalMaterial, UnlitMaterial
+
+struct Material {
+    Origin origin;
+    MaterialModel model = MaterialModel::Phong;
+    Vec3 diffuse_color{0.8};  // Phong: diffuseColor; Physical: baseColor
+    Vec3 specular_color{0.0};
+    Vec3 emissive_color{0.0};
+    double ambient_intensity = 0.2;
+    double shininess = 0.2;
+    double transparency = 0.0;
+    double metallic = 0.0;    // Physical only
+    double roughness = 0.0;   // Physical only
+    Hints hints;
+};
+
+// VRML TextureTransform: Tc' = -C * S * R * C * T * Tc (rotation in radians).
+struct TextureTransform {
+    Vec2 center{0.0};
+    double rotation = 0.0;
+    Vec2 scale{1.0};
+    Vec2 translation{0.0};
+};
+
+enum class TextureKind : uint8_t { Image, Pixel };
+struct Texture {
+    Origin origin;
+    TextureKind kind = TextureKind::Image;
+    std::vector<std::string> urls;  // ImageTexture: tried in order
+    std::filesystem::path from_file;  // the file the node stands in (relative URLs start there)
+    // PixelTexture (SFImage): row 0 is the bottom row; one packed integer a pixel (0xRRGGBB for 3 components)
+    int width = 0, height = 0, components = 0;
+    std::vector<uint32_t> pixels;
+    bool repeat_s = true;
+    bool repeat_t = true;
+};
+
+struct Appearance {
+    Origin origin;
+    Index material = kNone;  // into Scene::materials; kNone: no Material (unlit)
+    Index texture = kNone;   // into Scene::textures
+    bool has_texture_transform = false;
+    TextureTransform texture_transform;
+};
+
+// Per-vertex data shared by the polygon geometry nodes. Empty vectors: the node is absent.
+struct VertexData {
+    std::vector<Vec3> coords;
+    std::vector<Vec3> normals;
+    std::vector<Vec3> colors;    // RGB (ColorRGBA's alpha is dropped)
+    std::vector<Vec2> texcoords;
+    bool has_texcoord_node = false;  // a TextureCoordinate node was given (even if empty)
+};
+
+struct Sphere { double radius = 1.0; };
+struct Box { Vec3 size{2.0}; };
+struct Cylinder { double radius = 1.0, height = 2.0; bool side = true, top = true, bottom = true; };
+struct Cone { double bottom_radius = 1.0, height = 2.0; bool side = true, bottom = true; };
+
+// IndexedFaceSet; also the common polygon form that src/geometry turns the other mesh nodes into.
+struct IndexedFaceSet {
+    VertexData data;
+    std::vector<int32_t> coord_index;  // faces separated by -1
+    std::vector<int32_t> normal_index, color_index, texcoord_index;
+    bool ccw = true, solid = true, convex = true;
+    bool color_per_vertex = true, normal_per_vertex = true;
+    double crease_angle = 0.0;  // radians
+    // X3D composed geometry without normals: smooth over faces sharing a vertex index, whatever the angle.
+    bool smooth_all = false;
+};
+
+struct ElevationGrid {
+    int x_dimension = 0, z_dimension = 0;
+    double x_spacing = 1.0, z_spacing = 1.0;
+    std::vector<double> height;  // x_dimension * z_dimension, row by row along x
+    VertexData data;             // normals, colors, texcoords (no coords)
+    bool ccw = true, solid = true;
+    bool color_per_vertex = true, normal_per_vertex = true;
+    double crease_angle = 0.0;
+};
+
+struct Extrusion {
+    std::vector<Vec2> cross_section;
+    std::vector<Vec3> spine;
+    std::vector<Vec2> scale;
+    std::vector<Vec4> orientation;  // axis xyz, angle w (radians)
+    bool begin_cap = true, end_cap = true;
+    bool ccw = true, solid = true, convex = true;
+    double crease_angle = 0.0;
+};
+
+// X3D IndexedTriangleSet, TriangleSet, IndexedTriangleFanSet, TriangleFanSet, IndexedTriangleStripSet,
+// TriangleStripSet, IndexedQuadSet, QuadSet.
+enum class ComposedKind : uint8_t {
+    IndexedTriangleSet, TriangleSet, IndexedTriangleFanSet, TriangleFanSet,
+    IndexedTriangleStripSet, TriangleStripSet, IndexedQuadSet, QuadSet,
+};
+struct ComposedSet {
+    ComposedKind kind = ComposedKind::TriangleSet;
+    VertexData data;
+    std::vector<int32_t> index;   // Indexed*: vertex indices (fans/strips separated by -1)
+    std::vector<int32_t> counts;  // fanCount / stripCount
+    bool ccw = true, solid = true;
+    bool color_per_vertex = true, normal_per_vertex = true;
+};
+
+using GeometryShape = std::variant<std::monostate, Sphere, Box, Cylinder, Cone, IndexedFaceSet,
+                                   ElevationGrid, Extrusion, ComposedSet>;
+struct Geometry {
+    Origin origin;
+    Hints hints;  // the geometry node's own metadata (Sphere)
+    GeometryShape shape;  // monostate: nothing to render (already warned)
+};
+
+struct Shape {
+    Origin origin;
+    Index appearance = kNone;
+    Index geometry = kNone;
+    Hints hints;
+};
+
+enum class LightType : uint8_t { Directional, Point, Spot };
+struct Light {
+    Origin origin;
+    LightType type = LightType::Directional;
+    bool on = true;
+    // Global lights light the whole scene; the others only their parent group's subtree.
+    // VRML97: directional scoped, point/spot global; X3D: the `global` field.
+    bool global = false;
+    Vec3 color{1.0};
+    double intensity = 1.0;
+    double ambient_intensity = 0.0;
+    Vec3 location{0.0};
+    Vec3 direction{0.0, 0.0, -1.0};
+    Vec3 attenuation{1.0, 0.0, 0.0};
+    double radius = 100.0;
+    double beam_width = 1.570796;
+    double cut_off_angle = 0.785398;
+};
+
+struct Viewpoint {
+    Origin origin;
+    std::string def_name;
+    std::string description;
+    bool ortho = false;  // OrthoViewpoint
+    Vec3 position{0.0, 0.0, 10.0};
+    Vec4 orientation{0.0, 0.0, 1.0, 0.0};  // axis xyz, angle w
+    double field_of_view = 0.785398;        // perspective
+    std::array<double, 4> ortho_extent{-1.0, -1.0, 1.0, 1.0};  // OrthoViewpoint fieldOfView
+};
+
+struct Background {
+    Origin origin;
+    std::vector<Vec3> sky_color;
+    std::vector<double> sky_angle;
+    std::vector<Vec3> ground_color;
+    std::vector<double> ground_angle;
+    // front back left right top bottom: the panorama images' URLs
+    std::array<std::vector<std::string>, 6> urls;
+    std::filesystem::path from_file;
+};
+
+struct Fog {
+    Origin origin;
+    bool exponential = false;  // fogType "EXPONENTIAL"; else LINEAR
+    Vec3 color{1.0};
+    double visibility_range = 0.0;
+};
+
+struct NavigationInfo {
+    Origin origin;
+    bool headlight = true;
+};
+
+enum class NodeKind : uint8_t { Group, Shape, Light, Viewpoint, Background, Fog, NavigationInfo };
+struct ChildRef {
+    NodeKind kind = NodeKind::Group;
+    Index index = kNone;  // into the arena of that kind
+};
+
+// Group, Transform, Billboard, Switch, LOD, Collision, Anchor, Inline, StaticGroup, CAD* ...
+struct Group {
+    Origin origin;
+    bool has_transform = false;
+    Mat4 local_from_child{1.0};   // Transform: T * C * R * SR * S * SR^-1 * C^-1
+    bool singular = false;        // the transform is singular or not finite: the subtree is skipped
+    bool billboard = false;
+    Vec3 billboard_axis{0.0, 1.0, 0.0};  // (0,0,0): screen-aligned
+    bool inline_content = false;  // children are the top-level nodes of an inlined file
+    std::vector<ChildRef> children;
+};
+
+}  // namespace vr::sg
+
+namespace vr {
+
+struct Scene {
+    static constexpr sg::Index kRoot = 0;
+    std::vector<sg::Group> groups;  // groups[kRoot]: the main file's top-level nodes
+    std::vector<sg::Shape> shapes;
+    std::vector<sg::Geometry> geometries;
+    std::vector<sg::Appearance> appearances;
+    std::vector<sg::Material> materials;
+    std::vector<sg::Texture> textures;
+    std::vector<sg::Light> lights;
+    std::vector<sg::Viewpoint> viewpoints;
+    std::vector<sg::Background> backgrounds;
+    std::vector<sg::Fog> fogs;
+    std::vector<sg::NavigationInfo> navigation_infos;
+
+    std::filesystem::path main_file;
+    std::vector<std::filesystem::path> allowed_roots;  // folders texture URLs may reach
+};
+
+}  // namespace vr

@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Whole-program tests of the vrmlray command line: exit codes, messages, every corpus file, golden images.
+# Usage: run_cli_tests.sh VRMLRAY_BINARY SOURCE_DIR WORK_DIR
+set -u
+bin=$1
+src=$2
+work=$3
+corpus=${VRMLRAY_CORPUS_DIR:-$src/../shared/corpus}
+mkdir -p "$work"
+passed=0
+failed=0
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+pass() { passed=$((passed + 1)); }
+
+# expect CODE DESCRIPTION -- COMMAND...: the command must exit with CODE.
+expect() {
+    local code=$1 what=$2
+    shift 3
+    "$@" >"$work/out.txt" 2>"$work/err.txt"
+    local got=$?
+    if [ "$got" -eq "$code" ]; then pass; else fail "$what: exit $got, expected $code"; sed 's/^/    /' "$work/err.txt" | head -5; fi
+}
+
+# expect_stderr PATTERN DESCRIPTION: the last command's stderr matches the extended regex.
+expect_stderr() {
+    if grep -Eq -- "$1" "$work/err.txt"; then pass; else fail "$2: stderr lacks /$1/"; sed 's/^/    /' "$work/err.txt" | head -5; fi
+}
+
+# A broken corpus file lives under a folder named bad, warnings or errors.
+is_broken() { case "$1" in */bad/*|*/warnings/*|*/errors/*) return 0;; *) return 1;; esac; }
+
+# --- exit codes and messages (SPEC section 1) ---------------------------------------------------------
+expect 2 "no subcommand" -- "$bin"
+expect 2 "unknown option" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --no-such-option
+expect 2 "bad --background" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --background 1,2 -o "$work/x.png"
+expect 3 "missing scene file" -- "$bin" render "$work/does_not_exist.wrl" -o "$work/x.png"
+expect_stderr "does_not_exist.wrl: error: cannot open file" "missing file message"
+printf '#VRML V2.0 utf8\nTransform {\n  children Shape { geometry Sphere { radius 1 colour 2 } }\n}\n' >"$work/bad_field.wrl"
+expect 3 "unknown field" -- "$bin" render "$work/bad_field.wrl" -o "$work/x.png"
+expect_stderr "bad_field.wrl:3:45: error: unknown field 'colour' in node Sphere" "error names file:line:col"
+expect_stderr "^    +\^$" "caret under the column"
+expect 4 "unwritable output" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 -o "$work/no/such/dir/x.png"
+expect 0 "info on the seed scene" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
+expect 2 "unknown viewpoint" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --viewpoint Nowhere -W 8 -H 8 -o "$work/x.png"
+
+# --- compare (SPEC section 10) -----------------------------------------------------------------------
+"$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 -o "$work/a.png" -q
+"$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --background 1,1,1 -o "$work/b.png" -q
+"$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 16 -H 16 -o "$work/c.png" -q
+expect 0 "identical images pass" -- "$bin" compare "$work/a.png" "$work/a.png" --max-rmse 0 --min-ssim 1
+expect 1 "different images fail a threshold" -- "$bin" compare "$work/a.png" "$work/b.png" --max-rmse 0.01
+expect 3 "size mismatch is an error" -- "$bin" compare "$work/a.png" "$work/c.png"
+expect 0 "compare --json and --diff" -- "$bin" compare "$work/a.png" "$work/b.png" --json --diff "$work/diff.png"
+grep -q '"rmse"' "$work/out.txt" && pass || fail "compare --json prints rmse"
+[ -s "$work/diff.png" ] && pass || fail "compare --diff writes the heat-map"
+
+# --- convert round trip ------------------------------------------------------------------------------
+expect 0 "convert to X3D classic" -- "$bin" convert "$src/scenes/seeds/001_sphere.wrl" "$work/s.x3dv"
+expect 0 "convert back to VRML97 gzip" -- "$bin" convert "$work/s.x3dv" "$work/s.wrl.gz"
+expect 0 "render the converted file" -- "$bin" render "$work/s.wrl.gz" -W 32 -H 24 -o "$work/s.png" -q
+expect 0 "converted file renders the same image" -- "$bin" compare "$work/a.png" "$work/s.png" --max-abs 0
+
+# --- every corpus file: info never crashes; valid files load and render without NaN --------------------
+if [ -d "$corpus" ]; then
+    while IFS= read -r -d '' f; do
+        "$bin" info "$f" -q >"$work/out.txt" 2>"$work/err.txt"
+        code=$?
+        if is_broken "$f"; then
+            { [ $code -eq 0 ] || [ $code -eq 3 ]; } && pass || fail "info $f: exit $code (broken file must exit 0 or 3)"
+        else
+            [ $code -eq 0 ] && pass || { fail "info $f: exit $code"; head -3 "$work/err.txt"; }
+        fi
+    done < <(find "$corpus" -type f \( -name '*.wrl' -o -name '*.wrl.gz' -o -name '*.wrz' -o -name '*.x3dv' -o -name '*.x3d' -o -name '*.x3dz' -o -name '*.x3dvz' \) -print0 | sort -z)
+
+    while IFS= read -r -d '' f; do
+        is_broken "$f" && continue
+        "$bin" render "$f" -W 48 -H 36 -o "$work/corpus.exr" -q >"$work/out.txt" 2>"$work/err.txt"
+        code=$?
+        if [ $code -ne 0 ]; then fail "render $f: exit $code"; head -3 "$work/err.txt"; continue; fi
+        # compare counts a NaN or infinity as an infinite difference, so an image with one fails against itself.
+        "$bin" compare "$work/corpus.exr" "$work/corpus.exr" --max-abs 0 >/dev/null 2>&1 && pass || fail "render $f: NaN or inf in the image"
+    done < <(find "$corpus/vrml97" "$corpus/x3dv" -type f \( -name '*.wrl' -o -name '*.wrl.gz' -o -name '*.x3dv' \) -print0 | sort -z)
+else
+    echo "note: corpus not found at $corpus; corpus tests skipped"
+fi
+
+# --- golden images of the bundled scenes --------------------------------------------------------------
+# Each tests/render/golden/NAME.png was rendered by vrmlray at the size in tests/render/golden/sizes.txt
+# and inspected by eye. A render may differ from it by rounding only: one 8-bit step at a few pixels
+# (platform libm differences at silhouettes), so thresholds allow max 1/255 on 0.5% of pixels and SSIM >= 0.995.
+if [ -f "$src/tests/render/golden/sizes.txt" ]; then
+    while read -r name w h extra; do
+        [ -z "$name" ] && continue
+        case "$name" in \#*) continue;; esac
+        scene=$(find "$src/scenes" -name "$name.wrl" | head -1)
+        # shellcheck disable=SC2086
+        "$bin" render "$scene" -W "$w" -H "$h" $extra -o "$work/golden_$name.png" -q 2>"$work/err.txt" || { fail "golden $name: render failed"; continue; }
+        expect 0 "golden $name" -- "$bin" compare "$work/golden_$name.png" "$src/tests/render/golden/$name.png" \
+            --pixel-threshold 0.0040 --max-fail-percent 0.5 --min-ssim 0.995
+    done <"$src/tests/render/golden/sizes.txt"
+fi
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

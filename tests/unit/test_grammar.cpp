@@ -1,0 +1,89 @@
+// The grammar tables built into the binary: complete, well-formed, and usable by the reader.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "parser/load.h"
+#include "parser/registry.h"
+
+namespace vr {
+namespace {
+
+TEST(Grammar, TablesParse) { EXPECT_NO_THROW(Registry::builtin()); }
+
+TEST(Grammar, AllVrml97NodesOfChapter6) {
+    const char* names[] = {
+        "Anchor", "Appearance", "AudioClip", "Background", "Billboard", "Box", "Collision", "Color",
+        "ColorInterpolator", "Cone", "Coordinate", "CoordinateInterpolator", "Cylinder", "CylinderSensor",
+        "DirectionalLight", "ElevationGrid", "Extrusion", "Fog", "FontStyle", "Group", "ImageTexture",
+        "IndexedFaceSet", "IndexedLineSet", "Inline", "LOD", "Material", "MovieTexture", "NavigationInfo", "Normal",
+        "NormalInterpolator", "OrientationInterpolator", "PixelTexture", "PlaneSensor", "PointLight", "PointSet",
+        "PositionInterpolator", "ProximitySensor", "ScalarInterpolator", "Script", "Shape", "Sound", "Sphere",
+        "SphereSensor", "SpotLight", "Switch", "Text", "TextureCoordinate", "TextureTransform", "TimeSensor",
+        "TouchSensor", "Transform", "Viewpoint", "VisibilitySensor", "WorldInfo"};
+    EXPECT_EQ(std::size(names), 54u);
+    for (const char* n : names) EXPECT_NE(Registry::builtin().find(Spec::Vrml97, n), nullptr) << n;
+}
+
+TEST(Grammar, X3dNodesTheSpecNames) {
+    for (const char* n : {"MetadataSet", "MetadataString", "MetadataFloat", "MetadataDouble", "MetadataInteger",
+                          "MetadataBoolean", "OrthoViewpoint", "PhysicalMaterial", "IndexedTriangleSet",
+                          "TriangleSet", "IndexedTriangleFanSet", "IndexedTriangleStripSet", "IndexedQuadSet",
+                          "QuadSet", "ColorRGBA", "TextureBackground", "CoordinateDouble"}) {
+        EXPECT_NE(Registry::builtin().find(Spec::X3d, n), nullptr) << n;
+    }
+}
+
+TEST(Grammar, KnownDefaults) {
+    LoadedScene s = load_scene_text(
+        "#VRML V2.0 utf8\nTransform {} Material {} Viewpoint {} NavigationInfo {} Cylinder {} Cone {} "
+        "SpotLight {} Background {}", "defaults.wrl");
+    ASSERT_TRUE(s.ok()) << s.diagnostics.format(s.sources);
+    const NodeTree& t = s.tree;
+    auto r = t.roots;
+    EXPECT_EQ(t.get(r[0], "scale").numbers[2], 1.0);
+    EXPECT_EQ(t.get(r[0], "bboxSize").numbers[0], -1.0);
+    EXPECT_NEAR(t.get(r[1], "diffuseColor").numbers[0], 0.8, 1e-12);
+    EXPECT_NEAR(t.get(r[1], "ambientIntensity").numbers[0], 0.2, 1e-12);
+    EXPECT_NEAR(t.get(r[1], "shininess").numbers[0], 0.2, 1e-12);
+    EXPECT_NEAR(t.get(r[2], "fieldOfView").numbers[0], 0.785398, 1e-6);
+    EXPECT_EQ(t.get(r[2], "position").numbers[2], 10.0);
+    EXPECT_TRUE(t.get_bool(r[3], intern("headlight")));
+    EXPECT_EQ(t.get(r[3], "type").strings.size(), 2u);  // ["WALK" "ANY"]
+    EXPECT_EQ(t.get(r[4], "height").numbers[0], 2.0);
+    EXPECT_EQ(t.get(r[5], "bottomRadius").numbers[0], 1.0);
+    EXPECT_NEAR(t.get(r[6], "cutOffAngle").numbers[0], 0.785398, 1e-6);
+    EXPECT_EQ(t.get(r[7], "skyColor").numbers.size(), 3u);  // [0 0 0]
+}
+
+// Every node type of every table can be written as `Type {}` in a file of its encoding and read back.
+TEST(Grammar, EveryNodeTypeReads) {
+    for (Spec spec : {Spec::Vrml97, Spec::X3d}) {
+        std::string text = spec == Spec::Vrml97 ? "#VRML V2.0 utf8\n" : "#X3D V3.3 utf8\nPROFILE Full\n";
+        size_t count = 0;
+        for (const NodeTypeDecl& d : Registry::builtin().nodes(spec)) {
+            text += std::string(name_text(d.name)) + " {}\n";
+            ++count;
+        }
+        LoadedScene s = load_scene_text(text, spec == Spec::Vrml97 ? "all.wrl" : "all.x3dv");
+        ASSERT_TRUE(s.ok()) << s.diagnostics.format(s.sources);
+        EXPECT_EQ(s.tree.roots.size(), count);
+        EXPECT_EQ(s.diagnostics.warning_count(), 0u) << s.diagnostics.format(s.sources);
+    }
+}
+
+TEST(Grammar, FieldsAreUniqueAndEventsHaveNoDefault) {
+    for (Spec spec : {Spec::Vrml97, Spec::X3d, Spec::Vrml1, Spec::Extension}) {
+        for (const NodeTypeDecl& d : Registry::builtin().nodes(spec)) {
+            std::set<Name> seen;
+            for (const FieldDecl& f : d.fields) {
+                EXPECT_TRUE(seen.insert(f.name).second) << name_text(d.name) << "." << name_text(f.name);
+                EXPECT_EQ(has_value(f.access), f.default_field != UINT32_MAX)
+                    << name_text(d.name) << "." << name_text(f.name);
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace vr

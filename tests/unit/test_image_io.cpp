@@ -1,0 +1,262 @@
+// write_image / read_image: what each kind of format stores, and the errors.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+
+#include "image/image.h"
+
+namespace vr {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ImageIoTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() /
+               ("vrmlray_image_" + std::to_string(::getpid()) + "_" + info->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+    // Writes then reads back; fails the test on any error.
+    Image round_trip(const Image& image, const std::string& name, bool srgb = false) {
+        std::string error;
+        EXPECT_TRUE(write_image(path(name), image, srgb, error)) << error;
+        Image back;
+        EXPECT_TRUE(read_image(path(name), back, error)) << error;
+        EXPECT_EQ(back.width, image.width);
+        EXPECT_EQ(back.height, image.height);
+        return back;
+    }
+
+    fs::path dir_;
+};
+
+// A 4x3 image whose samples run through [lo, hi] with distinct values.
+Image ramp_image(float lo, float hi) {
+    Image im(4, 3);
+    const size_t n = im.rgba.size();
+    for (size_t i = 0; i < n; ++i) im.rgba[i] = lo + (hi - lo) * float(i) / float(n - 1);
+    return im;
+}
+
+// The 8-bit code of v as a float, computed in double as the writer does (0.9f is just below
+// 229.5 / 255).
+float code8(float v) {
+    return float(std::floor(std::clamp(double(v), 0.0, 1.0) * 255.0 + 0.5)) / 255.0f;
+}
+
+TEST_F(ImageIoTest, PngStoresExactEightBitCodes) {
+    Image im(16, 16);
+    for (int i = 0; i < 256; ++i) {
+        float* p = im.pixel(i % 16, i / 16);
+        p[0] = float(i) / 255.0f;
+        p[1] = float(255 - i) / 255.0f;
+        p[2] = float((i * 7) % 256) / 255.0f;
+        // Alpha stays unassociated: colour is not scaled by it.
+        p[3] = float((i * 13) % 256) / 255.0f;
+    }
+    Image back = round_trip(im, "codes.png");
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], im.rgba[i]) << i;
+}
+
+TEST_F(ImageIoTest, PngRoundsToNearestAndClamps) {
+    Image im = ramp_image(-0.2f, 1.3f);
+    im.rgba[5] = 0.5f;            // 127.5 rounds up to 128
+    im.rgba[6] = 0.5f / 255.0f;   // 0.5 rounds up to 1
+    im.rgba[7] = 0.49f / 255.0f;  // 0.49 rounds down to 0
+    Image back = round_trip(im, "ramp.png");
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], code8(im.rgba[i])) << i;
+    EXPECT_FLOAT_EQ(back.rgba[5] * 255.0f, 128.0f);
+    EXPECT_FLOAT_EQ(back.rgba[6] * 255.0f, 1.0f);
+    EXPECT_FLOAT_EQ(back.rgba[7] * 255.0f, 0.0f);
+    EXPECT_EQ(back.rgba[0], 0.0f);
+    EXPECT_EQ(back.rgba.back(), 1.0f);
+}
+
+TEST_F(ImageIoTest, PngSrgbEncodesColourNotAlpha) {
+    Image im(4, 1);
+    const float values[4] = {0.5f, 0.0f, 1.0f, 0.001f};
+    for (int x = 0; x < 4; ++x) {
+        float* p = im.pixel(x, 0);
+        p[0] = p[1] = p[2] = values[x];
+        p[3] = 0.5f;
+    }
+    Image back = round_trip(im, "srgb.png", /*srgb=*/true);
+    EXPECT_FLOAT_EQ(back.pixel(0, 0)[0] * 255.0f, 188.0f);  // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
+    EXPECT_FLOAT_EQ(back.pixel(1, 0)[1] * 255.0f, 0.0f);
+    EXPECT_FLOAT_EQ(back.pixel(2, 0)[2] * 255.0f, 255.0f);
+    // The linear segment: 12.92 * 0.001 * 255 = 3.29.
+    EXPECT_FLOAT_EQ(back.pixel(3, 0)[0] * 255.0f, 3.0f);
+    for (int x = 0; x < 4; ++x) EXPECT_FLOAT_EQ(back.pixel(x, 0)[3] * 255.0f, 128.0f);
+}
+
+TEST_F(ImageIoTest, ExrKeepsFloatsExactly) {
+    Image im(3, 2);
+    const float values[] = {0.0f,     1.0f,   1e5f, -3.25f, 1e-20f, 0.1f,  7.0f / 3.0f, -1e-8f,
+                            65504.0f, 1e30f,  0.5f, 0.25f,  2.0f,   -0.0f, 3.0f,        0.75f,
+                            1.5f,     0.125f, 9.0f, 0.3f,   0.7f,   1.1f,  123.456f,    0.0078125f};
+    for (size_t i = 0; i < im.rgba.size(); ++i) im.rgba[i] = values[i];
+    Image back = round_trip(im, "floats.exr");
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], im.rgba[i]) << i;
+}
+
+TEST_F(ImageIoTest, NonFiniteValuesNeverReachTheFile) {
+    Image im(2, 1);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    float* a = im.pixel(0, 0);
+    a[0] = nan, a[1] = inf, a[2] = -inf, a[3] = nan;
+    float* b = im.pixel(1, 0);
+    b[0] = 0.25f, b[1] = 0.5f, b[2] = 0.75f, b[3] = 1.0f;
+
+    Image exr = round_trip(im, "nan.exr");
+    EXPECT_EQ(exr.pixel(0, 0)[0], 0.0f);
+    EXPECT_EQ(exr.pixel(0, 0)[1], std::numeric_limits<float>::max());
+    EXPECT_EQ(exr.pixel(0, 0)[2], std::numeric_limits<float>::lowest());
+    EXPECT_EQ(exr.pixel(0, 0)[3], 0.0f);
+
+    Image png = round_trip(im, "nan.png");
+    EXPECT_EQ(png.pixel(0, 0)[0], 0.0f);
+    EXPECT_EQ(png.pixel(0, 0)[1], 1.0f);
+    EXPECT_EQ(png.pixel(0, 0)[2], 0.0f);
+    EXPECT_EQ(png.pixel(0, 0)[3], 0.0f);
+    for (float v : png.rgba) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST_F(ImageIoTest, TiffStoresSixteenBitCodes) {
+    Image im = ramp_image(-0.1f, 1.1f);
+    im.rgba[3] = 0.25f;  // an alpha below 1
+    Image back = round_trip(im, "ramp.tif");
+    for (size_t i = 0; i < im.rgba.size(); ++i) {
+        const double v = std::clamp(double(im.rgba[i]), 0.0, 1.0);
+        EXPECT_EQ(back.rgba[i], float(std::floor(v * 65535.0 + 0.5)) / 65535.0f) << i;
+    }
+}
+
+TEST_F(ImageIoTest, FormatsWithoutAlphaReadBackOpaque) {
+    Image im(8, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            float* p = im.pixel(x, y);
+            p[0] = 0.2f, p[1] = 0.6f, p[2] = 0.9f, p[3] = 0.0f;
+        }
+    Image ppm = round_trip(im, "flat.ppm");
+    Image jpg = round_trip(im, "flat.jpg");
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_EQ(ppm.pixel(x, y)[c], code8(im.pixel(x, y)[c]));
+                EXPECT_NEAR(jpg.pixel(x, y)[c], im.pixel(x, y)[c], 2.5 / 255);  // lossy
+            }
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            EXPECT_EQ(ppm.pixel(x, y)[3], 1.0f);
+            EXPECT_EQ(jpg.pixel(x, y)[3], 1.0f);
+        }
+}
+
+TEST_F(ImageIoTest, HdrKeepsLargeValuesAndDropsNegatives) {
+    Image im(2, 1);
+    float* a = im.pixel(0, 0);
+    a[0] = 1000.0f, a[1] = 1.5f, a[2] = -2.0f, a[3] = 0.5f;
+    float* b = im.pixel(1, 0);
+    b[0] = 0.25f, b[1] = 0.25f, b[2] = 0.25f, b[3] = 1.0f;
+    Image back = round_trip(im, "big.hdr");
+    // RGBE: an 8-bit mantissa under an exponent shared by the pixel.
+    EXPECT_NEAR(back.pixel(0, 0)[0], 1000.0f, 1000.0f / 128);
+    EXPECT_NEAR(back.pixel(0, 0)[1], 1.5f, 1000.0f / 128);
+    EXPECT_EQ(back.pixel(0, 0)[2], 0.0f);
+    EXPECT_EQ(back.pixel(0, 0)[3], 1.0f);
+    EXPECT_NEAR(back.pixel(1, 0)[0], 0.25f, 0.25f / 128);
+}
+
+TEST_F(ImageIoTest, ReadsGreyAndGreyAlphaFiles) {
+    for (int nch : {1, 2}) {
+        const std::string name = path("grey" + std::to_string(nch) + ".png");
+        auto out = OIIO::ImageOutput::create(name);
+        ASSERT_TRUE(out);
+        OIIO::ImageSpec spec(3, 1, nch, OIIO::TypeDesc::UINT8);
+        if (nch == 2) {
+            spec.alpha_channel = 1;
+            spec.attribute("oiio:UnassociatedAlpha", 1);
+        }
+        const unsigned char pixels[6] = {0, 51, 102, 153, 204, 255};
+        ASSERT_TRUE(out->open(name, spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+        ASSERT_TRUE(out->close());
+
+        Image im;
+        std::string error;
+        ASSERT_TRUE(read_image(name, im, error)) << error;
+        ASSERT_EQ(im.width, 3);
+        for (int x = 0; x < 3; ++x) {
+            const float grey = float(pixels[x * nch]) / 255.0f;
+            const float alpha = nch == 2 ? float(pixels[x * nch + 1]) / 255.0f : 1.0f;
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(im.pixel(x, 0)[c], grey) << nch << " " << x;
+            EXPECT_EQ(im.pixel(x, 0)[3], alpha) << nch << " " << x;
+        }
+    }
+}
+
+TEST_F(ImageIoTest, ExtensionIsCaseInsensitive) {
+    Image im = ramp_image(0.0f, 1.0f);
+    Image back = round_trip(im, "UPPER.PNG");
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], code8(im.rgba[i]));
+}
+
+TEST_F(ImageIoTest, WriteErrorsNameTheFile) {
+    Image im(2, 2);
+    std::string error;
+    const std::string unknown = path("picture.notaformat");
+    EXPECT_FALSE(write_image(unknown, im, false, error));
+    EXPECT_NE(error.find(unknown), std::string::npos) << error;
+
+    error.clear();
+    const std::string no_ext = path("picture");
+    EXPECT_FALSE(write_image(no_ext, im, false, error));
+    EXPECT_NE(error.find(no_ext), std::string::npos) << error;
+
+    error.clear();
+    const std::string missing_dir = path("no/such/dir/out.png");
+    EXPECT_FALSE(write_image(missing_dir, im, false, error));
+    EXPECT_NE(error.find(missing_dir), std::string::npos) << error;
+
+    error.clear();
+    EXPECT_FALSE(write_image(path("empty.png"), Image(), false, error));
+    EXPECT_NE(error.find("empty.png"), std::string::npos) << error;
+}
+
+TEST_F(ImageIoTest, ReadErrorsNameTheFile) {
+    Image im;
+    std::string error;
+    const std::string missing = path("missing.png");
+    EXPECT_FALSE(read_image(missing, im, error));
+    EXPECT_NE(error.find(missing), std::string::npos) << error;
+
+    const std::string garbage = path("garbage.png");
+    {
+        FILE* f = std::fopen(garbage.c_str(), "wb");
+        ASSERT_TRUE(f);
+        std::fputs("this is not a png", f);
+        std::fclose(f);
+    }
+    error.clear();
+    EXPECT_FALSE(read_image(garbage, im, error));
+    EXPECT_NE(error.find(garbage), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace vr
