@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "parser/classic.h"
+#include "parser/vrml1.h"
 #include "parser/x3d_xml.h"
 
 namespace vr {
@@ -176,6 +177,12 @@ class Loader {
 public:
     Loader(LoadedScene& scene, const LoadOptions& options) : scene_(scene), options_(options) {}
 
+    // The main file counts as being read, so that an Inline leading back to it is a cycle.
+    void enter_main_file(const fs::path& path) {
+        std::error_code ec;
+        stack_.push_back(fs::weakly_canonical(fs::absolute(path, ec), ec).string());
+    }
+
     // Reads one file's text (already added as source `file`); returns its top-level nodes.
     ClassicResult read_source(uint32_t file, size_t inline_depth) {
         const SourceFile& src = scene_.sources.file(file);
@@ -184,23 +191,22 @@ public:
         if (file == 0) scene_.encoding = enc;
         ClassicResult result;
         const size_t first_node = scene_.tree.nodes.size();
+        ExternProtoResolver resolver = [this, inline_depth](const std::vector<std::string>& urls, uint32_t from,
+                                                            SourceLoc where, Name name) {
+            return resolve_externproto(urls, from, where, name, inline_depth);
+        };
         switch (enc) {
             case Encoding::Vrml97:
             case Encoding::X3dClassic: {
                 check_header(file, enc, header);
-                ExternProtoResolver resolver = [this, inline_depth](const std::vector<std::string>& urls,
-                                                                    uint32_t from, SourceLoc where, Name name) {
-                    return resolve_externproto(urls, from, where, name, inline_depth);
-                };
                 result = read_classic(scene_, file, spec_of(enc), options_.limits, resolver);
                 break;
             }
             case Encoding::X3dXml:
-                result = read_x3d_xml(scene_, file, options_.limits);
+                result = read_x3d_xml(scene_, file, options_.limits, resolver);
                 break;
             case Encoding::Vrml1:
-                scene_.diagnostics.error({file, 0}, "VRML 1.0 files are not supported yet (header '" + header + "')");
-                result.ok = false;
+                result = read_vrml1(scene_, file, options_.limits);
                 break;
             case Encoding::Unknown:
                 scene_.diagnostics.error({file, 0}, "not a VRML97 or X3D file: the first line is '" + header +
@@ -256,6 +262,7 @@ private:
             if (tree.nodes[id].type != kInline) continue;
             FieldView urls = tree.get(static_cast<NodeId>(id), kUrl);
             std::vector<std::string> list(urls.strings.begin(), urls.strings.end());
+            if (list.empty()) continue;  // an Inline with no URL loads nothing, as specified
             SourceLoc where = tree.nodes[id].loc;
             auto roots = load_inline(list, file, where, depth);
             if (roots) tree.inline_roots[static_cast<NodeId>(id)] = *roots;
@@ -414,6 +421,7 @@ LoadedScene load_scene_text(std::string text, const std::string& path, const Loa
     set_roots(scene, path, options);
     uint32_t file = scene.sources.add(path, std::move(text));
     Loader loader(scene, options);
+    loader.enter_main_file(path);
     ClassicResult r = loader.read_source(file, 0);
     scene.tree.roots = std::move(r.roots);
     return scene;

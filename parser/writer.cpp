@@ -4,6 +4,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "parser/def_names.h"
 #include "parser/registry.h"
 
 namespace vr {
@@ -19,10 +20,9 @@ namespace {
 
 class Writer {
 public:
-    Writer(const NodeTree& tree, Encoding target) : tree_(tree), target_(target) {}
+    Writer(const NodeTree& tree, Encoding target) : tree_(tree), target_(target), names_(tree) {}
 
     std::string run() {
-        count_references();
         out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n" : "#VRML V2.0 utf8\n\n";
         for (NodeId root : tree_.roots) {
             write_node(root, 0);
@@ -32,37 +32,6 @@ public:
     }
 
 private:
-    void count_references() {
-        std::vector<NodeId> stack(tree_.roots.rbegin(), tree_.roots.rend());
-        std::unordered_set<NodeId> seen;
-        while (!stack.empty()) {
-            NodeId id = stack.back();
-            stack.pop_back();
-            if (id == kNullNode) continue;
-            if (++references_[id] > 1 || !seen.insert(id).second) continue;
-            for (const FieldEntry& e : tree_.set_fields(id)) {
-                if (e.type.kind != ValueKind::Node) continue;
-                for (uint32_t i = 0; i < e.count; ++i) stack.push_back(tree_.node_refs[e.begin + i]);
-            }
-        }
-    }
-
-    // The DEF name a node is written with: its own, made unique, or a made-up one if it is shared.
-    std::string def_name_for(NodeId id) {
-        auto it = names_.find(id);
-        if (it != names_.end()) return it->second;
-        std::string name(tree_.def_name(id));
-        if (name.empty() && references_[id] > 1) name = "_shared" + std::to_string(id);
-        if (!name.empty()) {
-            std::string unique = name;
-            for (int k = 2; used_names_.count(unique); ++k) unique = name + "_" + std::to_string(k);
-            used_names_.insert(unique);
-            name = unique;
-        }
-        names_[id] = name;
-        return name;
-    }
-
     void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
 
     std::string_view field_name(NodeId id, Name field) {
@@ -84,11 +53,11 @@ private:
             return;
         }
         if (written_.count(id)) {
-            out_ += "USE " + def_name_for(id);
+            out_ += "USE " + names_.name(id);
             return;
         }
         written_.insert(id);
-        std::string def = def_name_for(id);
+        std::string def = names_.name(id);
         if (!def.empty()) out_ += "DEF " + def + " ";
         out_ += tree_.type_name(id);
         auto fields = tree_.set_fields(id);
@@ -189,9 +158,7 @@ private:
     const NodeTree& tree_;
     Encoding target_;
     std::string out_;
-    std::unordered_map<NodeId, uint32_t> references_;
-    std::unordered_map<NodeId, std::string> names_;
-    std::unordered_set<std::string> used_names_;
+    DefNames names_;
     std::unordered_set<NodeId> written_;
 };
 

@@ -37,7 +37,7 @@ expect 3 "missing scene file" -- "$bin" render "$work/does_not_exist.wrl" -o "$w
 expect_stderr "does_not_exist.wrl: error: cannot open file" "missing file message"
 printf '#VRML V2.0 utf8\nTransform {\n  children Shape { geometry Sphere { radius 1 colour 2 } }\n}\n' >"$work/bad_field.wrl"
 expect 3 "unknown field" -- "$bin" render "$work/bad_field.wrl" -o "$work/x.png"
-expect_stderr "bad_field.wrl:3:45: error: unknown field 'colour' in node Sphere" "error names file:line:col"
+expect_stderr "bad_field.wrl:3:47: error: unknown field 'colour' in node Sphere" "error names file:line:col"
 expect_stderr "^    +\^$" "caret under the column"
 expect 4 "unwritable output" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 -o "$work/no/such/dir/x.png"
 expect 0 "info on the seed scene" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"

@@ -1,0 +1,170 @@
+// The BVH: structure invariants, and closest hits equal to a brute-force search.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "render/accel.h"
+#include "render/bvh.h"
+#include "test_render_util.h"
+
+namespace vr {
+namespace {
+
+using Rng = std::mt19937_64;
+
+Vec3 random_unit(Rng& rng) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    Vec3 v(n(rng), n(rng), n(rng));
+    return glm::normalize(v);
+}
+
+FlatScene random_scene(Rng& rng, int spheres, int quadrics, int triangles, double extent) {
+    FlatScene scene = testing::empty_scene();
+    testing::add_shading(scene, Material());
+    std::uniform_real_distribution<double> pos(-extent, extent), size(0.05, 1.5);
+    for (int i = 0; i < spheres; ++i) testing::add_sphere(scene, Vec3(pos(rng), pos(rng), pos(rng)), size(rng), 0);
+    for (int i = 0; i < quadrics; ++i) {
+        Quadric q;
+        q.kind = QuadricKind(i % 4);
+        q.size = Vec3(size(rng), size(rng), size(rng)) * 2.0;
+        if (q.kind != QuadricKind::Box && q.kind != QuadricKind::Ellipsoid) q.size.z = q.size.x;
+        q.world_from_object = glm::translate(Mat4(1.0), Vec3(pos(rng), pos(rng), pos(rng))) *
+                              glm::rotate(Mat4(1.0), size(rng) * 3.0, random_unit(rng)) *
+                              glm::scale(Mat4(1.0), Vec3(size(rng), size(rng), size(rng)));
+        q.object_from_world = glm::inverse(q.world_from_object);
+        q.top = i % 3 != 0;
+        q.bottom = i % 5 != 0;
+        scene.quadrics.push_back(q);
+    }
+    Mesh m;
+    for (int i = 0; i < triangles; ++i) {
+        Vec3 c(pos(rng), pos(rng), pos(rng));
+        uint32_t base = uint32_t(m.positions.size());
+        for (int k = 0; k < 3; ++k) m.positions.push_back(c + size(rng) * random_unit(rng));
+        m.triangles.insert(m.triangles.end(), {base, base + 1, base + 2});
+    }
+    if (triangles > 0) scene.meshes.push_back(m);
+    return scene;
+}
+
+TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
+    EXPECT_EQ(sizeof(BvhNode), 32u);
+    Rng rng(1);
+    std::uniform_real_distribution<double> pos(-100.0, 100.0);
+    std::vector<BuildBox> boxes;
+    for (uint32_t i = 0; i < 5000; ++i) {
+        Vec3 c(pos(rng), pos(rng), pos(rng));
+        boxes.push_back(make_build_box(c - Vec3(1.0), c + Vec3(1.0), i));
+    }
+    // Coincident boxes must still give small leaves.
+    for (uint32_t i = 5000; i < 5100; ++i) boxes.push_back(make_build_box(Vec3(0.0), Vec3(1.0), i));
+    const std::vector<BuildBox> original = boxes;
+    BvhBuildOptions options;
+    Bvh bvh = build_bvh(boxes, options);
+    ASSERT_EQ(bvh.order.size(), original.size());
+    std::set<uint32_t> seen(bvh.order.begin(), bvh.order.end());
+    EXPECT_EQ(seen.size(), original.size());
+    // Every leaf range lies inside its node's bounds, and every child inside its parent.
+    size_t leaf_prims = 0;
+    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+        const BvhNode& n = bvh.nodes[i];
+        auto inside = [&](const float* lo, const float* hi) {
+            for (int k = 0; k < 3; ++k)
+                if (lo[k] < n.lo[k] || hi[k] > n.hi[k]) return false;
+            return true;
+        };
+        if (n.count > 0) {
+            EXPECT_LE(n.count, 4u);
+            leaf_prims += n.count;
+            for (uint32_t j = n.offset; j < n.offset + n.count; ++j) {
+                const BuildBox& b = original[bvh.order[j]];
+                EXPECT_TRUE(inside(b.lo, b.hi));
+            }
+        } else {
+            EXPECT_TRUE(inside(bvh.nodes[i + 1].lo, bvh.nodes[i + 1].hi));
+            EXPECT_TRUE(inside(bvh.nodes[n.offset].lo, bvh.nodes[n.offset].hi));
+        }
+    }
+    EXPECT_EQ(leaf_prims, original.size());
+}
+
+TEST(Bvh, ParallelBuildEqualsSerialBuild) {
+    Rng rng(2);
+    std::uniform_real_distribution<double> pos(-100.0, 100.0);
+    std::vector<BuildBox> boxes;
+    for (uint32_t i = 0; i < 200000; ++i) {
+        Vec3 c(pos(rng), pos(rng), pos(rng));
+        boxes.push_back(make_build_box(c - Vec3(0.5), c + Vec3(0.5), i));
+    }
+    BvhBuildOptions one, four;
+    four.threads = 4;
+    Bvh a = build_bvh(boxes, one), b = build_bvh(boxes, four);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)));
+    EXPECT_EQ(a.order, b.order);
+}
+
+TEST(Bvh, ClosestHitEqualsBruteForce) {
+    for (int scene_index = 0; scene_index < 6; ++scene_index) {
+        Rng rng(100 + scene_index);
+        const double extent = scene_index < 3 ? 10.0 : 100.0;
+        FlatScene scene = random_scene(rng, 300, 100, 300, extent);
+        Accel accel;
+        accel.build(scene, 2);
+        std::uniform_real_distribution<double> pos(-1.5 * extent, 1.5 * extent);
+        std::uniform_int_distribution<size_t> pick(0, scene.spheres.size() - 1);
+        int hits = 0;
+        for (int i = 0; i < 4000; ++i) {
+            Ray ray;
+            ray.o = Vec3(pos(rng), pos(rng), pos(rng));
+            // Half the rays aim at a sphere's centre, so sparse scenes get hits too.
+            ray.d = i % 2 ? random_unit(rng) : glm::normalize(scene.spheres[pick(rng)].center - ray.o);
+            ray.d *= (i % 3 == 0 ? 7.5 : 1.0);  // non-unit directions too
+            if (i % 10 == 0) ray.t_max = 3.0;
+            Hit a, b;
+            bool ha = accel.intersect(ray, a), hb = accel.intersect_brute_force(ray, b);
+            ASSERT_EQ(ha, hb) << "scene " << scene_index << " ray " << i;
+            if (ha) {
+                ++hits;
+                EXPECT_EQ(a.t, b.t);
+                EXPECT_EQ(a.prim, b.prim);
+                // Shadow queries agree with the closest hit.
+                EXPECT_EQ(accel.transmittance(ray), 0.0);
+            } else {
+                EXPECT_EQ(accel.transmittance(ray), 1.0);
+            }
+        }
+        EXPECT_GT(hits, 100);
+    }
+}
+
+TEST(Bvh, EmptySceneMissesEverything) {
+    FlatScene scene = testing::empty_scene();
+    Accel accel;
+    accel.build(scene, 2);
+    Ray ray;
+    Hit hit;
+    EXPECT_FALSE(accel.intersect(ray, hit));
+    EXPECT_EQ(accel.transmittance(ray), 1.0);
+    EXPECT_EQ(accel.node_count(), 0u);
+}
+
+TEST(Bvh, NonFiniteAndEmptyPrimitivesAreLeftOut) {
+    FlatScene scene = testing::empty_scene();
+    testing::add_shading(scene, Material());
+    testing::add_sphere(scene, Vec3(0.0), 1.0, 0);
+    testing::add_sphere(scene, Vec3(NAN, 0.0, 0.0), 1.0, 0);
+    testing::add_sphere(scene, Vec3(0.0), 0.0, 0);
+    testing::add_sphere(scene, Vec3(0.0), INFINITY, 0);
+    Accel accel;
+    accel.build(scene, 1);
+    EXPECT_EQ(accel.primitive_count(), 1u);
+    Bounds3 b = scene.bounds();
+    EXPECT_EQ(b.lo, Vec3(-1.0));
+    EXPECT_EQ(b.hi, Vec3(1.0));
+}
+
+}  // namespace
+}  // namespace vr

@@ -1,0 +1,278 @@
+// Typed scene -> FlatScene: world-space primitives, light scoping, material dedup, hints, bindables.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <sstream>
+
+#include "parser/load.h"
+#include "render/flatten.h"
+#include "scene/build.h"
+
+namespace vr {
+namespace {
+
+// World coordinates here are a few products of exact inputs and sin/cos; 1e-12 absorbs that rounding.
+constexpr double kTight = 1e-12;
+
+struct Flat {
+    LoadedScene loaded;
+    Diagnostics diagnostics;
+    Scene scene;
+    FlatScene flat;
+    FlattenStats stats;
+};
+
+Flat flatten(const std::string& body, FlattenOptions options = {},
+             const std::string& header = "#VRML V2.0 utf8\n") {
+    Flat f;
+    f.loaded = load_scene_text(header + body, "test.wrl");
+    EXPECT_TRUE(f.loaded.ok()) << f.loaded.diagnostics.format(f.loaded.sources);
+    f.scene = build_scene(f.loaded, f.diagnostics);
+    f.flat = flatten_scene(f.scene, options, f.diagnostics, f.stats);
+    return f;
+}
+
+bool has_message(const Diagnostics& d, std::string_view text) {
+    for (const Diagnostic& item : d.all())
+        if (item.message.find(text) != std::string::npos) return true;
+    return false;
+}
+
+TEST(Flatten, TransformThroughTheParserMatchesHandComputed) {
+    // The same transform as SceneTransform.ComposesTCRSRSInverseSRInverseC: p -> (2-2y, x+1, z+3).
+    const Flat f = flatten(R"(Transform { translation 1 2 3 center 1 0 0 rotation 0 0 1 1.5707963267948966
+                                          scale 2 1 1 scaleOrientation 0 0 1 1.5707963267948966
+                                          children Shape { geometry IndexedFaceSet {
+                                            coord Coordinate { point [0 0 0, 1 0 0, 0 1 0] } coordIndex [0 1 2] } } })");
+    ASSERT_EQ(f.flat.meshes.size(), 1u);
+    const auto& p = f.flat.meshes[0].positions;
+    ASSERT_EQ(p.size(), 3u);
+    // Angles are read from decimal text: the rotation is exact to about 1e-16.
+    EXPECT_NEAR(glm::length(p[0] - Vec3(2, 1, 3)), 0.0, kTight);
+    EXPECT_NEAR(glm::length(p[1] - Vec3(2, 2, 3)), 0.0, kTight);
+    EXPECT_NEAR(glm::length(p[2] - Vec3(0, 1, 3)), 0.0, kTight);
+}
+
+TEST(Flatten, DirectionalLightIsScopedToItsGroup) {
+    const Flat f = flatten(R"(
+        Group { children [
+          Shape { geometry Sphere {} }
+          DirectionalLight { direction 0 -2 0 }
+          Transform { translation 5 0 0 children Shape { geometry Sphere {} } }
+        ] }
+        Shape { geometry Box {} }
+        Transform { rotation 1 0 0 3.141592653589793 children PointLight { location 0 1 0 } }
+        DirectionalLight { on FALSE })");
+    ASSERT_EQ(f.flat.spheres.size(), 2u);
+    ASSERT_EQ(f.flat.quadrics.size(), 1u);
+    ASSERT_EQ(f.flat.lights.size(), 2u);  // the off light is dropped
+    auto lights_of = [&](uint32_t shading) { return f.flat.light_sets[f.flat.shadings[shading].light_set]; };
+    // Both spheres (even the one a level deeper, and before the light in file order) get the directional light.
+    for (const Sphere& s : f.flat.spheres) EXPECT_EQ(lights_of(s.shading).size(), 2u);
+    // The box outside the group gets only the (global) point light.
+    const auto box_lights = lights_of(f.flat.quadrics[0].shading);
+    ASSERT_EQ(box_lights.size(), 1u);
+    const Light& point = f.flat.lights[box_lights[0]];
+    EXPECT_EQ(point.kind, LightKind::Point);
+    EXPECT_NEAR(glm::length(point.position - Vec3(0, -1, 0)), 0.0, kTight);
+    const Light& directional = f.flat.lights[0];
+    EXPECT_EQ(directional.kind, LightKind::Directional);
+    EXPECT_EQ(directional.direction, Vec3(0, -1, 0));
+}
+
+TEST(Flatten, SphereUnderUniformAndNonUniformScale) {
+    const Flat f = flatten(R"(
+        Transform { translation 1 2 3 rotation 0 1 0 0.5 scale 2 2 2 children Shape { geometry Sphere { radius 1.5 } } }
+        Transform { scale 1 2 1 children Shape { geometry Sphere { radius 1.5 } } })");
+    ASSERT_EQ(f.flat.spheres.size(), 1u);
+    EXPECT_NEAR(f.flat.spheres[0].radius, 3.0, kTight);
+    EXPECT_NEAR(glm::length(f.flat.spheres[0].center - Vec3(1, 2, 3)), 0.0, kTight);
+    ASSERT_EQ(f.flat.quadrics.size(), 1u);
+    const Quadric& q = f.flat.quadrics[0];
+    EXPECT_EQ(q.kind, QuadricKind::Ellipsoid);
+    EXPECT_EQ(q.size, Vec3(3.0));
+    EXPECT_NEAR(q.world_from_object[1][1], 2.0, kTight);
+    const Mat4 product = q.world_from_object * q.object_from_world;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) EXPECT_NEAR(product[c][r], c == r ? 1.0 : 0.0, kTight);
+    EXPECT_EQ(f.stats.spheres, 1u);
+    EXPECT_EQ(f.stats.quadrics, 1u);
+}
+
+TEST(Flatten, MaterialsAreDeduplicated) {
+    std::ostringstream text;
+    for (int i = 0; i < 100; ++i)
+        text << "Transform { translation " << i << " 0 0 children Shape { appearance Appearance { material Material { "
+             << "diffuseColor " << (i % 2 ? "1 0 0" : "0 0 1") << " } } geometry Sphere {} } }\n";
+    const Flat f = flatten(text.str());
+    EXPECT_EQ(f.flat.spheres.size(), 100u);
+    EXPECT_EQ(f.flat.materials.size(), 2u);
+    EXPECT_EQ(f.flat.shadings.size(), 2u);
+    EXPECT_EQ(f.stats.materials, 2u);
+}
+
+TEST(Flatten, HintsResolveGasAndMaterialFields) {
+    const std::string body = R"(
+        Shape { appearance Appearance { material Material { diffuseColor 0.5 0.6 0.7
+            metadata MetadataSet { name "vrmlray" value [ MetadataString { name "sphereMode" value "gas" }
+                                                          MetadataFloat { name "density" value 4 } ] } } }
+                geometry Sphere {} }
+        Shape { appearance Appearance { material Material { emissiveColor 0.1 0 0 } } geometry Sphere {
+            metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "reflectivity" value 0.25 }
+                                                          MetadataFloat { name "ior" value 1.33 } ] } } }
+        Shape { geometry Sphere {} })";
+    FlattenOptions options;
+    options.density = 0.5;
+    const Flat f = flatten(body, options);
+    ASSERT_EQ(f.flat.spheres.size(), 3u);
+    EXPECT_TRUE(f.flat.spheres[0].gas);
+    EXPECT_FALSE(f.flat.spheres[1].gas);  // FromHints without a hint: opaque
+    const Material& gas = f.flat.materials[f.flat.shadings[f.flat.spheres[0].shading].material];
+    EXPECT_EQ(gas.density, 4.0);
+    EXPECT_EQ(gas.albedo, Vec3(0.5, 0.6, 0.7));  // defaults to diffuseColor
+    const Material& shiny = f.flat.materials[f.flat.shadings[f.flat.spheres[1].shading].material];
+    EXPECT_EQ(shiny.reflectivity, 0.25);
+    EXPECT_EQ(shiny.ior, 1.33);
+    EXPECT_EQ(shiny.density, 0.5);  // the option
+    EXPECT_EQ(shiny.emission, Vec3(0.1, 0, 0));
+    const Material& bare = f.flat.materials[f.flat.shadings[f.flat.spheres[2].shading].material];
+    EXPECT_FALSE(bare.lit);  // no Appearance: unlit
+
+    options.spheres = SpheresOption::Gas;
+    const Flat all_gas = flatten(body, options);
+    EXPECT_TRUE(all_gas.flat.spheres[1].gas);
+    EXPECT_TRUE(all_gas.flat.spheres[2].gas);
+}
+
+TEST(Flatten, QuadricsCarryTheirParts) {
+    const Flat f = flatten(R"(
+        Shape { geometry Cylinder { radius 2 height 3 top FALSE } }
+        Shape { geometry Cone { bottomRadius 1 height 4 bottom FALSE } }
+        Shape { geometry Box { size 1 0 1 } })");
+    ASSERT_EQ(f.flat.quadrics.size(), 2u);  // the flat box is warned and skipped
+    EXPECT_EQ(f.flat.quadrics[0].kind, QuadricKind::Cylinder);
+    EXPECT_EQ(f.flat.quadrics[0].size, Vec3(4, 3, 4));
+    EXPECT_FALSE(f.flat.quadrics[0].top);
+    EXPECT_TRUE(f.flat.quadrics[0].bottom);
+    EXPECT_EQ(f.flat.quadrics[1].kind, QuadricKind::Cone);
+    EXPECT_FALSE(f.flat.quadrics[1].top);
+    EXPECT_FALSE(f.flat.quadrics[1].bottom);
+    EXPECT_EQ(f.stats.skipped_shapes, 1u);
+    EXPECT_TRUE(has_message(f.diagnostics, "size"));
+}
+
+TEST(Flatten, MeshUsedManyTimesIsTriangulatedOnceAndCopied) {
+    std::ostringstream text;
+    text << "DEF M Shape { geometry IndexedFaceSet { creaseAngle 3.2 coord Coordinate { point [0 0 0, 1 0 0, 1 1 0, 0 1 0] }"
+            " coordIndex [0 1 2 3] } }\n";
+    for (int i = 1; i < 50; ++i) text << "Transform { translation 0 0 " << i << " scale -1 1 1 children USE M }\n";
+    const Flat f = flatten(text.str());
+    ASSERT_EQ(f.flat.meshes.size(), 50u);
+    EXPECT_EQ(f.stats.triangles, 100u);
+    // A mirror keeps the front side: winding swapped so that the geometric normal matches the normals.
+    const Mesh& m = f.flat.meshes[1];
+    const Vec3 n = glm::cross(m.positions[m.triangles[1]] - m.positions[m.triangles[0]],
+                              m.positions[m.triangles[2]] - m.positions[m.triangles[0]]);
+    ASSERT_FALSE(m.normals.empty());
+    EXPECT_GT(glm::dot(n, m.normals[0]), 0.0);
+}
+
+TEST(Flatten, ViewpointBackgroundFogNavigationInfo) {
+    const Flat f = flatten(R"(
+        NavigationInfo { headlight FALSE }
+        NavigationInfo { headlight TRUE }
+        Transform { translation 0 0 5 rotation 0 1 0 1.5707963267948966 children [
+          DEF Cam Viewpoint { position 1 0 0 description "side" fieldOfView 0.5 }
+          Background { skyColor [0 0 1, 1 1 1] skyAngle [1.5] }
+          Fog { fogType "EXPONENTIAL" visibilityRange 10 color 1 0 0 }
+        ] }
+        Background { skyColor 1 0 0 }
+        Viewpoint { description "second" })");
+    EXPECT_FALSE(f.flat.headlight);
+    ASSERT_EQ(f.flat.viewpoints.size(), 2u);
+    const Viewpoint& v = f.flat.viewpoints[0];
+    EXPECT_EQ(v.def_name, "Cam");
+    EXPECT_EQ(v.description, "side");
+    EXPECT_EQ(v.field_of_view, 0.5);
+    // (1,0,0) turned 90 degrees about +Y is (0,0,-1); plus the translation.
+    EXPECT_NEAR(glm::length(v.position - Vec3(0, 0, 4)), 0.0, kTight);
+    // The camera looks along -Z turned about +Y: towards -X.
+    EXPECT_NEAR(glm::length(-v.world_from_camera[2] - Vec3(-1, 0, 0)), 0.0, kTight);
+    EXPECT_TRUE(f.flat.background.present);
+    ASSERT_EQ(f.flat.background.sky_colors.size(), 2u);
+    EXPECT_NEAR(f.flat.background.world_from_background[0][2], -1.0, kTight);
+    EXPECT_EQ(f.flat.fog.kind, FogKind::Exponential);
+    EXPECT_EQ(f.flat.fog.visibility_range, 10.0);
+}
+
+TEST(Flatten, BillboardFacesTheViewer) {
+    const Flat f = flatten(R"(
+        Viewpoint { position 10 0 0 }
+        Billboard { children Shape { geometry IndexedFaceSet { coord Coordinate { point [0 0 1, 1 0 1, 0 1 1] }
+                                                                coordIndex [0 1 2] } } })");
+    ASSERT_EQ(f.flat.meshes.size(), 1u);
+    // Local +Z turns about +Y towards the viewer at +X: the point (0,0,1) lands at (1,0,0).
+    EXPECT_NEAR(glm::length(f.flat.meshes[0].positions[0] - Vec3(1, 0, 0)), 0.0, kTight);
+}
+
+TEST(Flatten, PixelTextureAndMissingImage) {
+    const Flat f = flatten(R"(
+        Shape { appearance Appearance { texture PixelTexture { image 2 1 3 0xFF0000 0x00FF00 repeatS FALSE } }
+                geometry Box {} }
+        Shape { appearance Appearance { texture ImageTexture { url "does-not-exist.png" } } geometry Box {} })");
+    ASSERT_EQ(f.flat.textures.size(), 1u);
+    const Texture& t = f.flat.textures[0];
+    EXPECT_EQ(t.width, 2);
+    EXPECT_EQ(t.channels, 3);
+    EXPECT_FALSE(t.repeat_s);
+    EXPECT_EQ(t.texels[0], 1.0f);
+    EXPECT_EQ(t.texels[4], 1.0f);
+    EXPECT_TRUE(has_message(f.diagnostics, "does-not-exist.png"));
+    ASSERT_EQ(f.flat.quadrics.size(), 2u);
+    EXPECT_EQ(f.flat.materials[f.flat.shadings[f.flat.quadrics[1].shading].material].texture, -1);
+}
+
+TEST(Flatten, ThousandSpheresStats) {
+    std::ostringstream text;
+    for (int i = 0; i < 1000; ++i)
+        text << "Transform { translation " << i % 10 << ' ' << (i / 10) % 10 << ' ' << i / 100
+             << " children Shape { appearance Appearance { material Material { diffuseColor " << (i % 7) / 7.0
+             << " 0.5 0.5 } } geometry Sphere { radius 0.4 } } }\n";
+    text << "DirectionalLight {}\n";
+    const Flat f = flatten(text.str());
+    EXPECT_EQ(f.stats.spheres, 1000u);
+    EXPECT_EQ(f.stats.quadrics, 0u);
+    EXPECT_EQ(f.stats.meshes, 0u);
+    EXPECT_EQ(f.stats.materials, 7u);
+    EXPECT_EQ(f.stats.lights, 1u);
+    EXPECT_EQ(f.stats.skipped_shapes, 0u);
+    EXPECT_EQ(f.diagnostics.warning_count(), 0u);
+}
+
+TEST(Flatten, CyclesAndDeepUseChainsDoNotHang) {
+    // A DEF'd group USEd inside itself: the parser may refuse or keep it; either way no hang, no crash.
+    LoadedScene loaded = load_scene_text("#VRML V2.0 utf8\nDEF A Group { children [ Shape { geometry Box {} } USE A ] }",
+                                         "test.wrl");
+    Diagnostics diagnostics;
+    const Scene scene = build_scene(loaded, diagnostics);
+    FlattenStats stats;
+    const FlatScene flat = flatten_scene(scene, {}, diagnostics, stats);
+    EXPECT_LE(flat.quadrics.size(), 1u);
+
+    // Doubling chains: 2^30 instances would be reached; the primitive limit stops it with one error.
+    std::ostringstream text;
+    text << "#VRML V2.0 utf8\nDEF L0 Shape { geometry Sphere {} }\n";
+    for (int i = 1; i <= 30; ++i) text << "DEF L" << i << " Group { children [ USE L" << i - 1 << " USE L" << i - 1 << " ] }\n";
+    LoadedScene big = load_scene_text(text.str(), "test.wrl");
+    Diagnostics d2;
+    const Scene s2 = build_scene(big, d2);
+    FlattenOptions options;
+    options.max_primitives = 100000;
+    FlattenStats st2;
+    const FlatScene f2 = flatten_scene(s2, options, d2, st2);
+    EXPECT_EQ(f2.spheres.size(), 100000u);
+    EXPECT_TRUE(d2.has_errors());
+}
+
+}  // namespace
+}  // namespace vr
