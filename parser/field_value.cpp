@@ -56,12 +56,13 @@ bool parse_int32(std::string_view w, int64_t& out) {
 bool normalise_rotation(double* r) {
     double len2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     if (len2 == 0.0) return r[3] == 0.0;  // a zero axis only makes sense with a zero angle
-    if (std::abs(len2 - 1.0) <= 1e-6) return true;
+    if (len2 == 1.0) return true;
     double inv = 1.0 / std::sqrt(len2);
     r[0] *= inv;
     r[1] *= inv;
     r[2] *= inv;
-    return false;
+    // Axes written with a few decimals are off by rounding only (|len^2 - 1| ~ 1e-5): normalised silently.
+    return std::abs(len2 - 1.0) <= 1e-3;
 }
 
 namespace {

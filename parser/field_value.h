@@ -36,7 +36,8 @@ void read_field_value(ValueContext& ctx, FieldType type, FieldEntry& entry);
 bool parse_double(std::string_view word, double& out);
 bool parse_int32(std::string_view word, int64_t& out);  // accepts hex up to 0xFFFFFFFF (as unsigned)
 
-// Unit-length check for SFRotation axes: normalises in place; returns false if the axis was not unit.
+// Normalises an SFRotation axis in place; returns false if it was further from unit length than the
+// rounding of a few written decimals explains (worth a warning).
 bool normalise_rotation(double* r);
 
 }  // namespace vr

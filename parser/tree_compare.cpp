@@ -100,7 +100,10 @@ private:
 
     static std::string numbers_text(std::span<const double> n) {
         std::string s;
-        for (size_t i = 0; i < n.size() && i < 12; ++i) s += (i ? " " : "") + format_number(n[i]);
+        for (size_t i = 0; i < n.size() && i < 12; ++i) {
+            if (i) s += ' ';
+            s += format_number(n[i]);
+        }
         if (n.size() > 12) s += " ... (" + std::to_string(n.size()) + " numbers)";
         return s;
     }

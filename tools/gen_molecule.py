@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Writes a synthetic protein-sized molecule the way PyMOL exports VRML97: every atom a Transform with its
+own Shape, Appearance and Material, every bond a Cylinder under a Transform. The chain is a self-avoiding
+random walk (1.5 A steps) in a ball, with an H/C/N/O/S mix and CPK colours, so its size and structure
+match a real export without shipping someone else's data.
+
+Usage: gen_molecule.py N_ATOMS OUT.wrl [--seed S] [--no-bonds]
+"""
+import math
+import random
+import sys
+
+ELEMENTS = [  # name, fraction, radius (A), colour
+    ("H", 0.20, 0.30, (0.95, 0.95, 0.95)),
+    ("C", 0.45, 0.60, (0.50, 0.50, 0.50)),
+    ("N", 0.14, 0.58, (0.20, 0.30, 1.00)),
+    ("O", 0.18, 0.55, (1.00, 0.15, 0.10)),
+    ("S", 0.03, 0.90, (1.00, 0.85, 0.15)),
+]
+
+
+def main():
+    n = int(sys.argv[1])
+    out = sys.argv[2]
+    seed = int(sys.argv[sys.argv.index("--seed") + 1]) if "--seed" in sys.argv else 1
+    bonds = "--no-bonds" not in sys.argv
+    rng = random.Random(seed)
+    ball = 1.6 * n ** (1 / 3) + 5
+    atoms = []
+    p = [0.0, 0.0, 0.0]
+    for _ in range(n):
+        for _ in range(50):
+            d = [rng.gauss(0, 1) for _ in range(3)]
+            s = math.sqrt(sum(x * x for x in d))
+            q = [p[i] + 1.5 * d[i] / s for i in range(3)]
+            if math.sqrt(sum(x * x for x in q)) < ball:
+                break
+        p = q
+        r = rng.random()
+        for name, frac, rad, col in ELEMENTS:
+            r -= frac
+            if r <= 0:
+                break
+        atoms.append((p, rad, col))
+    with open(out, "w") as f:
+        f.write("#VRML V2.0 utf8\n# Synthetic %d-atom molecule in PyMOL's VRML97 export style (tools/gen_molecule.py,"
+                " seed %d)\n" % (n, seed))
+        f.write("Viewpoint { position 0 0 %.3f fieldOfView 0.785398 description \"front\" }\n" % (ball * 3.2))
+        f.write("NavigationInfo { headlight FALSE }\n")
+        f.write("DirectionalLight { direction 0.6 -0.7 -0.4 intensity 1 ambientIntensity 0.2 }\n")
+        f.write("Background { skyColor [ 0.1 0.1 0.15 ] }\n")
+        for (x, y, z), rad, (r, g, b) in atoms:
+            f.write("Transform {\n translation %.4f %.4f %.4f\n children [\n  Shape {\n   appearance Appearance {\n"
+                    "    material Material {\n     diffuseColor %.3f %.3f %.3f\n     specularColor 0.3 0.3 0.3\n"
+                    "     shininess 0.2\n     ambientIntensity 0.2\n    }\n   }\n   geometry Sphere { radius %.2f }\n"
+                    "  }\n ]\n}\n" % (x, y, z, r, g, b, rad))
+        if bonds:
+            for i in range(1, n):
+                a, b = atoms[i - 1][0], atoms[i][0]
+                mid = [(a[k] + b[k]) / 2 for k in range(3)]
+                d = [b[k] - a[k] for k in range(3)]
+                length = math.sqrt(sum(x * x for x in d))
+                # rotation taking +y onto the bond: axis = y x d, angle = acos(d.y / |d|)
+                axis = [d[2], 0.0, -d[0]]
+                al = math.sqrt(axis[0] ** 2 + axis[2] ** 2)
+                angle = math.acos(max(-1.0, min(1.0, d[1] / length)))
+                if al < 1e-9:
+                    axis, angle = [1.0, 0.0, 0.0], (0.0 if d[1] > 0 else math.pi)
+                else:
+                    axis = [axis[0] / al, 0.0, axis[2] / al]
+                f.write("Transform { translation %.4f %.4f %.4f rotation %.5f %.5f %.5f %.5f children Shape {"
+                        " appearance Appearance { material Material { diffuseColor 0.65 0.65 0.65 } }"
+                        " geometry Cylinder { radius 0.15 height %.4f top FALSE bottom FALSE } } }\n"
+                        % (mid[0], mid[1], mid[2], axis[0], axis[1], axis[2], angle, length))
+
+
+if __name__ == "__main__":
+    main()
