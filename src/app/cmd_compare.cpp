@@ -11,11 +11,11 @@ int run_compare(const CompareCommand& cmd) {
     Image a, b;
     std::string error;
     if (!read_image(cmd.a, a, error)) {
-        std::cerr << cmd.a << ": error: " << error << "\n";
+        std::cerr << "vrmlray: error: " << error << "\n";
         return kExitBadInput;
     }
     if (!read_image(cmd.b, b, error)) {
-        std::cerr << cmd.b << ": error: " << error << "\n";
+        std::cerr << "vrmlray: error: " << error << "\n";
         return kExitBadInput;
     }
     CompareMetrics metrics;
@@ -40,7 +40,7 @@ int run_compare(const CompareCommand& cmd) {
     if (!cmd.diff_path.empty()) {
         Image diff = difference_heatmap(a, b);
         if (!write_image(cmd.diff_path, diff, false, error)) {
-            std::cerr << cmd.diff_path << ": error: " << error << "\n";
+            std::cerr << "vrmlray: error: " << error << "\n";
             return kExitOutput;
         }
     }

@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "parser/writer.h"
+#include "parser/xml_writer.h"
 
 namespace vr {
 namespace {
@@ -58,13 +59,10 @@ int run_convert(const std::string& in, const std::string& out, const CommonOptio
                   << "': use .wrl, .x3dv or .x3d (optionally .gz, or .wrz/.x3dvz/.x3dz)\n";
         return kExitUsage;
     }
-    if (target.encoding == Encoding::X3dXml) {
-        std::cerr << "vrmlray: error: writing X3D XML is not supported yet; use .wrl or .x3dv\n";
-        return kExitUsage;
-    }
     LoadedScene scene;
     if (!load_and_report(in, common, scene)) return kExitBadInput;
-    std::string text = write_classic(scene.tree, target.encoding);
+    std::string text = target.encoding == Encoding::X3dXml ? write_x3d_xml(scene.tree)
+                                                           : write_classic(scene.tree, target.encoding);
     if (!write_output(out, text, target.gzip)) {
         std::cerr << out << ": error: cannot write the output file\n";
         return kExitOutput;

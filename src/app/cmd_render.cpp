@@ -73,7 +73,7 @@ int run_render(const RenderCommand& cmd) {
     }
     auto t3 = std::chrono::steady_clock::now();
     if (!write_image(output, image, cmd.options.srgb, error)) {
-        std::cerr << output << ": error: " << error << "\n";
+        std::cerr << "vrmlray: error: " << error << "\n";
         return kExitOutput;
     }
     const double write_seconds = seconds_since(t3);
