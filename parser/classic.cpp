@@ -238,6 +238,12 @@ private:
     // ---- nodes --------------------------------------------------------------------------------
 
     NodeId node(Frame& f, const Token& type_token, size_t depth) {
+        {
+            // Node type names are identifiers: they never start with a digit, sign or period.
+            const char c0 = f.lexer.text(type_token).front();
+            if (std::isdigit(static_cast<unsigned char>(c0)) || c0 == '+' || c0 == '-' || c0 == '.')
+                fail(f, type_token, "expected a node, found " + describe(f, type_token));
+        }
         if (depth > limits_.max_nesting_depth)
             fail(f, type_token, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) + " (limit)");
         std::string_view type = f.lexer.text(type_token);

@@ -36,23 +36,25 @@ static std::string gunzip(const std::string& data, size_t max_bytes) {
     std::string out;
     char buffer[1 << 16];
     int ret = Z_OK;
-    while (ret != Z_STREAM_END) {
+    do {
         zs.next_out = reinterpret_cast<Bytef*>(buffer);
         zs.avail_out = sizeof(buffer);
         ret = inflate(&zs, Z_NO_FLUSH);
-        if (ret != Z_OK && ret != Z_STREAM_END) {
+        if (ret != Z_OK && ret != Z_STREAM_END && ret != Z_BUF_ERROR) {
             inflateEnd(&zs);
-            throw std::runtime_error("gzip data is corrupt or truncated");
+            throw std::runtime_error("gzip data is corrupt");
         }
         out.append(buffer, sizeof(buffer) - zs.avail_out);
         if (out.size() > max_bytes) {
             inflateEnd(&zs);
             throw std::runtime_error("decompressed size exceeds the limit of " + std::to_string(max_bytes) + " bytes");
         }
-        if (ret == Z_OK && zs.avail_in == 0 && zs.avail_out != 0) {
-            inflateEnd(&zs);
-            throw std::runtime_error("gzip data is truncated");
-        }
+        // No input left and output space unused: the stream stopped before its end.
+        if (ret == Z_BUF_ERROR || (zs.avail_in == 0 && zs.avail_out != 0)) break;
+    } while (ret != Z_STREAM_END);
+    if (ret != Z_STREAM_END) {
+        inflateEnd(&zs);
+        throw std::runtime_error("gzip data is truncated (the file ends before the compressed stream does)");
     }
     inflateEnd(&zs);
     return out;
@@ -77,11 +79,27 @@ std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
     return data;
 }
 
+// The first line as it can be shown in a message: non-printable bytes as \xNN.
+static std::string printable(std::string_view s) {
+    std::string out;
+    for (unsigned char c : s) {
+        if (c >= 0x20 && c < 0x7f) {
+            out += static_cast<char>(c);
+        } else {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02X", c);
+            out += buf;
+        }
+    }
+    return out;
+}
+
 static Encoding detect_encoding(const std::string& text, std::string& header) {
     size_t start = 0;
     if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) start = 3;  // UTF-8 byte order mark
     size_t end = text.find_first_of("\r\n", start);
-    header = text.substr(start, std::min<size_t>(end == std::string::npos ? text.size() : end, start + 80) - start);
+    header = printable(std::string_view(text).substr(
+        start, std::min<size_t>(end == std::string::npos ? text.size() : end, start + 60) - start));
     auto starts = [&](const char* prefix) { return text.compare(start, std::strlen(prefix), prefix) == 0; };
     if (starts("#VRML V2.0")) return Encoding::Vrml97;
     if (starts("#X3D V3.") || starts("#X3D V4.")) return Encoding::X3dClassic;
@@ -209,6 +227,12 @@ public:
                 result = read_vrml1(scene_, file, options_.limits);
                 break;
             case Encoding::Unknown:
+                if (src.text.size() >= 2 && ((src.text[0] == '\xFF' && src.text[1] == '\xFE') ||
+                                             (src.text[0] == '\xFE' && src.text[1] == '\xFF'))) {
+                    scene_.diagnostics.error({file, 0}, "the file is UTF-16 encoded; VRML and X3D files must be UTF-8");
+                    result.ok = false;
+                    break;
+                }
                 scene_.diagnostics.error({file, 0}, "not a VRML97 or X3D file: the first line is '" + header +
                                                         "', expected '#VRML V2.0 utf8', '#X3D V3.x utf8' or an XML document");
                 result.ok = false;

@@ -60,6 +60,16 @@ expect 0 "convert back to VRML97 gzip" -- "$bin" convert "$work/s.x3dv" "$work/s
 expect 0 "render the converted file" -- "$bin" render "$work/s.wrl.gz" -W 32 -H 24 -o "$work/s.png" -q
 expect 0 "converted file renders the same image" -- "$bin" compare "$work/a.png" "$work/s.png" --max-abs 0
 
+# --- tests/corpus/bad: every broken file fails with exit 3 and exactly its expected first message ---------
+for f in "$src"/tests/corpus/bad/*.wrl; do
+    name=$(basename "$f")
+    (cd "$(dirname "$f")" && "$bin" info "$name" -q >/dev/null 2>"$work/err.txt")
+    code=$?
+    expected=$(cat "${f%.wrl}.expected")
+    got=$(head -1 "$work/err.txt")
+    if [ $code -eq 3 ] && [ "$got" = "$expected" ]; then pass; else fail "bad/$name: exit $code, message '$got', expected '$expected'"; fi
+done
+
 # --- every corpus file: info never crashes; valid files load and render without NaN --------------------
 if [ -d "$corpus" ]; then
     while IFS= read -r -d '' f; do
