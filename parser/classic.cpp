@@ -622,7 +622,7 @@ private:
         const std::string& text = scene_.sources.file(impl->file).text;
         Frame body{Lexer(text, impl->body_begin, impl->body_end), impl->file, {}, nullptr,
                    std::make_shared<ProtoScope>(), &bound, impl, f.proto_depth + 1};
-        body.protos->parent = impl->scope;
+        body.protos->parent = impl->scope.lock();
         NodeId first = kNullNode;
         bool have_first = false;
         while (body.lexer.peek().kind != TokenKind::End) {

@@ -29,7 +29,9 @@ struct ProtoDecl {
     uint32_t file = 0;        // source file of the body
     uint32_t body_begin = 0;  // byte range of the body, inside its braces
     uint32_t body_end = 0;
-    std::shared_ptr<ProtoScope> scope;  // where the PROTO was declared: bodies see the PROTOs before it
+    // Where the PROTO was declared: bodies see the PROTOs before it. Weak, because that scope owns this
+    // declaration; whoever reads the body (the file being read, or the EXTERNPROTO file cache) keeps it alive.
+    std::weak_ptr<ProtoScope> scope;
     // EXTERNPROTO: the PROTO it resolved to, or null when it could not be resolved.
     bool external = false;
     std::shared_ptr<const ProtoDecl> implementation;

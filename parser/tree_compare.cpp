@@ -13,14 +13,14 @@ namespace vr {
 namespace {
 
 class Comparer {
-public:
+  public:
     Comparer(const NodeTree& a, const NodeTree& b, const TreeCompareOptions& options)
         : a_(a), b_(b), options_(options), names_(a) {}
 
     std::string run() {
         if (a_.roots.size() != b_.roots.size())
-            return "different numbers of top-level nodes: " + std::to_string(a_.roots.size()) + " vs " +
-                   std::to_string(b_.roots.size());
+            return "different numbers of top-level nodes: " + std::to_string(a_.roots.size()) +
+                   " vs " + std::to_string(b_.roots.size());
         for (size_t i = 0; i < a_.roots.size(); ++i) {
             std::string d = node(a_.roots[i], b_.roots[i], "roots[" + std::to_string(i) + "]");
             if (!d.empty()) return d;
@@ -28,7 +28,7 @@ public:
         return {};
     }
 
-private:
+  private:
     std::string node(NodeId x, NodeId y, const std::string& path) {
         if (x == kNullNode || y == kNullNode)
             return x == y ? std::string() : path + ": NULL vs a node";
@@ -36,13 +36,16 @@ private:
         auto seen_b = b_to_a_.find(y);
         if (seen_a != a_to_b_.end() || seen_b != b_to_a_.end()) {
             if (seen_a != a_to_b_.end() && seen_a->second == y) return {};
-            return path + ": DEF/USE sharing differs (" + describe(a_, x) + " vs " + describe(b_, y) + ")";
+            return path + ": DEF/USE sharing differs (" + describe(a_, x) + " vs " +
+                   describe(b_, y) + ")";
         }
         a_to_b_[x] = y;
         b_to_a_[y] = x;
         const std::string_view type = a_.type_name(x);
-        if (type != b_.type_name(y)) return path + ": node type " + describe(a_, x) + " vs " + describe(b_, y);
-        const std::string expected_def = options_.names_as_written ? names_.name(x) : std::string(a_.def_name(x));
+        if (type != b_.type_name(y))
+            return path + ": node type " + describe(a_, x) + " vs " + describe(b_, y);
+        const std::string expected_def =
+            options_.names_as_written ? names_.name(x) : std::string(a_.def_name(x));
         if (expected_def != b_.def_name(y))
             return path + " " + std::string(type) + ": DEF name '" + expected_def + "' vs '" +
                    std::string(b_.def_name(y)) + "'";
@@ -51,7 +54,8 @@ private:
         auto add = [&](const NodeTree& t, NodeId id) {
             for (const FieldEntry& e : t.set_fields(id)) {
                 std::string name(x3d_field_name(type, name_text(e.name)));
-                if (std::find(fields.begin(), fields.end(), name) == fields.end()) fields.push_back(name);
+                if (std::find(fields.begin(), fields.end(), name) == fields.end())
+                    fields.push_back(name);
             }
         };
         add(a_, x);
@@ -61,17 +65,20 @@ private:
             const std::string where = path + " " + std::string(type) + "." + field;
             if (!u.found || !v.found) return where + ": field unknown to one of the nodes";
             if (u.type != v.type)
-                return where + ": type " + std::string(type_name(u.type)) + " vs " + std::string(type_name(v.type));
+                return where + ": type " + std::string(type_name(u.type)) + " vs " +
+                       std::string(type_name(v.type));
             if (u.type.kind == ValueKind::Node) {
                 if (u.nodes.size() != v.nodes.size())
-                    return where + ": " + std::to_string(u.nodes.size()) + " vs " + std::to_string(v.nodes.size()) +
-                           " nodes";
+                    return where + ": " + std::to_string(u.nodes.size()) + " vs " +
+                           std::to_string(v.nodes.size()) + " nodes";
                 for (size_t i = 0; i < u.nodes.size(); ++i) {
-                    std::string d = node(u.nodes[i], v.nodes[i], where + "[" + std::to_string(i) + "]");
+                    std::string d =
+                        node(u.nodes[i], v.nodes[i], where + "[" + std::to_string(i) + "]");
                     if (!d.empty()) return d;
                 }
             } else if (u.type.kind == ValueKind::String) {
-                if (!std::equal(u.strings.begin(), u.strings.end(), v.strings.begin(), v.strings.end()))
+                if (!std::equal(u.strings.begin(), u.strings.end(), v.strings.begin(),
+                                v.strings.end()))
                     return where + ": strings differ";
             } else if (!numbers_equal(u.numbers, v.numbers)) {
                 return where + ": " + numbers_text(u.numbers) + " vs " + numbers_text(v.numbers);

@@ -1,7 +1,7 @@
-// Reading a VRML 1.0 file as written: node types from grammar/vrml1.nodes, values by the shared value parser,
-// plus what VRML 1.0 adds to the classic syntax: children inside a node's braces after its fields, bare-word
-// SFEnum/SFBitMask values (`parts (SIDES | TOP)`), unquoted SFString words, SFBool 0/1, and the
-// `fields [ SFFloat a, ... ]` declaration of non-standard nodes.
+// Reading a VRML 1.0 file as written: node types from grammar/vrml1.nodes, values by the shared
+// value parser, plus what VRML 1.0 adds to the classic syntax: children inside a node's braces
+// after its fields, bare-word SFEnum/SFBitMask values (`parts (SIDES | TOP)`), unquoted SFString
+// words, SFBool 0/1, and the `fields [ SFFloat a, ... ]` declaration of non-standard nodes.
 #include "parser/vrml1.h"
 
 #include <unordered_map>
@@ -15,7 +15,8 @@ namespace vr {
 namespace vrml1 {
 
 bool is_enum_field(const FieldDecl& field) {
-    if (field.type.kind != ValueKind::String || field.type.multi || field.range.empty()) return false;
+    if (field.type.kind != ValueKind::String || field.type.multi || field.range.empty())
+        return false;
     for (char c : field.range)
         if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '|')) return false;
     return true;
@@ -23,10 +24,17 @@ bool is_enum_field(const FieldDecl& field) {
 
 std::string_view vrml97_counterpart(std::string_view t) {
     static const std::unordered_map<std::string_view, std::string_view> table = {
-        {"Cube", "Box"},           {"Coordinate3", "Coordinate"},         {"Texture2", "ImageTexture"},
-        {"Texture2Transform", "TextureTransform"}, {"TextureCoordinate2", "TextureCoordinate"},
-        {"WWWInline", "Inline"},   {"WWWAnchor", "Anchor"},               {"PerspectiveCamera", "Viewpoint"},
-        {"OrthographicCamera", "OrthoViewpoint"},  {"AsciiText", "Text"}, {"Separator", "Group"},
+        {"Cube", "Box"},
+        {"Coordinate3", "Coordinate"},
+        {"Texture2", "ImageTexture"},
+        {"Texture2Transform", "TextureTransform"},
+        {"TextureCoordinate2", "TextureCoordinate"},
+        {"WWWInline", "Inline"},
+        {"WWWAnchor", "Anchor"},
+        {"PerspectiveCamera", "Viewpoint"},
+        {"OrthographicCamera", "OrthoViewpoint"},
+        {"AsciiText", "Text"},
+        {"Separator", "Group"},
         {"TransformSeparator", "Group"},
     };
     auto it = table.find(t);
@@ -38,8 +46,8 @@ namespace {
 
 // VRML 1.0 nodes that take children inside their braces.
 bool is_group(std::string_view type) {
-    return type == "Separator" || type == "Group" || type == "Switch" || type == "TransformSeparator" ||
-           type == "LOD" || type == "WWWAnchor";
+    return type == "Separator" || type == "Group" || type == "Switch" ||
+           type == "TransformSeparator" || type == "LOD" || type == "WWWAnchor";
 }
 
 // A field of a non-standard node, declared by `fields [ ... ]`.
@@ -50,7 +58,7 @@ struct DeclaredField {
 };
 
 class Reader {
-public:
+  public:
     Reader(LoadedScene& scene, uint32_t file, const LoadLimits& limits, V1File& out)
         : scene_(scene),
           tree_(scene.tree),
@@ -75,20 +83,29 @@ public:
         return true;
     }
 
-private:
+  private:
     // ---- tokens ---------------------------------------------------------------------------------
 
-    [[noreturn]] void fail(const Token& t, std::string message) { throw SyntaxError{t.offset, std::move(message)}; }
+    [[noreturn]] void fail(const Token& t, std::string message) {
+        throw SyntaxError{t.offset, std::move(message)};
+    }
 
     std::string describe(const Token& t) {
         switch (t.kind) {
-            case TokenKind::End: return "end of file";
-            case TokenKind::LBrace: return "'{'";
-            case TokenKind::RBrace: return "'}'";
-            case TokenKind::LBracket: return "'['";
-            case TokenKind::RBracket: return "']'";
-            case TokenKind::String: return "a string";
-            case TokenKind::BadString: return "an unterminated string";
+            case TokenKind::End:
+                return "end of file";
+            case TokenKind::LBrace:
+                return "'{'";
+            case TokenKind::RBrace:
+                return "'}'";
+            case TokenKind::LBracket:
+                return "'['";
+            case TokenKind::RBracket:
+                return "']'";
+            case TokenKind::String:
+                return "a string";
+            case TokenKind::BadString:
+                return "an unterminated string";
             case TokenKind::Word: {
                 std::string_view w = lexer_.text(t);
                 return "'" + std::string(w.substr(0, 40)) + (w.size() > 40 ? "...'" : "'");
@@ -99,7 +116,8 @@ private:
 
     std::string_view expect_word(const char* what) {
         Token t = lexer_.next();
-        if (t.kind != TokenKind::Word) fail(t, std::string("expected ") + what + ", found " + describe(t));
+        if (t.kind != TokenKind::Word)
+            fail(t, std::string("expected ") + what + ", found " + describe(t));
         return lexer_.text(t);
     }
 
@@ -123,12 +141,14 @@ private:
         const std::string& text = scene_.sources.file(file_).text;
         size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
         size_t end = text.find_first_of("\r\n", start);
-        std::string_view line = std::string_view(text).substr(start, end == std::string::npos ? std::string::npos
-                                                                                               : end - start);
+        std::string_view line = std::string_view(text).substr(
+            start, end == std::string::npos ? std::string::npos : end - start);
         std::string_view rest = line.size() > 10 ? line.substr(10) : std::string_view();
-        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t'))
+            rest.remove_prefix(1);
         if (rest.substr(0, 5) != "ascii")
-            warn(static_cast<uint32_t>(start), "header should say 'ascii' after the version: '" + std::string(line) + "'",
+            warn(static_cast<uint32_t>(start),
+                 "header should say 'ascii' after the version: '" + std::string(line) + "'",
                  "header-ascii");
     }
 
@@ -143,20 +163,28 @@ private:
             Name def = intern(expect_word("a name after DEF"));
             Token type = lexer_.next();
             if (type.kind != TokenKind::Word)
-                fail(type, "expected a node type after DEF " + std::string(name_text(def)) + ", found " + describe(type));
+                fail(type, "expected a node type after DEF " + std::string(name_text(def)) +
+                               ", found " + describe(type));
             uint32_t id = node(type, depth);
-            if (id != kNone && out_.nodes[id].def_name == kNoName) out_.nodes[id].def_name = def;
-            // Registered after the node is complete: a node cannot USE itself, so the file is a DAG.
+            if (id != kNone && out_.nodes[id].def_name == kNoName) {
+                out_.nodes[id].def_name = def;
+                if (out_.nodes[id].vrml97 != kNullNode)
+                    tree_.nodes[out_.nodes[id].vrml97].def_name = def;
+            }
+            // Registered after the node is complete: a node cannot USE itself, so the file is a
+            // DAG.
             defs_[def] = id;
             ++scene_.stats.def_count;
             return id;
         }
         if (w == "USE") {
             Token nt = lexer_.next();
-            if (nt.kind != TokenKind::Word) fail(nt, "expected a name after USE, found " + describe(nt));
+            if (nt.kind != TokenKind::Word)
+                fail(nt, "expected a name after USE, found " + describe(nt));
             auto it = defs_.find(intern(lexer_.text(nt)));
             if (it == defs_.end())
-                fail(nt, "USE of '" + std::string(lexer_.text(nt)) + "', which no DEF before it names");
+                fail(nt,
+                     "USE of '" + std::string(lexer_.text(nt)) + "', which no DEF before it names");
             ++scene_.stats.use_count;
             if (it->second != kNone) out_.nodes[it->second].shared = true;
             return it->second;
@@ -166,7 +194,8 @@ private:
 
     uint32_t node(const Token& type_token, size_t depth) {
         if (depth > limits_.max_nesting_depth)
-            fail(type_token, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) + " (limit)");
+            fail(type_token, "nodes nested deeper than " +
+                                 std::to_string(limits_.max_nesting_depth) + " (limit)");
         std::string_view type = lexer_.text(type_token);
         Name type_name = intern(type);
         const NodeTypeDecl* decl = registry_.find(Spec::Vrml1, type_name);
@@ -183,7 +212,8 @@ private:
         }
         Token open = lexer_.next();
         if (open.kind != TokenKind::LBrace)
-            fail(open, "expected '{' after node type '" + std::string(type) + "', found " + describe(open));
+            fail(open, "expected '{' after node type '" + std::string(type) + "', found " +
+                           describe(open));
         const size_t field_mark = scratch_fields_.size();
         const size_t child_mark = scratch_children_.size();
         const bool group = is_group(type);
@@ -194,25 +224,30 @@ private:
                 break;
             }
             if (t.kind == TokenKind::End)
-                fail(type_token, std::string(type) + " is not closed: the file ends before its '}'");
+                fail(type_token,
+                     std::string(type) + " is not closed: the file ends before its '}'");
             if (t.kind != TokenKind::Word)
-                fail(t, "expected a field name, a child node or '}' in " + std::string(type) + ", found " + describe(t));
+                fail(t, "expected a field name, a child node or '}' in " + std::string(type) +
+                            ", found " + describe(t));
             std::string_view w = lexer_.text(t);
             if (w == "fields" && peek_second().kind == TokenKind::LBracket) {
                 lexer_.next();
-                declarations();  // a standard node needs none; its fields are read by its own interface
+                declarations();  // a standard node needs none; its fields are read by its own
+                                 // interface
                 continue;
             }
             const FieldDecl* field = find_field(*decl, type, intern(w));
             if (field) {
                 lexer_.next();
                 if (field->extension)
-                    warn(t.offset, "non-standard field '" + std::string(w) + "' of " + std::string(type) +
-                                       " (a browser extension) read and ignored",
+                    warn(t.offset,
+                         "non-standard field '" + std::string(w) + "' of " + std::string(type) +
+                             " (a browser extension) read and ignored",
                          "extension-field:" + std::string(type) + "." + std::string(w));
                 FieldEntry entry;
                 entry.name = field->name;
-                if (value(field->type, is_enum_field(*field) ? field : nullptr, entry)) push_field(entry, field_mark);
+                if (value(field->type, is_enum_field(*field) ? field : nullptr, entry))
+                    push_field(entry, field_mark);
                 continue;
             }
             if (w == "DEF" || w == "USE" || peek_second().kind == TokenKind::LBrace) {
@@ -232,12 +267,14 @@ private:
         return add(n, field_mark, child_mark, type_token);
     }
 
-    // A field of the node's VRML 1.0 interface, or a browser extension of it or of its VRML97 counterpart.
+    // A field of the node's VRML 1.0 interface, or a browser extension of it or of its VRML97
+    // counterpart.
     const FieldDecl* find_field(const NodeTypeDecl& decl, std::string_view type, Name name) {
         if (const FieldDecl* f = registry_.lookup_field(Spec::Vrml1, decl, name)) return f;
         std::string_view counterpart = vrml97_counterpart(type);
         if (counterpart != type)
-            if (const NodeTypeDecl* e = registry_.find(Spec::Extension, counterpart)) return e->find(name);
+            if (const NodeTypeDecl* e = registry_.find(Spec::Extension, counterpart))
+                return e->find(name);
         return nullptr;
     }
 
@@ -257,12 +294,14 @@ private:
             fail(at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         n.first_field = static_cast<uint32_t>(out_.fields.size());
         n.field_count = static_cast<uint32_t>(scratch_fields_.size() - field_mark);
-        out_.fields.insert(out_.fields.end(), scratch_fields_.begin() + static_cast<ptrdiff_t>(field_mark),
+        out_.fields.insert(out_.fields.end(),
+                           scratch_fields_.begin() + static_cast<ptrdiff_t>(field_mark),
                            scratch_fields_.end());
         scratch_fields_.resize(field_mark);
         n.first_child = static_cast<uint32_t>(out_.children.size());
         n.child_count = static_cast<uint32_t>(scratch_children_.size() - child_mark);
-        out_.children.insert(out_.children.end(), scratch_children_.begin() + static_cast<ptrdiff_t>(child_mark),
+        out_.children.insert(out_.children.end(),
+                             scratch_children_.begin() + static_cast<ptrdiff_t>(child_mark),
                              scratch_children_.end());
         scratch_children_.resize(child_mark);
         out_.nodes.push_back(n);
@@ -271,12 +310,14 @@ private:
 
     // ---- values ---------------------------------------------------------------------------------
 
-    // Reads one field value into the tree's pools. `enum_decl`: the field is an SFEnum/SFBitMask whose
-    // words are checked against its range. Returns false when the value is not kept (unknown enum word).
+    // Reads one field value into the tree's pools. `enum_decl`: the field is an SFEnum/SFBitMask
+    // whose words are checked against its range. Returns false when the value is not kept (unknown
+    // enum word).
     bool value(FieldType type, const FieldDecl* enum_decl, FieldEntry& entry) {
         entry.type = type;
         entry.loc = {file_, lexer_.peek().offset};
-        if (type.kind == ValueKind::String && !type.multi && enum_decl) return enum_value(enum_decl, entry);
+        if (type.kind == ValueKind::String && !type.multi && enum_decl)
+            return enum_value(enum_decl, entry);
         if (type.kind == ValueKind::String) {
             string_value(type.multi, entry);
             return true;
@@ -322,10 +363,12 @@ private:
             for (;;) {
                 Token t = lexer_.next();
                 if (t.kind == TokenKind::RBracket) break;
-                if (t.kind == TokenKind::End) fail(first, "'[' is not closed before the end of the file");
+                if (t.kind == TokenKind::End)
+                    fail(first, "'[' is not closed before the end of the file");
                 one(t);
                 if (tree_.strings.size() - entry.begin > limits_.max_mf_values)
-                    fail(first, "field holds more than " + std::to_string(limits_.max_mf_values) + " values (limit)");
+                    fail(first, "field holds more than " + std::to_string(limits_.max_mf_values) +
+                                    " values (limit)");
             }
         } else {
             one(first);
@@ -333,7 +376,8 @@ private:
         entry.count = static_cast<uint32_t>(tree_.strings.size() - entry.begin);
     }
 
-    // SFEnum `WORD`, SFBitMask `WORD` or `(A | B)`; kept as "A|B". Unknown words: warning, default kept.
+    // SFEnum `WORD`, SFBitMask `WORD` or `(A | B)`; kept as "A|B". Unknown words: warning, default
+    // kept.
     bool enum_value(const FieldDecl* decl, FieldEntry& entry) {
         std::string words = read_words();
         std::string_view allowed = decl->range;
@@ -341,20 +385,23 @@ private:
         size_t start = 0;
         while (start <= words.size()) {
             size_t bar = words.find('|', start);
-            std::string_view w = std::string_view(words).substr(start, bar == std::string::npos ? std::string::npos
-                                                                                                : bar - start);
+            std::string_view w = std::string_view(words).substr(
+                start, bar == std::string::npos ? std::string::npos : bar - start);
             start = bar == std::string::npos ? words.size() + 1 : bar + 1;
             if (w.empty()) continue;
             bool known = false;
             for (size_t p = 0; p <= allowed.size();) {
                 size_t q = allowed.find('|', p);
-                if (allowed.substr(p, q == std::string_view::npos ? std::string_view::npos : q - p) == w) known = true;
+                if (allowed.substr(
+                        p, q == std::string_view::npos ? std::string_view::npos : q - p) == w)
+                    known = true;
                 p = q == std::string_view::npos ? allowed.size() + 1 : q + 1;
             }
             if (!known) {
                 warn(entry.loc.offset,
-                     "'" + std::string(w) + "' is not a value of " + std::string(name_text(decl->name)) + " (" +
-                         decl->range + "); the default is used",
+                     "'" + std::string(w) + "' is not a value of " +
+                         std::string(name_text(decl->name)) + " (" + decl->range +
+                         "); the default is used",
                      "vrml1-enum:" + std::string(name_text(decl->name)) + ":" + std::string(w));
                 return false;
             }
@@ -362,7 +409,8 @@ private:
             kept += w;
         }
         if (kept.empty()) {
-            warn(entry.loc.offset, "empty value for " + std::string(name_text(decl->name)) + "; the default is used",
+            warn(entry.loc.offset,
+                 "empty value for " + std::string(name_text(decl->name)) + "; the default is used",
                  "vrml1-enum-empty");
             return false;
         }
@@ -381,7 +429,8 @@ private:
         if (text.front() == '(') {
             for (int n = 0; text.back() != ')'; ++n) {
                 Token more = lexer_.next();
-                if (more.kind != TokenKind::Word || n > 64) fail(t, "'(' of a bit mask value is not closed by ')'");
+                if (more.kind != TokenKind::Word || n > 64)
+                    fail(t, "'(' of a bit mask value is not closed by ')'");
                 text += lexer_.text(more);
             }
             text = text.substr(1, text.size() - 2);
@@ -396,7 +445,8 @@ private:
         for (;;) {
             Token t = lexer_.next();
             if (t.kind == TokenKind::RBracket) break;
-            if (t.kind != TokenKind::Word) fail(t, "expected a field type or ']' in fields [...], found " + describe(t));
+            if (t.kind != TokenKind::Word)
+                fail(t, "expected a field type or ']' in fields [...], found " + describe(t));
             std::string_view type = lexer_.text(t);
             DeclaredField d;
             if (type == "SFLong" || type == "MFLong") {
@@ -417,8 +467,9 @@ private:
         return out;
     }
 
-    // A node type VRML 1.0 does not define: its declared fields and its children are read (so that DEFs
-    // inside stay usable), and the node is skipped with a warning, unless `isA` names a standard node type.
+    // A node type VRML 1.0 does not define: its declared fields and its children are read (so that
+    // DEFs inside stay usable), and the node is skipped with a warning, unless `isA` names a
+    // standard node type.
     uint32_t unknown_node(const Token& type_token, size_t depth) {
         std::string type(lexer_.text(type_token));
         Token open = lexer_.next();
@@ -434,7 +485,8 @@ private:
                 lexer_.next();
                 break;
             }
-            if (t.kind == TokenKind::End) fail(type_token, type + " is not closed: the file ends before its '}'");
+            if (t.kind == TokenKind::End)
+                fail(type_token, type + " is not closed: the file ends before its '}'");
             if (t.kind != TokenKind::Word) {
                 skip_rest(open);
                 break;
@@ -463,7 +515,8 @@ private:
                     value(d->type, nullptr, entry);
                 }
                 if (w == "isA" && entry.type.kind == ValueKind::String)
-                    is_a.assign(tree_.strings.begin() + entry.begin, tree_.strings.begin() + entry.begin + entry.count);
+                    is_a.assign(tree_.strings.begin() + entry.begin,
+                                tree_.strings.begin() + entry.begin + entry.count);
                 push_field(entry, field_mark);
                 continue;
             }
@@ -479,13 +532,16 @@ private:
         for (const std::string& base : is_a) {
             const NodeTypeDecl* decl = registry_.find(Spec::Vrml1, base);
             if (!decl) continue;
-            warn(type_token.offset, "non-standard node type '" + type + "' read as its isA type '" + base + "'",
+            warn(type_token.offset,
+                 "non-standard node type '" + type + "' read as its isA type '" + base + "'",
                  "vrml1-isa:" + type);
-            // Keep the fields the standard type has with the same type; drop children of non-groups.
+            // Keep the fields the standard type has with the same type; drop children of
+            // non-groups.
             size_t keep = field_mark;
             for (size_t i = field_mark; i < scratch_fields_.size(); ++i) {
                 const FieldDecl* f = decl->find(scratch_fields_[i].name);
-                if (f && f->type == scratch_fields_[i].type) scratch_fields_[keep++] = scratch_fields_[i];
+                if (f && f->type == scratch_fields_[i].type)
+                    scratch_fields_[keep++] = scratch_fields_[i];
             }
             scratch_fields_.resize(keep);
             if (!is_group(base)) scratch_children_.resize(child_mark);
@@ -509,42 +565,54 @@ private:
             Token t = lexer_.next();
             switch (t.kind) {
                 case TokenKind::LBrace:
-                case TokenKind::LBracket: ++depth; break;
+                case TokenKind::LBracket:
+                    ++depth;
+                    break;
                 case TokenKind::RBrace:
-                case TokenKind::RBracket: --depth; break;
-                case TokenKind::End: fail(open, "this node is not closed before the end of the file");
-                case TokenKind::BadString: fail(t, "string is not closed before the end of the file");
-                default: break;
+                case TokenKind::RBracket:
+                    --depth;
+                    break;
+                case TokenKind::End:
+                    fail(open, "this node is not closed before the end of the file");
+                case TokenKind::BadString:
+                    fail(t, "string is not closed before the end of the file");
+                default:
+                    break;
             }
         }
     }
 
-    // ---- VRML97 nodes in a VRML 1.0 file ---------------------------------------------------------
+    // ---- VRML97 nodes in a VRML 1.0 file ----
 
-    // Some browsers accept VRML97 nodes (NavigationInfo, Background, ...) in VRML 1.0 files. They are read
-    // with their VRML97 interface and syntax and placed in the upgraded tree as they are.
+    // Some browsers accept VRML97 nodes (NavigationInfo, Background, ...) in VRML 1.0 files. They
+    // are read with their VRML97 interface and syntax and placed in the upgraded tree as they are.
     NodeId vrml97_node(const Token& type_token, const NodeTypeDecl& decl, size_t depth) {
         if (depth > limits_.max_nesting_depth)
-            fail(type_token, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) + " (limit)");
+            fail(type_token, "nodes nested deeper than " +
+                                 std::to_string(limits_.max_nesting_depth) + " (limit)");
         std::string type(lexer_.text(type_token));
-        warn(type_token.offset, "VRML97 node '" + type + "' in a VRML 1.0 file (a browser extension) read as VRML97",
+        warn(type_token.offset,
+             "VRML97 node '" + type + "' in a VRML 1.0 file (a browser extension) read as VRML97",
              "vrml1-vrml97-node:" + type);
         expect(TokenKind::LBrace, "'{' after the node type");
         std::vector<FieldEntry> fields;
         for (;;) {
             Token t = lexer_.next();
             if (t.kind == TokenKind::RBrace) break;
-            if (t.kind == TokenKind::End) fail(type_token, type + " is not closed: the file ends before its '}'");
+            if (t.kind == TokenKind::End)
+                fail(type_token, type + " is not closed: the file ends before its '}'");
             if (t.kind != TokenKind::Word)
                 fail(t, "expected a field name or '}' in " + type + ", found " + describe(t));
             std::string_view w = lexer_.text(t);
             const FieldDecl* field = registry_.lookup_field(Spec::Vrml97, decl, intern(w));
             if (!field) fail(t, "unknown field '" + std::string(w) + "' in node " + type);
             if (!has_value(field->access))
-                fail(t, "'" + std::string(w) + "' is an event of " + type + " and takes no value here");
+                fail(t, "'" + std::string(w) + "' is an event of " + type +
+                            " and takes no value here");
             if (field->extension)
-                warn(t.offset, "non-standard field '" + std::string(w) + "' of " + type +
-                                   " (a browser extension) read and ignored",
+                warn(t.offset,
+                     "non-standard field '" + std::string(w) + "' of " + type +
+                         " (a browser extension) read and ignored",
                      "extension-field:" + type + "." + std::string(w));
             FieldEntry entry;
             entry.name = field->name;
@@ -591,20 +659,23 @@ private:
                 Name name = intern(expect_word("a name after USE"));
                 auto it = defs97_.find(name);
                 if (it == defs97_.end())
-                    fail(t, "USE of '" + std::string(name_text(name)) + "', which no VRML97 node DEF before it names");
+                    fail(t, "USE of '" + std::string(name_text(name)) +
+                                "', which no VRML97 node DEF before it names");
                 ids.push_back(it->second);
                 return;
             }
             if (w == "DEF") {
                 def = intern(expect_word("a name after DEF"));
                 t = lexer_.next();
-                if (t.kind != TokenKind::Word) fail(t, "expected a node type, found " + describe(t));
+                if (t.kind != TokenKind::Word)
+                    fail(t, "expected a node type, found " + describe(t));
             }
             const NodeTypeDecl* d = registry_.lookup(Spec::Vrml97, intern(lexer_.text(t)));
             if (!d) {
                 std::string type(lexer_.text(t));
                 Token open = lexer_.next();
-                if (open.kind != TokenKind::LBrace) fail(open, "expected '{' after node type '" + type + "'");
+                if (open.kind != TokenKind::LBrace)
+                    fail(open, "expected '{' after node type '" + type + "'");
                 skip_rest(open);
                 warn(t.offset, "unknown node type '" + type + "' skipped", "unknown-node:" + type);
                 ++scene_.stats.skipped_nodes[type];
@@ -620,7 +691,8 @@ private:
         if (multi && first.kind == TokenKind::LBracket) {
             lexer_.next();
             while (lexer_.peek().kind != TokenKind::RBracket) {
-                if (lexer_.peek().kind == TokenKind::End) fail(first, "'[' is not closed before the end of the file");
+                if (lexer_.peek().kind == TokenKind::End)
+                    fail(first, "'[' is not closed before the end of the file");
                 one();
             }
             lexer_.next();
@@ -640,10 +712,10 @@ private:
     uint32_t file_;
     Lexer lexer_;
     V1File& out_;
-    std::unordered_map<Name, uint32_t> defs_;     // VRML 1.0 DEF names (the latest DEF of a name wins)
-    std::unordered_map<Name, NodeId> defs97_;     // DEF names inside VRML97 nodes
-    std::vector<FieldEntry> scratch_fields_;      // fields of the nodes being read, innermost last
-    std::vector<uint32_t> scratch_children_;      // children of the nodes being read, innermost last
+    std::unordered_map<Name, uint32_t> defs_;  // VRML 1.0 DEF names (the latest DEF of a name wins)
+    std::unordered_map<Name, NodeId> defs97_;  // DEF names inside VRML97 nodes
+    std::vector<FieldEntry> scratch_fields_;   // fields of the nodes being read, innermost last
+    std::vector<uint32_t> scratch_children_;   // children of the nodes being read, innermost last
 };
 
 }  // namespace

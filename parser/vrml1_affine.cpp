@@ -26,7 +26,8 @@ Vec3d Affine::vector(const Vec3d& v) const {
 }
 
 double Affine::determinant() const {
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
@@ -77,12 +78,12 @@ Affine scaling(double x, double y, double z) {
 }
 
 Affine compose(const TransformFields& f, const Vec3d& c) {
-    const std::array<double, 4> inverse_so{f.scale_orientation[0], f.scale_orientation[1], f.scale_orientation[2],
-                                           -f.scale_orientation[3]};
-    return translation(f.translation[0], f.translation[1], f.translation[2]) * translation(c[0], c[1], c[2]) *
-           rotation(f.rotation.data()) * rotation(f.scale_orientation.data()) *
-           scaling(f.scale[0], f.scale[1], f.scale[2]) * rotation(inverse_so.data()) *
-           translation(-c[0], -c[1], -c[2]);
+    const std::array<double, 4> inverse_so{f.scale_orientation[0], f.scale_orientation[1],
+                                           f.scale_orientation[2], -f.scale_orientation[3]};
+    return translation(f.translation[0], f.translation[1], f.translation[2]) *
+           translation(c[0], c[1], c[2]) * rotation(f.rotation.data()) *
+           rotation(f.scale_orientation.data()) * scaling(f.scale[0], f.scale[1], f.scale[2]) *
+           rotation(inverse_so.data()) * translation(-c[0], -c[1], -c[2]);
 }
 
 std::array<double, 4> axis_angle(const double r[3][3]) {
@@ -116,8 +117,8 @@ std::array<double, 4> axis_angle(const double r[3][3]) {
 namespace {
 
 // Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations: a = V·diag(w)·Vᵀ.
-// Off-diagonal entries negligible next to their diagonal are treated as zero, so that a matrix that is
-// already diagonal (up to rounding) keeps V = I: a uniform scale then gets no scaleOrientation.
+// Off-diagonal entries negligible next to their diagonal are treated as zero, so that a matrix that
+// is already diagonal (up to rounding) keeps V = I: a uniform scale then gets no scaleOrientation.
 void symmetric_eigen(double a[3][3], double v[3][3], double w[3]) {
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) v[r][c] = r == c ? 1.0 : 0.0;
@@ -126,13 +127,15 @@ void symmetric_eigen(double a[3][3], double v[3][3], double w[3]) {
         for (int p = 0; p < 2; ++p) {
             for (int q = p + 1; q < 3; ++q) {
                 const double apq = a[p][q];
-                if (std::abs(apq) <= 1e-14 * (std::abs(a[p][p]) + std::abs(a[q][q])) || apq == 0.0) {
+                if (std::abs(apq) <= 1e-14 * (std::abs(a[p][p]) + std::abs(a[q][q])) ||
+                    apq == 0.0) {
                     a[p][q] = a[q][p] = 0.0;
                     continue;
                 }
                 rotated = true;
                 const double theta = (a[q][q] - a[p][p]) / (2.0 * apq);
-                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+                const double t =
+                    (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
                 const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
                 for (int k = 0; k < 3; ++k) {  // a = Jᵀ·a·J on rows and columns p, q
                     const double akp = a[k][p], akq = a[k][q];
@@ -171,7 +174,7 @@ bool normalise(Vec3d& v) {
 Vec3d perpendicular(const Vec3d& u) {
     Vec3d axis{0, 0, 0};
     const int smallest = std::abs(u[0]) <= std::abs(u[1]) && std::abs(u[0]) <= std::abs(u[2]) ? 0
-                         : std::abs(u[1]) <= std::abs(u[2])                                  ? 1
+                         : std::abs(u[1]) <= std::abs(u[2])                                   ? 1
                                                                                               : 2;
     axis[smallest] = 1.0;
     Vec3d p = cross(u, axis);
@@ -191,16 +194,26 @@ TransformFields decompose(const Affine& a) {
     // AᵀA = V·S²·Vᵀ
     double ata[3][3], v[3][3], w[3];
     for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) ata[r][c] = lin[0][r] * lin[0][c] + lin[1][r] * lin[1][c] + lin[2][r] * lin[2][c];
+        for (int c = 0; c < 3; ++c)
+            ata[r][c] = lin[0][r] * lin[0][c] + lin[1][r] * lin[1][c] + lin[2][r] * lin[2][c];
     symmetric_eigen(ata, v, w);
+    auto apply = [&](const Vec3d& x) {
+        return Vec3d{lin[0][0] * x[0] + lin[0][1] * x[1] + lin[0][2] * x[2],
+                     lin[1][0] * x[0] + lin[1][1] * x[1] + lin[1][2] * x[2],
+                     lin[2][0] * x[0] + lin[2][1] * x[1] + lin[2][2] * x[2]};
+    };
+    // Singular values as |A·v|, not sqrt(eigenvalue): accurate to rounding of the largest, even
+    // when small.
     double s[3];
     Vec3d vc[3];
     for (int i = 0; i < 3; ++i) {
-        s[i] = std::sqrt(std::max(w[i], 0.0));
         vc[i] = column(v, i);
+        const Vec3d av = apply(vc[i]);
+        s[i] = std::sqrt(dot(av, av));
     }
-    // Columns keep the object's axis order (so a plain scale needs no scaleOrientation); the directions
-    // are visited by decreasing singular value, and the weakest one is completed by a cross product.
+    // Columns keep the object's axis order (so a plain scale needs no scaleOrientation); the
+    // directions are visited by decreasing singular value, and the weakest one is completed by a
+    // cross product.
     int order[3] = {0, 1, 2};
     std::sort(order, order + 3, [&](int x, int y) { return s[x] > s[y]; });
     const int i0 = order[0], i1 = order[1], i2 = order[2];
@@ -215,17 +228,13 @@ TransformFields decompose(const Affine& a) {
     if (dot(cross(vc[0], vc[1]), vc[2]) < 0)
         for (double& x : vc[i2]) x = -x;  // V a rotation
 
-    auto apply = [&](const Vec3d& x) {
-        return Vec3d{lin[0][0] * x[0] + lin[0][1] * x[1] + lin[0][2] * x[2],
-                     lin[1][0] * x[0] + lin[1][1] * x[1] + lin[1][2] * x[2],
-                     lin[2][0] * x[0] + lin[2][1] * x[1] + lin[2][2] * x[2]};
-    };
     Vec3d u[3];
     if (!(largest > 0.0) || !std::isfinite(largest)) {
         u[0] = vc[0];
         u[1] = vc[1];
         u[2] = vc[2];
-        const double all = largest > 0.0 ? largest : 0.0;  // zero, or not finite (reported by the builder)
+        const double all =
+            largest > 0.0 ? largest : 0.0;  // zero, or not finite (reported by the builder)
         s[0] = s[1] = s[2] = all;
     } else {
         u[i0] = apply(vc[i0]);
@@ -252,7 +261,8 @@ TransformFields decompose(const Affine& a) {
     // R = U·Vᵀ
     double rot[3][3];
     for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) rot[r][c] = u[0][r] * vc[0][c] + u[1][r] * vc[1][c] + u[2][r] * vc[2][c];
+        for (int c = 0; c < 3; ++c)
+            rot[r][c] = u[0][r] * vc[0][c] + u[1][r] * vc[1][c] + u[2][r] * vc[2][c];
     f.rotation = axis_angle(rot);
     double vm[3][3];
     for (int r = 0; r < 3; ++r)

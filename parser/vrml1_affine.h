@@ -1,11 +1,12 @@
 // Affine matrices for the VRML 1.0 upgrade: the traversal state's current transformation, and its
 // decomposition into the fields of one VRML97 Transform.
 //
-// Any 3x4 affine matrix, shear included, is one VRML97 Transform: the linear part A has a singular value
-// decomposition A = U·S·Vᵀ, which is the Transform's R·SR·S·SR⁻¹ with R = U·Vᵀ (rotation),
-// SR = V (scaleOrientation) and S (scale). A mirror (det A < 0) puts a negative sign on the smallest scale
-// component; a singular A gives a zero scale component. Only a projective 4x4 matrix (a MatrixTransform
-// whose last column is not 0 0 0 1) has no VRML97 equivalent: the reader drops that part with a warning.
+// Any 3x4 affine matrix, shear included, is one VRML97 Transform: the linear part A has a singular
+// value decomposition A = U·S·Vᵀ, which is the Transform's R·SR·S·SR⁻¹ with R = U·Vᵀ (rotation),
+// SR = V (scaleOrientation) and S (scale). A mirror (det A < 0) puts a negative sign on the
+// smallest scale component; a singular A gives a zero scale component. Only a projective 4x4
+// matrix (a MatrixTransform whose last column is not 0 0 0 1) has no VRML97 equivalent: the
+// upgrade drops that part with a warning.
 #pragma once
 #include <array>
 
@@ -36,7 +37,8 @@ struct TransformFields {
     std::array<double, 4> scale_orientation{0, 0, 1, 0};
 };
 
-// T·R·SR·S·SR⁻¹ with the given fields and centre (the VRML Transform; also VRML 1.0's Transform node).
+// T·R·SR·S·SR⁻¹ with the given fields and centre (the VRML Transform; also VRML 1.0's Transform
+// node).
 Affine compose(const TransformFields& f, const Vec3d& center = {0, 0, 0});
 // The inverse of compose() for center 0: compose(decompose(a)) equals a up to rounding.
 TransformFields decompose(const Affine& a);

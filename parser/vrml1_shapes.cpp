@@ -1,7 +1,7 @@
-// VRML 1.0 shapes and their appearance: the traversal state's Material (with MaterialBinding), textures,
-// coordinates, normals and shape hints, turned into VRML97 Shape nodes. Nodes made from values alone
-// (Material, Sphere, Appearance, Shape, ...) are shared, so a RasMol file's thousands of atoms of a few
-// colours and radii become a few Shape nodes placed by one Transform each.
+// VRML 1.0 shapes and their appearance: the traversal state's Material (with MaterialBinding),
+// textures, coordinates, normals and shape hints, turned into VRML97 Shape nodes. Nodes made from
+// values alone (Material, Sphere, Appearance, Shape, ...) are shared, so a RasMol file's thousands
+// of atoms of a few colours and radii become a few Shape nodes placed by one Transform each.
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -11,8 +11,8 @@
 namespace vr::vrml1 {
 namespace {
 
-// Bindings that give each part (Cylinder: sides, top, bottom; Cone: sides, bottom; Cube: its six faces) or
-// each face of an indexed shape its own material.
+// Bindings that give each part (Cylinder: sides, top, bottom; Cone: sides, bottom; Cube: its six
+// faces) or each face of an indexed shape its own material.
 bool per_part(Binding b) {
     return b == Binding::PerPart || b == Binding::PerPartIndexed || b == Binding::PerFace ||
            b == Binding::PerFaceIndexed;
@@ -24,8 +24,8 @@ bool has_part(const std::string& parts, std::string_view part) {
     size_t start = 0;
     while (start <= parts.size()) {
         size_t bar = parts.find('|', start);
-        std::string_view w = std::string_view(parts).substr(start, bar == std::string::npos ? std::string::npos
-                                                                                            : bar - start);
+        std::string_view w = std::string_view(parts).substr(
+            start, bar == std::string::npos ? std::string::npos : bar - start);
         if (w == part || w == "ALL") return true;
         start = bar == std::string::npos ? parts.size() + 1 : bar + 1;
     }
@@ -36,10 +36,11 @@ double clamp01(double v) { return std::clamp(v, 0.0, 1.0); }
 
 }  // namespace
 
-// ---- materials -----------------------------------------------------------------------------------------
+// ---- materials ----
 
-// A Material whose ambient, diffuse and specular colours are given as empty lists and whose emissive colours
-// are given holds precomputed lighting (as Open Inventor writers use it): it is drawn unlit.
+// A Material whose ambient, diffuse and specular colours are given as empty lists and whose
+// emissive colours are given holds precomputed lighting (as Open Inventor writers use it): it is
+// drawn unlit.
 bool Upgrader::pure_emissive(uint32_t mat) {
     if (mat == kNone) return false;
     const Names& n = names();
@@ -55,7 +56,8 @@ bool Upgrader::pure_emissive(uint32_t mat) {
 size_t Upgrader::material_count(uint32_t mat) {
     if (mat == kNone) return 1;
     const Names& n = names();
-    return std::max<size_t>(get(mat, pure_emissive(mat) ? n.emissiveColor : n.diffuseColor).size(), 1);
+    return std::max<size_t>(get(mat, pure_emissive(mat) ? n.emissiveColor : n.diffuseColor).size(),
+                            1);
 }
 
 NodeId Upgrader::material(uint32_t mat, size_t index) {
@@ -64,7 +66,8 @@ NodeId Upgrader::material(uint32_t mat, size_t index) {
     if (cached != materials_.end()) return cached->second;
     const Names& n = names();
     static const Name kMaterial = intern("Material");
-    // Value `index` of one field; an empty list means the VRML 1.0 default; short lists repeat their last.
+    // Value `index` of one field; an empty list means the VRML 1.0 default; short lists repeat
+    // their last.
     auto pick = [&](Name field, int components, double* out) {
         FieldView v = mat == kNone ? get_default(kMaterial, field) : get(mat, field);
         if (v.numbers.empty()) v = get_default(kMaterial, field);
@@ -79,10 +82,11 @@ NodeId Upgrader::material(uint32_t mat, size_t index) {
     pick(n.ambientColor, 3, ambient);
     pick(n.shininess, 1, &shininess);
     pick(n.transparency, 1, &transparency);
-    // VRML97 has no ambient colour, only an intensity applied to the diffuse colour; the mean of the
-    // VRML 1.0 ambient colour maps the VRML 1.0 default (0.2) to the VRML97 default (0.2).
+    // VRML97 has no ambient colour, only an intensity applied to the diffuse colour; the mean of
+    // the VRML 1.0 ambient colour maps the VRML 1.0 default (0.2) to the VRML97 default (0.2).
     const bool grey = ambient[0] == ambient[1] && ambient[1] == ambient[2];
-    double ambient_intensity = clamp01(grey ? ambient[0] : (ambient[0] + ambient[1] + ambient[2]) / 3);
+    double ambient_intensity =
+        clamp01(grey ? ambient[0] : (ambient[0] + ambient[1] + ambient[2]) / 3);
     if (pure_emissive(mat)) {
         std::fill(diffuse, diffuse + 3, 0.0);
         std::fill(specular, specular + 3, 0.0);
@@ -90,9 +94,19 @@ NodeId Upgrader::material(uint32_t mat, size_t index) {
     }
     const Name def = mat != kNone && index == 0 ? file_.nodes[mat].def_name : kNoName;
     std::vector<double> key = {1,
-                               diffuse[0], diffuse[1], diffuse[2], specular[0], specular[1], specular[2],
-                               emissive[0], emissive[1], emissive[2], ambient_intensity, clamp01(shininess),
-                               clamp01(transparency), static_cast<double>(def)};
+                               diffuse[0],
+                               diffuse[1],
+                               diffuse[2],
+                               specular[0],
+                               specular[1],
+                               specular[2],
+                               emissive[0],
+                               emissive[1],
+                               emissive[2],
+                               ambient_intensity,
+                               clamp01(shininess),
+                               clamp01(transparency),
+                               static_cast<double>(def)};
     auto found = values_.find(key);
     NodeId node;
     if (found != values_.end()) {
@@ -150,7 +164,8 @@ NodeId Upgrader::texture(uint32_t id) {
 }
 
 // VRML 1.0 applies scale, rotation and translation about the centre in that order, VRML97's
-// TextureTransform another order: the fields map one to one, which is exact when one of them is set.
+// TextureTransform another order: the fields map one to one, which is exact when one of them is
+// set.
 NodeId Upgrader::texture_transform(uint32_t id) {
     auto cached = texture_transforms_.find(id);
     if (cached != texture_transforms_.end()) return cached->second;
@@ -167,8 +182,9 @@ NodeId Upgrader::texture_transform(uint32_t id) {
 
 NodeId Upgrader::appearance(const State& s, NodeId material_node) {
     const NodeId tex = s.texture != kNone ? texture(s.texture) : kNullNode;
-    const NodeId tt = tex != kNullNode && s.texture_transform != kNone ? texture_transform(s.texture_transform)
-                                                                       : kNullNode;
+    const NodeId tt = tex != kNullNode && s.texture_transform != kNone
+                          ? texture_transform(s.texture_transform)
+                          : kNullNode;
     std::vector<double> key = {2, double(material_node), double(tex), double(tt)};
     auto it = values_.find(key);
     if (it != values_.end()) return it->second;
@@ -183,7 +199,7 @@ NodeId Upgrader::appearance(const State& s, NodeId material_node) {
     return node;
 }
 
-// ---- shared helpers ------------------------------------------------------------------------------------
+// ---- shared helpers ----
 
 NodeId Upgrader::coordinate(uint32_t id) {
     auto cached = coordinates_.find(id);
@@ -208,7 +224,8 @@ NodeId Upgrader::primitive(Fields& f, SourceLoc loc) {
     std::vector<double> key = {3, static_cast<double>(f.decl->name)};
     for (const FieldEntry& e : f.list) {
         key.push_back(static_cast<double>(e.name));
-        key.insert(key.end(), tree_.numbers.begin() + e.begin, tree_.numbers.begin() + e.begin + e.count);
+        key.insert(key.end(), tree_.numbers.begin() + e.begin,
+                   tree_.numbers.begin() + e.begin + e.count);
     }
     auto it = values_.find(key);
     if (it != values_.end()) {
@@ -250,16 +267,18 @@ void Upgrader::cache_shape(uint32_t id, const State& s, std::vector<NodeId> made
     if (shared_[id]) shapes_[key(id, s)] = std::move(made);
 }
 
-// VRML 1.0 ShapeHints (or their defaults, when no ShapeHints node came before) as VRML97 fields. Back faces
-// may be culled only when the shape is SOLID and its vertex order is known.
+// VRML 1.0 ShapeHints (or their defaults, when no ShapeHints node came before) as VRML97 fields.
+// Back faces may be culled only when the shape is SOLID and its vertex order is known.
 void Upgrader::shape_hints(const State& s, Fields& f) {
     const Names& n = names();
     static const Name kShapeHints = intern("ShapeHints");
     auto hint = [&](Name field) {
-        FieldView v = s.shape_hints == kNone ? get_default(kShapeHints, field) : get(s.shape_hints, field);
+        FieldView v =
+            s.shape_hints == kNone ? get_default(kShapeHints, field) : get(s.shape_hints, field);
         return v;
     };
-    const std::string ordering = hint(n.vertexOrdering).strings.empty() ? "" : hint(n.vertexOrdering).strings[0];
+    const std::string ordering =
+        hint(n.vertexOrdering).strings.empty() ? "" : hint(n.vertexOrdering).strings[0];
     const std::string type = hint(n.shapeType).strings.empty() ? "" : hint(n.shapeType).strings[0];
     const std::string face = hint(n.faceType).strings.empty() ? "" : hint(n.faceType).strings[0];
     set(f, n.ccw, {ordering == "CLOCKWISE" ? 0.0 : 1.0});
@@ -268,12 +287,13 @@ void Upgrader::shape_hints(const State& s, Fields& f) {
     set(f, n.creaseAngle, hint(n.creaseAngle).numbers);
 }
 
-// Builds colorIndex/normalIndex/texCoordIndex for `binding` (DEFAULT already resolved by the caller).
-// `count`: values available; `given`: the VRML 1.0 index field (used by the _INDEXED bindings when set).
-// Indices out of range are clamped (`clamp`, materials: with a warning) or make the mapping unusable.
-IndexMapping Upgrader::map_indices(Binding binding, size_t count, std::span<const double> given, bool given_set,
-                                   std::span<const double> coord_index, bool clamp, uint32_t node,
-                                   const char* what) {
+// Builds colorIndex/normalIndex/texCoordIndex for `binding` (DEFAULT already resolved by the
+// caller). `count`: values available; `given`: the VRML 1.0 index field (used by the _INDEXED
+// bindings when set). Indices out of range are clamped (`clamp`, materials: with a warning) or make
+// the mapping unusable.
+IndexMapping Upgrader::map_indices(Binding binding, size_t count, std::span<const double> given,
+                                   bool given_set, std::span<const double> coord_index, bool clamp,
+                                   uint32_t node, const char* what) {
     IndexMapping m;
     if (count == 0 || binding == Binding::Overall || binding == Binding::Default) return m;
     size_t faces = 0, corners = 0;
@@ -303,7 +323,8 @@ IndexMapping Upgrader::map_indices(Binding binding, size_t count, std::span<cons
             if (given_set && !given.empty()) {
                 m.per_vertex = false;
                 m.explicit_index = true;
-                for (size_t i = 0; i < faces; ++i) m.index.push_back(fix(given[std::min(i, given.size() - 1)]));
+                for (size_t i = 0; i < faces; ++i)
+                    m.index.push_back(fix(given[std::min(i, given.size() - 1)]));
                 break;
             }
             [[fallthrough]];
@@ -329,7 +350,8 @@ IndexMapping Upgrader::map_indices(Binding binding, size_t count, std::span<cons
                 break;
             }
             m.explicit_index = true;
-            if (given.size() == coord_index.size()) {  // written parallel to coordIndex, -1 included
+            if (given.size() ==
+                coord_index.size()) {  // written parallel to coordIndex, -1 included
                 for (size_t i = 0; i < coord_index.size(); ++i)
                     m.index.push_back(coord_index[i] == -1 ? -1.0 : fix(given[i]));
             } else {  // one index per corner, -1 left out or misplaced
@@ -344,20 +366,23 @@ IndexMapping Upgrader::map_indices(Binding binding, size_t count, std::span<cons
                 }
             }
             break;
-        default: break;
+        default:
+            break;
     }
     if (bad && !clamp) return IndexMapping{};
     if (m.explicit_index && m.per_vertex &&
         std::equal(m.index.begin(), m.index.end(), coord_index.begin(), coord_index.end()))
-        m.explicit_index = false;  // the same as coordIndex, which VRML97 uses when the index is empty
+        m.explicit_index =
+            false;  // the same as coordIndex, which VRML97 uses when the index is empty
     if (bad)
-        warn(node, std::string(what) + " indices out of range (the state holds " + std::to_string(count) +
-                       "); the nearest valid index is used",
+        warn(node,
+             std::string(what) + " indices out of range (the state holds " + std::to_string(count) +
+                 "); the nearest valid index is used",
              std::string("vrml1-index-range:") + what);
     return m;
 }
 
-// ---- shapes --------------------------------------------------------------------------------------------
+// ---- shapes ----
 
 void Upgrader::sphere(uint32_t id, const State& s, OutList& out) {
     const Names& n = names();
@@ -371,7 +396,8 @@ void Upgrader::cylinder_or_cone(uint32_t id, const State& s, OutList& out, bool 
     const Names& n = names();
     const std::string parts = word(id, n.parts);
     // Part order of the VRML 1.0 specification: Cylinder sides, top, bottom; Cone sides, bottom.
-    const bool present[3] = {has_part(parts, "SIDES"), !cone && has_part(parts, "TOP"), has_part(parts, "BOTTOM")};
+    const bool present[3] = {has_part(parts, "SIDES"), !cone && has_part(parts, "TOP"),
+                             has_part(parts, "BOTTOM")};
     const Name part_field[3] = {n.side, n.top, n.bottom};
     const bool split = per_part(s.material_binding) && material_count(s.material) > 1;
     auto make_part = [&](int only) {  // only: -1 for all present parts
@@ -392,7 +418,8 @@ void Upgrader::cylinder_or_cone(uint32_t id, const State& s, OutList& out, bool 
     size_t index = 0;  // material index of the part
     for (int p = 0; p < 3; ++p) {
         if (cone && p == 1) continue;
-        if (present[p]) emit_shape(id, s, out, appearance(s, material(s.material, index)), make_part(p));
+        if (present[p])
+            emit_shape(id, s, out, appearance(s, material(s.material, index)), make_part(p));
         ++index;
     }
 }
@@ -401,20 +428,22 @@ void Upgrader::cylinder_or_cone(uint32_t id, const State& s, OutList& out, bool 
 // VRML 1.0 order front, back, left, right, top, bottom; texture coordinates as on a VRML97 Box).
 void Upgrader::cube(uint32_t id, const State& s, OutList& out) {
     const Names& n = names();
-    const double a = number(id, n.width) / 2, b = number(id, n.height) / 2, c = number(id, n.depth) / 2;
+    const double a = number(id, n.width) / 2, b = number(id, n.height) / 2,
+                 c = number(id, n.depth) / 2;
     if (!(per_part(s.material_binding) && material_count(s.material) > 1)) {
         Fields f = begin("Box");
         set(f, n.size, {2 * a, 2 * b, 2 * c});
-        emit_shape(id, s, out, appearance(s, material(s.material, 0)), primitive(f, file_.nodes[id].loc));
+        emit_shape(id, s, out, appearance(s, material(s.material, 0)),
+                   primitive(f, file_.nodes[id].loc));
         return;
     }
     const double corners[6][4][3] = {
-        {{-a, -b, c}, {a, -b, c}, {a, b, c}, {-a, b, c}},          // front  (+z)
-        {{a, -b, -c}, {-a, -b, -c}, {-a, b, -c}, {a, b, -c}},      // back   (-z)
-        {{-a, -b, -c}, {-a, -b, c}, {-a, b, c}, {-a, b, -c}},      // left   (-x)
-        {{a, -b, c}, {a, -b, -c}, {a, b, -c}, {a, b, c}},          // right  (+x)
-        {{-a, b, c}, {a, b, c}, {a, b, -c}, {-a, b, -c}},          // top    (+y)
-        {{-a, -b, -c}, {a, -b, -c}, {a, -b, c}, {-a, -b, c}},      // bottom (-y)
+        {{-a, -b, c}, {a, -b, c}, {a, b, c}, {-a, b, c}},      // front  (+z)
+        {{a, -b, -c}, {-a, -b, -c}, {-a, b, -c}, {a, b, -c}},  // back   (-z)
+        {{-a, -b, -c}, {-a, -b, c}, {-a, b, c}, {-a, b, -c}},  // left   (-x)
+        {{a, -b, c}, {a, -b, -c}, {a, b, -c}, {a, b, c}},      // right  (+x)
+        {{-a, b, c}, {a, b, c}, {a, b, -c}, {-a, b, -c}},      // top    (+y)
+        {{-a, -b, -c}, {a, -b, -c}, {a, -b, c}, {-a, -b, c}},  // bottom (-y)
     };
     std::vector<double> points, coord_index, tex_index;
     for (int face = 0; face < 6; ++face) {
@@ -432,7 +461,8 @@ void Upgrader::cube(uint32_t id, const State& s, OutList& out) {
     set_node(ifs, n.coord, make(coord, file_.nodes[id].loc));
     set(ifs, n.coordIndex, coord_index);
     const size_t colors = material_count(s.material);
-    IndexMapping m = map_indices(Binding::PerFace, colors, {}, false, coord_index, true, id, "material");
+    IndexMapping m =
+        map_indices(Binding::PerFace, colors, {}, false, coord_index, true, id, "material");
     set_node(ifs, n.color, color_node(s.material));
     set(ifs, n.colorPerVertex, {0.0});
     if (m.explicit_index) set(ifs, n.colorIndex, m.index);
@@ -451,19 +481,20 @@ void Upgrader::cube(uint32_t id, const State& s, OutList& out) {
 void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
     if (cached_shape(id, s, out)) return;
     const Names& n = names();
-    const FieldView coord_index = get(id, n.coordIndex);
+    // Copies: making nodes appends to the pools these values live in.
+    const std::vector<double> coord_index = values(id, n.coordIndex);
     Fields f = begin("IndexedFaceSet");
     set_node(f, n.coord, coordinate(s.coords));
     reuse(f, n.coordIndex, id, n.coordIndex);
 
-    // Materials: a colour per face or vertex when the binding asks and the Material has several values.
+    // Materials: a colour per face or vertex when the binding asks and the Material has several
+    // values.
     NodeId mat = material(s.material, 0);
     const size_t colors = material_count(s.material);
     if (colors > 1) {
         const FieldEntry* given = set_entry(id, n.materialIndex);
-        FieldView gv = get(id, n.materialIndex);
-        IndexMapping m = map_indices(s.material_binding, colors, gv.numbers, given != nullptr, coord_index.numbers,
-                                     true, id, "material");
+        IndexMapping m = map_indices(s.material_binding, colors, values(id, n.materialIndex),
+                                     given != nullptr, coord_index, true, id, "material");
         if (m.use) {
             set_node(f, n.color, color_node(s.material));
             set(f, n.colorPerVertex, {m.per_vertex ? 1.0 : 0.0});
@@ -471,18 +502,21 @@ void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
             if (pure_emissive(s.material)) mat = kNullNode;
         }
     }
-    // Normals: used when the state holds enough of them; otherwise the renderer generates them (VRML 1.0
-    // says the same). OVERALL has no VRML97 form.
+    // Normals: used when the state holds enough of them; otherwise the renderer generates them
+    // (VRML 1.0 says the same). OVERALL has no VRML97 form.
     if (s.normals != kNone) {
-        const Binding b = s.normal_binding == Binding::Default ? Binding::PerVertexIndexed : s.normal_binding;
+        const Binding b =
+            s.normal_binding == Binding::Default ? Binding::PerVertexIndexed : s.normal_binding;
         if (b == Binding::Overall) {
-            warn(id, "NormalBinding OVERALL has no VRML97 equivalent; normals are generated instead",
+            warn(id,
+                 "NormalBinding OVERALL has no VRML97 equivalent; normals are generated instead",
                  "vrml1-normal-overall");
         } else {
             const FieldEntry* given = set_entry(id, n.normalIndex);
-            FieldView gv = get(id, n.normalIndex);
+
             const size_t count = get(s.normals, n.vector).size();
-            IndexMapping m = map_indices(b, count, gv.numbers, given != nullptr, coord_index.numbers, false, id, "normal");
+            IndexMapping m = map_indices(b, count, values(id, n.normalIndex), given != nullptr,
+                                         coord_index, false, id, "normal");
             if (m.use) {
                 auto it = normals_.find(s.normals);
                 NodeId normal;
@@ -491,7 +525,8 @@ void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
                 } else {
                     Fields nf = begin("Normal");
                     reuse(nf, n.vector, s.normals, n.vector);
-                    normal = normals_[s.normals] = make(nf, file_.nodes[s.normals].loc, file_.nodes[s.normals].def_name);
+                    normal = normals_[s.normals] =
+                        make(nf, file_.nodes[s.normals].loc, file_.nodes[s.normals].def_name);
                 }
                 set_node(f, n.normal, normal);
                 set(f, n.normalPerVertex, {m.per_vertex ? 1.0 : 0.0});
@@ -499,14 +534,15 @@ void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
             }
         }
     }
-    // Texture coordinates, when a texture is in use (without them the renderer maps the bounding box, as
-    // VRML 1.0 does).
+    // Texture coordinates, when a texture is in use (without them the renderer maps the bounding
+    // box, as VRML 1.0 does).
     if (s.texture != kNone && s.texcoords != kNone) {
         const FieldEntry* given = set_entry(id, n.textureCoordIndex);
-        FieldView gv = get(id, n.textureCoordIndex);
+
         const size_t count = get(s.texcoords, n.point).size();
-        IndexMapping m = map_indices(Binding::PerVertexIndexed, count, gv.numbers, given != nullptr,
-                                     coord_index.numbers, false, id, "texture coordinate");
+        IndexMapping m =
+            map_indices(Binding::PerVertexIndexed, count, values(id, n.textureCoordIndex),
+                        given != nullptr, coord_index, false, id, "texture coordinate");
         if (m.use) {
             auto it = texcoords_.find(s.texcoords);
             NodeId tc;
@@ -515,7 +551,8 @@ void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
             } else {
                 Fields tf = begin("TextureCoordinate");
                 reuse(tf, n.point, s.texcoords, n.point);
-                tc = texcoords_[s.texcoords] = make(tf, file_.nodes[s.texcoords].loc, file_.nodes[s.texcoords].def_name);
+                tc = texcoords_[s.texcoords] =
+                    make(tf, file_.nodes[s.texcoords].loc, file_.nodes[s.texcoords].def_name);
             }
             set_node(f, n.texCoord, tc);
             if (m.explicit_index) set(f, n.texCoordIndex, m.index);
@@ -530,7 +567,8 @@ void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
 void Upgrader::line_set(uint32_t id, const State& s, OutList& out) {
     if (cached_shape(id, s, out)) return;
     const Names& n = names();
-    const FieldView coord_index = get(id, n.coordIndex);
+    // Copies: making nodes appends to the pools these values live in.
+    const std::vector<double> coord_index = values(id, n.coordIndex);
     Fields f = begin("IndexedLineSet");
     set_node(f, n.coord, coordinate(s.coords));
     reuse(f, n.coordIndex, id, n.coordIndex);
@@ -539,9 +577,8 @@ void Upgrader::line_set(uint32_t id, const State& s, OutList& out) {
     if (colors > 1) {
         // PER_PART (one material per segment) becomes one colour per polyline.
         const FieldEntry* given = set_entry(id, n.materialIndex);
-        FieldView gv = get(id, n.materialIndex);
-        IndexMapping m = map_indices(s.material_binding, colors, gv.numbers, given != nullptr, coord_index.numbers,
-                                     true, id, "material");
+        IndexMapping m = map_indices(s.material_binding, colors, values(id, n.materialIndex),
+                                     given != nullptr, coord_index, true, id, "material");
         if (m.use) {
             set_node(f, n.color, color_node(s.material));
             set(f, n.colorPerVertex, {m.per_vertex ? 1.0 : 0.0});
@@ -554,17 +591,21 @@ void Upgrader::line_set(uint32_t id, const State& s, OutList& out) {
     emit(shape, s, out);
 }
 
-// PointSet draws numPoints of the current coordinates from startIndex: a VRML97 PointSet of those points.
+// PointSet draws numPoints of the current coordinates from startIndex: a VRML97 PointSet of those
+// points.
 void Upgrader::point_set(uint32_t id, const State& s, OutList& out) {
     if (cached_shape(id, s, out)) return;
     const Names& n = names();
     static const Name kCoordinate3 = intern("Coordinate3");
-    FieldView points = s.coords == kNone ? get_default(kCoordinate3, n.point) : get(s.coords, n.point);
+    FieldView points =
+        s.coords == kNone ? get_default(kCoordinate3, n.point) : get(s.coords, n.point);
     const size_t total = points.size();
     const double start_value = number(id, n.startIndex), count_value = number(id, n.numPoints);
     const size_t start = start_value > 0 ? std::min(static_cast<size_t>(start_value), total) : 0;
-    const size_t count = count_value < 0 ? total - start : std::min(static_cast<size_t>(count_value), total - start);
-    std::vector<double> subset(points.numbers.begin() + 3 * start, points.numbers.begin() + 3 * (start + count));
+    const size_t count =
+        count_value < 0 ? total - start : std::min(static_cast<size_t>(count_value), total - start);
+    std::vector<double> subset(points.numbers.begin() + 3 * start,
+                               points.numbers.begin() + 3 * (start + count));
     Fields coord = begin("Coordinate");
     set(coord, n.point, subset);
     Fields f = begin("PointSet");

@@ -1,5 +1,5 @@
-// The VRML 1.0 traversal: grouping nodes, the transformation, lights, cameras and inlines. Shapes and
-// their appearance are in vrml1_shapes.cpp.
+// The VRML 1.0 traversal: grouping nodes, the transformation, lights, cameras and inlines. Shapes
+// and their appearance are in vrml1_shapes.cpp.
 #include "parser/vrml1_upgrade.h"
 
 #include <algorithm>
@@ -8,56 +8,43 @@
 
 namespace vr::vrml1 {
 
-Names::Names()
-    : translation(intern("translation")), rotation(intern("rotation")), scaleFactor(intern("scaleFactor")),
-      scaleOrientation(intern("scaleOrientation")), center(intern("center")), matrix(intern("matrix")),
-      scale(intern("scale")), ambientColor(intern("ambientColor")), diffuseColor(intern("diffuseColor")),
-      specularColor(intern("specularColor")), emissiveColor(intern("emissiveColor")), shininess(intern("shininess")),
-      transparency(intern("transparency")), ambientIntensity(intern("ambientIntensity")), value(intern("value")),
-      point(intern("point")), vector(intern("vector")), coordIndex(intern("coordIndex")),
-      materialIndex(intern("materialIndex")), normalIndex(intern("normalIndex")),
-      textureCoordIndex(intern("textureCoordIndex")), texCoordIndex(intern("texCoordIndex")),
-      colorIndex(intern("colorIndex")), vertexOrdering(intern("vertexOrdering")), shapeType(intern("shapeType")),
-      faceType(intern("faceType")), creaseAngle(intern("creaseAngle")), ccw(intern("ccw")), solid(intern("solid")),
-      convex(intern("convex")), colorPerVertex(intern("colorPerVertex")), normalPerVertex(intern("normalPerVertex")),
-      radius(intern("radius")), width(intern("width")), height(intern("height")), depth(intern("depth")),
-      parts(intern("parts")), bottomRadius(intern("bottomRadius")), size(intern("size")), side(intern("side")),
-      top(intern("top")), bottom(intern("bottom")), on(intern("on")), intensity(intern("intensity")),
-      color(intern("color")), direction(intern("direction")), location(intern("location")),
-      dropOffRate(intern("dropOffRate")), cutOffAngle(intern("cutOffAngle")), beamWidth(intern("beamWidth")),
-      global(intern("global")), position(intern("position")), orientation(intern("orientation")),
-      heightAngle(intern("heightAngle")), fieldOfView(intern("fieldOfView")), description(intern("description")),
-      filename(intern("filename")), image(intern("image")), wrapS(intern("wrapS")), wrapT(intern("wrapT")),
-      repeatS(intern("repeatS")), repeatT(intern("repeatT")), url(intern("url")), name(intern("name")),
-      bboxSize(intern("bboxSize")), bboxCenter(intern("bboxCenter")), whichChild(intern("whichChild")),
-      whichChoice(intern("whichChoice")), choice(intern("choice")), range(intern("range")), level(intern("level")),
-      startIndex(intern("startIndex")), numPoints(intern("numPoints")), children(intern("children")),
-      material(intern("material")), texture(intern("texture")), textureTransform(intern("textureTransform")),
-      appearance(intern("appearance")), geometry(intern("geometry")), coord(intern("coord")),
-      normal(intern("normal")), texCoord(intern("texCoord")) {}
-
-const Names& names() {
-    static const Names n;
-    return n;
-}
-
-size_t StateKeyHash::operator()(const StateKey& k) const {
-    uint64_t h = 1469598103934665603ull ^ k.node;
-    auto mix = [&](uint64_t v) { h = (h ^ v) * 1099511628211ull; };
-    for (uint32_t p : k.props) mix(p);
-    mix(k.material_binding | (uint32_t(k.normal_binding) << 8) | (uint32_t(k.in_separator) << 16));
-    return static_cast<size_t>(h);
-}
-
 namespace {
 
 enum class Kind : uint8_t {
-    Separator, Group, TransformSeparator, Switch, LOD, Anchor, Inline,
-    Material, MaterialBinding, NormalBinding, Coordinate3, Normal, TextureCoordinate2, Texture2,
-    Texture2Transform, ShapeHints,
-    Translation, Rotation, Scale, Transform, MatrixTransform,
-    Sphere, Cube, Cylinder, Cone, IndexedFaceSet, IndexedLineSet, PointSet, AsciiText,
-    DirectionalLight, PointLight, SpotLight, PerspectiveCamera, OrthographicCamera,
+    Separator,
+    Group,
+    TransformSeparator,
+    Switch,
+    LOD,
+    Anchor,
+    Inline,
+    Material,
+    MaterialBinding,
+    NormalBinding,
+    Coordinate3,
+    Normal,
+    TextureCoordinate2,
+    Texture2,
+    Texture2Transform,
+    ShapeHints,
+    Translation,
+    Rotation,
+    Scale,
+    Transform,
+    MatrixTransform,
+    Sphere,
+    Cube,
+    Cylinder,
+    Cone,
+    IndexedFaceSet,
+    IndexedLineSet,
+    PointSet,
+    AsciiText,
+    DirectionalLight,
+    PointLight,
+    SpotLight,
+    PerspectiveCamera,
+    OrthographicCamera,
     Silent,
 };
 
@@ -65,20 +52,39 @@ Kind kind_of(Name type) {
     static const std::unordered_map<Name, Kind> table = [] {
         std::unordered_map<Name, Kind> t;
         const std::pair<const char*, Kind> entries[] = {
-            {"Separator", Kind::Separator}, {"Group", Kind::Group},
-            {"TransformSeparator", Kind::TransformSeparator}, {"Switch", Kind::Switch}, {"LOD", Kind::LOD},
-            {"WWWAnchor", Kind::Anchor}, {"WWWInline", Kind::Inline}, {"Material", Kind::Material},
-            {"MaterialBinding", Kind::MaterialBinding}, {"NormalBinding", Kind::NormalBinding},
-            {"Coordinate3", Kind::Coordinate3}, {"Normal", Kind::Normal},
-            {"TextureCoordinate2", Kind::TextureCoordinate2}, {"Texture2", Kind::Texture2},
-            {"Texture2Transform", Kind::Texture2Transform}, {"ShapeHints", Kind::ShapeHints},
-            {"Translation", Kind::Translation}, {"Rotation", Kind::Rotation}, {"Scale", Kind::Scale},
-            {"Transform", Kind::Transform}, {"MatrixTransform", Kind::MatrixTransform}, {"Sphere", Kind::Sphere},
-            {"Cube", Kind::Cube}, {"Cylinder", Kind::Cylinder}, {"Cone", Kind::Cone},
-            {"IndexedFaceSet", Kind::IndexedFaceSet}, {"IndexedLineSet", Kind::IndexedLineSet},
-            {"PointSet", Kind::PointSet}, {"AsciiText", Kind::AsciiText},
-            {"DirectionalLight", Kind::DirectionalLight}, {"PointLight", Kind::PointLight},
-            {"SpotLight", Kind::SpotLight}, {"PerspectiveCamera", Kind::PerspectiveCamera},
+            {"Separator", Kind::Separator},
+            {"Group", Kind::Group},
+            {"TransformSeparator", Kind::TransformSeparator},
+            {"Switch", Kind::Switch},
+            {"LOD", Kind::LOD},
+            {"WWWAnchor", Kind::Anchor},
+            {"WWWInline", Kind::Inline},
+            {"Material", Kind::Material},
+            {"MaterialBinding", Kind::MaterialBinding},
+            {"NormalBinding", Kind::NormalBinding},
+            {"Coordinate3", Kind::Coordinate3},
+            {"Normal", Kind::Normal},
+            {"TextureCoordinate2", Kind::TextureCoordinate2},
+            {"Texture2", Kind::Texture2},
+            {"Texture2Transform", Kind::Texture2Transform},
+            {"ShapeHints", Kind::ShapeHints},
+            {"Translation", Kind::Translation},
+            {"Rotation", Kind::Rotation},
+            {"Scale", Kind::Scale},
+            {"Transform", Kind::Transform},
+            {"MatrixTransform", Kind::MatrixTransform},
+            {"Sphere", Kind::Sphere},
+            {"Cube", Kind::Cube},
+            {"Cylinder", Kind::Cylinder},
+            {"Cone", Kind::Cone},
+            {"IndexedFaceSet", Kind::IndexedFaceSet},
+            {"IndexedLineSet", Kind::IndexedLineSet},
+            {"PointSet", Kind::PointSet},
+            {"AsciiText", Kind::AsciiText},
+            {"DirectionalLight", Kind::DirectionalLight},
+            {"PointLight", Kind::PointLight},
+            {"SpotLight", Kind::SpotLight},
+            {"PerspectiveCamera", Kind::PerspectiveCamera},
             {"OrthographicCamera", Kind::OrthographicCamera},
         };
         for (const auto& [name, kind] : entries) t[intern(name)] = kind;
@@ -102,8 +108,13 @@ Binding parse_binding(std::string_view w) {
 }  // namespace
 
 Upgrader::Upgrader(LoadedScene& scene, const V1File& file, const LoadLimits& limits)
-    : scene_(scene), tree_(scene.tree), registry_(Registry::builtin()), file_(file), limits_(limits) {
-    // Everything inside a USEd group is traversed again: mark it once (each node is marked at most once).
+    : scene_(scene),
+      tree_(scene.tree),
+      registry_(Registry::builtin()),
+      file_(file),
+      limits_(limits) {
+    // Everything inside a USEd group is traversed again: mark it once (each node is marked at most
+    // once).
     shared_.assign(file_.nodes.size(), false);
     std::vector<uint32_t> stack;
     for (uint32_t id = 0; id < file_.nodes.size(); ++id) {
@@ -115,7 +126,8 @@ Upgrader::Upgrader(LoadedScene& scene, const V1File& file, const LoadLimits& lim
             if (shared_[n]) continue;
             shared_[n] = true;
             const V1Node& node = file_.nodes[n];
-            for (uint32_t i = 0; i < node.child_count; ++i) stack.push_back(file_.children[node.first_child + i]);
+            for (uint32_t i = 0; i < node.child_count; ++i)
+                stack.push_back(file_.children[node.first_child + i]);
         }
     }
 }
@@ -134,155 +146,7 @@ bool Upgrader::run(std::vector<NodeId>& roots) {
     return true;
 }
 
-// ---- field access ------------------------------------------------------------------------------------
-
-FieldView Upgrader::get(uint32_t id, Name field) const {
-    const V1Node& n = file_.nodes[id];
-    for (uint32_t i = 0; i < n.field_count; ++i) {
-        const FieldEntry& e = file_.fields[n.first_field + i];
-        if (e.name == field) return tree_.view(e);
-    }
-    return get_default(n.type, field);
-}
-
-FieldView Upgrader::get_default(Name type, Name field) const {
-    const NodeTypeDecl* decl = registry_.find(Spec::Vrml1, type);
-    const FieldDecl* f = decl ? decl->find(field) : nullptr;
-    if (!f || f->default_field == UINT32_MAX) return {};
-    const NodeTree& defaults = registry_.defaults();
-    FieldView v = defaults.view(defaults.fields[f->default_field]);
-    v.is_default = true;
-    return v;
-}
-
-const FieldEntry* Upgrader::set_entry(uint32_t id, Name field) const {
-    const V1Node& n = file_.nodes[id];
-    for (uint32_t i = 0; i < n.field_count; ++i)
-        if (file_.fields[n.first_field + i].name == field) return &file_.fields[n.first_field + i];
-    return nullptr;
-}
-
-double Upgrader::number(uint32_t id, Name field) const {
-    FieldView v = get(id, field);
-    return v.numbers.empty() ? 0.0 : v.numbers[0];
-}
-
-Vec3d Upgrader::vec3(uint32_t id, Name field) const {
-    FieldView v = get(id, field);
-    if (v.numbers.size() < 3) return {0, 0, 0};
-    return {v.numbers[0], v.numbers[1], v.numbers[2]};
-}
-
-std::string Upgrader::word(uint32_t id, Name field) const {
-    FieldView v = get(id, field);
-    return v.strings.empty() ? std::string() : v.strings[0];
-}
-
-// ---- making VRML97 nodes -----------------------------------------------------------------------------
-
-Fields Upgrader::begin(std::string_view type) const {
-    Fields f;
-    f.decl = registry_.find(Spec::Vrml97, type);
-    if (!f.decl) f.decl = registry_.find(Spec::X3d, type);
-    return f;
-}
-
-void Upgrader::set(Fields& f, Name field, std::span<const double> values) {
-    const FieldDecl* fd = registry_.lookup_field(f.decl->spec, *f.decl, field);
-    if (fd->default_field != UINT32_MAX) {
-        const NodeTree& defaults = registry_.defaults();
-        FieldView d = defaults.view(defaults.fields[fd->default_field]);
-        if (std::equal(values.begin(), values.end(), d.numbers.begin(), d.numbers.end())) return;
-    }
-    FieldEntry e;
-    e.name = field;
-    e.type = fd->type;
-    e.begin = static_cast<uint32_t>(tree_.numbers.size());
-    e.count = static_cast<uint32_t>(values.size());
-    // The values may live in the pool being appended to: copy them out first.
-    const double* pool = tree_.numbers.data();
-    if (values.data() >= pool && values.data() < pool + tree_.numbers.size()) {
-        std::vector<double> copy(values.begin(), values.end());
-        tree_.numbers.insert(tree_.numbers.end(), copy.begin(), copy.end());
-    } else {
-        tree_.numbers.insert(tree_.numbers.end(), values.begin(), values.end());
-    }
-    f.list.push_back(e);
-}
-
-void Upgrader::set_strings(Fields& f, Name field, std::vector<std::string> values) {
-    const FieldDecl* fd = registry_.lookup_field(f.decl->spec, *f.decl, field);
-    FieldEntry e;
-    e.name = field;
-    e.type = fd->type;
-    e.begin = static_cast<uint32_t>(tree_.strings.size());
-    e.count = static_cast<uint32_t>(values.size());
-    for (std::string& s : values) tree_.strings.push_back(std::move(s));
-    f.list.push_back(e);
-}
-
-void Upgrader::set_node(Fields& f, Name field, NodeId node) {
-    if (node == kNullNode) return;
-    set_nodes(f, field, std::span<const NodeId>(&node, 1));
-}
-
-void Upgrader::set_nodes(Fields& f, Name field, std::span<const NodeId> nodes) {
-    const FieldDecl* fd = registry_.lookup_field(f.decl->spec, *f.decl, field);
-    FieldEntry e;
-    e.name = field;
-    e.type = fd->type;
-    e.begin = static_cast<uint32_t>(tree_.node_refs.size());
-    e.count = static_cast<uint32_t>(nodes.size());
-    tree_.node_refs.insert(tree_.node_refs.end(), nodes.begin(), nodes.end());
-    f.list.push_back(e);
-}
-
-void Upgrader::reuse(Fields& f, Name field, uint32_t id, Name v1_field) {
-    if (const FieldEntry* src = set_entry(id, v1_field)) {
-        FieldEntry e = *src;
-        e.name = field;
-        f.list.push_back(e);
-        return;
-    }
-    FieldView d = get(id, v1_field);  // the VRML 1.0 default, copied into the tree
-    set(f, field, d.numbers);
-}
-
-NodeId Upgrader::make(Fields& f, SourceLoc loc, Name def) {
-    if (tree_.nodes.size() >= limits_.max_nodes)
-        throw SyntaxError{loc.offset, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)"};
-    Node n;
-    n.decl = f.decl;
-    n.type = f.decl->name;
-    n.def_name = def;
-    n.loc = loc;
-    n.first_field = static_cast<uint32_t>(tree_.fields.size());
-    n.field_count = static_cast<uint32_t>(f.list.size());
-    tree_.fields.insert(tree_.fields.end(), f.list.begin(), f.list.end());
-    tree_.nodes.push_back(n);
-    f.list.clear();
-    return static_cast<NodeId>(tree_.nodes.size() - 1);
-}
-
-void Upgrader::fail(uint32_t id, std::string message) const {
-    throw SyntaxError{file_.nodes[id].loc.offset, std::move(message)};
-}
-
-void Upgrader::warn(uint32_t id, std::string message, const std::string& cause) {
-    scene_.diagnostics.warning(file_.nodes[id].loc, std::move(message), cause);
-}
-
-StateKey Upgrader::key(uint32_t id, const State& s) const {
-    StateKey k;
-    k.node = id;
-    k.props = {s.material, s.coords, s.normals, s.texcoords, s.texture, s.texture_transform, s.shape_hints};
-    k.material_binding = static_cast<uint8_t>(s.material_binding);
-    k.normal_binding = static_cast<uint8_t>(s.normal_binding);
-    k.in_separator = s.in_separator;
-    return k;
-}
-
-// ---- output lists ------------------------------------------------------------------------------------
+// ---- output lists ----
 
 void Upgrader::emit(NodeId node, const State& s, OutList& out) {
     if (s.identity) {
@@ -319,7 +183,8 @@ NodeId Upgrader::make_transform(const Affine& m, const std::vector<NodeId>& kids
     set(f, n.translation, t.translation);
     set(f, n.rotation, t.rotation);
     set(f, n.scale, t.scale);
-    if (t.scale[0] != t.scale[1] || t.scale[1] != t.scale[2]) set(f, n.scaleOrientation, t.scale_orientation);
+    if (t.scale[0] != t.scale[1] || t.scale[1] != t.scale[2])
+        set(f, n.scaleOrientation, t.scale_orientation);
     set_nodes(f, n.children, kids);
     return make(f, tree_.nodes[kids.front()].loc);
 }
@@ -331,7 +196,7 @@ NodeId Upgrader::group_of(std::vector<NodeId> nodes, SourceLoc loc) {
     return make(f, loc);
 }
 
-// ---- traversal -----------------------------------------------------------------------------------------
+// ---- traversal ----
 
 void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
     if (++steps_ > limits_.max_nodes)
@@ -347,9 +212,15 @@ void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
     }
     const Names& n = names();
     switch (kind_of(node.type)) {
-        case Kind::Separator: separator(id, s, out, depth, false); break;
-        case Kind::Anchor: separator(id, s, out, depth, true); break;
-        case Kind::Group: children(id, s, out, depth); break;
+        case Kind::Separator:
+            separator(id, s, out, depth, false);
+            break;
+        case Kind::Anchor:
+            separator(id, s, out, depth, true);
+            break;
+        case Kind::Group:
+            children(id, s, out, depth);
+            break;
         case Kind::TransformSeparator: {
             const Affine local = s.local;
             const bool identity = s.identity;
@@ -360,68 +231,116 @@ void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
             s.matrix_version = version;
             break;
         }
-        case Kind::Switch: switch_node(id, s, out, depth); break;
-        case Kind::LOD: lod(id, s, out, depth); break;
-        case Kind::Inline: inline_node(id, s, out); break;
-        case Kind::Material: s.material = id; break;
+        case Kind::Switch:
+            switch_node(id, s, out, depth);
+            break;
+        case Kind::LOD:
+            lod(id, s, out, depth);
+            break;
+        case Kind::Inline:
+            inline_node(id, s, out);
+            break;
+        case Kind::Material:
+            s.material = id;
+            break;
         case Kind::MaterialBinding: {
             Binding b = parse_binding(word(id, n.value));
-            s.material_binding = b == Binding::Default ? Binding::Overall : b;  // DEFAULT is OVERALL for all shapes
+            s.material_binding =
+                b == Binding::Default ? Binding::Overall : b;  // DEFAULT is OVERALL for all shapes
             break;
         }
-        case Kind::NormalBinding: s.normal_binding = parse_binding(word(id, n.value)); break;
-        case Kind::Coordinate3: s.coords = id; break;
-        case Kind::Normal: s.normals = id; break;
-        case Kind::TextureCoordinate2: s.texcoords = id; break;
+        case Kind::NormalBinding:
+            s.normal_binding = parse_binding(word(id, n.value));
+            break;
+        case Kind::Coordinate3:
+            s.coords = id;
+            break;
+        case Kind::Normal:
+            s.normals = id;
+            break;
+        case Kind::TextureCoordinate2:
+            s.texcoords = id;
+            break;
         case Kind::Texture2: {
             const bool has_file = !word(id, n.filename).empty();
             FieldView image = get(id, n.image);
-            const bool has_image = image.numbers.size() >= 3 && image.numbers[0] * image.numbers[1] > 0;
+            const bool has_image =
+                image.numbers.size() >= 3 && image.numbers[0] * image.numbers[1] > 0;
             s.texture = has_file || has_image ? id : kNone;
             break;
         }
-        case Kind::Texture2Transform: s.texture_transform = id; break;  // replaces (VRML 1.0 would compose)
-        case Kind::ShapeHints: s.shape_hints = id; break;
+        case Kind::Texture2Transform:
+            s.texture_transform = id;
+            break;  // replaces (VRML 1.0 would compose)
+        case Kind::ShapeHints:
+            s.shape_hints = id;
+            break;
         case Kind::Translation: {
             const Vec3d t = vec3(id, n.translation);
             multiply(s, translation(t[0], t[1], t[2]));
             break;
         }
-        case Kind::Rotation: multiply(s, rotation(get(id, n.rotation).numbers.data())); break;
+        case Kind::Rotation:
+            multiply(s, rotation(get(id, n.rotation).numbers.data()));
+            break;
         case Kind::Scale: {
             const Vec3d f = vec3(id, n.scaleFactor);
             multiply(s, scaling(f[0], f[1], f[2]));
             break;
         }
         case Kind::Transform:
-        case Kind::MatrixTransform: transform(id, s); break;
-        case Kind::Sphere: sphere(id, s, out); break;
-        case Kind::Cube: cube(id, s, out); break;
-        case Kind::Cylinder: cylinder_or_cone(id, s, out, false); break;
-        case Kind::Cone: cylinder_or_cone(id, s, out, true); break;
-        case Kind::IndexedFaceSet: face_set(id, s, out); break;
-        case Kind::IndexedLineSet: line_set(id, s, out); break;
-        case Kind::PointSet: point_set(id, s, out); break;
+        case Kind::MatrixTransform:
+            transform(id, s);
+            break;
+        case Kind::Sphere:
+            sphere(id, s, out);
+            break;
+        case Kind::Cube:
+            cube(id, s, out);
+            break;
+        case Kind::Cylinder:
+            cylinder_or_cone(id, s, out, false);
+            break;
+        case Kind::Cone:
+            cylinder_or_cone(id, s, out, true);
+            break;
+        case Kind::IndexedFaceSet:
+            face_set(id, s, out);
+            break;
+        case Kind::IndexedLineSet:
+            line_set(id, s, out);
+            break;
+        case Kind::PointSet:
+            point_set(id, s, out);
+            break;
         case Kind::AsciiText:
-            warn(id, "AsciiText (text) has no area and is not rendered; skipped", "vrml1-asciitext");
+            warn(id, "AsciiText (text) has no area and is not rendered; skipped",
+                 "vrml1-asciitext");
             ++scene_.stats.skipped_nodes["AsciiText"];
             break;
         case Kind::DirectionalLight:
         case Kind::PointLight:
-        case Kind::SpotLight: light(id, s, out); break;
+        case Kind::SpotLight:
+            light(id, s, out);
+            break;
         case Kind::PerspectiveCamera:
-        case Kind::OrthographicCamera: camera(id, s, out); break;
-        case Kind::Silent: break;
+        case Kind::OrthographicCamera:
+            camera(id, s, out);
+            break;
+        case Kind::Silent:
+            break;
     }
 }
 
 void Upgrader::children(uint32_t id, State& s, OutList& out, size_t depth) {
     const V1Node& node = file_.nodes[id];
-    for (uint32_t i = 0; i < node.child_count; ++i) traverse(file_.children[node.first_child + i], s, out, depth + 1);
+    for (uint32_t i = 0; i < node.child_count; ++i)
+        traverse(file_.children[node.first_child + i], s, out, depth + 1);
 }
 
-// A Separator's content is relative to where it starts, so it depends on the inherited properties but not
-// on the inherited matrix: a Separator used again under the same properties is the same VRML97 Group.
+// A Separator's content is relative to where it starts, so it depends on the inherited properties
+// but not on the inherited matrix: a Separator used again under the same properties is the same
+// VRML97 Group.
 void Upgrader::separator(uint32_t id, const State& s, OutList& out, size_t depth, bool anchor) {
     const V1Node& node = file_.nodes[id];
     const StateKey k = key(id, s);
@@ -473,14 +392,15 @@ void Upgrader::switch_node(uint32_t id, State& s, OutList& out, size_t depth) {
         children(id, s, out, depth);
         return;
     }
-    // Every child is kept (for conversion) in a VRML97 Switch, each read with its own copy of the state;
-    // the state afterwards is the chosen child's.
+    // Every child is kept (for conversion) in a VRML97 Switch, each read with its own copy of the
+    // state; the state afterwards is the chosen child's.
     std::vector<NodeId> choice;
     int32_t chosen = -1;
     State after = s;
     for (uint32_t i = 0; i < node.child_count; ++i) {
         State copy = s;
-        std::vector<NodeId> nodes = traverse_alone(file_.children[node.first_child + i], copy, depth);
+        std::vector<NodeId> nodes =
+            traverse_alone(file_.children[node.first_child + i], copy, depth);
         if (static_cast<int32_t>(i) == which) after = copy;
         if (nodes.empty()) continue;
         if (static_cast<int32_t>(i) == which) chosen = static_cast<int32_t>(choice.size());
@@ -503,9 +423,11 @@ void Upgrader::lod(uint32_t id, State& s, OutList& out, size_t depth) {
     State after = s;
     for (uint32_t i = 0; i < node.child_count; ++i) {
         State copy = s;
-        std::vector<NodeId> nodes = traverse_alone(file_.children[node.first_child + i], copy, depth);
+        std::vector<NodeId> nodes =
+            traverse_alone(file_.children[node.first_child + i], copy, depth);
         if (i == 0) after = copy;
-        levels.push_back(group_of(std::move(nodes), node.loc));  // an empty level stays: levels match ranges
+        levels.push_back(
+            group_of(std::move(nodes), node.loc));  // an empty level stays: levels match ranges
     }
     // The levels hold frame coordinates, so the LOD sits in the frame: its centre and ranges are
     // transformed here (ranges by the mean scale of the matrix).
@@ -542,17 +464,20 @@ void Upgrader::transform(uint32_t id, State& s) {
         multiply(s, compose(t, vec3(id, n.center)));
         return;
     }
-    // MatrixTransform: VRML 1.0 (like Open Inventor) multiplies row vectors, p' = p·M, so the translation
-    // is the last row and the column-vector matrix is Mᵀ.
+    // MatrixTransform: VRML 1.0 (like Open Inventor) multiplies row vectors, p' = p·M, so the
+    // translation is the last row and the column-vector matrix is Mᵀ.
     FieldView v = get(id, n.matrix);
     if (v.numbers.size() < 16) return;
     const double* m = v.numbers.data();
     double w = m[15];
     if (m[3] != 0.0 || m[7] != 0.0 || m[11] != 0.0)
-        warn(id, "MatrixTransform has a projective part (last column not 0 0 0 1); VRML97 cannot express it, ignored",
+        warn(id,
+             "MatrixTransform has a projective part (last column not 0 0 0 1); VRML97 cannot "
+             "express it, ignored",
              "vrml1-projective-matrix");
     if (w == 0.0 || !std::isfinite(w)) {
-        warn(id, "MatrixTransform with a zero homogeneous scale (m44 = 0) ignored", "vrml1-matrix-w");
+        warn(id, "MatrixTransform with a zero homogeneous scale (m44 = 0) ignored",
+             "vrml1-matrix-w");
         return;
     }
     Affine a;
@@ -561,7 +486,7 @@ void Upgrader::transform(uint32_t id, State& s) {
     multiply(s, a);
 }
 
-// ---- lights, cameras, inlines ------------------------------------------------------------------------
+// ---- lights, cameras, inlines ----
 
 void Upgrader::light(uint32_t id, const State& s, OutList& out) {
     const Names& n = names();
@@ -587,8 +512,8 @@ void Upgrader::light(uint32_t id, const State& s, OutList& out) {
     }
     if (kind != Kind::PointLight) set(f, n.direction, direction());
     if (kind == Kind::SpotLight) {
-        // VRML97 limits both angles to (0, pi/2]; dropOffRate 0 (no falloff) is beamWidth = cutOffAngle,
-        // and a larger rate narrows the full-intensity cone in proportion.
+        // VRML97 limits both angles to (0, pi/2]; dropOffRate 0 (no falloff) is beamWidth =
+        // cutOffAngle, and a larger rate narrows the full-intensity cone in proportion.
         const double cut = std::clamp(number(id, n.cutOffAngle), 1e-6, std::numbers::pi / 2);
         const double drop = std::clamp(number(id, n.dropOffRate), 0.0, 1.0);
         set(f, n.cutOffAngle, {cut});
@@ -631,7 +556,8 @@ void Upgrader::inline_node(uint32_t id, const State& s, OutList& out) {
     emit(make(f, node.loc, node.def_name), s, out);
 }
 
-bool upgrade(LoadedScene& scene, const V1File& file, const LoadLimits& limits, std::vector<NodeId>& roots) {
+bool upgrade(LoadedScene& scene, const V1File& file, const LoadLimits& limits,
+             std::vector<NodeId>& roots) {
     Upgrader upgrader(scene, file, limits);
     return upgrader.run(roots);
 }

@@ -7,7 +7,8 @@
 
 namespace vr {
 
-// Reads the XML text of source file `file` into scene.tree. External entities and DTDs are never loaded.
+// Reads the XML text of source file `file` into scene.tree. External entities and DTDs are never
+// loaded.
 ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& limits);
 // The same, resolving ExternProtoDeclare URLs with `resolve_externproto` (the loader's resolver).
 ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& limits,
@@ -17,8 +18,8 @@ ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& 
 // "geometry" for geometry nodes, "material" for materials, ..., "children" for everything else.
 std::string_view x3d_default_container_field(std::string_view node_type);
 
-// The X3D name of a field that VRML97 named differently (Switch choice -> children, LOD level -> children,
-// Collision collide -> enabled); any other field name is returned unchanged.
+// The X3D name of a field that VRML97 named differently (Switch choice -> children, LOD level ->
+// children, Collision collide -> enabled); any other field name is returned unchanged.
 std::string_view x3d_field_name(std::string_view node_type, std::string_view field);
 
 }  // namespace vr

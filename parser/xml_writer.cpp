@@ -18,35 +18,42 @@ bool x3d_4_node(std::string_view type) {
 
 bool x3d_4_field(std::string_view type, std::string_view field) {
     // Fields 4.0 added to whole families of nodes (bounded objects, URL objects, lights).
-    if (field == "visible" || field == "bboxDisplay" || field == "autoRefresh" || field == "autoRefreshTimeLimit" ||
-        field == "shadows" || field == "shadowIntensity")
+    if (field == "visible" || field == "bboxDisplay" || field == "autoRefresh" ||
+        field == "autoRefreshTimeLimit" || field == "shadows" || field == "shadowIntensity")
         return true;
     if (type == "Material")
-        return field.ends_with("Texture") || field.ends_with("TextureMapping") || field == "normalScale" ||
-               field == "occlusionStrength";
+        return field.ends_with("Texture") || field.ends_with("TextureMapping") ||
+               field == "normalScale" || field == "occlusionStrength";
     if (type == "Appearance")
         return field == "acousticProperties" || field == "alphaCutoff" || field == "alphaMode" ||
                field == "backMaterial" || field == "pointProperties";
     if (type == "Shape") return field == "castShadow";
     if (type == "Viewpoint" || type == "OrthoViewpoint")
-        return field == "farDistance" || field == "nearDistance" || field == "navigationInfo" || field == "viewAll";
+        return field == "farDistance" || field == "nearDistance" || field == "navigationInfo" ||
+               field == "viewAll";
     if (type == "Inline") return field == "description" || field == "global";
     if (field == "description")
-        return type == "ImageTexture" || type == "PixelTexture" || type == "MultiTexture" || type == "Script" ||
-               type == "ShaderPart" || type == "ShaderProgram" || type == "PackagedShader" || type == "Collision";
+        return type == "ImageTexture" || type == "PixelTexture" || type == "MultiTexture" ||
+               type == "Script" || type == "ShaderPart" || type == "ShaderProgram" ||
+               type == "PackagedShader" || type == "Collision";
     return false;
 }
 
-// Text fit for an XML document: valid UTF-8 (bytes that are not are read as Latin-1, which is what old
-// exporters wrote), without the control characters XML 1.0 cannot hold.
+// Text fit for an XML document: valid UTF-8 (bytes that are not are read as Latin-1, which is what
+// old exporters wrote), without the control characters XML 1.0 cannot hold.
 std::string clean_utf8(std::string_view s) {
     std::string out;
     out.reserve(s.size());
     for (size_t i = 0; i < s.size();) {
         const unsigned char c = static_cast<unsigned char>(s[i]);
-        size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+        size_t len = c < 0x80           ? 1
+                     : (c >> 5) == 0x6  ? 2
+                     : (c >> 4) == 0xE  ? 3
+                     : (c >> 3) == 0x1E ? 4
+                                        : 0;
         bool valid = len > 0 && i + len <= s.size() && !(len == 2 && c < 0xC2);
-        for (size_t k = 1; valid && k < len; ++k) valid = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
+        for (size_t k = 1; valid && k < len; ++k)
+            valid = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
         if (valid) {
             if (len > 1 || c >= 0x20 || c == '\t' || c == '\n' || c == '\r') out.append(s, i, len);
             i += len;
@@ -63,20 +70,35 @@ std::string clean_utf8(std::string_view s) {
 void append_attr_text(std::string& out, std::string_view s) {
     for (char c : clean_utf8(s)) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '\'': out += "&apos;"; break;
-            case '\n': out += "&#10;"; break;
-            case '\r': out += "&#13;"; break;
-            case '\t': out += "&#9;"; break;
-            default: out += c;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
+            case '\n':
+                out += "&#10;";
+                break;
+            case '\r':
+                out += "&#13;";
+                break;
+            case '\t':
+                out += "&#9;";
+                break;
+            default:
+                out += c;
         }
     }
 }
 
 class XmlWriter {
-public:
+  public:
     explicit XmlWriter(const NodeTree& tree) : tree_(tree), names_(tree) {}
 
     std::string run() {
@@ -86,7 +108,8 @@ public:
                 "//EN\" \"https://www.web3d.org/specifications/x3d-" + version + ".dtd\">\n";
         out_ += std::string("<X3D profile='Full' version='") + version +
                 "' xmlns:xsd='http://www.w3.org/2001/XMLSchema-instance' "
-                "xsd:noNamespaceSchemaLocation='https://www.web3d.org/specifications/x3d-" + version + ".xsd'>\n";
+                "xsd:noNamespaceSchemaLocation='https://www.web3d.org/specifications/x3d-" +
+                version + ".xsd'>\n";
         out_ += "  <head>\n    <meta name='generator' content='vrmlray convert'/>\n  </head>\n";
         out_ += "  <Scene>\n";
         for (NodeId root : tree_.roots) write_node(root, 2, kNoName);
@@ -94,7 +117,7 @@ public:
         return std::move(out_);
     }
 
-private:
+  private:
     void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
 
     // `field`: the X3D name of the parent's field that holds the node (kNoName at the top level).
@@ -195,7 +218,8 @@ private:
                         format_number(v.numbers[i + 2]);
                 for (size_t k = 0; k < n && i + 3 + k < v.numbers.size(); ++k) {
                     char buf[16];
-                    std::snprintf(buf, sizeof(buf), " 0x%X", static_cast<unsigned>(v.numbers[i + 3 + k]));
+                    std::snprintf(buf, sizeof(buf), " 0x%X",
+                                  static_cast<unsigned>(v.numbers[i + 3 + k]));
                     out_ += buf;
                 }
                 i += 3 + n;

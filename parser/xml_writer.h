@@ -1,5 +1,6 @@
-// Writing a node tree as X3D XML (.x3d). PROTO instances are written expanded; DEF/USE sharing and DEF names
-// are kept as the classic writer keeps them; fields VRML97 named differently get their X3D names.
+// Writing a node tree as X3D XML (.x3d). PROTO instances are written expanded; DEF/USE sharing and
+// DEF names are kept as the classic writer keeps them; fields VRML97 named differently get their
+// X3D names.
 #pragma once
 #include <string>
 
@@ -7,7 +8,8 @@
 
 namespace vr {
 
-// A well-formed, indented X3D document: version 3.3, or 4.0 when a node or field only X3D 4.0 has is used.
+// A well-formed, indented X3D document: version 3.3, or 4.0 when a node or field only X3D 4.0 has
+// is used.
 std::string write_x3d_xml(const NodeTree& tree);
 
 // Whether the tree uses a node type or field that X3D 3.3 does not have (e.g. PhysicalMaterial).

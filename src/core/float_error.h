@@ -1,9 +1,9 @@
 // Rounding-error bounds for double-precision geometry (SPEC section 8: no fixed epsilons).
 //
-// gamma_bound(n) bounds the relative error of n successive IEEE double operations, each correctly rounded
-// with unit roundoff u = 2^-53: |computed - exact| <= gamma(n) * |exact| (Higham, "Accuracy and
-// Stability of Numerical Algorithms", 3.1). Hit points carry such a bound per component, and new rays
-// start just outside it (see core/ray.h).
+// gamma_bound(n) bounds the relative error of n successive IEEE double operations, each correctly
+// rounded with unit roundoff u = 2^-53: |computed - exact| <= gamma(n) * |exact| (Higham, "Accuracy
+// and Stability of Numerical Algorithms", 3.1). Hit points carry such a bound per component, and
+// new rays start just outside it (see core/ray.h).
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -24,8 +24,10 @@ inline double next_up(double v) {
     if (v == -0.0) v = 0.0;
     uint64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
-    if (v >= 0.0) ++bits;
-    else --bits;
+    if (v >= 0.0)
+        ++bits;
+    else
+        --bits;
     std::memcpy(&v, &bits, sizeof bits);
     return v;
 }
@@ -34,8 +36,10 @@ inline double next_down(double v) {
     if (v == 0.0) v = -0.0;
     uint64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
-    if (v > 0.0) --bits;
-    else ++bits;
+    if (v > 0.0)
+        --bits;
+    else
+        ++bits;
     std::memcpy(&v, &bits, sizeof bits);
     return v;
 }
@@ -50,6 +54,8 @@ inline double difference_of_products(double a, double b, double c, double d) {
 
 inline Vec3 abs3(const Vec3& v) { return glm::abs(v); }
 inline double max_component(const Vec3& v) { return std::fmax(v.x, std::fmax(v.y, v.z)); }
-inline int max_dimension(const Vec3& v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
+inline int max_dimension(const Vec3& v) {
+    return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2);
+}
 
 }  // namespace vr

@@ -24,13 +24,15 @@ std::vector<std::vector<int32_t>> runs_of(const std::vector<int32_t>& index) {
 }
 
 // Consecutive runs of the given lengths over 0, 1, 2, ... (non-indexed fan and strip sets).
-std::vector<std::vector<int32_t>> runs_of_counts(const std::vector<int32_t>& counts, size_t vertices,
-                                                 NodeReport& report) {
+std::vector<std::vector<int32_t>> runs_of_counts(const std::vector<int32_t>& counts,
+                                                 size_t vertices, NodeReport& report) {
     std::vector<std::vector<int32_t>> runs;
     size_t next = 0;
     for (int32_t c : counts) {
         if (c < 3 || next + size_t(c) > vertices) {
-            report.warn("count", "a fan or strip count is below 3 or runs past the coordinates; the rest is skipped");
+            report.warn("count",
+                        "a fan or strip count is below 3 or runs past the coordinates; the rest is "
+                        "skipped");
             break;
         }
         std::vector<int32_t>& run = runs.emplace_back(size_t(c));
@@ -69,17 +71,21 @@ sg::IndexedFaceSet composed_faces(const sg::ComposedSet& set, NodeReport& report
                 report.warn("short-run", "a strip with fewer than 3 vertices is skipped");
                 continue;
             }
-            // Every other triangle swaps its first two vertices so that all keep the strip's orientation.
+            // Every other triangle swaps its first two vertices so that all keep the strip's
+            // orientation.
             for (size_t t = 0; t + 2 < run.size(); ++t) {
-                if (t % 2 == 0) triangle(run[t], run[t + 1], run[t + 2]);
-                else triangle(run[t + 1], run[t], run[t + 2]);
+                if (t % 2 == 0)
+                    triangle(run[t], run[t + 1], run[t + 2]);
+                else
+                    triangle(run[t + 1], run[t], run[t + 2]);
             }
         }
     };
     auto groups = [&](const std::vector<int32_t>& index, size_t size, const char* what) {
         if (index.size() % size != 0)
             report.warn("leftover", std::string("the last ") + std::to_string(index.size() % size) +
-                                        " indices do not make a whole " + what + " and are ignored");
+                                        " indices do not make a whole " + what +
+                                        " and are ignored");
         for (size_t t = 0; t + size <= index.size(); t += size) {
             out.insert(out.end(), index.begin() + t, index.begin() + t + size);
             out.push_back(-1);
@@ -93,32 +99,51 @@ sg::IndexedFaceSet composed_faces(const sg::ComposedSet& set, NodeReport& report
     };
 
     switch (set.kind) {
-        case ComposedKind::IndexedTriangleSet: groups(set.index, 3, "triangle"); break;
-        case ComposedKind::TriangleSet: groups(all_vertices(3), 3, "triangle"); break;
-        case ComposedKind::IndexedTriangleFanSet: fans(runs_of(set.index)); break;
-        case ComposedKind::TriangleFanSet: fans(runs_of_counts(set.counts, vertices, report)); break;
-        case ComposedKind::IndexedTriangleStripSet: strips(runs_of(set.index)); break;
-        case ComposedKind::TriangleStripSet: strips(runs_of_counts(set.counts, vertices, report)); break;
-        case ComposedKind::IndexedQuadSet: groups(set.index, 4, "quad"); break;
-        case ComposedKind::QuadSet: groups(all_vertices(4), 4, "quad"); break;
+        case ComposedKind::IndexedTriangleSet:
+            groups(set.index, 3, "triangle");
+            break;
+        case ComposedKind::TriangleSet:
+            groups(all_vertices(3), 3, "triangle");
+            break;
+        case ComposedKind::IndexedTriangleFanSet:
+            fans(runs_of(set.index));
+            break;
+        case ComposedKind::TriangleFanSet:
+            fans(runs_of_counts(set.counts, vertices, report));
+            break;
+        case ComposedKind::IndexedTriangleStripSet:
+            strips(runs_of(set.index));
+            break;
+        case ComposedKind::TriangleStripSet:
+            strips(runs_of_counts(set.counts, vertices, report));
+            break;
+        case ComposedKind::IndexedQuadSet:
+            groups(set.index, 4, "quad");
+            break;
+        case ComposedKind::QuadSet:
+            groups(all_vertices(4), 4, "quad");
+            break;
     }
     return faces;
 }
 
-TriMesh triangulate_geometry(const sg::Geometry& geometry, bool want_uvs, Diagnostics& diagnostics) {
+TriMesh triangulate_geometry(const sg::Geometry& geometry, bool want_uvs,
+                             Diagnostics& diagnostics) {
     NodeReport report(diagnostics, geometry.origin);
-    if (const auto* ifs = std::get_if<sg::IndexedFaceSet>(&geometry.shape))
-        return triangulate_face_set(*ifs, want_uvs, report);
-    if (const auto* grid = std::get_if<sg::ElevationGrid>(&geometry.shape)) {
-        const sg::IndexedFaceSet faces = elevation_grid_faces(*grid, want_uvs, report);
-        return faces.coord_index.empty() ? TriMesh{} : triangulate_face_set(faces, want_uvs, report);
+    if (const auto* ifs = std::get_if<std::unique_ptr<sg::IndexedFaceSet>>(&geometry.shape))
+        return triangulate_face_set(**ifs, want_uvs, report);
+    if (const auto* grid = std::get_if<std::unique_ptr<sg::ElevationGrid>>(&geometry.shape)) {
+        const sg::IndexedFaceSet faces = elevation_grid_faces(**grid, want_uvs, report);
+        return faces.coord_index.empty() ? TriMesh{}
+                                         : triangulate_face_set(faces, want_uvs, report);
     }
-    if (const auto* extrusion = std::get_if<sg::Extrusion>(&geometry.shape)) {
-        const sg::IndexedFaceSet faces = extrusion_faces(*extrusion, want_uvs, report);
-        return faces.coord_index.empty() ? TriMesh{} : triangulate_face_set(faces, want_uvs, report);
+    if (const auto* extrusion = std::get_if<std::unique_ptr<sg::Extrusion>>(&geometry.shape)) {
+        const sg::IndexedFaceSet faces = extrusion_faces(**extrusion, want_uvs, report);
+        return faces.coord_index.empty() ? TriMesh{}
+                                         : triangulate_face_set(faces, want_uvs, report);
     }
-    if (const auto* set = std::get_if<sg::ComposedSet>(&geometry.shape)) {
-        const sg::IndexedFaceSet faces = composed_faces(*set, report);
+    if (const auto* set = std::get_if<std::unique_ptr<sg::ComposedSet>>(&geometry.shape)) {
+        const sg::IndexedFaceSet faces = composed_faces(**set, report);
         if (faces.coord_index.empty()) {
             report.warn("empty", "has no triangles; nothing to render");
             return TriMesh{};

@@ -5,7 +5,8 @@
 
 namespace vr {
 
-sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want_uvs, NodeReport& report) {
+sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want_uvs,
+                                        NodeReport& report) {
     sg::IndexedFaceSet faces;
     faces.ccw = grid.ccw;
     faces.solid = grid.solid;
@@ -15,8 +16,9 @@ sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want
     const int nx = grid.x_dimension, nz = grid.z_dimension;
     if (nx < 2 || nz < 2) {
         if (nx != 0 || nz != 0)
-            report.warn("dimension", "xDimension and zDimension must both be at least 2 (got " + std::to_string(nx) +
-                                         " x " + std::to_string(nz) + "); nothing to render");
+            report.warn("dimension", "xDimension and zDimension must both be at least 2 (got " +
+                                         std::to_string(nx) + " x " + std::to_string(nz) +
+                                         "); nothing to render");
         else
             report.warn("empty", "is empty; nothing to render");
         return faces;
@@ -24,20 +26,22 @@ sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want
     const size_t vertices = size_t(nx) * size_t(nz);
     if (grid.height.size() < vertices) {
         report.warn("height-count", "has " + std::to_string(grid.height.size()) + " heights for " +
-                                        std::to_string(nx) + " x " + std::to_string(nz) + " vertices; nothing to render");
+                                        std::to_string(nx) + " x " + std::to_string(nz) +
+                                        " vertices; nothing to render");
         return faces;
     }
     if (!(grid.x_spacing > 0.0) || !(grid.z_spacing > 0.0) || !std::isfinite(grid.x_spacing) ||
         !std::isfinite(grid.z_spacing)) {
-        report.warn("spacing", "xSpacing and zSpacing must be positive and finite; nothing to render");
+        report.warn("spacing",
+                    "xSpacing and zSpacing must be positive and finite; nothing to render");
         return faces;
     }
 
     faces.data.coords.resize(vertices);
     for (int j = 0; j < nz; ++j)
         for (int i = 0; i < nx; ++i)
-            faces.data.coords[size_t(i) + size_t(j) * nx] =
-                Vec3(i * grid.x_spacing, grid.height[size_t(i) + size_t(j) * nx], j * grid.z_spacing);
+            faces.data.coords[size_t(i) + size_t(j) * nx] = Vec3(
+                i * grid.x_spacing, grid.height[size_t(i) + size_t(j) * nx], j * grid.z_spacing);
     faces.coord_index.reserve(size_t(nx - 1) * (nz - 1) * 5);
     for (int j = 0; j + 1 < nz; ++j)
         for (int i = 0; i + 1 < nx; ++i) {
@@ -54,7 +58,8 @@ sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want
         faces.data.texcoords.resize(vertices);
         for (int j = 0; j < nz; ++j)
             for (int i = 0; i < nx; ++i)
-                faces.data.texcoords[size_t(i) + size_t(j) * nx] = Vec2(double(i) / (nx - 1), double(j) / (nz - 1));
+                faces.data.texcoords[size_t(i) + size_t(j) * nx] =
+                    Vec2(double(i) / (nx - 1), double(j) / (nz - 1));
     }
     return faces;
 }

@@ -1,21 +1,23 @@
-// Extrusion (VRML97 6.18.1, X3D 13.3.5): the cross-section is scaled, rotated by `orientation`, placed in the
-// spine-aligned cross-section plane (SCP) of each spine point and moved to it.
+// Extrusion (VRML97 6.18.1, X3D 13.3.5): the cross-section is scaled, rotated by `orientation`,
+// placed in the spine-aligned cross-section plane (SCP) of each spine point and moved to it.
 //
 // SCP rules as the specification gives them:
-// * Y: interior points use spine[i+1] - spine[i-1]; the ends of an open spine their own segment; a closed
-//   spine (first point equals last) uses spine[1] - spine[n-2] at both ends.
-// * Z: (spine[i+1] - spine[i]) x (spine[i-1] - spine[i]); the ends of an open spine copy their neighbour's;
-//   a closed spine's ends use (spine[1] - spine[0]) x (spine[n-2] - spine[0]). Where three points are
-//   collinear (Z = 0) the previous Z is kept (the next one at the start). Z is flipped when it turns by
-//   more than 90 degrees from the previous one.
+// * Y: interior points use spine[i+1] - spine[i-1]; the ends of an open spine their own segment; a
+//   closed spine (first point equals last) uses spine[1] - spine[n-2] at both ends.
+// * Z: (spine[i+1] - spine[i]) x (spine[i-1] - spine[i]); the ends of an open spine copy their
+//   neighbour's; a closed spine's ends use (spine[1] - spine[0]) x (spine[n-2] - spine[0]). Where
+//   three points are collinear (Z = 0) the previous Z is kept (the next one at the start). Z is
+//   flipped when it turns by more than 90 degrees from the previous one.
 // * X = Y x Z.
 // * An entirely collinear spine: the SCP is the rotation taking +Y to the spine's direction.
 // * Coincident consecutive spine points share one SCP (computed on the spine with repeats removed).
-// Interpretations: caps are left out for a closed spine, and where the end's scale is zero (a point has no
-// cap); scale/orientation lists shorter than the spine repeat their last value (with a warning when their
-// length is neither 1 nor the spine's). Side quads with no area (coincident spine points) are left out
-// silently. Texture coordinates: sides s along the cross-section's length, t along the spine's, both 0..1;
-// caps from the cross-section's bounding box, its larger side spanning 0..1.
+//
+// Interpretations: caps are left out for a closed spine, and where the end's scale is zero (a point
+// has no cap); scale/orientation lists shorter than the spine repeat their last value (with a
+// warning when their length is neither 1 nor the spine's). Side quads with no area (coincident
+// spine points) are left out silently. Texture coordinates: sides s along the cross-section's
+// length, t along the spine's, both 0..1; caps from the cross-section's bounding box, its larger
+// side spanning 0..1.
 #include <cmath>
 #include <string>
 
@@ -27,7 +29,9 @@ namespace vr {
 
 namespace {
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 bool finite(const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
 
 // The rotation taking the unit vector `from` onto the unit vector `to`.
@@ -86,12 +90,15 @@ std::vector<Mat3> spine_planes(const std::vector<Vec3>& u, bool closed) {
     }
     for (size_t i = 0; i < first; ++i) Z[i] = Z[first];
     for (size_t i = first + 1; i < k; ++i) {
-        if (!nonzero(Z[i], i)) Z[i] = Z[i - 1];
-        else if (glm::dot(Z[i], Z[i - 1]) < 0.0) Z[i] = -Z[i];
+        if (!nonzero(Z[i], i))
+            Z[i] = Z[i - 1];
+        else if (glm::dot(Z[i], Z[i - 1]) < 0.0)
+            Z[i] = -Z[i];
     }
     for (size_t i = 0; i < k; ++i) {
         Vec3 y = Y[i];
-        if (!(glm::length(y) > 0.0)) y = i > 0 ? planes[i - 1][1] : Vec3(0, 1, 0);  // spine folds back on itself
+        if (!(glm::length(y) > 0.0))
+            y = i > 0 ? planes[i - 1][1] : Vec3(0, 1, 0);  // spine folds back on itself
         y = glm::normalize(y);
         Vec3 z = Z[i] - glm::dot(Z[i], y) * y;
         if (!(glm::length(z) > 0.0)) z = i > 0 ? planes[i - 1][2] : Vec3(0, 0, 1);
@@ -111,7 +118,8 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
     faces.crease_angle = e.crease_angle;
     const size_t n = e.spine.size(), m = e.cross_section.size();
     if (n < 2 || m < 2) {
-        report.warn("empty", "needs at least 2 spine points and 2 crossSection points; nothing to render");
+        report.warn("empty",
+                    "needs at least 2 spine points and 2 crossSection points; nothing to render");
         return faces;
     }
     for (const Vec3& p : e.spine)
@@ -121,12 +129,16 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
         }
     for (const Vec2& p : e.cross_section)
         if (!finite(p)) {
-            report.warn("non-finite", "has a NaN or infinite crossSection point; nothing to render");
+            report.warn("non-finite",
+                        "has a NaN or infinite crossSection point; nothing to render");
             return faces;
         }
-    if ((e.scale.size() > 1 && e.scale.size() != n) || (e.orientation.size() > 1 && e.orientation.size() != n))
-        report.warn("count", "scale or orientation has neither 1 nor one value a spine point; the last value "
-                             "is repeated");
+    if ((e.scale.size() > 1 && e.scale.size() != n) ||
+        (e.orientation.size() > 1 && e.orientation.size() != n))
+        report.warn(
+            "count",
+            "scale or orientation has neither 1 nor one value a spine point; the last value "
+            "is repeated");
 
     // Spine without consecutive repeats; `unique_of[i]` is spine point i's place in it.
     Vec3 lo(kInf), hi(-kInf);
@@ -138,14 +150,16 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
     std::vector<Vec3> unique;
     std::vector<size_t> unique_of(n);
     for (size_t i = 0; i < n; ++i) {
-        if (unique.empty() || glm::length(e.spine[i] - unique.back()) > tolerance) unique.push_back(e.spine[i]);
+        if (unique.empty() || glm::length(e.spine[i] - unique.back()) > tolerance)
+            unique.push_back(e.spine[i]);
         unique_of[i] = unique.size() - 1;
     }
     if (unique.size() < 2) {
         report.warn("zero-size", "all spine points coincide; nothing to render");
         return faces;
     }
-    const bool closed_spine = unique.size() > 2 && glm::length(unique.front() - unique.back()) <= tolerance;
+    const bool closed_spine =
+        unique.size() > 2 && glm::length(unique.front() - unique.back()) <= tolerance;
     const std::vector<Mat3> planes = spine_planes(unique, closed_spine);
 
     Vec2 cs_lo(kInf), cs_hi(-kInf);
@@ -154,15 +168,19 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
         cs_hi = glm::max(cs_hi, p);
     }
     const double cs_tolerance = 1e-10 * glm::length(cs_hi - cs_lo);
-    const bool closed_section = m > 2 && glm::length(e.cross_section.front() - e.cross_section.back()) <= cs_tolerance;
+    const bool closed_section =
+        m > 2 && glm::length(e.cross_section.front() - e.cross_section.back()) <= cs_tolerance;
 
-    // All n x m points; closing rows/columns then reuse the first row/column's index where they coincide.
+    // All n x m points; closing rows/columns then reuse the first row/column's index where they
+    // coincide.
     std::vector<Vec3>& coords = faces.data.coords;
     coords.resize(n * m);
     for (size_t i = 0; i < n; ++i) {
         const Vec2 s = e.scale.empty() ? Vec2(1.0) : e.scale[std::min(i, e.scale.size() - 1)];
-        const Mat3 orient = e.orientation.empty() ? Mat3(1.0)
-                                                  : rotation_matrix(e.orientation[std::min(i, e.orientation.size() - 1)]);
+        const Mat3 orient =
+            e.orientation.empty()
+                ? Mat3(1.0)
+                : rotation_matrix(e.orientation[std::min(i, e.orientation.size() - 1)]);
         const Mat3 place = planes[unique_of[i]] * orient;
         for (size_t j = 0; j < m; ++j) {
             const Vec2& c = e.cross_section[j];
@@ -171,7 +189,9 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
     }
     std::vector<int32_t> index(n * m);
     for (size_t t = 0; t < n * m; ++t) index[t] = static_cast<int32_t>(t);
-    auto same = [&](size_t a, size_t b) { return glm::length(coords[a] - coords[b]) <= tolerance + cs_tolerance; };
+    auto same = [&](size_t a, size_t b) {
+        return glm::length(coords[a] - coords[b]) <= tolerance + cs_tolerance;
+    };
     if (closed_section)
         for (size_t i = 0; i < n; ++i)
             if (same(i * m + m - 1, i * m)) index[i * m + m - 1] = index[i * m];
@@ -182,8 +202,10 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
     // Texture coordinates: the side grid first, then the cap coordinates.
     std::vector<double> s_of(m, 0.0), t_of(n, 0.0);
     if (want_uvs) {
-        for (size_t j = 1; j < m; ++j) s_of[j] = s_of[j - 1] + glm::length(e.cross_section[j] - e.cross_section[j - 1]);
-        for (size_t i = 1; i < n; ++i) t_of[i] = t_of[i - 1] + glm::length(e.spine[i] - e.spine[i - 1]);
+        for (size_t j = 1; j < m; ++j)
+            s_of[j] = s_of[j - 1] + glm::length(e.cross_section[j] - e.cross_section[j - 1]);
+        for (size_t i = 1; i < n; ++i)
+            t_of[i] = t_of[i - 1] + glm::length(e.spine[i] - e.spine[i - 1]);
         for (double& s : s_of) s = s_of.back() > 0.0 ? s / s_of.back() : 0.0;
         for (double& t : t_of) t = t_of.back() > 0.0 ? t / t_of.back() : 0.0;
         faces.data.texcoords.reserve(n * m + m);
@@ -191,7 +213,8 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
             for (size_t j = 0; j < m; ++j) faces.data.texcoords.push_back(Vec2(s_of[j], t_of[i]));
         const double size = std::max(cs_hi.x - cs_lo.x, cs_hi.y - cs_lo.y);
         for (size_t j = 0; j < m; ++j)
-            faces.data.texcoords.push_back(size > 0.0 ? (e.cross_section[j] - cs_lo) / size : Vec2(0.0));
+            faces.data.texcoords.push_back(size > 0.0 ? (e.cross_section[j] - cs_lo) / size
+                                                      : Vec2(0.0));
     }
     auto add_corner = [&](size_t point, int32_t uv) {
         faces.coord_index.push_back(index[point]);
@@ -205,18 +228,22 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
     Vec3 quad[4];
     for (size_t i = 0; i + 1 < n; ++i)
         for (size_t j = 0; j + 1 < m; ++j) {
-            const size_t corners[4] = {i * m + j, i * m + j + 1, (i + 1) * m + j + 1, (i + 1) * m + j};
+            const size_t corners[4] = {i * m + j, i * m + j + 1, (i + 1) * m + j + 1,
+                                       (i + 1) * m + j};
             for (int c = 0; c < 4; ++c) quad[c] = coords[corners[c]];
             const Vec3 normal = newell_normal(quad);
             const double extent = glm::length(quad[2] - quad[0]) + glm::length(quad[3] - quad[1]);
-            if (!(glm::length(normal) > 1e-12 * extent * extent)) continue;  // coincident spine points
+            if (!(glm::length(normal) > 1e-12 * extent * extent))
+                continue;  // coincident spine points
             for (size_t c : corners) add_corner(c, static_cast<int32_t>(c));
             end_face();
         }
 
     const size_t cap_points = closed_section ? m - 1 : m;
     const int32_t cap_uv = static_cast<int32_t>(n * m);
-    auto scale_at = [&](size_t i) { return e.scale.empty() ? Vec2(1.0) : e.scale[std::min(i, e.scale.size() - 1)]; };
+    auto scale_at = [&](size_t i) {
+        return e.scale.empty() ? Vec2(1.0) : e.scale[std::min(i, e.scale.size() - 1)];
+    };
     if (!closed_spine && cap_points >= 3) {
         const Vec2 s0 = scale_at(0), s1 = scale_at(n - 1);
         if (e.begin_cap && s0.x != 0.0 && s0.y != 0.0) {
@@ -225,7 +252,8 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
             end_face();
         }
         if (e.end_cap && s1.x != 0.0 && s1.y != 0.0) {
-            for (size_t j = 0; j < cap_points; ++j) add_corner((n - 1) * m + j, cap_uv + static_cast<int32_t>(j));
+            for (size_t j = 0; j < cap_points; ++j)
+                add_corner((n - 1) * m + j, cap_uv + static_cast<int32_t>(j));
             end_face();
         }
     }

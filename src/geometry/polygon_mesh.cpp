@@ -29,10 +29,12 @@ Vec2 DefaultTexMapping::operator()(const Vec3& p) const {
 
 namespace {
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 struct Face {
-    uint32_t begin = 0;   // first corner in the corner arrays
+    uint32_t begin = 0;  // first corner in the corner arrays
     uint32_t count = 0;
     uint32_t number = 0;  // the face's number in the file (per-face attributes count every face)
     Vec3 normal{0.0};     // unit, of the (possibly reversed) corner order
@@ -40,8 +42,8 @@ struct Face {
 
 // Where an attribute's value for a corner comes from, following the IndexedFaceSet rules.
 struct AttributeSource {
-    const char* name;          // "normal", "color", "texCoord" (messages)
-    size_t value_count = 0;    // values in the attribute node
+    const char* name;        // "normal", "color", "texCoord" (messages)
+    size_t value_count = 0;  // values in the attribute node
     const std::vector<int32_t>* index = nullptr;
     bool per_vertex = true;
     bool usable = false;
@@ -69,15 +71,16 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
         return mesh;
     }
 
-    AttributeSource normal{"normal", ifs.data.normals.size(), &ifs.normal_index, ifs.normal_per_vertex,
-                           !ifs.data.normals.empty()};
+    AttributeSource normal{"normal", ifs.data.normals.size(), &ifs.normal_index,
+                           ifs.normal_per_vertex, !ifs.data.normals.empty()};
     AttributeSource color{"color", ifs.data.colors.size(), &ifs.color_index, ifs.color_per_vertex,
                           !ifs.data.colors.empty()};
     AttributeSource texcoord{"texCoord", ifs.data.texcoords.size(), &ifs.texcoord_index, true,
                              !ifs.data.texcoords.empty()};
     AttributeSource* attributes[3] = {&normal, &color, &texcoord};
 
-    // Pass 1: faces, their validity, and whether every attribute index of the valid faces is in range.
+    // Pass 1: faces, their validity, and whether every attribute index of the valid faces is in
+    // range.
     std::vector<Face> faces;
     std::vector<int32_t> corner_coord;  // coordinate index of each corner of the valid faces
     std::vector<uint32_t> corner_k;     // its position in coordIndex
@@ -105,7 +108,8 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
             f.count = static_cast<uint32_t>(count);
             f.number = face_number;
             for (size_t j = 0; j < count; ++j) {
-                // ccw FALSE: the vertices run clockwise seen from the front; reverse them once here.
+                // ccw FALSE: the vertices run clockwise seen from the front; reverse them once
+                // here.
                 const size_t k = ifs.ccw ? begin + j : end - 1 - j;
                 corner_coord.push_back(coord_index[k]);
                 corner_k.push_back(static_cast<uint32_t>(k));
@@ -116,15 +120,19 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
         begin = end + 1;
     }
     if (bad_index)
-        report.warn("coord-index-range", std::to_string(bad_index) + " face(s) use a coordIndex outside 0.." +
-                                             std::to_string(coords.size() - 1) + "; those faces are skipped");
+        report.warn("coord-index-range",
+                    std::to_string(bad_index) + " face(s) use a coordIndex outside 0.." +
+                        std::to_string(coords.size() - 1) + "; those faces are skipped");
     if (bad_number)
-        report.warn("non-finite", std::to_string(bad_number) +
-                                      " face(s) use a NaN or infinite coordinate; those faces are skipped");
+        report.warn("non-finite",
+                    std::to_string(bad_number) +
+                        " face(s) use a NaN or infinite coordinate; those faces are skipped");
 
     for (AttributeSource* a : attributes) {
         if (!a->usable) continue;
-        auto in_range = [&](int64_t s) { return s >= 0 && static_cast<size_t>(s) < a->value_count; };
+        auto in_range = [&](int64_t s) {
+            return s >= 0 && static_cast<size_t>(s) < a->value_count;
+        };
         if (a->per_vertex) {
             for (size_t c = 0; c < corner_coord.size() && a->usable; ++c)
                 a->usable = in_range(a->source(coord_index, corner_k[c], 0));
@@ -134,8 +142,9 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
         }
         if (!a->usable)
             report.warn(std::string(a->name) + "-index",
-                        std::string(a->name) + " index out of range or missing (" + std::to_string(a->value_count) +
-                            " values); the " + a->name + " values are ignored for this node");
+                        std::string(a->name) + " index out of range or missing (" +
+                            std::to_string(a->value_count) + " values); the " + a->name +
+                            " values are ignored for this node");
     }
 
     // Face normals (unit) of the valid faces, in the corner order used for output.
@@ -159,7 +168,8 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
         std::vector<uint32_t> around(corner_coord.size());
         std::vector<uint32_t> fill(start.begin(), start.end() - 1);
         for (uint32_t fi = 0; fi < faces.size(); ++fi)
-            for (uint32_t j = 0; j < faces[fi].count; ++j) around[fill[corner_coord[faces[fi].begin + j]]++] = fi;
+            for (uint32_t j = 0; j < faces[fi].count; ++j)
+                around[fill[corner_coord[faces[fi].begin + j]]++] = fi;
         const double cos_crease = ifs.smooth_all ? -2.0 : std::cos(std::min(ifs.crease_angle, kPi));
         corner_normal.resize(corner_coord.size());
         for (uint32_t fi = 0; fi < faces.size(); ++fi) {
@@ -222,16 +232,19 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
                 }
                 mesh.normals.push_back(n);
             }
-            if (out_colors) mesh.colors.push_back(ifs.data.colors[color.source(coord_index, k, f.number)]);
+            if (out_colors)
+                mesh.colors.push_back(ifs.data.colors[color.source(coord_index, k, f.number)]);
             if (out_uvs) {
-                mesh.uvs.push_back(texcoord.usable ? ifs.data.texcoords[texcoord.source(coord_index, k, f.number)]
-                                                   : default_mapping(coords[c]));
+                mesh.uvs.push_back(
+                    texcoord.usable ? ifs.data.texcoords[texcoord.source(coord_index, k, f.number)]
+                                    : default_mapping(coords[c]));
             }
         }
     }
     if (degenerate)
-        report.warn("degenerate", std::to_string(degenerate) +
-                                      " face(s) have fewer than 3 vertices or no area; those faces are skipped");
+        report.warn("degenerate",
+                    std::to_string(degenerate) +
+                        " face(s) have fewer than 3 vertices or no area; those faces are skipped");
     if (mesh.triangles.empty() && faces.empty() == false)
         report.warn("no-triangles", "no face has an area; nothing to render");
     return mesh;

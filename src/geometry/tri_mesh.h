@@ -1,5 +1,5 @@
-// Triangles in object space with per-corner attributes: what the polygon geometry nodes become.
-// The flattening step transforms a TriMesh into world space once per use of its geometry node.
+// Triangles in object space with per-corner attributes: what the polygon geometry nodes become. The
+// flattening step transforms a TriMesh into world space once per use of its geometry node.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -9,14 +9,16 @@
 namespace vr {
 
 struct TriMesh {
-    std::vector<Vec3> positions;      // object space, all finite
-    std::vector<uint32_t> triangles;  // 3 position indices a triangle, counter-clockwise seen from the front
-    std::vector<Vec3> normals;        // per corner (3 a triangle), unit, object space; empty: flat shading
-    std::vector<Vec2> uvs;            // per corner; empty: none
-    std::vector<Vec3> colors;         // per corner; empty: the material's colour
-    bool solid = true;                // false: two-sided
+    std::vector<Vec3> positions;  // object space, all finite
+    std::vector<uint32_t>
+        triangles;  // 3 position indices a triangle, counter-clockwise seen from the front
+    std::vector<Vec3>
+        normals;               // per corner (3 a triangle), unit, object space; empty: flat shading
+    std::vector<Vec2> uvs;     // per corner; empty: none
+    std::vector<Vec3> colors;  // per corner; empty: the material's colour
+    bool solid = true;         // false: two-sided
     size_t triangle_count() const { return triangles.size() / 3; }
-    double area() const;              // sum of triangle areas (tests, info)
+    double area() const;  // sum of triangle areas (tests, info)
 };
 
 }  // namespace vr

@@ -5,12 +5,13 @@
 namespace vr {
 
 Vec3 newell_normal(std::span<const Vec3> points) {
-    // Sum of the fan's cross products about the first point: the same as Newell's formula, but relative to
-    // a point on the polygon, so a polygon far from the origin loses no digits.
+    // Sum of the fan's cross products about the first point: the same as Newell's formula, but
+    // relative to a point on the polygon, so a polygon far from the origin loses no digits.
     Vec3 sum(0.0);
     if (points.size() < 3) return sum;
     const Vec3 origin = points[0];
-    for (size_t i = 1; i + 1 < points.size(); ++i) sum += glm::cross(points[i] - origin, points[i + 1] - origin);
+    for (size_t i = 1; i + 1 < points.size(); ++i)
+        sum += glm::cross(points[i] - origin, points[i + 1] - origin);
     return sum;
 }
 
@@ -20,7 +21,8 @@ double cross2(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
 double orient(const Vec2& a, const Vec2& b, const Vec2& c) { return cross2(b - a, c - b); }
 
 Vec3 any_perpendicular(const Vec3& n) {
-    const Vec3 a = std::abs(n.x) < 0.6 ? Vec3(1, 0, 0) : (std::abs(n.y) < 0.6 ? Vec3(0, 1, 0) : Vec3(0, 0, 1));
+    const Vec3 a =
+        std::abs(n.x) < 0.6 ? Vec3(1, 0, 0) : (std::abs(n.y) < 0.6 ? Vec3(0, 1, 0) : Vec3(0, 0, 1));
     return glm::normalize(glm::cross(n, a));
 }
 
@@ -38,7 +40,8 @@ bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& ou
     const double extent2 = glm::dot(hi - lo, hi - lo);
     Vec3 normal = newell_normal(points);
     const double twice_area = glm::length(normal);
-    // Relative to the polygon's own size: a sliver whose area is 1e-12 of its bounding box is no area.
+    // Relative to the polygon's own size: a sliver whose area is 1e-12 of its bounding box is no
+    // area.
     if (!(twice_area > 1e-12 * extent2)) return false;
     normal /= twice_area;
     if (n == 3) {
@@ -69,7 +72,9 @@ bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& ou
     const size_t m = q.size();
     if (m < 3) return false;
 
-    auto emit = [&](size_t a, size_t b, size_t c) { out.insert(out.end(), {index[a], index[b], index[c]}); };
+    auto emit = [&](size_t a, size_t b, size_t c) {
+        out.insert(out.end(), {index[a], index[b], index[c]});
+    };
 
     bool convex = true;
     for (size_t i = 0; i < m && convex; ++i)
@@ -90,8 +95,10 @@ bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& ou
         if (orient(q[p], q[i], q[nx]) <= eps_area) return false;  // reflex or flat corner
         for (uint32_t r = next[nx]; r != p; r = next[r]) {
             const Vec2& s = q[r];
-            if (s == q[p] || s == q[i] || s == q[nx]) continue;  // a vertex repeated elsewhere on the outline
-            if (orient(q[p], q[i], s) >= 0.0 && orient(q[i], q[nx], s) >= 0.0 && orient(q[nx], q[p], s) >= 0.0)
+            if (s == q[p] || s == q[i] || s == q[nx])
+                continue;  // a vertex repeated elsewhere on the outline
+            if (orient(q[p], q[i], s) >= 0.0 && orient(q[i], q[nx], s) >= 0.0 &&
+                orient(q[nx], q[p], s) >= 0.0)
                 return false;
         }
         return true;
@@ -116,8 +123,9 @@ bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& ou
         }
         i = nx;
         if (++misses < count) continue;
-        // A full turn without an ear: the outline is self-intersecting or numerically flat somewhere.
-        // Drop a flat corner if there is one (it has no area); else clip the most convex corner.
+        // A full turn without an ear: the outline is self-intersecting or numerically flat
+        // somewhere. Drop a flat corner if there is one (it has no area); else clip the most convex
+        // corner.
         uint32_t best = i;
         double best_orient = -kInf;
         bool dropped = false;

@@ -1,25 +1,25 @@
 #include "render/accel.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
+
+#include "core/parallel.h"
 
 namespace vr {
 namespace {
 
-struct Source {
-    PrimKind kind;
-    uint32_t index;     // sphere, quadric or mesh
-    uint32_t triangle;  // triangles only
-};
-
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite3(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // One more float ulp outwards than make_build_box: covers the rounding of the double bounds.
 BuildBox padded_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
     BuildBox b = make_build_box(lo, hi, id);
     for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::nextafter(b.lo[k], -INFINITY);
-        b.hi[k] = std::nextafter(b.hi[k], INFINITY);
+        b.lo[k] = float_step_down(b.lo[k]);
+        b.hi[k] = float_step_up(b.hi[k]);
     }
     return b;
 }
@@ -32,107 +32,152 @@ double material_transparency(const FlatScene& scene, uint32_t shading) {
     return std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;
 }
 
+constexpr uint32_t kSkipped = 1;  // BuildBox::unused marks a primitive that has nothing to hit
+
+bool quadric_box(const Quadric& q, uint32_t id, BuildBox& box) {
+    const Vec3 half = q.size * 0.5;
+    if (!finite3(half) || half.x < 0.0 || half.y < 0.0 || half.z < 0.0) return false;
+    Vec3 lo(kInf), hi(-kInf);
+    for (int c = 0; c < 8; ++c) {
+        Vec3 corner((c & 1) ? half.x : -half.x, (c & 2) ? half.y : -half.y,
+                    (c & 4) ? half.z : -half.z);
+        Vec3 w = Vec3(q.world_from_object * Vec4(corner, 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+    }
+    if (!finite3(lo) || !finite3(hi)) return false;
+    box = padded_box(lo, hi, id);
+    return true;
+}
+
 }  // namespace
 
+// Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs.
 void Accel::build(const FlatScene& scene, int threads) {
     scene_ = &scene;
-    std::vector<Source> sources;
-    std::vector<BuildBox> boxes;
-    size_t triangle_total = scene.triangle_count();
-    sources.reserve(scene.spheres.size() + scene.quadrics.size() + triangle_total);
-    boxes.reserve(sources.capacity());
+    threads = std::max(threads, 1);
+    const uint32_t n_spheres = uint32_t(scene.spheres.size());
+    const uint32_t n_quadrics = uint32_t(scene.quadrics.size());
+    const uint32_t first_triangle = n_spheres + n_quadrics;
 
-    for (uint32_t i = 0; i < scene.spheres.size(); ++i) {
-        const Sphere& s = scene.spheres[i];
-        if (!(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center)) continue;
-        boxes.push_back(padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), uint32_t(sources.size())));
-        sources.push_back({PrimKind::Sphere, i, 0});
-    }
-    for (uint32_t i = 0; i < scene.quadrics.size(); ++i) {
-        const Quadric& q = scene.quadrics[i];
-        Vec3 half = q.size * 0.5;
-        if (!finite3(half) || half.x < 0.0 || half.y < 0.0 || half.z < 0.0) continue;
-        Vec3 lo(kInf), hi(-kInf);
-        for (int c = 0; c < 8; ++c) {
-            Vec3 corner((c & 1) ? half.x : -half.x, (c & 2) ? half.y : -half.y, (c & 4) ? half.z : -half.z);
-            Vec3 w = Vec3(q.world_from_object * Vec4(corner, 1.0));
-            lo = glm::min(lo, w);
-            hi = glm::max(hi, w);
-        }
-        if (!finite3(lo) || !finite3(hi)) continue;
-        boxes.push_back(padded_box(lo, hi, uint32_t(sources.size())));
-        sources.push_back({PrimKind::Quadric, i, 0});
-    }
+    std::vector<std::pair<uint32_t, uint32_t>> triangle_refs;  // (mesh, triangle)
+    triangle_refs.reserve(scene.triangle_count());
     for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
         const Mesh& m = scene.meshes[mi];
         const size_t nt = m.triangle_count();
-        for (uint32_t t = 0; t < nt; ++t) {
-            uint32_t a = m.triangles[3 * t], b = m.triangles[3 * t + 1], c = m.triangles[3 * t + 2];
-            if (a >= m.positions.size() || b >= m.positions.size() || c >= m.positions.size()) continue;
-            const Vec3 &p0 = m.positions[a], &p1 = m.positions[b], &p2 = m.positions[c];
-            if (!finite3(p0) || !finite3(p1) || !finite3(p2)) continue;
-            boxes.push_back(padded_box(glm::min(p0, glm::min(p1, p2)), glm::max(p0, glm::max(p1, p2)),
-                                       uint32_t(sources.size())));
-            sources.push_back({PrimKind::Triangle, mi, t});
-        }
+        for (uint32_t t = 0; t < nt; ++t) triangle_refs.emplace_back(mi, t);
     }
+
+    // One box per candidate, made in parallel; the skipped ones are removed afterwards.
+    std::vector<BuildBox> boxes(size_t(first_triangle) + triangle_refs.size());
+    parallel_chunks(
+        boxes.size(), chunks_for(boxes.size(), threads), [&](size_t begin, size_t end, int) {
+            for (size_t i = begin; i < end; ++i) {
+                BuildBox& box = boxes[i];
+                const uint32_t id = uint32_t(i);
+                box.unused = kSkipped;
+                if (i < n_spheres) {
+                    const Sphere& s = scene.spheres[i];
+                    // Gas spheres are volumes for render/gas.h, not surfaces.
+                    if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center))
+                        continue;
+                    box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
+                } else if (i < first_triangle) {
+                    if (!quadric_box(scene.quadrics[i - n_spheres], id, box)) continue;
+                } else {
+                    const auto [mi, t] = triangle_refs[i - first_triangle];
+                    const Mesh& m = scene.meshes[mi];
+                    const uint32_t a = m.triangles[3 * t], b = m.triangles[3 * t + 1],
+                                   c = m.triangles[3 * t + 2];
+                    if (a >= m.positions.size() || b >= m.positions.size() ||
+                        c >= m.positions.size())
+                        continue;
+                    const Vec3 &p0 = m.positions[a], &p1 = m.positions[b], &p2 = m.positions[c];
+                    if (!finite3(p0) || !finite3(p1) || !finite3(p2)) continue;
+                    // Zero area: no ray can hit it, but rounding in the edge tests could report
+                    // one.
+                    const Vec3 area = glm::cross(p1 - p0, p2 - p0);
+                    if (area.x == 0.0 && area.y == 0.0 && area.z == 0.0) continue;
+                    box = padded_box(glm::min(p0, glm::min(p1, p2)), glm::max(p0, glm::max(p1, p2)),
+                                     id);
+                }
+            }
+        });
+    boxes.erase(std::remove_if(boxes.begin(), boxes.end(),
+                               [](const BuildBox& b) { return b.unused == kSkipped; }),
+                boxes.end());
 
     BvhBuildOptions options;
-    options.threads = std::max(threads, 1);
+    options.threads = threads;
     bvh_ = build_bvh(std::move(boxes), options);
+    const std::vector<uint32_t>& order = bvh_.order;
+    const size_t n = order.size();
 
-    prims_.clear();
-    prim_transparency_.clear();
-    spheres_.clear();
-    sphere_source_.clear();
-    quadrics_.clear();
-    quadric_source_.clear();
-    triangles_.clear();
-    triangle_mesh_.clear();
-    triangle_index_.clear();
-    any_transparent_ = false;
-    prims_.reserve(bvh_.order.size());
-    prim_transparency_.reserve(bvh_.order.size());
-    for (uint32_t id : bvh_.order) {
-        const Source& s = sources[id];
-        uint32_t shading = 0;
-        switch (s.kind) {
-            case PrimKind::Sphere: {
-                const Sphere& sp = scene.spheres[s.index];
-                prims_.push_back(pack_prim(PrimKind::Sphere, uint32_t(spheres_.size())));
-                spheres_.push_back({sp.center, sp.radius});
-                sphere_source_.push_back(s.index);
+    // Compact copies in leaf order. Each chunk first counts its kinds, so that every primitive's
+    // place in its kind's array is known before the parallel fill.
+    const int chunks = chunks_for(n, threads);
+    std::vector<std::array<uint32_t, 3>> chunk_start(size_t(chunks) + 1, {0, 0, 0});
+    auto kind_of = [&](uint32_t id) { return id < n_spheres ? 0 : id < first_triangle ? 1 : 2; };
+    parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+        std::array<uint32_t, 3> count = {0, 0, 0};
+        for (size_t i = begin; i < end; ++i) ++count[size_t(kind_of(order[i]))];
+        chunk_start[size_t(c) + 1] = count;
+    });
+    for (size_t c = 1; c <= size_t(chunks); ++c)
+        for (int k = 0; k < 3; ++k) chunk_start[c][size_t(k)] += chunk_start[c - 1][size_t(k)];
+    const std::array<uint32_t, 3>& totals = chunk_start[size_t(chunks)];
+
+    prims_.assign(n, 0);
+    prim_transparency_.assign(n, 0.0f);
+    spheres_.resize(totals[0]);
+    sphere_source_.resize(totals[0]);
+    quadrics_.resize(totals[1]);
+    quadric_source_.resize(totals[1]);
+    triangles_.resize(totals[2]);
+    triangle_mesh_.resize(totals[2]);
+    triangle_index_.resize(totals[2]);
+    parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+        std::array<uint32_t, 3> next = chunk_start[size_t(c)];
+        for (size_t i = begin; i < end; ++i) {
+            const uint32_t id = order[i];
+            // Leaf order is a random walk through the scene's arrays: fetch ahead.
+            if (i + 8 < end && order[i + 8] < n_spheres) __builtin_prefetch(&scene.spheres[order[i + 8]]);
+            uint32_t shading = 0;
+            if (id < n_spheres) {
+                const Sphere& sp = scene.spheres[id];
+                const uint32_t k = next[0]++;
+                prims_[i] = pack_prim(PrimKind::Sphere, k);
+                spheres_[k] = {sp.center, sp.radius};
+                sphere_source_[k] = id;
                 shading = sp.shading;
-                break;
-            }
-            case PrimKind::Quadric: {
-                const Quadric& q = scene.quadrics[s.index];
-                prims_.push_back(pack_prim(PrimKind::Quadric, uint32_t(quadrics_.size())));
-                quadrics_.push_back(make_quadric_geom(q));
-                quadric_source_.push_back(s.index);
+            } else if (id < first_triangle) {
+                const Quadric& q = scene.quadrics[id - n_spheres];
+                const uint32_t k = next[1]++;
+                prims_[i] = pack_prim(PrimKind::Quadric, k);
+                quadrics_[k] = make_quadric_geom(q);
+                quadric_source_[k] = id - n_spheres;
                 shading = q.shading;
-                break;
-            }
-            case PrimKind::Triangle: {
-                const Mesh& m = scene.meshes[s.index];
-                const uint32_t* c = &m.triangles[3 * s.triangle];
-                prims_.push_back(pack_prim(PrimKind::Triangle, uint32_t(triangles_.size())));
-                triangles_.push_back({m.positions[c[0]], m.positions[c[1]], m.positions[c[2]]});
-                triangle_mesh_.push_back(s.index);
-                triangle_index_.push_back(s.triangle);
+            } else {
+                const auto [mi, t] = triangle_refs[id - first_triangle];
+                const Mesh& m = scene.meshes[mi];
+                const uint32_t* corner = &m.triangles[3 * t];
+                const uint32_t k = next[2]++;
+                prims_[i] = pack_prim(PrimKind::Triangle, k);
+                triangles_[k] = {m.positions[corner[0]], m.positions[corner[1]],
+                                 m.positions[corner[2]]};
+                triangle_mesh_[k] = mi;
+                triangle_index_[k] = t;
                 shading = m.shading;
-                break;
             }
+            prim_transparency_[i] = float(material_transparency(scene, shading));
         }
-        // Gas spheres block shadow rays like opaque ones until the gas integrator handles them.
-        float t = float(material_transparency(scene, shading));
-        prim_transparency_.push_back(t);
-        if (t > 0.0f) any_transparent_ = true;
-    }
+    });
+    any_transparent_ = std::any_of(prim_transparency_.begin(), prim_transparency_.end(),
+                                   [](float t) { return t > 0.0f; });
 }
 
-inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray,
-                                  double& t_max, Hit& hit) const {
+inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
+                                  const TriangleRay& tri_ray, double& t_max, Hit& hit) const {
     const uint32_t index = prim_index(ref);
     switch (prim_kind(ref)) {
         case PrimKind::Sphere: {
@@ -195,7 +240,7 @@ int Accel::crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleR
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
     const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
-    const TriangleRay tri_ray(ray);
+    const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
     double t_max = ray.t_max;
     bool found = false;
     traverse_bvh(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
@@ -208,7 +253,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 
 double Accel::transmittance(const Ray& ray) const {
     const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
-    const TriangleRay tri_ray(ray);
+    const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
     double t_max = ray.t_max;
     double result = 1.0;
     if (!any_transparent_) {
@@ -241,17 +286,30 @@ double Accel::transmittance(const Ray& ray) const {
     return result;
 }
 
-SurfaceHit Accel::surface(const Ray& ray, const Hit& hit) const {
+uint32_t Accel::shading_of(const Hit& hit) const {
     const uint32_t index = prim_index(hit.prim);
     switch (prim_kind(hit.prim)) {
         case PrimKind::Sphere:
-            return sphere_surface(scene_->spheres[sphere_source_[index]], ray, hit.t);
+            return scene_->spheres[sphere_source_[index]].shading;
         case PrimKind::Quadric:
-            return quadric_surface(scene_->quadrics[quadric_source_[index]], quadrics_[index], ray, hit.t,
-                                   hit.part);
+            return scene_->quadrics[quadric_source_[index]].shading;
         case PrimKind::Triangle:
-            return triangle_surface(scene_->meshes[triangle_mesh_[index]], triangle_index_[index], ray,
-                                    hit.t, hit.b1, hit.b2);
+            return scene_->meshes[triangle_mesh_[index]].shading;
+    }
+    return 0;
+}
+
+SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
+    const uint32_t index = prim_index(hit.prim);
+    switch (prim_kind(hit.prim)) {
+        case PrimKind::Sphere:
+            return sphere_surface(scene_->spheres[sphere_source_[index]], ray, hit.t, want_uv);
+        case PrimKind::Quadric:
+            return quadric_surface(scene_->quadrics[quadric_source_[index]], quadrics_[index], ray,
+                                   hit.t, hit.part, want_uv);
+        case PrimKind::Triangle:
+            return triangle_surface(scene_->meshes[triangle_mesh_[index]], triangle_index_[index],
+                                    ray, hit.t, hit.b1, hit.b2);
     }
     return SurfaceHit();
 }

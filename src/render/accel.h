@@ -1,6 +1,8 @@
-// The tracer's view of a FlatScene: compact copies of every primitive's intersection data, stored in
-// BVH leaf order (so a leaf's primitives sit together in memory), one BVH over all of them, and the
-// two queries the integrator asks: closest hit, and how much light passes along a shadow segment.
+// The tracer's view of a FlatScene: compact copies of every primitive's intersection data, stored
+// in BVH leaf order (so a leaf's primitives sit together in memory), one BVH over all of them, and
+// the two queries the integrator asks: closest hit, and how much light passes along a shadow
+// segment. Gas spheres (Sphere::gas) are held as opaque spheres for now; the gas integrator (SPEC
+// section 6) is to keep them out of this structure and integrate them along each ray segment.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -14,13 +16,13 @@ namespace vr {
 
 struct Hit {
     double t = kInf;
-    uint32_t prim = 0;  // packed reference (intersect.h)
-    uint8_t part = 0;   // quadric part
+    uint32_t prim = 0;          // packed reference (intersect.h)
+    uint8_t part = 0;           // quadric part
     double b1 = 0.0, b2 = 0.0;  // triangle barycentrics
 };
 
 class Accel {
-public:
+  public:
     // threads: for the BVH build (0 or 1: one thread).
     void build(const FlatScene& scene, int threads);
 
@@ -32,7 +34,11 @@ public:
     // deterministic.
     double transmittance(const Ray& ray) const;
 
-    SurfaceHit surface(const Ray& ray, const Hit& hit) const;
+    // The hit's surface data; texture coordinates only when `want_uv` (they cost inverse
+    // trigonometry).
+    SurfaceHit surface(const Ray& ray, const Hit& hit, bool want_uv = true) const;
+    // The scene Shading index of the hit primitive.
+    uint32_t shading_of(const Hit& hit) const;
 
     size_t node_count() const { return bvh_.nodes.size(); }
     size_t primitive_count() const { return prims_.size(); }
@@ -41,14 +47,14 @@ public:
     // Brute force over every primitive, for tests.
     bool intersect_brute_force(const Ray& ray, Hit& hit) const;
 
-private:
+  private:
     bool test_primitive(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray,
                         double& t_max, Hit& hit) const;
     int crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray) const;
 
     const FlatScene* scene_ = nullptr;
     Bvh bvh_;
-    std::vector<uint32_t> prims_;  // packed references in leaf order
+    std::vector<uint32_t> prims_;           // packed references in leaf order
     std::vector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;
 

@@ -30,7 +30,12 @@ Vec3 ramp(const std::vector<Vec3>& colors, const std::vector<double>& angles, do
 }  // namespace
 
 BackgroundModel::BackgroundModel(const FlatScene& scene, const std::optional<Vec3>& override_color)
-    : scene_(scene), override_(override_color) {
+    : scene_(scene), constant_(override_color) {
+    const Background& bg = scene.background;
+    bool panorama = false;
+    for (int32_t t : bg.panorama) panorama = panorama || t >= 0;
+    if (!constant_ && bg.sky_colors.size() <= 1 && bg.ground_colors.empty() && !panorama)
+        constant_ = bg.sky_colors.empty() ? Vec3(0.0) : bg.sky_colors[0];
     const Mat3& m = scene.background.world_from_background;
     double det = glm::determinant(m);
     if (std::isfinite(det) && det != 0.0) background_from_world_ = glm::inverse(m);
@@ -41,16 +46,18 @@ Vec3 BackgroundModel::gradient(const Vec3& v) const {
     const double zenith_angle = std::acos(std::clamp(v.y, -1.0, 1.0));
     const double nadir_angle = kPi - zenith_angle;
     if (!bg.ground_colors.empty()) {
-        double limit = bg.ground_angles.empty() || bg.ground_colors.size() == 1
-                           ? 0.5 * kPi
-                           : bg.ground_angles[std::min(bg.ground_angles.size(), bg.ground_colors.size() - 1) - 1];
+        double limit =
+            bg.ground_angles.empty() || bg.ground_colors.size() == 1
+                ? 0.5 * kPi
+                : bg.ground_angles[std::min(bg.ground_angles.size(), bg.ground_colors.size() - 1) -
+                                   1];
         if (nadir_angle <= limit) return ramp(bg.ground_colors, bg.ground_angles, nadir_angle);
     }
     return ramp(bg.sky_colors, bg.sky_angles, zenith_angle);
 }
 
 Vec3 BackgroundModel::radiance(const Vec3& dir) const {
-    if (override_) return *override_;
+    if (constant_) return *constant_;
     const Background& bg = scene_.background;
     Vec3 v = background_from_world_ * dir;
     double len = glm::length(v);
@@ -58,8 +65,8 @@ Vec3 BackgroundModel::radiance(const Vec3& dir) const {
     v /= len;
     Vec3 color = gradient(v);
 
-    // Panorama: the cube face the direction points at (front -z, back +z, left -x, right +x, top +y,
-    // bottom -y), each image upright as seen from the centre (VRML97 6.5).
+    // Panorama: the cube face the direction points at (front -z, back +z, left -x, right +x, top
+    // +y, bottom -y), each image upright as seen from the centre (VRML97 6.5).
     const Vec3 a = glm::abs(v);
     int face;
     double s, t;

@@ -9,23 +9,25 @@
 namespace vr {
 
 class BackgroundModel {
-public:
+  public:
     // `override` (--background) replaces the scene's Background with a constant colour.
     BackgroundModel(const FlatScene& scene, const std::optional<Vec3>& override_color);
 
     // Radiance arriving from world direction `dir` (any length). VRML97 Background / X3D 24.4.1:
     //   sky: skyColor[0] at the zenith, skyColor[i+1] at skyAngle[i] from the zenith, linear in the
     //        angle in between, the last colour beyond the last angle down to the nadir;
-    //   ground: groundColor[0] at the nadir, groundColor[i+1] at groundAngle[i] from the nadir, drawn
-    //        over the sky up to the last groundAngle and transparent beyond it. A single groundColor
-    //        without angles fills the lower hemisphere (our reading; the specification is silent);
+    //   ground: groundColor[0] at the nadir, groundColor[i+1] at groundAngle[i] from the nadir,
+    //   drawn
+    //        over the sky up to the last groundAngle and transparent beyond it. A single
+    //        groundColor without angles fills the lower hemisphere (our reading; the specification
+    //        is silent);
     //   panorama: six images on a cube in front of sky and ground, blended by their alpha.
     Vec3 radiance(const Vec3& dir) const;
 
-private:
+  private:
     Vec3 gradient(const Vec3& local) const;
     const FlatScene& scene_;
-    std::optional<Vec3> override_;
+    std::optional<Vec3> constant_;  // --background, or a Background of one sky colour only
     Mat3 background_from_world_{1.0};
 };
 

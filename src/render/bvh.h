@@ -1,12 +1,17 @@
-// Bounding volume hierarchy over any set of boxes: binned SAH build, flat depth-first array of 32-byte
-// nodes, iterative near-child-first traversal.
+// Bounding volume hierarchy over any set of boxes: binned SAH build, flat array of 32-byte nodes
+// (siblings paired in one cache line, pairs in depth-first order), iterative near-child-first
+// traversal with a stack.
 //
 // The BVH knows boxes only; what is inside a leaf is the caller's business (render/accel.h). Node
-// bounds are single precision, rounded outwards so that every box contains its exact double-precision
-// contents; rays are tested against them in double precision.
+// bounds are single precision, rounded outwards so that every box contains its exact
+// double-precision contents; rays are tested against them in double precision.
 #pragma once
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <limits>
+#include <new>
 #include <vector>
 
 #include "core/float_error.h"
@@ -24,41 +29,71 @@ struct BuildBox {
 };
 static_assert(sizeof(BuildBox) == 32);
 
-// Interior nodes: the first child follows the node; `offset` is the second child. Leaves: `count`
-// primitives starting at `offset` in Bvh::order.
+// Interior nodes: the children are nodes[offset] and nodes[offset + 1] (offset even). Leaves:
+// `count` primitives starting at `offset` in Bvh::order.
 struct BvhNode {
-    float lo[3];
-    uint32_t offset;
-    float hi[3];
-    uint16_t count;  // 0 for an interior node
-    uint8_t axis;    // split axis of an interior node
-    uint8_t unused;
+    float lo[3] = {0.0f, 0.0f, 0.0f};
+    uint32_t offset = 0;
+    float hi[3] = {0.0f, 0.0f, 0.0f};
+    uint16_t count = 0;  // 0 for an interior node
+    uint8_t axis = 0;    // split axis of an interior node
+    uint8_t unused = 0;
 };
 static_assert(sizeof(BvhNode) == 32);
 
+// Memory aligned to a cache line, so that each sibling pair of nodes shares one.
+template <class T>
+struct CacheAlignedAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlignment{64};
+    CacheAlignedAllocator() = default;
+    template <class U>
+    CacheAlignedAllocator(const CacheAlignedAllocator<U>&) {}
+    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
+    void deallocate(T* p, size_t) { ::operator delete(p, kAlignment); }
+    template <class U>
+    bool operator==(const CacheAlignedAllocator<U>&) const {
+        return true;
+    }
+};
+using BvhNodeArray = std::vector<BvhNode, CacheAlignedAllocator<BvhNode>>;
+
 struct Bvh {
-    std::vector<BvhNode> nodes;   // nodes[0] is the root; empty when there are no boxes
+    BvhNodeArray nodes;           // nodes[0] is the root, nodes[1] padding; empty: no boxes
     std::vector<uint32_t> order;  // caller ids in leaf order
     bool empty() const { return nodes.empty(); }
 };
 
 struct BvhBuildOptions {
-    int threads = 1;          // subtrees above ~32k boxes are built in parallel up to this many threads
-    int max_leaf_size = 4;    // a leaf of more boxes is made only when all centroids coincide
+    int threads = 1;  // subtrees above ~32k boxes are built in parallel up to this many threads
+    int max_leaf_size = 4;  // a leaf of more boxes is made only when all centroids coincide
 };
 
-// Builds over `boxes` (consumed: reordered). Deterministic: the result does not depend on `threads`.
+// Builds over `boxes` (consumed: reordered). Deterministic: the result does not depend on
+// `threads`.
 Bvh build_bvh(std::vector<BuildBox> boxes, const BvhBuildOptions& options);
+
+// One float ulp further down / up (finite values; infinities stay).
+inline float float_step_down(float f) {
+    if (!(f > -INFINITY)) return f;
+    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = f > 0.0f ? bits - 1 : bits + 1;
+    std::memcpy(&f, &bits, sizeof bits);
+    return f;
+}
+inline float float_step_up(float f) { return -float_step_down(-f); }
 
 // Outward rounding of a double to float.
 inline float float_down(double v) {
     float f = static_cast<float>(v);
-    if (double(f) > v) f = std::nextafter(f, -INFINITY);
+    if (double(f) > v) f = float_step_down(f);
     return f;
 }
 inline float float_up(double v) {
     float f = static_cast<float>(v);
-    if (double(f) < v) f = std::nextafter(f, INFINITY);
+    if (double(f) < v) f = float_step_up(f);
     return f;
 }
 inline BuildBox make_build_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
@@ -74,28 +109,38 @@ inline BuildBox make_build_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
 
 // Per-ray constants for box tests.
 struct RayBoxTest {
-    Vec3 o;
-    Vec3 inv_d;
-    int dir_neg[3];
-    explicit RayBoxTest(const Ray& r) : o(r.o), inv_d(1.0 / r.d.x, 1.0 / r.d.y, 1.0 / r.d.z) {
-        for (int k = 0; k < 3; ++k) dir_neg[k] = inv_d[k] < 0.0 ? 1 : 0;
+    double o[3];
+    double inv_d[3];
+    uint32_t near_offset[3], far_offset[3];  // byte offsets of the entry/exit planes in a BvhNode
+    explicit RayBoxTest(const Ray& r) {
+        for (int k = 0; k < 3; ++k) {
+            o[k] = r.o[k];
+            inv_d[k] = 1.0 / r.d[k];
+            const bool neg = std::signbit(inv_d[k]);
+            near_offset[k] =
+                uint32_t((neg ? offsetof(BvhNode, hi) : offsetof(BvhNode, lo)) + 4 * k);
+            far_offset[k] = uint32_t((neg ? offsetof(BvhNode, lo) : offsetof(BvhNode, hi)) + 4 * k);
+        }
     }
-    // Slab test against [0, t_max]; on a hit t_near is the entry distance (>= 0). NaN from 0*inf (a ray
-    // lying in a slab plane) is discarded by the comparison order, which keeps such rays inside.
+    static double plane(const BvhNode& n, uint32_t offset) {
+        float v;
+        std::memcpy(&v, reinterpret_cast<const char*>(&n) + offset, sizeof v);
+        return v;
+    }
+    // Slab test against [0, t_max]; on a hit t_near is the entry distance (>= 0). (plane - o) is
+    // exact in sign; NaN from 0 * inf (a ray lying in a slab plane) is discarded by the comparison
+    // order, which keeps such rays inside. The exit distance is widened by the rounding error of
+    // the two operations (pbrt's 1 + 2 gamma(3)).
     bool hit(const BvhNode& n, double t_max, double& t_near) const {
         double t0 = 0.0, t1 = t_max;
         for (int k = 0; k < 3; ++k) {
-            double lo = dir_neg[k] ? n.hi[k] : n.lo[k];
-            double hi = dir_neg[k] ? n.lo[k] : n.hi[k];
-            double tn = (lo - o[k]) * inv_d[k];
-            double tf = (hi - o[k]) * inv_d[k];
-            // Widen the far distance by the rounding error of the two operations (pbrt's 1 + 2*gamma(3)).
-            tf *= 1.0 + 2.0 * gamma_bound(3);
+            const double tn = (plane(n, near_offset[k]) - o[k]) * inv_d[k];
+            const double tf = (plane(n, far_offset[k]) - o[k]) * inv_d[k];
             if (tn > t0) t0 = tn;
             if (tf < t1) t1 = tf;
         }
         t_near = t0;
-        return t0 <= t1;
+        return t0 <= t1 * (1.0 + 2.0 * gamma_bound(3));
     }
 };
 
@@ -120,7 +165,7 @@ inline void traverse_bvh(const Bvh& bvh, const Ray& ray, double& t_max, LeafFn&&
         if (n.count > 0) {
             if (leaf(n.offset, n.count, t_max)) return;
         } else {
-            uint32_t a = current + 1, b = n.offset;
+            uint32_t a = n.offset, b = n.offset + 1;
             double ta, tb;
             bool ha = box.hit(nodes[a], t_max, ta);
             bool hb = box.hit(nodes[b], t_max, tb);
@@ -129,6 +174,8 @@ inline void traverse_bvh(const Bvh& bvh, const Ray& ray, double& t_max, LeafFn&&
                     std::swap(a, b);
                     std::swap(ta, tb);
                 }
+                // The far subtree is visited later, often after a long detour: fetch its pair now.
+                if (nodes[b].count == 0) __builtin_prefetch(&nodes[nodes[b].offset]);
                 stack[top++] = {b, tb};
                 current = a;
                 continue;

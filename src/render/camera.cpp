@@ -6,7 +6,9 @@
 namespace vr {
 namespace {
 
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite3(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // An orthonormal right-handed basis from the viewpoint's (possibly sloppy) rotation.
 Mat3 orthonormal(const Mat3& m) {
@@ -16,7 +18,8 @@ Mat3 orthonormal(const Mat3& m) {
     Vec3 right = glm::cross(up, back);
     if (!finite3(right) || glm::dot(right, right) == 0.0) {
         // Up parallel to the view: any perpendicular will do.
-        right = glm::cross(std::fabs(back.y) < 0.9 ? Vec3(0.0, 1.0, 0.0) : Vec3(1.0, 0.0, 0.0), back);
+        right =
+            glm::cross(std::fabs(back.y) < 0.9 ? Vec3(0.0, 1.0, 0.0) : Vec3(1.0, 0.0, 0.0), back);
     }
     right = glm::normalize(right);
     up = glm::cross(back, right);
@@ -30,9 +33,11 @@ double fit_distance(const Bounds3& b, const Camera& cam, double tan_x, double ta
     const Vec3 right = cam.world_from_camera[0], up = cam.world_from_camera[1], fwd = cam.forward();
     double d = 0.0;
     for (int i = 0; i < 8; ++i) {
-        Vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+        Vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y,
+                    (i & 4) ? b.hi.z : b.lo.z);
         Vec3 q = corner - c;
-        double qx = std::fabs(glm::dot(q, right)), qy = std::fabs(glm::dot(q, up)), qf = glm::dot(q, fwd);
+        double qx = std::fabs(glm::dot(q, right)), qy = std::fabs(glm::dot(q, up)),
+               qf = glm::dot(q, fwd);
         d = std::max(d, qx / tan_x - qf);
         d = std::max(d, qy / tan_y - qf);
     }
@@ -41,7 +46,30 @@ double fit_distance(const Bounds3& b, const Camera& cam, double tan_x, double ta
 
 }  // namespace
 
-bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera, std::string& error) {
+CameraRays::CameraRays(const Camera& c, int width, int height)
+    : ortho_(c.ortho),
+      right_(c.world_from_camera[0]),
+      up_(c.world_from_camera[1]),
+      forward_(-c.world_from_camera[2]),
+      half_width_(0.5 * width),
+      half_height_(0.5 * height) {
+    const double smaller = double(width < height ? width : height);
+    if (ortho_) {
+        pixel_ = c.ortho_size / smaller;
+        origin_ = c.position + c.world_from_camera * Vec3(c.ortho_center, 0.0);
+        forward_ = glm::normalize(forward_);
+    } else {
+        pixel_ = 2.0 * std::tan(0.5 * c.field_of_view) / smaller;
+        origin_ = c.position;
+    }
+}
+
+Ray Camera::ray(double x, double y, int width, int height) const {
+    return CameraRays(*this, width, height)(x, y);
+}
+
+bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera,
+                 std::string& error) {
     if (options.width < 1 || options.height < 1) {
         error = "image size must be at least 1x1 (got " + std::to_string(options.width) + "x" +
                 std::to_string(options.height) + ")";
@@ -94,7 +122,8 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.ortho_center = Vec2(0.5 * (e[0] + e[2]), 0.5 * (e[1] + e[3]));
     } else {
         if (!(vp.field_of_view > 0.0 && vp.field_of_view < kPi)) {
-            error = "viewpoint fieldOfView must lie in (0, pi), got " + std::to_string(vp.field_of_view);
+            error = "viewpoint fieldOfView must lie in (0, pi), got " +
+                    std::to_string(vp.field_of_view);
             return false;
         }
         camera.field_of_view = vp.field_of_view;
@@ -114,7 +143,8 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.ortho_center = Vec2(0.0);
     } else if (options.camera == CameraMode::Perspective && camera.ortho) {
         camera.ortho = false;
-        // The same window seen from the camera at the scene centre's depth; the window's offset is lost.
+        // The same window seen from the camera at the scene centre's depth; the window's offset is
+        // lost.
         camera.field_of_view = 2.0 * std::atan(0.5 * camera.ortho_size / centre_depth);
     }
 
@@ -125,7 +155,8 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
             const Vec3 right = camera.world_from_camera[0], up = camera.world_from_camera[1];
             double max_x = 0.0, max_y = 0.0;
             for (int i = 0; i < 8; ++i) {
-                Vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x, (i & 2) ? bounds.hi.y : bounds.lo.y,
+                Vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x,
+                            (i & 2) ? bounds.hi.y : bounds.lo.y,
                             (i & 4) ? bounds.hi.z : bounds.lo.z);
                 max_x = std::max(max_x, std::fabs(glm::dot(corner - centre, right)));
                 max_y = std::max(max_y, std::fabs(glm::dot(corner - centre, up)));

@@ -1,5 +1,5 @@
-// The camera (SPEC section 4): VRML conventions, a pinhole or orthographic projection, and the pixel
-// sampler chosen for the render.
+// The camera (SPEC section 4): VRML conventions, a pinhole or orthographic projection, and the
+// pixel sampler chosen for the render.
 #pragma once
 #include <cmath>
 #include <string>
@@ -14,8 +14,8 @@ namespace vr {
 
 struct Camera {
     bool ortho = false;
-    Vec3 position{0.0, 0.0, 10.0};     // world
-    Mat3 world_from_camera{1.0};       // columns: right (+x), up (+y), backward (+z); looks along -z
+    Vec3 position{0.0, 0.0, 10.0};  // world
+    Mat3 world_from_camera{1.0};    // columns: right (+x), up (+y), backward (+z); looks along -z
     double field_of_view = kPi / 4.0;  // perspective: angle across the smaller image dimension
     double ortho_size = 2.0;           // ortho: world extent across the smaller image dimension
     Vec2 ortho_center{0.0};            // ortho: window centre in camera (x, y)
@@ -25,29 +25,40 @@ struct Camera {
 
     // The ray through image point (x, y) in pixel units of a width x height image: x from the left,
     // y from the top, so pixel (i, j) has its centre at (i + 0.5, j + 0.5). Unit direction.
-    Ray ray(double x, double y, int width, int height) const {
-        const double smaller = double(width < height ? width : height);
-        const double cx = x - 0.5 * width, cy = 0.5 * height - y;
+    Ray ray(double x, double y, int width, int height) const;
+};
+
+// Camera::ray with the per-image constants computed once, for the render loop.
+class CameraRays {
+  public:
+    CameraRays(const Camera& camera, int width, int height);
+    Ray operator()(double x, double y) const {
+        const double cx = (x - half_width_) * pixel_, cy = (half_height_ - y) * pixel_;
         Ray r;
-        if (ortho) {
-            const double pixel = ortho_size / smaller;
-            r.o = position + world_from_camera * Vec3(ortho_center.x + cx * pixel, ortho_center.y + cy * pixel, 0.0);
-            r.d = forward();
+        if (ortho_) {
+            r.o = origin_ + cx * right_ + cy * up_;
+            r.d = forward_;
         } else {
-            const double pixel = 2.0 * std::tan(0.5 * field_of_view) / smaller;
-            r.o = position;
-            r.d = glm::normalize(world_from_camera * Vec3(cx * pixel, cy * pixel, -1.0));
+            r.o = origin_;
+            r.d = glm::normalize(cx * right_ + cy * up_ + forward_);
         }
         r.t_max = kInf;
         return r;
     }
+
+  private:
+    bool ortho_;
+    Vec3 origin_, right_, up_, forward_;
+    double pixel_, half_width_, half_height_;
 };
 
-// Chooses the camera: options.viewpoint (DEF name or description; error if not found), else the first
-// viewpoint, else the VRML default (position 0 0 10, fov pi/4). options.fit moves the camera along its
-// view direction so the bounds of the scene fill the view; options.camera forces perspective or ortho
-// (for ortho from a perspective viewpoint: extent = the view's size at the distance of the scene
-// centre). Also validates the sampler options. Returns false and sets `error` on failure.
-bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera, std::string& error);
+// Chooses the camera: options.viewpoint (DEF name or description; error if not found), else the
+// first viewpoint, else the VRML default (position 0 0 10, fov pi/4). options.fit moves the camera
+// along its view direction so the bounds of the scene fill the view; options.camera forces
+// perspective or ortho (for ortho from a perspective viewpoint: extent = the view's size at the
+// distance of the scene centre). Also validates the sampler options. Returns false and sets `error`
+// on failure.
+bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera,
+                 std::string& error);
 
 }  // namespace vr

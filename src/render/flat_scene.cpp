@@ -5,11 +5,13 @@
 namespace vr {
 
 namespace {
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite3(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 }  // namespace
 
-// World bounds of everything the tracer can hit (gas spheres included). Non-finite data is left out,
-// as the tracer leaves it out.
+// World bounds of everything the tracer can hit (gas spheres included). Non-finite data is left
+// out, as the tracer leaves it out.
 Bounds3 FlatScene::bounds() const {
     Bounds3 b;
     for (const Sphere& s : spheres) {
@@ -21,14 +23,16 @@ Bounds3 FlatScene::bounds() const {
         Vec3 half = q.size * 0.5;
         if (!finite3(half)) continue;
         for (int c = 0; c < 8; ++c) {
-            Vec3 corner((c & 1) ? half.x : -half.x, (c & 2) ? half.y : -half.y, (c & 4) ? half.z : -half.z);
+            Vec3 corner((c & 1) ? half.x : -half.x, (c & 2) ? half.y : -half.y,
+                        (c & 4) ? half.z : -half.z);
             Vec3 w = Vec3(q.world_from_object * Vec4(corner, 1.0));
             if (finite3(w)) b.extend(w);
         }
     }
     for (const Mesh& m : meshes) {
         for (uint32_t index : m.triangles) {
-            if (index < m.positions.size() && finite3(m.positions[index])) b.extend(m.positions[index]);
+            if (index < m.positions.size() && finite3(m.positions[index]))
+                b.extend(m.positions[index]);
         }
     }
     return b;

@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <optional>
 #include <unordered_map>
 
 #include "geometry/mesh_nodes.h"
 #include "parser/load.h"
 #include "scene/image_file.h"
+#include "scene/memory.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 
@@ -46,9 +48,13 @@ MaterialKey key_of(const Material& m) {
 
 struct MaterialKeyHash {
     size_t operator()(const MaterialKey& k) const {
-        uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes
-        const auto* bytes = reinterpret_cast<const unsigned char*>(k.data());
-        for (size_t i = 0; i < sizeof(MaterialKey); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+        uint64_t h = 0x9E3779B97F4A7C15ull;
+        for (double d : k) {  // a multiply-xorshift mix a word
+            uint64_t bits;
+            std::memcpy(&bits, &d, sizeof bits);
+            h = (h ^ bits) * 0xFF51AFD7ED558CCDull;
+            h ^= h >> 32;
+        }
         return size_t(h);
     }
 };
@@ -63,14 +69,18 @@ Vec3 finite_or(const Vec3& v, const Vec3& fallback) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : fallback;
 }
 
-// The rotation a Billboard applies to its children, given the viewer in the billboard's local space.
-Mat3 billboard_rotation(const Vec3& axis, const Vec3& viewer_local, const Vec3& viewer_up_local) {
+// The rotation a Billboard applies to its children, given the viewer in the billboard's local space
+// (position, and the camera's up and backward directions).
+Mat3 billboard_rotation(const Vec3& axis, const Vec3& viewer_local, const Vec3& viewer_up_local,
+                        const Vec3& viewer_back_local) {
     const double to_viewer = glm::length(viewer_local);
     if (!(to_viewer > 0.0) || !std::isfinite(to_viewer)) return Mat3(1.0);
     const double axis_length = glm::length(axis);
     if (!(axis_length > 0.0)) {
-        // Viewer-aligned: +Z at the viewer, +Y along the viewer's up.
-        const Vec3 z = viewer_local / to_viewer;
+        // Screen-aligned: +Z along the camera's backward axis, +Y along the camera's up.
+        const double back_length = glm::length(viewer_back_local);
+        if (!(back_length > 0.0) || !std::isfinite(back_length)) return Mat3(1.0);
+        const Vec3 z = viewer_back_local / back_length;
         Vec3 y = viewer_up_local - glm::dot(viewer_up_local, z) * z;
         const double y_length = glm::length(y);
         if (!(y_length > 1e-12)) return Mat3(1.0);
@@ -78,16 +88,18 @@ Mat3 billboard_rotation(const Vec3& axis, const Vec3& viewer_local, const Vec3& 
         return Mat3(glm::cross(y, z), y, z);
     }
     const Vec3 a = axis / axis_length;
-    const Vec3 w = viewer_local - glm::dot(viewer_local, a) * a;  // viewer direction in the plane across the axis
-    const Vec3 z = Vec3(0, 0, 1) - a.z * a;                      // local +Z in that plane
+    const Vec3 w = viewer_local -
+                   glm::dot(viewer_local, a) * a;  // viewer direction in the plane across the axis
+    const Vec3 z = Vec3(0, 0, 1) - a.z * a;        // local +Z in that plane
     if (!(glm::length(w) > 1e-12 * to_viewer) || !(glm::length(z) > 1e-12)) return Mat3(1.0);
     const double angle = std::atan2(glm::dot(a, glm::cross(z, w)), glm::dot(z, w));
     return rotation_matrix(a, angle);
 }
 
 class Flattener {
-public:
-    Flattener(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics, FlattenStats& stats)
+  public:
+    Flattener(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
+              FlattenStats& stats)
         : scene_(scene), options_(options), diagnostics_(diagnostics), stats_(stats) {}
 
     FlatScene run() {
@@ -95,13 +107,15 @@ public:
         texture_index_.assign(scene_.textures.size(), kUnloaded);
         mesh_cache_[0].resize(scene_.geometries.size());
         mesh_cache_[1].resize(scene_.geometries.size());
+        reserve_primitives();
         appearance_material_.assign(scene_.appearances.size() + 1, -1);
 
         collect_bindables();
         choose_viewer();
         out_.light_sets.emplace_back();  // light set 0: no scoped lights
         visit(Scene::kRoot, Mat4(1.0), 0, 0);
-        for (auto& set : out_.light_sets) set.insert(set.end(), global_lights_.begin(), global_lights_.end());
+        for (auto& set : out_.light_sets)
+            set.insert(set.end(), global_lights_.begin(), global_lights_.end());
 
         stats_.materials = out_.materials.size();
         stats_.lights = out_.lights.size();
@@ -109,10 +123,27 @@ public:
         return std::move(out_);
     }
 
-private:
+  private:
     static constexpr int32_t kUnloaded = -2;
 
-    // ---- bindable nodes (first pass) -------------------------------------------------------------------
+    // Room for one primitive a shape node (a guess: USE may add more), so that 1e5 primitives are not
+    // moved by doubling.
+    void reserve_primitives() {
+        size_t spheres = 0, quadrics = 0, meshes = 0;
+        for (const sg::Shape& shape : scene_.shapes) {
+            const sg::GeometryShape& g = scene_.geometries[shape.geometry].shape;
+            if (std::holds_alternative<sg::Sphere>(g)) ++spheres;
+            else if (std::holds_alternative<sg::Box>(g) || std::holds_alternative<sg::Cylinder>(g) ||
+                     std::holds_alternative<sg::Cone>(g))
+                ++quadrics;
+            else if (!std::holds_alternative<std::monostate>(g)) ++meshes;
+        }
+        reserve_huge(out_.spheres, spheres);
+        reserve_huge(out_.quadrics, quadrics);
+        out_.meshes.reserve(meshes);
+    }
+
+    // ---- bindable nodes (first pass)
 
     struct Bindables {
         std::vector<Viewpoint> viewpoints;
@@ -122,34 +153,65 @@ private:
     };
     Bindables main_, inlined_;
 
-    // Groups whose subtree holds a bindable node (memoised over the DAG).
-    bool has_bindable(sg::Index g) {
-        if (bindable_memo_.empty()) bindable_memo_.assign(scene_.groups.size(), -1);
-        if (bindable_memo_[g] >= 0) return bindable_memo_[g] != 0;
-        bindable_memo_[g] = 0;  // also guards against revisiting while in progress
-        bool found = false;
-        for (const sg::ChildRef& c : scene_.groups[g].children) {
-            if (c.kind == sg::NodeKind::Group) found = has_bindable(c.index) || found;
-            else if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light) found = true;
+    // Marks the groups whose subtree holds a bindable node: an iterative post-order walk over the
+    // DAG, as USE chains can nest far deeper than the stack allows.
+    void mark_bindables() {
+        const size_t n = scene_.groups.size();
+        has_bindable_.assign(n, 0);
+        std::vector<uint8_t> state(n, 0);  // 0 new, 1 on the stack, 2 done
+        std::vector<std::pair<sg::Index, size_t>> stack;
+        for (sg::Index start = 0; start < n; ++start) {
+            if (state[start] != 0) continue;
+            state[start] = 1;
+            stack.emplace_back(start, 0);
+            while (!stack.empty()) {
+                auto& [g, next] = stack.back();
+                const std::vector<sg::ChildRef>& children = scene_.groups[g].children;
+                if (next < children.size()) {
+                    const sg::ChildRef c = children[next++];
+                    if (c.kind != sg::NodeKind::Group) {
+                        if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light)
+                            has_bindable_[g] = 1;
+                    } else if (state[c.index] == 2) {
+                        has_bindable_[g] |= has_bindable_[c.index];
+                    } else if (state[c.index] == 0) {
+                        state[c.index] = 1;
+                        stack.emplace_back(c.index, 0);
+                    }
+                    continue;
+                }
+                const sg::Index done = g;
+                state[done] = 2;
+                stack.pop_back();
+                if (!stack.empty()) has_bindable_[stack.back().first] |= has_bindable_[done];
+            }
         }
-        bindable_memo_[g] = found ? 1 : 0;
-        return found;
     }
 
-    void collect_bindables() { collect(Scene::kRoot, Mat4(1.0), false, 0); }
+    void collect_bindables() {
+        mark_bindables();
+        collect(Scene::kRoot, Mat4(1.0), false, 0);
+    }
 
     void collect(sg::Index g, const Mat4& parent, bool in_inline, size_t depth) {
         const sg::Group& group = scene_.groups[g];
-        if (group.singular || depth > options_.max_depth || !has_bindable(g)) return;
+        if (group.singular || depth > options_.max_depth || !has_bindable_[g]) return;
+        if (++collect_visits_ > options_.max_primitives)
+            return;  // instancing blow-up: visit() reports it
         const Mat4 m = group.has_transform ? parent * group.local_from_child : parent;
         in_inline = in_inline || group.inline_content;
         Bindables& b = in_inline ? inlined_ : main_;
         for (const sg::ChildRef& c : group.children) {
             switch (c.kind) {
-                case sg::NodeKind::Group: collect(c.index, m, in_inline, depth + 1); break;
-                case sg::NodeKind::Viewpoint: b.viewpoints.push_back(make_viewpoint(scene_.viewpoints[c.index], m)); break;
+                case sg::NodeKind::Group:
+                    collect(c.index, m, in_inline, depth + 1);
+                    break;
+                case sg::NodeKind::Viewpoint:
+                    b.viewpoints.push_back(make_viewpoint(scene_.viewpoints[c.index], m));
+                    break;
                 case sg::NodeKind::Background:
-                    if (!b.background) b.background = make_background(scene_.backgrounds[c.index], m);
+                    if (!b.background)
+                        b.background = make_background(scene_.backgrounds[c.index], m);
                     break;
                 case sg::NodeKind::Fog:
                     if (!b.fog) b.fog = make_fog(scene_.fogs[c.index], m);
@@ -157,7 +219,8 @@ private:
                 case sg::NodeKind::NavigationInfo:
                     if (!b.headlight) b.headlight = scene_.navigation_infos[c.index].headlight;
                     break;
-                default: break;
+                default:
+                    break;
             }
         }
     }
@@ -171,9 +234,16 @@ private:
         out.position = transform_point(m, finite_or(v.position, Vec3(0.0, 0.0, 10.0)));
         out.world_from_camera = orthonormalize(linear) * rotation_matrix(v.orientation);
         out.field_of_view = v.field_of_view;
-        if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
-            NodeReport(diagnostics_, v.origin).warn("field-of-view", "fieldOfView must lie in (0, pi); using 0.785398");
-            out.field_of_view = 0.785398;
+        if (!(v.field_of_view > 0.01 && v.field_of_view < kPi - 0.01)) {
+            // Outside (0, pi) the camera is undefined; clamp into [0.01, pi - 0.01] as browsers do
+            // (NaN: default).
+            out.field_of_view = std::isnan(v.field_of_view)
+                                    ? 0.785398
+                                    : std::clamp(v.field_of_view, 0.01, kPi - 0.01);
+            NodeReport(diagnostics_, v.origin)
+                .warn("field-of-view", "fieldOfView " + std::to_string(v.field_of_view) +
+                                           " lies outside (0, pi); using " +
+                                           std::to_string(out.field_of_view));
         }
         const double s = mean_scale(linear);
         for (int i = 0; i < 4; ++i) out.ortho_extent[i] = v.ortho_extent[i] * s;
@@ -191,13 +261,18 @@ private:
         NodeReport report(diagnostics_, b.origin);
         if (out.sky_colors.empty()) out.sky_colors.push_back(Vec3(0.0));
         if (out.sky_angles.size() + 1 != out.sky_colors.size()) {
-            report.warn("angles", "skyColor needs one value more than skyAngle; the extra values are ignored");
+            report.warn(
+                "angles",
+                "skyColor needs one value more than skyAngle; the extra values are ignored");
             const size_t n = std::min(out.sky_angles.size(), out.sky_colors.size() - 1);
             out.sky_angles.resize(n);
             out.sky_colors.resize(n + 1);
         }
-        if (!out.ground_colors.empty() && out.ground_angles.size() + 1 != out.ground_colors.size()) {
-            report.warn("angles", "groundColor needs one value more than groundAngle; the extra values are ignored");
+        if (!out.ground_colors.empty() &&
+            out.ground_angles.size() + 1 != out.ground_colors.size()) {
+            report.warn(
+                "angles",
+                "groundColor needs one value more than groundAngle; the extra values are ignored");
             const size_t n = std::min(out.ground_angles.size(), out.ground_colors.size() - 1);
             out.ground_angles.resize(n);
             out.ground_colors.resize(n + 1);
@@ -223,11 +298,16 @@ private:
 
     void choose_viewer() {
         out_.viewpoints = std::move(main_.viewpoints);
-        out_.viewpoints.insert(out_.viewpoints.end(), inlined_.viewpoints.begin(), inlined_.viewpoints.end());
-        if (main_.background) out_.background = *main_.background;
-        else if (inlined_.background) out_.background = *inlined_.background;
-        if (main_.fog) out_.fog = *main_.fog;
-        else if (inlined_.fog) out_.fog = *inlined_.fog;
+        out_.viewpoints.insert(out_.viewpoints.end(), inlined_.viewpoints.begin(),
+                               inlined_.viewpoints.end());
+        if (main_.background)
+            out_.background = *main_.background;
+        else if (inlined_.background)
+            out_.background = *inlined_.background;
+        if (main_.fog)
+            out_.fog = *main_.fog;
+        else if (inlined_.fog)
+            out_.fog = *inlined_.fog;
         out_.headlight = main_.headlight ? *main_.headlight : inlined_.headlight.value_or(true);
 
         const Viewpoint* chosen = out_.viewpoints.empty() ? nullptr : &out_.viewpoints.front();
@@ -241,26 +321,33 @@ private:
         if (chosen) {
             viewer_position_ = chosen->position;
             viewer_up_ = chosen->world_from_camera[1];
+            viewer_back_ = chosen->world_from_camera[2];
         }
     }
 
-    // ---- graph (second pass) ---------------------------------------------------------------------------
+    // ---- graph (second pass)
 
     void visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_t depth) {
         if (stopped_) return;
         const sg::Group& group = scene_.groups[g];
         if (group.singular) return;
         if (depth > options_.max_depth) {
-            NodeReport(diagnostics_, group.origin)
-                .warn("depth", "is nested more than " + std::to_string(options_.max_depth) + " levels deep; skipped");
+            if (!depth_warned_)
+                NodeReport(diagnostics_, group.origin)
+                    .warn("depth", "is nested more than " + std::to_string(options_.max_depth) +
+                                       " levels deep; skipped");
+            depth_warned_ = true;
             return;
         }
+        if (++visits_ > options_.max_group_visits) return stop("grouping nodes");
         Mat4 m = group.has_transform ? parent * group.local_from_child : parent;
         if (group.billboard) {
             const Mat4 local_from_world = glm::inverse(m);
             const Vec3 viewer = transform_point(local_from_world, viewer_position_);
-            const Vec3 up = glm::inverse(linear_part(m)) * viewer_up_;
-            m = m * Mat4(billboard_rotation(group.billboard_axis, viewer, up));
+            const Mat3 local_from_world_linear = glm::inverse(linear_part(m));
+            m = m * Mat4(billboard_rotation(group.billboard_axis, viewer,
+                                            local_from_world_linear * viewer_up_,
+                                            local_from_world_linear * viewer_back_));
         }
 
         // Scoped lights among the children light this group's whole subtree.
@@ -275,22 +362,28 @@ private:
 
         for (const sg::ChildRef& c : group.children) {
             switch (c.kind) {
-                case sg::NodeKind::Group: visit(c.index, m, light_set, depth + 1); break;
-                case sg::NodeKind::Shape: emit_shape(scene_.shapes[c.index], m, light_set); break;
+                case sg::NodeKind::Group:
+                    visit(c.index, m, light_set, depth + 1);
+                    break;
+                case sg::NodeKind::Shape:
+                    emit_shape(scene_.shapes[c.index], m, light_set);
+                    break;
                 case sg::NodeKind::Light: {
                     const sg::Light& l = scene_.lights[c.index];
                     if (l.on && l.global)
                         if (const auto index = add_light(l, m)) global_lights_.push_back(*index);
                     break;
                 }
-                default: break;  // bindable nodes: first pass
+                default:
+                    break;  // bindable nodes: first pass
             }
         }
         scoped_.resize(scoped_before);
     }
 
     uint32_t light_set_of(const std::vector<uint32_t>& lights) {
-        const auto [it, inserted] = light_set_index_.try_emplace(lights, uint32_t(out_.light_sets.size()));
+        const auto [it, inserted] =
+            light_set_index_.try_emplace(lights, uint32_t(out_.light_sets.size()));
         if (inserted) out_.light_sets.push_back(lights);
         return it->second;
     }
@@ -320,8 +413,10 @@ private:
         if (out.kind != LightKind::Directional) {
             out.position = transform_point(m, l.location);
             out.radius = l.radius * mean_scale(linear);
-            if (!std::isfinite(out.position.x + out.position.y + out.position.z) || !(out.radius >= 0.0)) {
-                report.warn("location", "location or radius is not finite or negative; the light is dropped");
+            if (!std::isfinite(out.position.x + out.position.y + out.position.z) ||
+                !(out.radius >= 0.0)) {
+                report.warn("location",
+                            "location or radius is not finite or negative; the light is dropped");
                 return std::nullopt;
             }
         }
@@ -329,7 +424,7 @@ private:
         return uint32_t(out_.lights.size() - 1);
     }
 
-    // ---- shapes ------------------------------------------------------------------------------------------
+    // ---- shapes
 
     void emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light_set) {
         const sg::Geometry& g = scene_.geometries[shape.geometry];
@@ -337,7 +432,8 @@ private:
             ++stats_.skipped_shapes;
             return;
         }
-        if (stats_.spheres + stats_.quadrics + stats_.meshes >= options_.max_primitives) return stop("primitives");
+        if (stats_.spheres + stats_.quadrics + stats_.meshes >= options_.max_primitives)
+            return stop("primitives");
         const uint32_t material = material_of(shape, g);
         const uint32_t shading = shading_of(material, light_set);
 
@@ -361,24 +457,28 @@ private:
             return;
         }
         if (const auto* c = std::get_if<sg::Cylinder>(&g.shape)) {
-            Quadric& q = add_quadric(QuadricKind::Cylinder, m, Vec3(2 * c->radius, c->height, 2 * c->radius), shading);
+            Quadric& q = add_quadric(QuadricKind::Cylinder, m,
+                                     Vec3(2 * c->radius, c->height, 2 * c->radius), shading);
             q.side = c->side, q.top = c->top, q.bottom = c->bottom;
             return;
         }
         if (const auto* c = std::get_if<sg::Cone>(&g.shape)) {
-            Quadric& q = add_quadric(QuadricKind::Cone, m, Vec3(2 * c->bottom_radius, c->height, 2 * c->bottom_radius),
-                                     shading);
+            Quadric& q =
+                add_quadric(QuadricKind::Cone, m,
+                            Vec3(2 * c->bottom_radius, c->height, 2 * c->bottom_radius), shading);
             q.side = c->side, q.top = false, q.bottom = c->bottom;
             return;
         }
         const bool want_uvs = out_.materials[material].texture >= 0;
-        std::optional<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
-        if (!cached) cached = triangulate_geometry(g, want_uvs, diagnostics_);
+        std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
+        if (!cached)
+            cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
         if (cached->triangles.empty()) {
             ++stats_.skipped_shapes;
             return;
         }
-        if (stats_.triangles + cached->triangle_count() > options_.max_triangles) return stop("triangles");
+        if (stats_.triangles + cached->triangle_count() > options_.max_triangles)
+            return stop("triangles");
         out_.meshes.push_back(world_mesh(*cached, m, shading));
         ++stats_.meshes;
         stats_.triangles += cached->triangle_count();
@@ -401,7 +501,8 @@ private:
         mesh.solid = t.solid;
         mesh.shading = shading;
         mesh.positions.resize(t.positions.size());
-        for (size_t i = 0; i < t.positions.size(); ++i) mesh.positions[i] = transform_point(m, t.positions[i]);
+        for (size_t i = 0; i < t.positions.size(); ++i)
+            mesh.positions[i] = transform_point(m, t.positions[i]);
         mesh.triangles = t.triangles;
         mesh.uvs = t.uvs;
         mesh.colors = t.colors;
@@ -416,7 +517,8 @@ private:
             }
         }
         if (glm::determinant(linear) < 0.0) {
-            // A mirror turns counter-clockwise into clockwise: swap two corners to keep the front side.
+            // A mirror turns counter-clockwise into clockwise: swap two corners to keep the front
+            // side.
             for (size_t c = 0; c + 2 < mesh.triangles.size(); c += 3) {
                 std::swap(mesh.triangles[c + 1], mesh.triangles[c + 2]);
                 if (!mesh.normals.empty()) std::swap(mesh.normals[c + 1], mesh.normals[c + 2]);
@@ -429,8 +531,10 @@ private:
 
     void stop(const char* what) {
         if (!stopped_)
-            diagnostics_.error(SourceLoc{}, std::string("the scene expands to more ") + what +
-                                                " than the limit allows (DEF/USE instancing); the rest is not rendered");
+            diagnostics_.error(
+                SourceLoc{},
+                std::string("the scene expands to more ") + what +
+                    " than the limit allows (DEF/USE instancing); the rest is not rendered");
         stopped_ = true;
     }
 
@@ -439,11 +543,12 @@ private:
         return options_.spheres == SpheresOption::Gas;
     }
 
-    // ---- materials -----------------------------------------------------------------------------------
+    // ---- materials
 
     uint32_t material_of(const sg::Shape& shape, const sg::Geometry& g) {
-        const bool plain = !shape.hints.any() && !g.hints.any();
-        const size_t slot = shape.appearance == sg::kNone ? scene_.appearances.size() : shape.appearance;
+        const bool plain = shape.hints == sg::kNone && g.hints == sg::kNone;
+        const size_t slot =
+            shape.appearance == sg::kNone ? scene_.appearances.size() : shape.appearance;
         if (plain && appearance_material_[slot] >= 0) return uint32_t(appearance_material_[slot]);
         const uint32_t index = intern_material(resolve_material(shape, g));
         if (plain) appearance_material_[slot] = int32_t(index);
@@ -451,7 +556,8 @@ private:
     }
 
     uint32_t intern_material(const Material& m) {
-        const auto [it, inserted] = material_index_.try_emplace(key_of(m), uint32_t(out_.materials.size()));
+        const auto [it, inserted] =
+            material_index_.try_emplace(key_of(m), uint32_t(out_.materials.size()));
         if (inserted) out_.materials.push_back(m);
         return it->second;
     }
@@ -466,20 +572,23 @@ private:
     Material resolve_material(const sg::Shape& shape, const sg::Geometry& g) {
         Material out;
         sg::Hints hints;
-        const sg::Appearance* app = shape.appearance == sg::kNone ? nullptr : &scene_.appearances[shape.appearance];
+        const sg::Appearance* app =
+            shape.appearance == sg::kNone ? nullptr : &scene_.appearances[shape.appearance];
         if (app && app->texture != sg::kNone) out.texture = texture_of(app->texture);
         if (app && app->has_texture_transform) {
             const sg::TextureTransform& t = app->texture_transform;
-            out.texture_transform = texture_transform_matrix(t.center, t.rotation, t.scale, t.translation);
+            out.texture_transform =
+                texture_transform_matrix(t.center, t.rotation, t.scale, t.translation);
         }
         if (!app || app->material == sg::kNone) {
             out.lit = false;
         } else {
             const sg::Material& m = scene_.materials[app->material];
-            hints = m.hints;
+            hints = scene_.hints_of(m.hints);
             NodeReport report(diagnostics_, m.origin);
             auto colour = [&](const Vec3& c, const Vec3& fallback) {
-                if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) return glm::clamp(c, 0.0, 1.0);
+                if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z))
+                    return glm::clamp(c, 0.0, 1.0);
                 report.warn("non-finite", "has a NaN or infinite colour; using the default");
                 return fallback;
             };
@@ -503,19 +612,20 @@ private:
                 if (out.texture >= 0) out.lit = false;
             }
         }
-        hints.override_with(shape.hints);
-        hints.override_with(g.hints);
+        hints.override_with(scene_.hints_of(shape.hints));
+        hints.override_with(scene_.hints_of(g.hints));
         if (hints.reflectivity >= 0.0) out.reflectivity = hints.reflectivity;
         if (hints.ior >= 0.0) out.ior = hints.ior;
         if (hints.sphere_mode != sg::SphereHint::Unset)
-            out.sphere_mode = int8_t(hints.sphere_mode == sg::SphereHint::Gas ? SphereMode::Gas : SphereMode::Opaque);
+            out.sphere_mode = int8_t(hints.sphere_mode == sg::SphereHint::Gas ? SphereMode::Gas
+                                                                              : SphereMode::Opaque);
         out.density = hints.density >= 0.0 ? hints.density : options_.density;
         out.albedo = hints.albedo.x >= 0.0 ? hints.albedo : out.diffuse;
         out.emission = hints.emission.x >= 0.0 ? hints.emission : out.emissive;
         return out;
     }
 
-    // ---- textures ----------------------------------------------------------------------------------------
+    // ---- textures
 
     int32_t texture_of(sg::Index t) {
         if (texture_index_[t] != kUnloaded) return texture_index_[t];
@@ -533,7 +643,8 @@ private:
                 for (int c = 0; c < tex.components; ++c) {
                     // Packed high byte first: 0xRRGGBB, 0xIIAA, ...
                     const int shift = 8 * (tex.components - 1 - c);
-                    out.texels[p * tex.components + c] = float((tex.pixels[p] >> shift) & 0xFFu) / 255.0f;
+                    out.texels[p * tex.components + c] =
+                        float((tex.pixels[p] >> shift) & 0xFFu) / 255.0f;
                 }
             out_.textures.push_back(std::move(out));
             index = int32_t(out_.textures.size() - 1);
@@ -544,12 +655,13 @@ private:
         return index;
     }
 
-    int32_t load_image(const std::vector<std::string>& urls, const std::filesystem::path& from_file, bool repeat_s,
-                       bool repeat_t, const sg::Origin& origin) {
+    int32_t load_image(const std::vector<std::string>& urls, const std::filesystem::path& from_file,
+                       bool repeat_s, bool repeat_t, const sg::Origin& origin) {
         std::vector<std::filesystem::path> roots = options_.allowed_roots;
         if (roots.empty()) roots = scene_.allowed_roots;
         std::filesystem::path from = from_file;
-        if (from.empty()) from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
+        if (from.empty())
+            from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
         if (roots.empty() && !from.empty()) roots.push_back(from.parent_path());
         std::string reasons;
         for (const std::string& url : urls) {
@@ -559,7 +671,8 @@ private:
                 reasons += (reasons.empty() ? "" : "; ") + url + ": " + why;
                 continue;
             }
-            const std::string key = path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
+            const std::string key =
+                path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
             if (const auto it = image_index_.find(key); it != image_index_.end()) return it->second;
             ImageData image;
             std::string error;
@@ -579,7 +692,8 @@ private:
             image_index_[key] = index;
             return index;
         }
-        NodeReport(diagnostics_, origin).warn("texture", "no texture image could be loaded (" + reasons + "); untextured");
+        NodeReport(diagnostics_, origin)
+            .warn("texture", "no texture image could be loaded (" + reasons + "); untextured");
         return -1;
     }
 
@@ -591,8 +705,10 @@ private:
 
     Vec3 viewer_position_{0.0, 0.0, 10.0};
     Vec3 viewer_up_{0.0, 1.0, 0.0};
-    std::vector<int8_t> bindable_memo_;
-    std::vector<uint32_t> scoped_;        // scoped lights in effect along the current path
+    Vec3 viewer_back_{0.0, 0.0, 1.0};
+    std::vector<uint8_t> has_bindable_;  // per group
+    size_t collect_visits_ = 0;
+    std::vector<uint32_t> scoped_;  // scoped lights in effect along the current path
     std::vector<uint32_t> global_lights_;
     std::map<std::vector<uint32_t>, uint32_t> light_set_index_;
     std::unordered_map<MaterialKey, uint32_t, MaterialKeyHash, MaterialKeyEqual> material_index_;
@@ -600,8 +716,11 @@ private:
     std::unordered_map<uint64_t, uint32_t> shading_index_;
     std::vector<int32_t> texture_index_;
     std::unordered_map<std::string, int32_t> image_index_;
-    std::vector<std::optional<TriMesh>> mesh_cache_[2];  // per geometry, without / with texture coordinates
+    std::vector<std::unique_ptr<TriMesh>>
+        mesh_cache_[2];  // per geometry, without / with texture coordinates
     bool stopped_ = false;
+    bool depth_warned_ = false;
+    size_t visits_ = 0;
 };
 
 }  // namespace

@@ -1,35 +1,43 @@
-// Typed scene -> the tracer's FlatScene: world-space primitives, deduplicated materials and shadings, light
-// sets, textures, viewpoints, background, fog, headlight.
+// Typed scene -> the tracer's FlatScene: world-space primitives, deduplicated materials and
+// shadings, light sets, textures, viewpoints, background, fog, headlight.
 //
 // What it does and how it reads the specifications:
-// * Transforms compose down the graph; a node USEd n times is emitted n times (each with its own world
-//   transform). Meshes are triangulated once per geometry node and copied per use (instancing in the tracer
-//   is future work). A subtree under a singular Transform is skipped (build_scene warned).
-// * Sphere: under a rotation and uniform scale it stays a Sphere (world centre and radius); under any other
-//   scale it becomes an Ellipsoid quadric. Its `gas` flag: the sphereMode hint (Sphere over Shape over
-//   Material) if set, else --spheres (FromHints and Opaque give opaque).
+// * Transforms compose down the graph; a node USEd n times is emitted n times (each with its own
+//   world transform). Meshes are triangulated once per geometry node and copied per use (instancing
+//   in the tracer is future work). A subtree under a singular Transform is skipped (build_scene
+//   warned).
+// * Sphere: under a rotation and uniform scale it stays a Sphere (world centre and radius); under
+//   any other scale it becomes an Ellipsoid quadric. Its `gas` flag: the sphereMode hint (Sphere
+//   over Shape over Material) if set, else --spheres (FromHints and Opaque give opaque).
 // * Box/Cylinder/Cone: quadrics in object space with world_from_object the shape's transform.
-// * Materials: Material as VRML97; PhysicalMaterial as a Material with diffuse = baseColor, emissive,
-//   transparency and the reflectivity hint metallic*(1-roughness) unless a reflectivity hint is given;
-//   UnlitMaterial as a Material that only emits its emissiveColor (diffuse, specular and ambient 0), or
-//   unlit (lit FALSE, texture colour) when textured; no Material: unlit. Hints override. Gas parameters are
-//   resolved here: density = hint or FlattenOptions::density, albedo = hint or diffuseColor, emission = hint
-//   or emissiveColor. Identical materials (every field equal) share one entry.
-// * Lights: DirectionalLight lights the subtree of its parent group (X3D `global` TRUE: everything);
-//   PointLight/SpotLight light everything (X3D `global` FALSE: their parent's subtree). `on FALSE` lights
-//   are dropped. Positions and directions go to world space; radius is scaled by |det|^(1/3) of the
-//   transform's linear part (exact for uniform scales; the geometric mean of the axis scales otherwise).
-//   Each shape's light set = the scoped lights above it + all global lights.
-// * Bindable nodes: the first NavigationInfo, Background and Fog in file order are used, preferring the main
-//   file's over inlined files' (VRML97 4.6.10 binds none from Inlines; we fall back to them when the main
-//   file has none). Viewpoints keep file order with the main file's first. Background rotation: the
-//   rotation of its transform (scale removed). Fog visibilityRange is scaled like a light's radius.
-//   Bindable nodes under a Billboard ignore the Billboard's rotation.
-// * Billboard: rotates its children about axisOfRotation so that local +Z points at the chosen viewpoint
-//   (options.viewpoint, else the first); axis 0 0 0: +Z points at the viewer and +Y along the viewer's up.
+// * Materials: Material as VRML97; PhysicalMaterial as a Material with diffuse = baseColor,
+//   emissive, transparency and the reflectivity hint metallic*(1-roughness) unless a reflectivity
+//   hint is given; UnlitMaterial as a Material that only emits its emissiveColor (diffuse, specular
+//   and ambient 0), or unlit (lit FALSE, texture colour) when textured; no Material: unlit. Hints
+//   override. Gas parameters are resolved here: density = hint or FlattenOptions::density, albedo =
+//   hint or diffuseColor, emission = hint or emissiveColor. Identical materials (every field equal)
+//   share one entry.
+// * Lights: DirectionalLight lights the subtree of its parent group (X3D `global` TRUE:
+//   everything); PointLight/SpotLight light everything (X3D `global` FALSE: their parent's
+//   subtree). `on FALSE` lights are dropped. Positions and directions go to world space; radius is
+//   scaled by |det|^(1/3) of the transform's linear part (exact for uniform scales; the geometric
+//   mean of the axis scales otherwise). Each shape's light set = the scoped lights above it + all
+//   global lights.
+// * Bindable nodes: the first NavigationInfo, Background and Fog in file order are used, preferring
+//   the main file's over inlined files' (VRML97 4.6.10 binds none from Inlines; we fall back to
+//   them when the main file has none). Viewpoints keep file order with the main file's first; a
+//   fieldOfView outside (0, pi) is clamped into [0.01, pi - 0.01] with a warning; OrthoViewpoint
+//   extents are scaled like a light's radius. Background rotation: the rotation of its transform
+//   (scale removed). Fog visibilityRange is scaled like a light's radius. Bindable nodes under a
+//   Billboard ignore the Billboard's rotation.
+// * Billboard: rotates its children about axisOfRotation so that local +Z points at the chosen
+//   viewpoint (options.viewpoint, else the first; with none the default camera at 0 0 10). Axis 0 0
+//   0 is screen-aligned: local +Z along the camera's backward axis and +Y along its up axis. (--fit
+//   moves the camera after flattening; billboards keep facing the viewpoint.)
 // * Textures: URLs resolved with resolve_url from the file the node stands in, limited to
-//   FlattenOptions::allowed_roots (or Scene::allowed_roots when empty); loaded once per file and repeat mode.
-//   A texture that cannot be found or read is one warning; the shape renders untextured.
+//   FlattenOptions::allowed_roots (or Scene::allowed_roots when empty); loaded once per file and
+//   repeat mode. A texture that cannot be found or read is one warning; the shape renders
+//   untextured.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -48,15 +56,19 @@ struct FlattenOptions {
     std::string viewpoint;  // for Billboard: faces the chosen viewpoint (first if empty)
     std::filesystem::path scene_file;
     std::vector<std::filesystem::path> allowed_roots;
-    // Bounds against instancing blow-up (a DEF'd group USEd many times inside other USEd groups): past them
-    // flattening stops emitting with one error.
-    size_t max_primitives = 200'000'000;  // spheres + quadrics + meshes
-    size_t max_triangles = 200'000'000;
-    size_t max_depth = 2000;  // group nesting along one path
+    // Bounds against instancing blow-up (a DEF'd group USEd many times inside other USEd groups):
+    // past them flattening stops emitting with one error. 50M spheres already take 2 GB in the
+    // FlatScene.
+    size_t max_primitives = 50'000'000;  // spheres + quadrics + meshes
+    size_t max_triangles = 100'000'000;
+    size_t max_group_visits = 100'000'000;
+    size_t max_depth =
+        2000;  // group nesting along one path (deeper parts are skipped with a warning)
 };
 
 struct FlattenStats {
-    size_t spheres = 0, quadrics = 0, meshes = 0, triangles = 0, materials = 0, lights = 0, textures = 0;
+    size_t spheres = 0, quadrics = 0, meshes = 0, triangles = 0, materials = 0, lights = 0,
+           textures = 0;
     size_t skipped_shapes = 0;  // shapes with no renderable geometry
 };
 

@@ -141,64 +141,31 @@ bool fan_meets_sphere(const Fan& fan, const Vec3& c, double r) {
     return false;
 }
 
-// Gauss-Kronrod 7/15 nodes and weights (the standard QUADPACK qk15 rule) on [-1, 1].
-constexpr double kXgk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-                            0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-                            0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-                            0.207784955007898467600689403773245, 0.0};
-constexpr double kWgk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-                            0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-                            0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-                            0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-constexpr double kWg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                           0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+// Gauss-Kronrod 3/7 rule on [-1, 1]: the 3-point Gauss rule and its 7-point Kronrod extension, whose
+// difference is the panel's error estimate (pessimistic for smooth integrands, so the estimate is honest).
+constexpr double kXk[4] = {0.960491268708020283423507092629080, 0.774596669241483377035853079956480,
+                           0.434243749346802558002071502844628, 0.0};
+constexpr double kWk[4] = {0.104656226026467265193823857192073, 0.268488089868333440728569280666710,
+                           0.401397414775962222905051818618432, 0.450916538658474142345110087045571};
+constexpr double kWg[2] = {0.555555555555555555555555555555556, 0.888888888888888888888888888888889};
 
 struct Panel {
     double a, b, value, error;
+    uint32_t piece;
 };
 
 template <class F>
-Panel gauss_kronrod(F&& f, double a, double b) {
+Panel gauss_kronrod(F&& f, double a, double b, uint32_t piece) {
     const double centre = 0.5 * (a + b), half = 0.5 * (b - a);
     const double fc = f(centre);
-    double kronrod = fc * kWgk[7], gauss = fc * kWg[3];
-    for (int j = 0; j < 7; ++j) {
-        const double dx = half * kXgk[j];
-        const double f1 = f(centre - dx), f2 = f(centre + dx);
-        kronrod += kWgk[j] * (f1 + f2);
-        if (j % 2 == 1) gauss += kWg[j / 2] * (f1 + f2);
+    double kronrod = fc * kWk[3], gauss = fc * kWg[1];
+    for (int j = 0; j < 3; ++j) {
+        const double dx = half * kXk[j];
+        const double sum = f(centre - dx) + f(centre + dx);
+        kronrod += kWk[j] * sum;
+        if (j == 1) gauss += kWg[0] * sum;
     }
-    return {a, b, kronrod * half, std::abs((kronrod - gauss) * half)};
-}
-
-// Global adaptive quadrature (QUADPACK's QAG idea): keep bisecting the panel with the largest error
-// estimate until the summed estimate is below `tolerance` times the summed value.
-template <class F>
-double integrate_adaptive(F&& f, const std::vector<double>& cuts, double tolerance) {
-    std::vector<Panel> panels;
-    panels.reserve(cuts.size() + 32);
-    for (size_t i = 0; i + 1 < cuts.size(); ++i)
-        if (cuts[i + 1] > cuts[i]) panels.push_back(gauss_kronrod(f, cuts[i], cuts[i + 1]));
-    auto by_error = [](const Panel& x, const Panel& y) { return x.error < y.error; };
-    std::make_heap(panels.begin(), panels.end(), by_error);
-    constexpr size_t kMaxPanels = 400;
-    for (;;) {
-        double value = 0.0, error = 0.0;
-        for (const Panel& p : panels) {
-            value += p.value;
-            error += p.error;
-        }
-        if (error <= tolerance * std::abs(value) || error == 0.0 || panels.size() >= kMaxPanels) return value;
-        std::pop_heap(panels.begin(), panels.end(), by_error);
-        const Panel worst = panels.back();
-        panels.pop_back();
-        const double mid = 0.5 * (worst.a + worst.b);
-        if (!(mid > worst.a && mid < worst.b)) return value;  // cannot split further in double
-        panels.push_back(gauss_kronrod(f, worst.a, mid));
-        std::push_heap(panels.begin(), panels.end(), by_error);
-        panels.push_back(gauss_kronrod(f, mid, worst.b));
-        std::push_heap(panels.begin(), panels.end(), by_error);
-    }
+    return {a, b, kronrod * half, std::abs((kronrod - gauss) * half), piece};
 }
 
 }  // namespace
@@ -366,65 +333,52 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
                                        GasStats& stats) const {
     Result result;
     if (spheres_.empty()) return result;
+    // Pieces of constant sphere membership, front to back.
+    struct Piece {
+        double a, b, T, sigma;
+    };
     thread_local std::vector<Event> events;
     thread_local std::vector<uint32_t> active;
-    thread_local std::vector<Vec3> coef;
-    thread_local std::vector<double> cuts;
+    thread_local std::vector<Piece> pieces;
+    thread_local std::vector<Vec3> coef;  // [piece * n_lights + light]: sigma*rho of the spheres it reaches
     collect_events(ray, t_end, events);
-    active.clear();
     const size_t n_lights = lighting.lights ? lighting.lights->size() : 0;
+    active.clear();
+    pieces.clear();
+    coef.clear();
     double T = 1.0;
     Vec3 L(0.0);
     double prev = 0.0;
     for (const Event& e : events) {
         if (!active.empty() && e.t > prev && T > 0.0) {
-            ++stats.pieces;
             const double a = prev, b = e.t, width = b - a;
             double sigma = 0.0;
             Vec3 sigma_e(0.0), sigma_rho(0.0);
-            coef.assign(n_lights, Vec3(0.0));
+            const size_t base = coef.size();
+            coef.resize(base + n_lights, Vec3(0.0));
             for (uint32_t id : active) {
                 const GasSphere& g = spheres_[id];
                 sigma += g.sigma;
                 sigma_e += g.sigma_e;
                 sigma_rho += g.sigma_rho;
                 if (n_lights && (g.sigma_rho.x > 0.0 || g.sigma_rho.y > 0.0 || g.sigma_rho.z > 0.0))
-                    for (uint32_t l : (*lighting.light_sets)[g.light_set]) coef[l] += g.sigma_rho;
+                    for (uint32_t l : (*lighting.light_sets)[g.light_set]) coef[base + l] += g.sigma_rho;
             }
             const double x = sigma * width;
-            const double exact = width * one_minus_exp_over_x(x);  // integral of exp(-sigma (t - a)) over the piece
+            const double exact = width * one_minus_exp_over_x(x);  // integral of exp(-sigma (t - a))
+            // Emission, and every light term constant along the piece, in closed form.
             L += T * exact * sigma_e;
-            if (lighting.headlight && (sigma_rho.x > 0.0 || sigma_rho.y > 0.0 || sigma_rho.z > 0.0)) {
+            if (lighting.headlight) {
                 const Light& h = *lighting.headlight;
-                ++stats.closed_form;
                 L += T * exact * (h.ambient_intensity + h.intensity) * sigma_rho * h.color;
             }
             for (size_t li = 0; li < n_lights; ++li) {
-                if (!(coef[li].x > 0.0 || coef[li].y > 0.0 || coef[li].z > 0.0)) continue;
                 const Light& light = (*lighting.lights)[li];
-                double weight_integral = 0.0;
-                bool ambient_in_quadrature = true;
-                if (light.kind == LightKind::Directional) {
-                    // att = spot = 1: the ambient term is constant along the piece.
-                    weight_integral += light.ambient_intensity * exact;
-                    ambient_in_quadrature = false;
-                    ++stats.closed_form;
-                }
-                if (light.intensity > 0.0 || ambient_in_quadrature) {
-                    ++stats.quadrature;
-                    cuts.clear();
-                    cuts.push_back(a);
-                    split_points(light, ray, a, b, cuts);
-                    cuts.push_back(b);
-                    std::sort(cuts.begin() + 1, cuts.end() - 1);
-                    auto f = [&](double t) {
-                        return std::exp(-sigma * (t - a)) *
-                               light_weight(light, ray.at(t), ambient_in_quadrature, lighting.surfaces, stats);
-                    };
-                    weight_integral += integrate_adaptive(f, cuts, tolerance);
-                }
-                L += T * weight_integral * coef[li] * light.color;
+                if (light.kind == LightKind::Directional)  // att = spot = 1: the ambient term is constant
+                    L += T * exact * light.ambient_intensity * coef[base + li] * light.color;
             }
+            ++stats.pieces;
+            pieces.push_back({a, b, T, sigma});
             T *= std::exp(-x);
         }
         if (e.enter) {
@@ -434,6 +388,94 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
             if (it != active.end()) active.erase(it);
         }
         prev = std::max(prev, e.t);
+    }
+    // The rest of each light's term varies along a piece (shadows, attenuation, spot): integrated over the
+    // whole ray at once, so that the error goes where the light is, to tolerance * the light's total.
+    thread_local std::vector<Panel> panels;
+    thread_local std::vector<double> cuts;
+    thread_local std::vector<std::pair<double, uint32_t>> order;
+    for (size_t li = 0; li < n_lights; ++li) {
+        const Light& light = (*lighting.lights)[li];
+        const bool ambient_varies = light.kind != LightKind::Directional;
+        const double w_max = (ambient_varies ? light.ambient_intensity : 0.0) + light.intensity;
+        if (!(w_max > 0.0)) continue;
+        // Scalar weight of a piece (its colour factor's largest channel), and a bound on its integral:
+        // w <= w_max since att, spot and V are at most 1.
+        auto scale = [&](size_t p) {
+            const Vec3 c = coef[p * n_lights + li] * light.color;
+            return std::max(c.x, std::max(c.y, c.z));
+        };
+        order.clear();
+        double remaining = 0.0;
+        for (size_t p = 0; p < pieces.size(); ++p) {
+            const double s = scale(p);
+            if (!(s > 0.0)) continue;
+            const Piece& pc = pieces[p];
+            const double bound = pc.T * s * w_max * (pc.b - pc.a) * one_minus_exp_over_x(pc.sigma * (pc.b - pc.a));
+            order.push_back({bound, uint32_t(p)});
+            remaining += bound;
+        }
+        if (order.empty()) continue;
+        std::sort(order.begin(), order.end(), [](auto& x, auto& y) { return x.first > y.first; });
+        auto integrand = [&](uint32_t p) {
+            const Piece& pc = pieces[p];
+            const double s = scale(p);
+            return [&, p, s](double t) {
+                return pc.T * s * std::exp(-pc.sigma * (t - pc.a)) *
+                       light_weight(light, ray.at(t), ambient_varies, lighting.surfaces, stats);
+            };
+        };
+        // Pieces in order of their bound; once the bounds of all the rest are below a quarter of the
+        // tolerance times what has been found so far (a lower bound of the total), they are left out.
+        panels.clear();
+        double found = 0.0;
+        for (const auto& [bound, p] : order) {
+            if (remaining <= 0.25 * tolerance * found) break;
+            remaining -= bound;
+            const Piece& pc = pieces[p];
+            cuts.clear();
+            cuts.push_back(pc.a);
+            split_points(light, ray, pc.a, pc.b, cuts);
+            cuts.push_back(pc.b);
+            std::sort(cuts.begin() + 1, cuts.end() - 1);
+            auto f = integrand(p);
+            for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+                if (!(cuts[i + 1] > cuts[i])) continue;
+                panels.push_back(gauss_kronrod(f, cuts[i], cuts[i + 1], p));
+                found += panels.back().value;
+            }
+            ++stats.quadrature;
+        }
+        // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance.
+        auto by_error = [](const Panel& x, const Panel& y) { return x.error < y.error; };
+        std::make_heap(panels.begin(), panels.end(), by_error);
+        const size_t max_panels = panels.size() + 2000;
+        for (;;) {
+            double value = 0.0, error = 0.0;
+            for (const Panel& pn : panels) {
+                value += pn.value;
+                error += pn.error;
+            }
+            if (error <= 0.75 * tolerance * std::abs(value) || error == 0.0 || panels.size() >= max_panels) break;
+            std::pop_heap(panels.begin(), panels.end(), by_error);
+            const Panel worst = panels.back();
+            panels.pop_back();
+            const double mid = 0.5 * (worst.a + worst.b);
+            if (!(mid > worst.a && mid < worst.b)) {  // cannot split further in double: keep it as it is
+                panels.push_back({worst.a, worst.b, worst.value, 0.0, worst.piece});
+                std::push_heap(panels.begin(), panels.end(), by_error);
+                continue;
+            }
+            auto f = integrand(worst.piece);
+            panels.push_back(gauss_kronrod(f, worst.a, mid, worst.piece));
+            std::push_heap(panels.begin(), panels.end(), by_error);
+            panels.push_back(gauss_kronrod(f, mid, worst.b, worst.piece));
+            std::push_heap(panels.begin(), panels.end(), by_error);
+        }
+        for (const Panel& pn : panels) {
+            const double s = scale(pn.piece);
+            if (s > 0.0) L += (pn.value / s) * coef[pn.piece * n_lights + li] * light.color;
+        }
     }
     result.radiance = L;
     result.transmittance = T;

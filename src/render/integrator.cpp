@@ -31,14 +31,23 @@ bool refract_direction(const Vec3& d, const Vec3& n, double eta, Vec3& out) {
 }
 
 Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera& camera,
-                       const RenderOptions& options)
-    : scene_(scene), accel_(accel), options_(options), background_(scene, options.background) {
+                       const RenderOptions& options, const GasVolume* gas)
+    : scene_(scene),
+      accel_(accel),
+      options_(options),
+      background_(scene, options.background),
+      gas_(gas && !gas->empty() ? gas : nullptr) {
     const Vec3 view = camera.forward();
     lights_ = scene.lights;
     for (Light& l : lights_) {
         if (l.headlight) l.direction = view;
         double len = glm::length(l.direction);
         l.direction = len > 0.0 && std::isfinite(len) ? l.direction / len : Vec3(0.0, 0.0, -1.0);
+    }
+    textured_.resize(scene.shadings.size(), false);
+    for (size_t i = 0; i < scene.shadings.size(); ++i) {
+        uint32_t m = scene.shadings[i].material;
+        textured_[i] = m < scene.materials.size() && scene.materials[m].texture >= 0;
     }
     // NavigationInfo headlight: directional along the view, intensity 1, ambient 0, white.
     has_headlight_ = scene.headlight;
@@ -48,10 +57,16 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
     headlight_.ambient_intensity = 0.0;
     headlight_.direction = view;
     headlight_.headlight = true;
+    if (gas_) {
+        gas_lighting_.lights = &lights_;
+        gas_lighting_.light_sets = &scene_.light_sets;
+        gas_lighting_.headlight = has_headlight_ ? &headlight_ : nullptr;
+        gas_lighting_.surfaces = [this](const Ray& r) { return accel_.transmittance(r); };
+    }
 }
 
-Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng, const Vec3& ns,
-                             const Vec3& to_viewer, RayCounters& counters) const {
+Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng,
+                             const Vec3& ns, const Vec3& to_viewer, RayCounters& counters) const {
     if (!look.lit) return look.diffuse;
     Vec3 color = look.emissive;
     const double exponent = look.shininess * 128.0;
@@ -69,10 +84,13 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
         if (n_dot_l > 0.0 && light.intensity > 0.0) {
             double visibility = 1.0;
             if (!light.headlight) {
-                Ray shadow = light.kind == LightKind::Directional ? spawn_ray(hit.p, hit.p_error, ng, l)
-                                                                  : spawn_ray_to(hit.p, hit.p_error, ng, light.position);
+                Ray shadow = light.kind == LightKind::Directional
+                                 ? spawn_ray(hit.p, hit.p_error, ng, l)
+                                 : spawn_ray_to(hit.p, hit.p_error, ng, light.position);
                 ++counters.shadow;
                 visibility = accel_.transmittance(shadow);
+                // Gas spheres on the way dim the light by their transmittance (SPEC section 5).
+                if (gas_ && visibility > 0.0) visibility *= std::exp(-gas_->optical_depth(shadow));
             }
             if (visibility > 0.0) {
                 Vec3 h = l + to_viewer;
@@ -101,7 +119,32 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
     return trace(ray, 0, 1.0, counters);
 }
 
-SampleValue Integrator::trace(const Ray& ray, int depth, double weight, RayCounters& counters) const {
+SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
+                              RayCounters& counters) const {
+    if (!gas_) return trace_surfaces(ray, depth, weight, counters);
+    // Gas along the ray up to the first surface (SPEC section 6): L = gas + T * L_end.
+    Hit hit;
+    const bool hit_surface = accel_.intersect(ray, hit);
+    const double len = glm::length(ray.d);
+    Ray unit = ray;
+    unit.d = ray.d / len;
+    unit.t_max = kInf;
+    GasStats stats;
+    const GasVolume::Result g = gas_->integrate(unit, hit_surface ? hit.t * len : kInf,
+                                                gas_lighting_, options_.tolerance, stats);
+    counters.shadow += stats.visibility_rays;
+    SampleValue out;
+    if (g.transmittance > 0.0) {
+        out = trace_surfaces(ray, depth, weight * g.transmittance, counters);
+        out.color *= g.transmittance;
+        out.background *= g.transmittance;
+    }
+    out.color += g.radiance;
+    return out;
+}
+
+SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
+                                       RayCounters& counters) const {
     SampleValue out;
     Hit hit;
     if (!accel_.intersect(ray, hit)) {
@@ -109,9 +152,8 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight, RayCount
         out.background = 1.0;
         return out;
     }
-    const SurfaceHit s = accel_.surface(ray, hit);
-    // Gas spheres (s.gas) belong to the gas integrator (SPEC section 6), which will integrate the
-    // volume along [0, hit.t] around this call; until then they are shaded as opaque surfaces.
+    const uint32_t shading = accel_.shading_of(hit);
+    const SurfaceHit s = accel_.surface(ray, hit, shading < textured_.size() && textured_[shading]);
     const SurfaceLook look = look_up_surface(scene_, s);
 
     const double len = glm::length(ray.d);
@@ -126,40 +168,47 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight, RayCount
     const double kt = look.transparency, kr = look.reflectivity;
     const double local_weight = std::max(0.0, 1.0 - kr - kt);
     Vec3 color(0.0);
-    if (local_weight > 0.0) color += local_weight * shade_local(s, look, ng, ns, to_viewer, counters);
+    if (local_weight > 0.0)
+        color += local_weight * shade_local(s, look, ng, ns, to_viewer, counters);
 
     double background = 0.0;
     if (depth + 1 < options_.max_depth && (kr > 0.0 || kt > 0.0)) {
         double w_reflect = kr, w_transmit = kt;
         Vec3 t_dir = d;
+        // An interpolated normal can face away from the viewer near silhouettes; mirror and refract
+        // about the true surface then.
+        const Vec3 n = glm::dot(ns, to_viewer) > 0.0 ? ns : ng;
         if (kt > 0.0 && look.ior != 1.0) {
             // Refraction: the outside medium is taken as vacuum; `front` says whether we enter.
             const double eta = front ? 1.0 / look.ior : look.ior;
             double cos_t;
-            const double cos_i = std::clamp(glm::dot(to_viewer, ns), 0.0, 1.0);
+            const double cos_i = std::clamp(glm::dot(to_viewer, n), 0.0, 1.0);
             const double f = fresnel_dielectric(cos_i, eta, cos_t);
             w_reflect += kt * f;
             w_transmit = kt * (1.0 - f);
-            if (w_transmit > 0.0 && !refract_direction(d, ns, eta, t_dir)) {
+            if (w_transmit > 0.0 && !refract_direction(d, n, eta, t_dir)) {
                 w_reflect += w_transmit;
                 w_transmit = 0.0;
             }
             // A shading normal may bend the refracted ray back over the surface: use the true one.
-            if (w_transmit > 0.0 && glm::dot(t_dir, ng) >= 0.0 && !refract_direction(d, ng, eta, t_dir)) {
+            if (w_transmit > 0.0 && glm::dot(t_dir, ng) >= 0.0 &&
+                !refract_direction(d, ng, eta, t_dir)) {
                 w_reflect += w_transmit;
                 w_transmit = 0.0;
             }
         }
         if (w_reflect > 0.0 && weight * w_reflect >= options_.min_weight) {
-            Vec3 r_dir = d - 2.0 * glm::dot(d, ns) * ns;
+            Vec3 r_dir = d - 2.0 * glm::dot(d, n) * n;
             if (glm::dot(r_dir, ng) <= 0.0) r_dir = d - 2.0 * glm::dot(d, ng) * ng;
             ++counters.secondary;
-            SampleValue r = trace(spawn_ray(s.p, s.p_error, ng, r_dir), depth + 1, weight * w_reflect, counters);
+            SampleValue r = trace(spawn_ray(s.p, s.p_error, ng, r_dir), depth + 1,
+                                  weight * w_reflect, counters);
             color += w_reflect * r.color;
         }
         if (w_transmit > 0.0 && weight * w_transmit >= options_.min_weight) {
             ++counters.secondary;
-            SampleValue t = trace(spawn_ray(s.p, s.p_error, ng, t_dir), depth + 1, weight * w_transmit, counters);
+            SampleValue t = trace(spawn_ray(s.p, s.p_error, ng, t_dir), depth + 1,
+                                  weight * w_transmit, counters);
             color += w_transmit * t.color;
             background += w_transmit * t.background;
         }

@@ -10,6 +10,7 @@
 #include "render/background.h"
 #include "render/camera.h"
 #include "render/flat_scene.h"
+#include "render/gas.h"
 #include "render/options.h"
 #include "render/sampling.h"
 #include "render/shading.h"
@@ -35,8 +36,10 @@ double fresnel_dielectric(double cos_i, double eta, double& cos_t);
 bool refract_direction(const Vec3& d, const Vec3& n, double eta, Vec3& out);
 
 class Integrator {
-public:
-    Integrator(const FlatScene& scene, const Accel& accel, const Camera& camera, const RenderOptions& options);
+  public:
+    // `gas`: the scene's gas spheres (may be null or empty: then no gas work is done at all).
+    Integrator(const FlatScene& scene, const Accel& accel, const Camera& camera,
+               const RenderOptions& options, const GasVolume* gas = nullptr);
 
     // A camera ray: colour and the weight with which the background reaches it (alpha = 1 - that).
     SampleValue trace_camera_ray(const Ray& ray, RayCounters& counters) const;
@@ -44,20 +47,27 @@ public:
     // Any ray at recursion depth `depth` (camera rays: 0) whose contribution to the pixel is scaled
     // by `weight`.
     SampleValue trace(const Ray& ray, int depth, double weight, RayCounters& counters) const;
+    // The same without the gas along the ray: the first surface, or the background.
+    SampleValue trace_surfaces(const Ray& ray, int depth, double weight, RayCounters& counters) const;
 
     // The local VRML97 colour at a hit: emissive + sum over lights of on * att * spot * colour *
-    // (ambient + visibility * (diffuse + specular)). `ng`/`ns` face the viewer, `to_viewer` is unit.
+    // (ambient + visibility * (diffuse + specular)). `ng`/`ns` face the viewer, `to_viewer` is
+    // unit.
     Vec3 shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng, const Vec3& ns,
                      const Vec3& to_viewer, RayCounters& counters) const;
 
-private:
+  private:
     const FlatScene& scene_;
     const Accel& accel_;
     const RenderOptions& options_;
     BackgroundModel background_;
-    std::vector<Light> lights_;  // scene lights with unit directions; headlights aimed along the view
+    std::vector<Light>
+        lights_;  // scene lights with unit directions; headlights aimed along the view
+    std::vector<bool> textured_;  // per Shading: needs texture coordinates
     bool has_headlight_ = false;
     Light headlight_;
+    const GasVolume* gas_ = nullptr;  // non-null only when the scene has gas spheres
+    GasVolume::Lighting gas_lighting_;
 };
 
 }  // namespace vr

@@ -1,10 +1,10 @@
 // Quadric roots and the surface data (refined point, error bound, normals, texture coordinates) of
 // every primitive kind. Texture coordinates follow the VRML97 geometry node descriptions (6.3 Box,
 // 6.17 Cone, 6.18 Cylinder, 6.42 Sphere).
+#include "render/intersect.h"
+
 #include <algorithm>
 #include <cmath>
-
-#include "render/intersect.h"
 
 namespace vr {
 namespace {
@@ -28,7 +28,8 @@ QuadricGeom make_quadric_geom(const Quadric& q) {
         for (int j = 0; j < 4; ++j) g.object_from_world[i][j] = q.object_from_world[j][i];
     g.half = q.size * 0.5;
     g.kind = q.kind;
-    g.parts = uint8_t((q.side ? kPartSide : 0) | (q.top ? kPartTop : 0) | (q.bottom ? kPartBottom : 0));
+    g.parts =
+        uint8_t((q.side ? kPartSide : 0) | (q.top ? kPartTop : 0) | (q.bottom ? kPartBottom : 0));
     return g;
 }
 
@@ -115,7 +116,8 @@ int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t,
             return n;
         }
         case QuadricKind::Cone: {
-            // Apex at y = +H, base circle of radius R at y = -H: x^2 + z^2 = k^2 (H - y)^2, k = R / 2H.
+            // Apex at y = +H, base circle of radius R at y = -H: x^2 + z^2 = k^2 (H - y)^2, k = R /
+            // 2H.
             const double radius = h.x, half_height = h.y;
             if ((q.parts & kPartSide) && half_height > 0.0) {
                 const double k = radius / (2.0 * half_height), k2 = k * k;
@@ -123,7 +125,8 @@ int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t,
                 const double a = d.x * d.x + d.z * d.z - k2 * d.y * d.y;
                 const double b = o.x * d.x + o.z * d.z + k2 * w * d.y;
                 const double rho = std::sqrt(o.x * o.x + o.z * o.z), kw = k * std::fabs(w);
-                const double c0 = (rho - kw) * (rho + kw);  // sign: outside (> 0) or inside the cone
+                const double c0 =
+                    (rho - kw) * (rho + kw);  // sign: outside (> 0) or inside the cone
                 double roots[2];
                 int m = 0;
                 if (a == 0.0) {
@@ -160,7 +163,7 @@ int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t,
     return n;
 }
 
-SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t) {
+SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t, bool want_uv) {
     SurfaceHit hit;
     hit.t = t;
     Vec3 n = safe_normalize(ray.at(t) - s.center, -glm::normalize(ray.d));
@@ -169,13 +172,14 @@ SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t) {
     hit.p_error = gamma_bound(6) * (glm::abs(s.center) + Vec3(s.radius));
     hit.ng = n;
     hit.ns = n;
-    hit.uv = Vec2(wrap_s(n.x, n.z), 0.5 + std::asin(std::clamp(n.y, -1.0, 1.0)) / kPi);
+    if (want_uv) hit.uv = Vec2(wrap_s(n.x, n.z), 0.5 + std::asin(std::clamp(n.y, -1.0, 1.0)) / kPi);
     hit.shading = s.shading;
     hit.gas = s.gas;
     return hit;
 }
 
-SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ray, double t, uint8_t part) {
+SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ray, double t,
+                           uint8_t part, bool want_uv) {
     SurfaceHit hit;
     hit.t = t;
     hit.shading = q.shading;
@@ -195,12 +199,24 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
             auto unit = [&](int k) { return h[k] > 0.0 ? 0.5 * (p[k] / h[k] + 1.0) : 0.5; };
             double ux = unit(0), uy = unit(1), uz = unit(2);
             switch (part) {
-                case 0: uv = Vec2(1.0 - uz, uy); break;  // +x: s along -z
-                case 1: uv = Vec2(uz, uy); break;        // -x: s along +z
-                case 2: uv = Vec2(ux, 1.0 - uz); break;  // +y: s along +x, t along -z
-                case 3: uv = Vec2(ux, uz); break;        // -y: s along +x, t along +z
-                case 4: uv = Vec2(ux, uy); break;        // +z (front)
-                default: uv = Vec2(1.0 - ux, uy); break; // -z: s along -x
+                case 0:
+                    uv = Vec2(1.0 - uz, uy);
+                    break;  // +x: s along -z
+                case 1:
+                    uv = Vec2(uz, uy);
+                    break;  // -x: s along +z
+                case 2:
+                    uv = Vec2(ux, 1.0 - uz);
+                    break;  // +y: s along +x, t along -z
+                case 3:
+                    uv = Vec2(ux, uz);
+                    break;  // -y: s along +x, t along +z
+                case 4:
+                    uv = Vec2(ux, uy);
+                    break;  // +z (front)
+                default:
+                    uv = Vec2(1.0 - ux, uy);
+                    break;  // -z: s along -x
             }
             break;
         }
@@ -228,8 +244,9 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
                     // Outward normal: perpendicular to the generator in the (rho, y) half-plane.
                     n = rho > 0.0 ? Vec3(-gy * ux, gx, -gy * uz) : Vec3(0.0, 1.0, 0.0);
                 }
-                uv = Vec2(wrap_s(p.x, p.z),
-                          half_height > 0.0 ? 0.5 * (p.y / half_height + 1.0) : 0.5);
+                if (want_uv)
+                    uv = Vec2(wrap_s(p.x, p.z),
+                              half_height > 0.0 ? 0.5 * (p.y / half_height + 1.0) : 0.5);
             } else {
                 double sign = part == kTop ? 1.0 : -1.0;
                 p.y = sign * half_height;
@@ -244,7 +261,8 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
             Vec3 u = safe_normalize(p / h, Vec3(0.0, 1.0, 0.0));
             p = u * h;
             n = u / h;
-            uv = Vec2(wrap_s(u.x, u.z), 0.5 + std::asin(std::clamp(u.y, -1.0, 1.0)) / kPi);
+            if (want_uv)
+                uv = Vec2(wrap_s(u.x, u.z), 0.5 + std::asin(std::clamp(u.y, -1.0, 1.0)) / kPi);
             break;
         }
     }
@@ -254,10 +272,11 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
     for (int i = 0; i < 3; ++i) {
         double x = w[0][i] * p.x, y = w[1][i] * p.y, z = w[2][i] * p.z;
         hit.p[i] = x + y + z + w[3][i];
-        hit.p_error[i] = gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(w[3][i])) +
-                         (1.0 + gamma_bound(3)) * (std::fabs(w[0][i]) * p_obj_error.x +
-                                                   std::fabs(w[1][i]) * p_obj_error.y +
-                                                   std::fabs(w[2][i]) * p_obj_error.z);
+        hit.p_error[i] =
+            gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(w[3][i])) +
+            (1.0 + gamma_bound(3)) *
+                (std::fabs(w[0][i]) * p_obj_error.x + std::fabs(w[1][i]) * p_obj_error.y +
+                 std::fabs(w[2][i]) * p_obj_error.z);
     }
     const Mat3 normal_from_object = glm::transpose(Mat3(q.object_from_world));
     hit.ng = safe_normalize(normal_from_object * n, -glm::normalize(ray.d));
@@ -266,7 +285,8 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
     return hit;
 }
 
-SurfaceHit triangle_surface(const Mesh& m, uint32_t triangle, const Ray& ray, double t, double b1, double b2) {
+SurfaceHit triangle_surface(const Mesh& m, uint32_t triangle, const Ray& ray, double t, double b1,
+                            double b2) {
     SurfaceHit hit;
     hit.t = t;
     hit.shading = m.shading;

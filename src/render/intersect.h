@@ -2,8 +2,8 @@
 // quadrics (box, cylinder, cone, ellipsoid in object space) and triangles (world space).
 //
 // Every routine reports the roots in (0, t_max) only, and decides which roots exist by quantities
-// whose sign is reliable for a ray spawned by core/ray.h (the origin is then strictly on one side of
-// the surface by more than the rounding error): a ray leaving a surface never re-hits it.
+// whose sign is reliable for a ray spawned by core/ray.h (the origin is then strictly on one side
+// of the surface by more than the rounding error): a ray leaving a surface never re-hits it.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -20,7 +20,9 @@ enum class PrimKind : uint8_t { Sphere = 0, Quadric = 1, Triangle = 2 };
 // A primitive reference: kind in the top two bits, index into that kind's compact array below.
 inline constexpr uint32_t kPrimIndexBits = 30;
 inline constexpr uint32_t kPrimIndexMask = (1u << kPrimIndexBits) - 1;
-inline uint32_t pack_prim(PrimKind kind, uint32_t index) { return (uint32_t(kind) << kPrimIndexBits) | index; }
+inline uint32_t pack_prim(PrimKind kind, uint32_t index) {
+    return (uint32_t(kind) << kPrimIndexBits) | index;
+}
 inline PrimKind prim_kind(uint32_t ref) { return PrimKind(ref >> kPrimIndexBits); }
 inline uint32_t prim_index(uint32_t ref) { return ref & kPrimIndexMask; }
 
@@ -38,7 +40,7 @@ struct QuadricGeom {
     double object_from_world[3][4];  // rows of the affine map
     Vec3 half;                       // half extents in object space (radius, half height, radius)
     QuadricKind kind;
-    uint8_t parts;                   // kPartSide | kPartTop | kPartBottom
+    uint8_t parts;  // kPartSide | kPartTop | kPartBottom
 };
 QuadricGeom make_quadric_geom(const Quadric& q);
 
@@ -49,12 +51,14 @@ struct TriangleGeom {
 // ---------------------------------------------------------------------------------------------
 // Spheres
 
-// Roots of |o + t d - c| = r in (0, t_max), ascending; returns how many (0..2). inv_a = 1/dot(d, d).
+// Roots of |o + t d - c| = r in (0, t_max), ascending; returns how many (0..2). inv_a = 1/dot(d,
+// d).
 //
-// Discriminant in the b'-form (Haines et al., Ray Tracing Gems ch. 7): r^2 - |l|^2 with l the vector
-// from the centre to the ray's closest approach, instead of b^2 - a*c, which cancels catastrophically
-// for far tiny spheres. Whether the origin is inside is decided by |o - c|^2 - r^2 (computed with one
-// rounding by fma); an origin outside keeps both roots, one inside only the far one.
+// Discriminant in the b'-form (Haines et al., Ray Tracing Gems ch. 7): r^2 - |l|^2 with l the
+// vector from the centre to the ray's closest approach, instead of b^2 - a*c, which cancels
+// catastrophically for far tiny spheres. Whether the origin is inside is decided by |o - c|^2 - r^2
+// (computed with one rounding by fma); an origin outside keeps both roots, one inside only the far
+// one.
 inline int sphere_roots(const Vec3& o, const Vec3& d, double inv_a, const Vec3& c, double r,
                         double t_max, double* t) {
     const Vec3 oc = o - c;
@@ -82,8 +86,8 @@ inline int sphere_roots(const Vec3& o, const Vec3& d, double inv_a, const Vec3& 
 // Quadrics
 
 // The ray in the quadric's object space. The transformed origin is advanced along the ray by its
-// rounding-error bound (pbrt-v3 Transform::operator()(Ray)), so that an origin offset off the surface
-// in world space stays off it in object space; `dt` is added back to the object-space t.
+// rounding-error bound (pbrt-v3 Transform::operator()(Ray)), so that an origin offset off the
+// surface in world space stays off it in object space; `dt` is added back to the object-space t.
 struct ObjectRay {
     Vec3 o, d;
     double dt;
@@ -112,9 +116,10 @@ int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t,
 // check that t is positive (pbrt-v4's bound on t's rounding error).
 
 struct TriangleRay {
-    Vec3 o;
-    int kx, ky, kz;
-    double sx, sy, sz;
+    Vec3 o{0.0};
+    int kx = 0, ky = 1, kz = 2;
+    double sx = 0.0, sy = 0.0, sz = 0.0;
+    TriangleRay() = default;  // unused placeholder when a scene has no triangles
     explicit TriangleRay(const Ray& r) : o(r.o) {
         kz = max_dimension(glm::abs(r.d));
         kx = kz == 2 ? 0 : kz + 1;
@@ -152,10 +157,12 @@ inline bool triangle_hit(const TriangleRay& r, const TriangleGeom& tri, double t
     const double delta_z = gamma_bound(3) * max_z;
     const double delta_x = gamma_bound(5) * (max_x + max_z);
     const double delta_y = gamma_bound(5) * (max_y + max_z);
-    const double delta_e = 2.0 * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    const double delta_e =
+        2.0 * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
     const double max_e = std::fmax(std::fabs(e0), std::fmax(std::fabs(e1), std::fabs(e2)));
-    const double delta_t =
-        3.0 * (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(inv_det);
+    const double delta_t = 3.0 *
+                           (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
+                           std::fabs(inv_det);
     if (t <= delta_t) return false;
     t_out = t;
     b1_out = e1 * inv_det;
@@ -170,17 +177,20 @@ struct SurfaceHit {
     double t = 0.0;
     Vec3 p{0.0};        // world, refined onto the surface
     Vec3 p_error{0.0};  // per-component bound on |p - exact|
-    Vec3 ng{0.0, 0.0, 1.0};  // geometric normal, unit: outward (spheres, quadrics) or front (triangles)
+    Vec3 ng{0.0, 0.0,
+            1.0};  // geometric normal, unit: outward (spheres, quadrics) or front (triangles)
     Vec3 ns{0.0, 0.0, 1.0};  // shading normal, unit, on the same side as ng
     Vec2 uv{0.0};            // texture coordinates before the TextureTransform
     bool has_color = false;  // a Color node gives the diffuse colour
     Vec3 color{1.0};
     uint32_t shading = 0;
-    bool gas = false;        // a gas sphere (SPEC section 6); the opaque integrator shades it as opaque
+    bool gas = false;  // a gas sphere (SPEC section 6); the opaque integrator shades it as opaque
 };
 
-SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t);
-SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ray, double t, uint8_t part);
+// Texture coordinates (inverse trigonometry for round shapes) only when `want_uv`.
+SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t, bool want_uv = true);
+SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ray, double t,
+                           uint8_t part, bool want_uv = true);
 SurfaceHit triangle_surface(const Mesh& m, uint32_t triangle, const Ray& ray, double t, double b1,
                             double b2);
 

@@ -23,8 +23,8 @@ double light_attenuation(const Light& light, double distance);
 double spot_factor(const Light& light, const Vec3& from_light);
 
 // Point and spot lights light only geometry within their radius (VRML97 PointLight/SpotLight:
-// `radius`), and then everything of theirs, ambient term included, is scaled by attenuation and spot.
-// Directional lights: factor 1. Expects light.direction to be unit length.
+// `radius`), and then everything of theirs, ambient term included, is scaled by attenuation and
+// spot. Directional lights: factor 1. Expects light.direction to be unit length.
 LightIncidence light_incidence(const Light& light, const Vec3& p);
 
 }  // namespace vr

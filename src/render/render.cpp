@@ -19,7 +19,9 @@ namespace {
 constexpr int kTileSize = 16;
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // Finite, and inside float's range.
 float to_output(double v, uint64_t& nonfinite) {
@@ -45,6 +47,14 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
     int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
     threads = std::max(threads, 1);
 
+    // The image's zero fill and page faults take tens of milliseconds at HD sizes: overlap them
+    // with the BVH build when there is a build worth overlapping.
+    Image image;
+    const bool overlap =
+        scene.spheres.size() + scene.quadrics.size() + scene.triangle_count() > 1000;
+    std::thread allocate;
+    if (overlap) allocate = std::thread([&] { image = Image(width, height); });
+
     const auto build_start = Clock::now();
     Accel accel;
     accel.build(scene, threads);
@@ -52,15 +62,22 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
     stats.bvh_nodes = accel.node_count();
     stats.primitives = accel.primitive_count();
 
-    Image image(width, height);
+    if (overlap)
+        allocate.join();
+    else
+        image = Image(width, height);
     if (width == 0 || height == 0) {
         if (progress) progress(1.0, 0);
         return image;
     }
 
     const auto render_start = Clock::now();
-    const Integrator integrator(scene, accel, camera, options);
-    const int tiles_x = (width + kTileSize - 1) / kTileSize, tiles_y = (height + kTileSize - 1) / kTileSize;
+    GasVolume gas;
+    gas.build(scene, options);
+    const Integrator integrator(scene, accel, camera, options, &gas);
+    const CameraRays camera_rays(camera, width, height);
+    const int tiles_x = (width + kTileSize - 1) / kTileSize,
+              tiles_y = (height + kTileSize - 1) / kTileSize;
     const int tile_count = tiles_x * tiles_y;
     threads = std::min(threads, tile_count);
 
@@ -88,7 +105,7 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
             for (int y = y0; y < y1; ++y) {
                 for (int x = x0; x < x1; ++x) {
                     SampleValue v = camera.sampler.pixel(x, y, [&](double px, double py) {
-                        return integrator.trace_camera_ray(camera.ray(px, py, width, height), c);
+                        return integrator.trace_camera_ray(camera_rays(px, py), c);
                     });
                     float* out = image.pixel(x, y);
                     out[0] = to_output(v.color.x, bad);

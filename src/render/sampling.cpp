@@ -18,7 +18,8 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         }
         int n = int(std::lround(std::sqrt(double(options.spp))));
         if (n * n != options.spp) {
-            error = "sampler '" + name + "' needs a square number of samples per pixel (1, 4, 9, 16, ...), got --spp " +
+            error = "sampler '" + name +
+                    "' needs a square number of samples per pixel (1, 4, 9, 16, ...), got --spp " +
                     std::to_string(options.spp);
             return false;
         }
@@ -26,12 +27,13 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         sampler.n = n;
         return true;
     }
-    if (name == "rgss" || name == "rooks8" || name == "quincunx" || name == "jitter" || name == "adaptive" ||
-        name == "statistical") {
+    if (name == "rgss" || name == "rooks8" || name == "quincunx" || name == "jitter" ||
+        name == "adaptive" || name == "statistical") {
         error = "sampler '" + name + "' is not implemented yet (available: center, grid)";
         return false;
     }
-    error = "unknown sampler '" + name + "' (known: center, grid, rgss, rooks8, quincunx, jitter, adaptive, statistical)";
+    error = "unknown sampler '" + name +
+            "' (known: center, grid, rgss, rooks8, quincunx, jitter, adaptive, statistical)";
     return false;
 }
 

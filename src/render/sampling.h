@@ -1,6 +1,6 @@
-// Pixel samplers (SPEC section 7). A sampler decides where in a pixel to trace and how many times, and
-// averages the results (box filter over the pixel). Implemented: `center` and `grid`; the others named
-// by the SPEC are later work and are rejected by make_sampler with an error.
+// Pixel samplers (SPEC section 7). A sampler decides where in a pixel to trace and how many times,
+// and averages the results (box filter over the pixel). Implemented: `center` and `grid`; the
+// others named by the SPEC are later work and are rejected by make_sampler with an error.
 #pragma once
 #include <cmath>
 #include <string>

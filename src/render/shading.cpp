@@ -9,7 +9,8 @@ namespace {
 double clamp01(double v) { return std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 0.0; }
 Vec3 clamp01(const Vec3& v) { return Vec3(clamp01(v.x), clamp01(v.y), clamp01(v.z)); }
 
-// Texel index and weight along one axis for a coordinate in texel units (centre of texel i at i + 0.5).
+// Texel index and weight along one axis for a coordinate in texel units (centre of texel i at i +
+// 0.5).
 void axis_lookup(double x, int size, bool repeat, int& i0, int& i1, double& frac) {
     double f = std::floor(x - 0.5);
     frac = (x - 0.5) - f;
@@ -32,7 +33,9 @@ void axis_lookup(double x, int size, bool repeat, int& i0, int& i1, double& frac
 TexelValue sample_texture(const Texture& tex, Vec2 st, bool clamp) {
     TexelValue out;
     const int w = tex.width, h = tex.height, ch = tex.channels;
-    if (w <= 0 || h <= 0 || ch < 1 || ch > 4 || tex.texels.size() < size_t(w) * size_t(h) * size_t(ch)) return out;
+    if (w <= 0 || h <= 0 || ch < 1 || ch > 4 ||
+        tex.texels.size() < size_t(w) * size_t(h) * size_t(ch))
+        return out;
     if (!std::isfinite(st.x)) st.x = 0.0;
     if (!std::isfinite(st.y)) st.y = 0.0;
     // Keep coordinates in a range where the integer conversions below are exact.
@@ -53,10 +56,20 @@ TexelValue sample_texture(const Texture& tex, Vec2 st, bool clamp) {
     add(x0, y1, (1.0 - fx) * fy);
     add(x1, y1, fx * fy);
     switch (ch) {
-        case 1: out.rgb = Vec3(v[0]); break;
-        case 2: out.rgb = Vec3(v[0]); out.a = v[1]; break;
-        case 3: out.rgb = Vec3(v[0], v[1], v[2]); break;
-        default: out.rgb = Vec3(v[0], v[1], v[2]); out.a = v[3]; break;
+        case 1:
+            out.rgb = Vec3(v[0]);
+            break;
+        case 2:
+            out.rgb = Vec3(v[0]);
+            out.a = v[1];
+            break;
+        case 3:
+            out.rgb = Vec3(v[0], v[1], v[2]);
+            break;
+        default:
+            out.rgb = Vec3(v[0], v[1], v[2]);
+            out.a = v[3];
+            break;
     }
     return out;
 }
@@ -86,8 +99,10 @@ SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit) {
         const Texture& tex = scene.textures[size_t(m->texture)];
         Vec3 st = m->texture_transform * Vec3(hit.uv, 1.0);
         TexelValue tv = sample_texture(tex, Vec2(st.x, st.y));
-        if (tex.channels <= 2) look.diffuse = clamp01(tv.rgb.x) * base;
-        else look.diffuse = clamp01(tv.rgb);
+        if (tex.channels <= 2)
+            look.diffuse = clamp01(tv.rgb.x) * base;
+        else
+            look.diffuse = clamp01(tv.rgb);
         if (tex.channels == 2 || tex.channels == 4) look.transparency = 1.0 - clamp01(tv.a);
     }
     return look;

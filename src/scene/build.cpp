@@ -1,5 +1,5 @@
-// Node tree -> typed scene: grouping nodes, Shape/Appearance/Material/textures, lights and bindable nodes.
-// Geometry nodes are in build_geometry.cpp.
+// Node tree -> typed scene: grouping nodes, Shape/Appearance/Material/textures, lights and bindable
+// nodes. Geometry nodes are in build_geometry.cpp.
 #include "scene/build.h"
 
 #include <cmath>
@@ -7,6 +7,7 @@
 
 #include "scene/build_internal.h"
 #include "scene/hints.h"
+#include "scene/memory.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 
@@ -21,15 +22,28 @@ const Names& names() {
 namespace {
 
 enum class ChildKind : uint8_t {
-    Group, Transform, Billboard, Switch, LOD, Inline, CADFace, Shape, Light, Viewpoint, Background, Fog,
-    NavigationInfo, Silent, NotModelled,
+    Group,
+    Transform,
+    Billboard,
+    Switch,
+    LOD,
+    Inline,
+    CADFace,
+    Shape,
+    Light,
+    Viewpoint,
+    Background,
+    Fog,
+    NavigationInfo,
+    Silent,
+    NotModelled,
 };
 
 ChildKind child_kind(Name type) {
     static const std::unordered_map<Name, ChildKind> table = [] {
         std::unordered_map<Name, ChildKind> t;
-        for (const char* n : {"Group", "StaticGroup", "Collision", "Anchor", "CADAssembly", "CADLayer",
-                              "PickableGroup", "ViewpointGroup"})
+        for (const char* n : {"Group", "StaticGroup", "Collision", "Anchor", "CADAssembly",
+                              "CADLayer", "PickableGroup", "ViewpointGroup"})
             t[intern(n)] = ChildKind::Group;
         for (const char* n : {"Transform", "CADPart"}) t[intern(n)] = ChildKind::Transform;
         t[intern("Billboard")] = ChildKind::Billboard;
@@ -38,30 +52,35 @@ ChildKind child_kind(Name type) {
         t[intern("Inline")] = ChildKind::Inline;
         t[intern("CADFace")] = ChildKind::CADFace;
         t[intern("Shape")] = ChildKind::Shape;
-        for (const char* n : {"DirectionalLight", "PointLight", "SpotLight"}) t[intern(n)] = ChildKind::Light;
+        for (const char* n : {"DirectionalLight", "PointLight", "SpotLight"})
+            t[intern(n)] = ChildKind::Light;
         for (const char* n : {"Viewpoint", "OrthoViewpoint"}) t[intern(n)] = ChildKind::Viewpoint;
         t[intern("Background")] = ChildKind::Background;
         t[intern("Fog")] = ChildKind::Fog;
         t[intern("NavigationInfo")] = ChildKind::NavigationInfo;
         // Nodes that draw nothing at time 0 (SPEC section 2: parsed and ignored).
-        for (const char* n : {"WorldInfo", "Script", "Sound", "AudioClip", "MetadataSet", "MetadataString",
-                              "MetadataFloat", "MetadataDouble", "MetadataInteger", "MetadataBoolean",
-                              "BooleanToggle", "IntegerTrigger", "TimeTrigger", "BooleanTrigger", "FontStyle",
-                              "ScreenFontStyle", "EspduTransform", "SignalPdu", "ReceiverPdu", "TransmitterPdu"})
+        for (const char* n :
+             {"WorldInfo",       "Script",          "Sound",         "AudioClip",
+              "MetadataSet",     "MetadataString",  "MetadataFloat", "MetadataDouble",
+              "MetadataInteger", "MetadataBoolean", "BooleanToggle", "IntegerTrigger",
+              "TimeTrigger",     "BooleanTrigger",  "FontStyle",     "ScreenFontStyle",
+              "EspduTransform",  "SignalPdu",       "ReceiverPdu",   "TransmitterPdu"})
             t[intern(n)] = ChildKind::Silent;
         return t;
     }();
     const auto it = table.find(type);
     if (it != table.end()) return it->second;
     const std::string_view text = name_text(type);
-    for (std::string_view suffix : {"Sensor", "Interpolator", "Sequencer", "Trigger", "Filter", "Chaser", "Damper"})
-        if (text.size() > suffix.size() && text.substr(text.size() - suffix.size()) == suffix) return ChildKind::Silent;
+    for (std::string_view suffix :
+         {"Sensor", "Interpolator", "Sequencer", "Trigger", "Filter", "Chaser", "Damper"})
+        if (text.size() > suffix.size() && text.substr(text.size() - suffix.size()) == suffix)
+            return ChildKind::Silent;
     return ChildKind::NotModelled;
 }
 
 }  // namespace
 
-// ---------------------------------------------------------------------------------------------------------
+// ------------------------------------------------------------------------------------------------
 // Field readers
 
 double Builder::number(NodeId n, Name f, double fallback) const {
@@ -129,16 +148,24 @@ NodeId Builder::node(NodeId n, Name f) const {
     return v.nodes.empty() ? kNullNode : v.nodes[0];
 }
 std::span<const NodeId> Builder::nodes(NodeId n, Name f) const { return tree_.get(n, f).nodes; }
-bool Builder::has_field(NodeId n, Name f) const { return tree_.get(n, f).found; }
 
 sg::Origin Builder::origin(NodeId n) const {
     const Node& node = tree_.nodes[n];
-    return sg::Origin{n, name_text(node.type), name_text(node.def_name), node.loc};
+    return sg::Origin{n, node.type, node.def_name, node.loc};
+}
+
+sg::Index Builder::hints(NodeId n) {
+    const NodeId metadata = node(n, names().metadata);
+    if (metadata == kNullNode) return sg::kNone;
+    const sg::Hints h = read_hints(tree_, metadata, diagnostics_);
+    if (!h.any()) return sg::kNone;
+    scene_.hints.push_back(h);
+    return static_cast<sg::Index>(scene_.hints.size() - 1);
 }
 
 void Builder::warn(NodeId n, std::string_view cause, const std::string& message) {
     const sg::Origin o = origin(n);
-    std::string key(o.type);
+    std::string key(o.type_text());
     key += ':';
     key += cause;
     diagnostics_.warning(o.loc, node_label(o) + ": " + message, key);
@@ -146,28 +173,60 @@ void Builder::warn(NodeId n, std::string_view cause, const std::string& message)
 
 std::filesystem::path Builder::file_of(NodeId n) const {
     const SourceLoc loc = tree_.nodes[n].loc;
-    if (loc.valid() && loc.file < loaded_.sources.size()) return loaded_.sources.file(loc.file).path;
+    if (loc.valid() && loc.file < loaded_.sources.size())
+        return loaded_.sources.file(loc.file).path;
     return loaded_.main_file;
 }
 
-// ---------------------------------------------------------------------------------------------------------
+// ------------------------------------------------------------------------------------------------
 // Graph
 
 Builder::Builder(const LoadedScene& loaded, Diagnostics& diagnostics)
     : loaded_(loaded), tree_(loaded.tree), diagnostics_(diagnostics) {
     const size_t count = tree_.nodes.size();
+    reserve_huge(memo_, count);
+    reserve_huge(memo_child_, count);
     memo_.assign(count, sg::kNone);
     memo_child_.assign(count, sg::ChildRef{});
     state_.assign(count, 0);
 }
 
 Scene Builder::build() {
+    reserve();
     scene_.main_file = loaded_.main_file;
     scene_.allowed_roots = loaded_.allowed_roots;
     scene_.groups.emplace_back();  // the root
-    scene_.groups[Scene::kRoot].origin.type = "(root)";
+    scene_.groups[Scene::kRoot].origin.type = intern("(root)");
     add_children(Scene::kRoot, tree_.roots);
     return std::move(scene_);
+}
+
+void Builder::reserve() {
+    // Arenas sized from the node counts up front: PyMOL files hold 1e5 shapes, and growing the
+    // arenas by doubling would move (and touch) every element several times.
+    const Names& n = names();
+    size_t groups = 1, shapes = 0, appearances = 0, materials = 0, geometries = 0;
+    for (const Node& node : tree_.nodes) {
+        const Name t = node.type;
+        if (t == n.Shape)
+            ++shapes;
+        else if (t == n.Appearance)
+            ++appearances;
+        else if (t == n.Material || t == n.PhysicalMaterial || t == n.UnlitMaterial ||
+                 t == n.TwoSidedMaterial)
+            ++materials;
+        else if (is_geometry_type(t))
+            ++geometries;
+        else {
+            const ChildKind kind = child_kind(t);
+            if (kind <= ChildKind::CADFace) ++groups;
+        }
+    }
+    reserve_huge(scene_.groups, groups);
+    reserve_huge(scene_.shapes, shapes);
+    reserve_huge(scene_.appearances, appearances);
+    reserve_huge(scene_.materials, materials);
+    reserve_huge(scene_.geometries, geometries);
 }
 
 void Builder::add_children(sg::Index group, std::span<const NodeId> children) {
@@ -191,7 +250,8 @@ std::optional<sg::ChildRef> Builder::child(NodeId id) {
         return std::nullopt;
     }
     if (depth_ >= kMaxDepth) {
-        warn(id, "depth", "is nested more than " + std::to_string(kMaxDepth) + " levels deep; skipped");
+        warn(id, "depth",
+             "is nested more than " + std::to_string(kMaxDepth) + " levels deep; skipped");
         return std::nullopt;
     }
     state_[id] = 1;
@@ -212,18 +272,27 @@ std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
         case ChildKind::Switch:
         case ChildKind::LOD:
         case ChildKind::Inline:
-        case ChildKind::CADFace: return sg::ChildRef{NodeKind::Group, make_group(id)};
-        case ChildKind::Shape: return make_shape(id);
-        case ChildKind::Light: return sg::ChildRef{NodeKind::Light, make_light(id)};
-        case ChildKind::Viewpoint: return sg::ChildRef{NodeKind::Viewpoint, make_viewpoint(id)};
-        case ChildKind::Background: return sg::ChildRef{NodeKind::Background, make_background(id)};
-        case ChildKind::Fog: return sg::ChildRef{NodeKind::Fog, make_fog(id)};
-        case ChildKind::NavigationInfo: return sg::ChildRef{NodeKind::NavigationInfo, make_navigation_info(id)};
-        case ChildKind::Silent: return std::nullopt;
+        case ChildKind::CADFace:
+            return sg::ChildRef{NodeKind::Group, make_group(id)};
+        case ChildKind::Shape:
+            return make_shape(id);
+        case ChildKind::Light:
+            return sg::ChildRef{NodeKind::Light, make_light(id)};
+        case ChildKind::Viewpoint:
+            return sg::ChildRef{NodeKind::Viewpoint, make_viewpoint(id)};
+        case ChildKind::Background:
+            return sg::ChildRef{NodeKind::Background, make_background(id)};
+        case ChildKind::Fog:
+            return sg::ChildRef{NodeKind::Fog, make_fog(id)};
+        case ChildKind::NavigationInfo:
+            return sg::ChildRef{NodeKind::NavigationInfo, make_navigation_info(id)};
+        case ChildKind::Silent:
+            return std::nullopt;
         case ChildKind::NotModelled:
-            diagnostics_.warning(tree_.nodes[id].loc,
-                                 std::string(tree_.type_name(id)) + " is not rendered by vrmlray; skipped",
-                                 "not-modelled:" + std::string(tree_.type_name(id)));
+            diagnostics_.warning(
+                tree_.nodes[id].loc,
+                std::string(tree_.type_name(id)) + " is not rendered by vrmlray; skipped",
+                "not-modelled:" + std::string(tree_.type_name(id)));
             return std::nullopt;
     }
     return std::nullopt;
@@ -249,9 +318,10 @@ sg::Index Builder::make_group(NodeId id) {
             group.local_from_child = transform_matrix(f);
             if (is_singular(group.local_from_child)) {
                 group.singular = true;
-                warn(id, "singular", all_finite(group.local_from_child)
-                                         ? "has a singular transform (a zero scale); its children are skipped"
-                                         : "has a NaN or infinite transform value; its children are skipped");
+                warn(id, "singular",
+                     all_finite(group.local_from_child)
+                         ? "has a singular transform (a zero scale); its children are skipped"
+                         : "has a NaN or infinite transform value; its children are skipped");
             }
             children = nodes(id, n.children);
             break;
@@ -262,14 +332,19 @@ sg::Index Builder::make_group(NodeId id) {
             children = nodes(id, n.children);
             break;
         case ChildKind::Switch: {
-            const std::span<const NodeId> all = has_field(id, n.choice) ? nodes(id, n.choice) : nodes(id, n.children);
+            // VRML97 `choice`, X3D `children`: the reader accepts both spellings, so take the one
+            // that is set.
+            const std::span<const NodeId> choice = nodes(id, n.choice);
+            const std::span<const NodeId> all = !choice.empty() ? choice : nodes(id, n.children);
             const int32_t which = integer(id, n.which_choice, -1);
             if (which >= 0 && static_cast<size_t>(which) < all.size()) chosen.push_back(all[which]);
             children = chosen;
             break;
         }
         case ChildKind::LOD: {
-            const std::span<const NodeId> all = has_field(id, n.level) ? nodes(id, n.level) : nodes(id, n.children);
+            const std::span<const NodeId> level =
+                nodes(id, n.level);  // VRML97 `level`, X3D `children`
+            const std::span<const NodeId> all = !level.empty() ? level : nodes(id, n.children);
             if (!all.empty()) chosen.push_back(all[0]);
             children = chosen;
             break;
@@ -284,7 +359,9 @@ sg::Index Builder::make_group(NodeId id) {
             chosen.push_back(node(id, n.shape));
             children = chosen;
             break;
-        default: children = nodes(id, n.children); break;
+        default:
+            children = nodes(id, n.children);
+            break;
     }
     scene_.groups[index] = std::move(group);
     add_children(index, children);
@@ -296,7 +373,7 @@ std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
     if (!boolean(id, n.visible, true)) return std::nullopt;  // X3D 4 Shape.visible
     sg::Shape shape;
     shape.origin = origin(id);
-    shape.hints = read_hints(tree_, node(id, n.metadata), diagnostics_);
+    shape.hints = hints(id);
     const NodeId app = node(id, n.appearance);
     if (app != kNullNode) shape.appearance = appearance(app);
     const NodeId geo = node(id, n.geometry);
@@ -307,21 +384,33 @@ std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
     return sg::ChildRef{sg::NodeKind::Shape, index};
 }
 
-// ---------------------------------------------------------------------------------------------------------
+// ------------------------------------------------------------------------------------------------
 // Appearance
 
 sg::Index Builder::appearance(NodeId id) {
     const Names& n = names();
     if (memo_[id] != sg::kNone) return memo_[id];
     if (type(id) != n.Appearance) {
-        warn(id, "wrong-type", "cannot be an appearance; the shape is drawn with the default appearance");
+        warn(id, "wrong-type",
+             "cannot be an appearance; the shape is drawn with the default appearance");
         return sg::kNone;
     }
     sg::Appearance a;
     a.origin = origin(id);
     if (const NodeId m = node(id, n.material); m != kNullNode) a.material = material(m);
     if (const NodeId t = node(id, n.texture); t != kNullNode) a.texture = texture(t);
-    if (const NodeId tt = node(id, n.texture_transform); tt != kNullNode) read_texture_transform(tt, a);
+    if (a.texture == sg::kNone && a.material != sg::kNone) {
+        // X3D 4: a texture may sit in the material instead (Material.diffuseTexture,
+        // PhysicalMaterial.baseTexture, UnlitMaterial.emissiveTexture); it stands in for the
+        // Appearance's texture (the materials' other texture fields are not modelled).
+        const NodeId m = node(id, n.material);
+        const Name field = type(m) == n.PhysicalMaterial ? n.base_texture
+                           : type(m) == n.UnlitMaterial  ? n.emissive_texture
+                                                         : n.diffuse_texture;
+        if (const NodeId t = node(m, field); t != kNullNode) a.texture = texture(t);
+    }
+    if (const NodeId tt = node(id, n.texture_transform); tt != kNullNode)
+        read_texture_transform(tt, a);
     memo_[id] = static_cast<sg::Index>(scene_.appearances.size());
     scene_.appearances.push_back(std::move(a));
     return memo_[id];
@@ -353,7 +442,7 @@ sg::Index Builder::material(NodeId id) {
     }
     m.emissive_color = vec3(id, n.emissive_color, m.emissive_color);
     m.transparency = number(id, n.transparency, m.transparency);
-    m.hints = read_hints(tree_, node(id, n.metadata), diagnostics_);
+    m.hints = hints(id);
     memo_[id] = static_cast<sg::Index>(scene_.materials.size());
     scene_.materials.push_back(std::move(m));
     return memo_[id];
@@ -366,7 +455,8 @@ sg::Index Builder::texture(NodeId id) {
     if (t == n.MultiTexture) {
         // The first texture stands for the stack (multi-texturing is not modelled).
         for (NodeId inner : nodes(id, n.texture))
-            if (inner != kNullNode && type(inner) != n.MultiTexture) return memo_[id] = texture(inner);
+            if (inner != kNullNode && type(inner) != n.MultiTexture)
+                return memo_[id] = texture(inner);
         return sg::kNone;
     }
     sg::Texture tex;
@@ -386,7 +476,8 @@ sg::Index Builder::texture(NodeId id) {
         const double w = v[0], h = v[1], c = v[2];
         const bool ok = w >= 0 && h >= 0 && c >= 1 && c <= 4 && w * h + 3 <= double(v.size());
         if (!ok) {
-            warn(id, "image", "has an SFImage whose size does not match its pixels; the shape is untextured");
+            warn(id, "image",
+                 "has an SFImage whose size does not match its pixels; the shape is untextured");
             return sg::kNone;
         }
         if (w == 0 || h == 0) return sg::kNone;  // the default: no image
@@ -394,7 +485,8 @@ sg::Index Builder::texture(NodeId id) {
         tex.height = int(h);
         tex.components = int(c);
         tex.pixels.resize(size_t(w) * size_t(h));
-        for (size_t i = 0; i < tex.pixels.size(); ++i) tex.pixels[i] = static_cast<uint32_t>(int64_t(v[3 + i]));
+        for (size_t i = 0; i < tex.pixels.size(); ++i)
+            tex.pixels[i] = static_cast<uint32_t>(int64_t(v[3 + i]));
     } else {
         warn(id, "not-modelled", "is not a texture type vrmlray renders; the shape is untextured");
         return sg::kNone;
@@ -424,7 +516,7 @@ void Builder::read_texture_transform(NodeId id, sg::Appearance& a) {
     tt.translation = vec2(id, n.translation, tt.translation);
 }
 
-// ---------------------------------------------------------------------------------------------------------
+// ------------------------------------------------------------------------------------------------
 // Lights and bindable nodes
 
 sg::Index Builder::make_light(NodeId id) {
@@ -436,8 +528,10 @@ sg::Index Builder::make_light(NodeId id) {
              : t == "PointLight"     ? sg::LightType::Point
                                      : sg::LightType::Spot;
     l.on = boolean(id, n.on, true);
-    // VRML97 has no `global` field: directional lights are scoped, point and spot lights global.
-    l.global = has_field(id, n.global) ? boolean(id, n.global, false) : l.type != sg::LightType::Directional;
+    // VRML97 has no `global` field; the X3D defaults (FALSE for directional, TRUE for point and
+    // spot lights) are exactly VRML97's scoping rules, and the reader gives them for .wrl files
+    // too.
+    l.global = boolean(id, n.global, l.type != sg::LightType::Directional);
     l.color = vec3(id, n.color, l.color);
     l.intensity = number(id, n.intensity, l.intensity);
     l.ambient_intensity = number(id, n.ambient_intensity, l.ambient_intensity);
@@ -467,7 +561,8 @@ sg::Index Builder::make_viewpoint(NodeId id) {
         if (fov.numbers.size() >= 4) {
             for (int i = 0; i < 4; ++i) v.ortho_extent[i] = fov.numbers[i];
         } else if (!fov.numbers.empty()) {
-            warn(id, "field-of-view", "fieldOfView needs 4 numbers (min x, min y, max x, max y); using -1 -1 1 1");
+            warn(id, "field-of-view",
+                 "fieldOfView needs 4 numbers (min x, min y, max x, max y); using -1 -1 1 1");
         }
     } else if (!fov.numbers.empty()) {
         v.field_of_view = fov.numbers[0];
@@ -485,7 +580,8 @@ sg::Index Builder::make_background(NodeId id) {
     b.sky_angle = numbers(id, n.sky_angle);
     b.ground_color = vec3s(id, n.ground_color);
     b.ground_angle = numbers(id, n.ground_angle);
-    const Name urls[6] = {n.front_url, n.back_url, n.left_url, n.right_url, n.top_url, n.bottom_url};
+    const Name urls[6] = {n.front_url, n.back_url, n.left_url,
+                          n.right_url, n.top_url,  n.bottom_url};
     for (int i = 0; i < 6; ++i) b.urls[i] = strings(id, urls[i]);
     b.from_file = file_of(id);
     const sg::Index index = static_cast<sg::Index>(scene_.backgrounds.size());
@@ -501,8 +597,11 @@ sg::Index Builder::make_fog(NodeId id) {
     f.visibility_range = number(id, n.visibility_range, f.visibility_range);
     const std::vector<std::string> kind = strings(id, n.fog_type);
     if (!kind.empty()) {
-        if (kind[0] == "EXPONENTIAL") f.exponential = true;
-        else if (kind[0] != "LINEAR") warn(id, "fog-type", "fogType '" + kind[0] + "' is neither LINEAR nor EXPONENTIAL; using LINEAR");
+        if (kind[0] == "EXPONENTIAL")
+            f.exponential = true;
+        else if (kind[0] != "LINEAR")
+            warn(id, "fog-type",
+                 "fogType '" + kind[0] + "' is neither LINEAR nor EXPONENTIAL; using LINEAR");
     }
     const sg::Index index = static_cast<sg::Index>(scene_.fogs.size());
     scene_.fogs.push_back(std::move(f));

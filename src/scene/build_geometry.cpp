@@ -1,6 +1,7 @@
-// Node tree -> typed geometry: Sphere, Box, Cylinder, Cone, IndexedFaceSet, ElevationGrid, Extrusion and the
-// X3D triangle/quad set family with their Coordinate/CoordinateDouble, Normal, Color/ColorRGBA and
-// TextureCoordinate nodes. Values are copied as they are; src/geometry checks indices and numbers.
+// Node tree -> typed geometry: Sphere, Box, Cylinder, Cone, IndexedFaceSet, ElevationGrid,
+// Extrusion and the X3D triangle/quad set family with their Coordinate/CoordinateDouble, Normal,
+// Color/ColorRGBA and TextureCoordinate nodes. Values are copied as they are; src/geometry checks
+// indices and numbers.
 #include <cmath>
 #include <unordered_map>
 
@@ -12,7 +13,16 @@ namespace vr::detail {
 namespace {
 
 enum class GeometryKind : uint8_t {
-    Sphere, Box, Cylinder, Cone, IndexedFaceSet, ElevationGrid, Extrusion, Composed, NoArea, Unsupported,
+    Sphere,
+    Box,
+    Cylinder,
+    Cone,
+    IndexedFaceSet,
+    ElevationGrid,
+    Extrusion,
+    Composed,
+    NoArea,
+    Unsupported,
 };
 
 struct GeometryType {
@@ -32,13 +42,17 @@ GeometryType geometry_type(Name type) {
         t[intern("Extrusion")] = {GeometryKind::Extrusion};
         using C = sg::ComposedKind;
         const std::pair<const char*, C> composed[] = {
-            {"IndexedTriangleSet", C::IndexedTriangleSet}, {"TriangleSet", C::TriangleSet},
-            {"IndexedTriangleFanSet", C::IndexedTriangleFanSet}, {"TriangleFanSet", C::TriangleFanSet},
-            {"IndexedTriangleStripSet", C::IndexedTriangleStripSet}, {"TriangleStripSet", C::TriangleStripSet},
-            {"IndexedQuadSet", C::IndexedQuadSet}, {"QuadSet", C::QuadSet}};
+            {"IndexedTriangleSet", C::IndexedTriangleSet},
+            {"TriangleSet", C::TriangleSet},
+            {"IndexedTriangleFanSet", C::IndexedTriangleFanSet},
+            {"TriangleFanSet", C::TriangleFanSet},
+            {"IndexedTriangleStripSet", C::IndexedTriangleStripSet},
+            {"TriangleStripSet", C::TriangleStripSet},
+            {"IndexedQuadSet", C::IndexedQuadSet},
+            {"QuadSet", C::QuadSet}};
         for (const auto& [name, kind] : composed) t[intern(name)] = {GeometryKind::Composed, kind};
-        for (const char* n : {"PointSet", "IndexedLineSet", "LineSet", "Text", "Polyline2D", "Polypoint2D", "Arc2D",
-                              "Circle2D"})
+        for (const char* n : {"PointSet", "IndexedLineSet", "LineSet", "Text", "Polyline2D",
+                              "Polypoint2D", "Arc2D", "Circle2D"})
             t[intern(n)] = {GeometryKind::NoArea};
         return t;
     }();
@@ -49,6 +63,10 @@ GeometryType geometry_type(Name type) {
 bool positive_finite(double d) { return d > 0.0 && std::isfinite(d); }
 
 }  // namespace
+
+bool Builder::is_geometry_type(Name type) {
+    return geometry_type(type).kind != GeometryKind::Unsupported;
+}
 
 sg::Index Builder::geometry(NodeId id) {
     if (memo_[id] != sg::kNone) return memo_[id];
@@ -67,16 +85,21 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         case GeometryKind::Sphere: {
             sg::Sphere s;
             s.radius = number(id, n.radius, s.radius);
-            g.hints = read_hints(tree_, node(id, n.metadata), diagnostics_);
-            if (positive_finite(s.radius)) g.shape = s;
-            else warn(id, "zero-size", "radius must be positive and finite; not rendered");
+            g.hints = hints(id);
+            if (positive_finite(s.radius))
+                g.shape = s;
+            else
+                warn(id, "zero-size", "radius must be positive and finite; not rendered");
             break;
         }
         case GeometryKind::Box: {
             sg::Box b;
             b.size = vec3(id, n.size, b.size);
-            if (positive_finite(b.size.x) && positive_finite(b.size.y) && positive_finite(b.size.z)) g.shape = b;
-            else warn(id, "zero-size", "size must be positive and finite in x, y and z; not rendered");
+            if (positive_finite(b.size.x) && positive_finite(b.size.y) && positive_finite(b.size.z))
+                g.shape = b;
+            else
+                warn(id, "zero-size",
+                     "size must be positive and finite in x, y and z; not rendered");
             break;
         }
         case GeometryKind::Cylinder: {
@@ -86,8 +109,11 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             c.side = boolean(id, n.side, c.side);
             c.top = boolean(id, n.top, c.top);
             c.bottom = boolean(id, n.bottom, c.bottom);
-            if (positive_finite(c.radius) && positive_finite(c.height)) g.shape = c;
-            else warn(id, "zero-size", "radius and height must be positive and finite; not rendered");
+            if (positive_finite(c.radius) && positive_finite(c.height))
+                g.shape = c;
+            else
+                warn(id, "zero-size",
+                     "radius and height must be positive and finite; not rendered");
             break;
         }
         case GeometryKind::Cone: {
@@ -96,8 +122,11 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             c.height = number(id, n.height, c.height);
             c.side = boolean(id, n.side, c.side);
             c.bottom = boolean(id, n.bottom, c.bottom);
-            if (positive_finite(c.bottom_radius) && positive_finite(c.height)) g.shape = c;
-            else warn(id, "zero-size", "bottomRadius and height must be positive and finite; not rendered");
+            if (positive_finite(c.bottom_radius) && positive_finite(c.height))
+                g.shape = c;
+            else
+                warn(id, "zero-size",
+                     "bottomRadius and height must be positive and finite; not rendered");
             break;
         }
         case GeometryKind::IndexedFaceSet: {
@@ -113,7 +142,7 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             f.color_per_vertex = boolean(id, n.color_per_vertex, f.color_per_vertex);
             f.normal_per_vertex = boolean(id, n.normal_per_vertex, f.normal_per_vertex);
             f.crease_angle = number(id, n.crease_angle, f.crease_angle);
-            g.shape = std::move(f);
+            g.shape = std::make_unique<sg::IndexedFaceSet>(std::move(f));
             break;
         }
         case GeometryKind::ElevationGrid: {
@@ -129,7 +158,7 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             e.color_per_vertex = boolean(id, n.color_per_vertex, e.color_per_vertex);
             e.normal_per_vertex = boolean(id, n.normal_per_vertex, e.normal_per_vertex);
             e.crease_angle = number(id, n.crease_angle, e.crease_angle);
-            g.shape = std::move(e);
+            g.shape = std::make_unique<sg::ElevationGrid>(std::move(e));
             break;
         }
         case GeometryKind::Extrusion: {
@@ -147,7 +176,7 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             e.solid = boolean(id, n.solid, e.solid);
             e.convex = boolean(id, n.convex, e.convex);
             e.crease_angle = number(id, n.crease_angle, e.crease_angle);
-            g.shape = std::move(e);
+            g.shape = std::make_unique<sg::Extrusion>(std::move(e));
             break;
         }
         case GeometryKind::Composed: {
@@ -156,42 +185,54 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             read_vertex_data(id, c.data, true, g.origin);
             c.index = integers(id, n.index);
             if (c.kind == sg::ComposedKind::TriangleFanSet) c.counts = integers(id, n.fan_count);
-            if (c.kind == sg::ComposedKind::TriangleStripSet) c.counts = integers(id, n.strip_count);
+            if (c.kind == sg::ComposedKind::TriangleStripSet)
+                c.counts = integers(id, n.strip_count);
             c.ccw = boolean(id, n.ccw, c.ccw);
             c.solid = boolean(id, n.solid, c.solid);
             c.color_per_vertex = boolean(id, n.color_per_vertex, c.color_per_vertex);
             c.normal_per_vertex = boolean(id, n.normal_per_vertex, c.normal_per_vertex);
-            g.shape = std::move(c);
+            g.shape = std::make_unique<sg::ComposedSet>(std::move(c));
             break;
         }
         case GeometryKind::NoArea:
-            diagnostics_.warning(g.origin.loc, std::string(g.origin.type) + " has no area and is not rendered",
-                                 "no-area:" + std::string(g.origin.type));
+            diagnostics_.warning(
+                g.origin.loc,
+                std::string(g.origin.type_text()) + " has no area and is not rendered",
+                "no-area:" + std::string(g.origin.type_text()));
             break;
         case GeometryKind::Unsupported:
-            diagnostics_.warning(g.origin.loc,
-                                 std::string(g.origin.type) + " is not a geometry vrmlray renders; skipped",
-                                 "geometry-not-modelled:" + std::string(g.origin.type));
+            diagnostics_.warning(
+                g.origin.loc,
+                std::string(g.origin.type_text()) + " is not a geometry vrmlray renders; skipped",
+                "geometry-not-modelled:" + std::string(g.origin.type_text()));
             break;
     }
     return g;
 }
 
-void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords, const sg::Origin& origin) {
+void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords,
+                               const sg::Origin& origin) {
     const Names& n = names();
     if (want_coords) {
         if (const NodeId c = node(id, n.coord); c != kNullNode) {
-            if (type(c) == n.Coordinate || type(c) == n.CoordinateDouble) data.coords = vec3s(c, n.point);
-            else warn(c, "wrong-type", "is not a coordinate node vrmlray reads; the geometry has no coordinates");
+            if (type(c) == n.Coordinate || type(c) == n.CoordinateDouble)
+                data.coords = vec3s(c, n.point);
+            else
+                warn(c, "wrong-type",
+                     "is not a coordinate node vrmlray reads; the geometry has no coordinates");
         }
     }
     if (const NodeId c = node(id, n.normal); c != kNullNode) {
-        if (type(c) == n.Normal) data.normals = vec3s(c, n.vector);
-        else warn(c, "wrong-type", "is not a Normal node; normals are generated");
+        if (type(c) == n.Normal)
+            data.normals = vec3s(c, n.vector);
+        else
+            warn(c, "wrong-type", "is not a Normal node; normals are generated");
     }
     if (const NodeId c = node(id, n.color); c != kNullNode) {
-        if (type(c) == n.Color || type(c) == n.ColorRGBA) data.colors = vec3s(c, n.color);  // RGBA: alpha dropped
-        else warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+        if (type(c) == n.Color || type(c) == n.ColorRGBA)
+            data.colors = vec3s(c, n.color);  // RGBA: alpha dropped
+        else
+            warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
     }
     NodeId t = node(id, n.tex_coord);
     if (t != kNullNode && type(t) == n.MultiTextureCoordinate) {
@@ -203,7 +244,8 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
             data.texcoords = vec2s(t, n.point);
             data.has_texcoord_node = true;
         } else {
-            warn(t, "not-modelled", "is not a texture coordinate node vrmlray reads; the default mapping is used");
+            warn(t, "not-modelled",
+                 "is not a texture coordinate node vrmlray reads; the default mapping is used");
         }
     }
 }

@@ -12,6 +12,7 @@
 namespace vr::detail {
 
 // Field and node type names, interned once.
+// clang-format off
 struct Names {
 #define VR_NAME(member, text) Name member = intern(text);
     // fields
@@ -54,20 +55,24 @@ struct Names {
     VR_NAME(TextureTransform, "TextureTransform") VR_NAME(MultiTextureTransform, "MultiTextureTransform")
     VR_NAME(Coordinate, "Coordinate") VR_NAME(CoordinateDouble, "CoordinateDouble") VR_NAME(Normal, "Normal")
     VR_NAME(Color, "Color") VR_NAME(ColorRGBA, "ColorRGBA") VR_NAME(TextureCoordinate, "TextureCoordinate")
-    VR_NAME(MultiTextureCoordinate, "MultiTextureCoordinate")
+    VR_NAME(MultiTextureCoordinate, "MultiTextureCoordinate") VR_NAME(Shape, "Shape")
+    VR_NAME(diffuse_texture, "diffuseTexture") VR_NAME(base_texture, "baseTexture")
+    VR_NAME(emissive_texture, "emissiveTexture")
 #undef VR_NAME
 };
+// clang-format on
 const Names& names();
 
 class Builder {
-public:
-    static constexpr size_t kMaxDepth = 2000;  // nesting through USE chains; each level is one stack frame
+  public:
+    static constexpr size_t kMaxDepth =
+        2000;  // nesting through USE chains; each level is one stack frame
 
     Builder(const LoadedScene& loaded, Diagnostics& diagnostics);
     Scene build();
 
-    // ---- field readers: the file's value or the grammar default; `fallback` only when the node type has
-    // no such field at all (or the value has the wrong size).
+    // ---- field readers: the file's value or the grammar default; `fallback` only when the node
+    // type has no such field at all (or the value has the wrong size).
     double number(NodeId node, Name field, double fallback) const;
     int32_t integer(NodeId node, Name field, int32_t fallback) const;
     bool boolean(NodeId node, Name field, bool fallback) const;
@@ -81,9 +86,10 @@ public:
     std::vector<std::string> strings(NodeId node, Name field) const;
     NodeId node(NodeId node, Name field) const;
     std::span<const NodeId> nodes(NodeId node, Name field) const;
-    bool has_field(NodeId node, Name field) const;
 
     sg::Origin origin(NodeId node) const;
+    sg::Index hints(
+        NodeId node);  // the node's `metadata` hints, stored in Scene::hints if there are any
     Name type(NodeId node) const { return tree_.nodes[node].type; }
     // A warning about `node` ("Type 'DEF': message"); `cause` is merged across nodes.
     void warn(NodeId node, std::string_view cause, const std::string& message);
@@ -92,7 +98,9 @@ public:
     // ---- build_geometry.cpp
     sg::Index geometry(NodeId node);
 
-private:
+  private:
+    void reserve();
+    static bool is_geometry_type(Name type);  // build_geometry.cpp
     std::optional<sg::ChildRef> child(NodeId node);
     std::optional<sg::ChildRef> make_child(NodeId node);
     void add_children(sg::Index group, std::span<const NodeId> children);
@@ -110,18 +118,20 @@ private:
 
     // build_geometry.cpp
     sg::Geometry make_geometry(NodeId node);
-    void read_vertex_data(NodeId node, sg::VertexData& data, bool want_coords, const sg::Origin& origin);
+    void read_vertex_data(NodeId node, sg::VertexData& data, bool want_coords,
+                          const sg::Origin& origin);
 
-public:
+  public:
     const LoadedScene& loaded_;
     const NodeTree& tree_;
     Diagnostics& diagnostics_;
     Scene scene_;
 
-private:
-    std::vector<sg::Index> memo_;             // per node: its typed index (appearance, material, ...)
-    std::vector<sg::ChildRef> memo_child_;    // per node used as a child; index kNone: nothing to render
-    std::vector<uint8_t> state_;              // per node used as a child: 0 new, 1 being built, 2 built
+  private:
+    std::vector<sg::Index> memo_;  // per node: its typed index (appearance, material, ...)
+    std::vector<sg::ChildRef>
+        memo_child_;              // per node used as a child; index kNone: nothing to render
+    std::vector<uint8_t> state_;  // per node used as a child: 0 new, 1 being built, 2 built
     size_t depth_ = 0;
 };
 

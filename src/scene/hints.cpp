@@ -8,8 +8,8 @@
 namespace vr {
 
 bool sg::Hints::any() const {
-    return sphere_mode != SphereHint::Unset || density >= 0.0 || reflectivity >= 0.0 || ior >= 0.0 ||
-           albedo.x >= 0.0 || emission.x >= 0.0;
+    return sphere_mode != SphereHint::Unset || density >= 0.0 || reflectivity >= 0.0 ||
+           ior >= 0.0 || albedo.x >= 0.0 || emission.x >= 0.0;
 }
 
 void sg::Hints::override_with(const Hints& h) {
@@ -36,7 +36,8 @@ const HintNames& names() {
 
 std::string lower(std::string_view s) {
     std::string out(s);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     return out;
 }
 
@@ -60,8 +61,9 @@ std::vector<double> numbers_of(const FieldView& value) {
 }
 
 class HintReader {
-public:
-    HintReader(const NodeTree& tree, Diagnostics& diagnostics) : tree_(tree), diagnostics_(diagnostics) {}
+  public:
+    HintReader(const NodeTree& tree, Diagnostics& diagnostics)
+        : tree_(tree), diagnostics_(diagnostics) {}
 
     void read_set(NodeId set, sg::Hints& hints) {
         for (NodeId value : tree_.get(set, names().value).nodes)
@@ -70,7 +72,8 @@ public:
 
     // Finds the "vrmlray" MetadataSet at or below `node` (bounded depth: metadata may nest).
     NodeId find_set(NodeId node, int depth) {
-        if (node == kNullNode || depth > 8 || tree_.nodes[node].type != names().metadata_set) return kNullNode;
+        if (node == kNullNode || depth > 8 || tree_.nodes[node].type != names().metadata_set)
+            return kNullNode;
         const FieldView name = tree_.get(node, names().name);
         if (!name.strings.empty() && name.strings[0] == "vrmlray") return node;
         for (NodeId child : tree_.get(node, names().value).nodes) {
@@ -80,7 +83,7 @@ public:
         return kNullNode;
     }
 
-private:
+  private:
     void warn(NodeId node, const std::string& message, const std::string& cause) {
         diagnostics_.warning(tree_.nodes[node].loc, message, "hint:" + cause);
     }
@@ -91,30 +94,49 @@ private:
         const std::string& name = name_field.strings[0];
         const FieldView value = tree_.get(node, names().value);
         if (name == "sphereMode") {
-            const std::string mode = value.strings.empty() ? std::string() : lower(value.strings[0]);
-            if (mode == "gas") hints.sphere_mode = sg::SphereHint::Gas;
-            else if (mode == "opaque") hints.sphere_mode = sg::SphereHint::Opaque;
-            else warn(node, "vrmlray hint sphereMode must be \"opaque\" or \"gas\"; ignored", "sphereMode");
+            const std::string mode =
+                value.strings.empty() ? std::string() : lower(value.strings[0]);
+            if (mode == "gas")
+                hints.sphere_mode = sg::SphereHint::Gas;
+            else if (mode == "opaque")
+                hints.sphere_mode = sg::SphereHint::Opaque;
+            else
+                warn(node, "vrmlray hint sphereMode must be \"opaque\" or \"gas\"; ignored",
+                     "sphereMode");
             return;
         }
         const std::vector<double> v = numbers_of(value);
-        const bool all_finite = std::all_of(v.begin(), v.end(), [](double d) { return std::isfinite(d); });
+        const bool all_finite =
+            std::all_of(v.begin(), v.end(), [](double d) { return std::isfinite(d); });
         auto scalar = [&](double& out, double lo, double hi, bool open_lo, const char* range) {
-            if (v.size() == 1 && all_finite && (open_lo ? v[0] > lo : v[0] >= lo) && v[0] <= hi) out = v[0];
-            else warn(node, "vrmlray hint " + name + " must be one number in " + range + "; ignored", name);
+            if (v.size() == 1 && all_finite && (open_lo ? v[0] > lo : v[0] >= lo) && v[0] <= hi)
+                out = v[0];
+            else
+                warn(node, "vrmlray hint " + name + " must be one number in " + range + "; ignored",
+                     name);
         };
         auto colour = [&](Vec3& out) {
             const bool ok = all_finite && (v.size() == 1 || v.size() == 3) &&
                             std::all_of(v.begin(), v.end(), [](double d) { return d >= 0.0; });
-            if (ok) out = v.size() == 1 ? Vec3(v[0]) : Vec3(v[0], v[1], v[2]);
-            else warn(node, "vrmlray hint " + name + " must be an RGB colour (3 numbers >= 0); ignored", name);
+            if (ok)
+                out = v.size() == 1 ? Vec3(v[0]) : Vec3(v[0], v[1], v[2]);
+            else
+                warn(node,
+                     "vrmlray hint " + name + " must be an RGB colour (3 numbers >= 0); ignored",
+                     name);
         };
-        if (name == "density") scalar(hints.density, 0.0, kInf, false, "[0,inf)");
-        else if (name == "reflectivity") scalar(hints.reflectivity, 0.0, 1.0, false, "[0,1]");
-        else if (name == "ior") scalar(hints.ior, 0.0, kInf, true, "(0,inf)");
-        else if (name == "albedo") colour(hints.albedo);
-        else if (name == "emission") colour(hints.emission);
-        else warn(node, "unknown vrmlray hint '" + name + "'; ignored", "unknown:" + name);
+        if (name == "density")
+            scalar(hints.density, 0.0, kInf, false, "[0,inf)");
+        else if (name == "reflectivity")
+            scalar(hints.reflectivity, 0.0, 1.0, false, "[0,1]");
+        else if (name == "ior")
+            scalar(hints.ior, 0.0, kInf, true, "(0,inf)");
+        else if (name == "albedo")
+            colour(hints.albedo);
+        else if (name == "emission")
+            colour(hints.emission);
+        else
+            warn(node, "unknown vrmlray hint '" + name + "'; ignored", "unknown:" + name);
     }
 
     const NodeTree& tree_;

@@ -7,7 +7,8 @@
 
 namespace vr {
 
-bool read_image_file(const std::filesystem::path& path, ImageData& image, std::string& error, size_t max_texels) {
+bool read_image_file(const std::filesystem::path& path, ImageData& image, std::string& error,
+                     size_t max_texels) {
     auto input = OIIO::ImageInput::open(path.string());
     if (!input) {
         error = OIIO::geterror();
@@ -22,7 +23,8 @@ bool read_image_file(const std::filesystem::path& path, ImageData& image, std::s
         return false;
     }
     if (size_t(width) * size_t(height) > max_texels) {
-        error = "the image is too large (" + std::to_string(width) + " x " + std::to_string(height) + ")";
+        error = "the image is too large (" + std::to_string(width) + " x " +
+                std::to_string(height) + ")";
         return false;
     }
     const int channels = std::min(file_channels, 4);
@@ -39,8 +41,8 @@ bool read_image_file(const std::filesystem::path& path, ImageData& image, std::s
     image.texels.resize(top_first.size());
     const size_t row = size_t(width) * channels;
     for (int y = 0; y < height; ++y)
-        std::memcpy(image.texels.data() + size_t(height - 1 - y) * row, top_first.data() + size_t(y) * row,
-                    row * sizeof(float));
+        std::memcpy(image.texels.data() + size_t(height - 1 - y) * row,
+                    top_first.data() + size_t(y) * row, row * sizeof(float));
     return true;
 }
 

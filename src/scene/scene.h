@@ -1,14 +1,17 @@
-// The typed scene graph: the node tree's nodes that vrmlray models, as plain structs with resolved values.
-// It knows nothing of rendering (the flattening step in src/render/flatten.* turns it into primitives).
+// The typed scene graph: the node tree's nodes that vrmlray models, as plain structs with resolved
+// values. It knows nothing of rendering (the flattening step in src/render/flatten.* turns it into
+// primitives).
 //
-// Shape of the graph: arenas of typed nodes referring to each other by index. A node DEF'd once and USEd
-// many times is built once and referenced from every place it is used (the graph is a DAG, never a
-// cycle: build_scene cuts cycles with a warning). Group children are only the *active* children: a
-// Switch keeps its chosen child, a LOD its first level, an Inline the top-level nodes of its file.
+// Shape of the graph: arenas of typed nodes referring to each other by index. A node DEF'd once and
+// USEd many times is built once and referenced from every place it is used (the graph is a DAG,
+// never a cycle: build_scene cuts cycles with a warning). Group children are only the *active*
+// children: a Switch keeps its chosen child, a LOD its first level, an Inline the top-level nodes
+// of its file.
 #pragma once
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -23,15 +26,18 @@ namespace vr::sg {
 using Index = uint32_t;
 inline constexpr Index kNone = UINT32_MAX;
 
-// Where a typed node came from, for messages.
+// Where a typed node came from, for messages. (Kept small: PyMOL scenes hold 1e5 of each node.)
 struct Origin {
     NodeId node = kNullNode;
-    std::string_view type;      // node type name (interned: valid for the life of the program)
-    std::string_view def_name;  // DEF name, empty if none (interned)
+    Name type = kNoName;      // node type name
+    Name def_name = kNoName;  // DEF name, kNoName if none
     SourceLoc loc;
+    std::string_view type_text() const { return name_text(type); }
+    std::string_view def_text() const { return name_text(def_name); }
 };
 
-// Renderer hints (SPEC section 3) read from a MetadataSet named "vrmlray". Negative means "not set".
+// Renderer hints (SPEC section 3) read from a MetadataSet named "vrmlray". Negative means "not
+// set".
 enum class SphereHint : int8_t { Unset = -1, Opaque = 0, Gas = 1 };
 struct Hints {
     SphereHint sphere_mode = SphereHint::Unset;
@@ -42,11 +48,16 @@ struct Hints {
     Vec3 emission{-1.0};
 
     bool any() const;
-    // Fields set in `more_specific` replace ours (Sphere hints win over Shape hints over Material hints).
+    // Fields set in `more_specific` replace ours (Sphere hints win over Shape hints over Material
+    // hints).
     void override_with(const Hints& more_specific);
 };
 
-enum class MaterialModel : uint8_t { Phong, Physical, Unlit };  // Material, PhysicalMaterial, UnlitMaterial
+enum class MaterialModel : uint8_t {
+    Phong,
+    Physical,
+    Unlit
+};  // Material, PhysicalMaterial, UnlitMaterial
 
 struct Material {
     Origin origin;
@@ -57,12 +68,12 @@ struct Material {
     double ambient_intensity = 0.2;
     double shininess = 0.2;
     double transparency = 0.0;
-    double metallic = 0.0;    // Physical only
-    double roughness = 0.0;   // Physical only
-    Hints hints;
+    double metallic = 0.0;   // Physical only
+    double roughness = 0.0;  // Physical only
+    Index hints = kNone;     // into Scene::hints
 };
 
-// VRML TextureTransform: Tc' = -C * S * R * C * T * Tc (rotation in radians).
+// VRML TextureTransform (see texture_transform_matrix in transform.h); rotation in radians.
 struct TextureTransform {
     Vec2 center{0.0};
     double rotation = 0.0;
@@ -74,9 +85,10 @@ enum class TextureKind : uint8_t { Image, Pixel };
 struct Texture {
     Origin origin;
     TextureKind kind = TextureKind::Image;
-    std::vector<std::string> urls;  // ImageTexture: tried in order
+    std::vector<std::string> urls;    // ImageTexture: tried in order
     std::filesystem::path from_file;  // the file the node stands in (relative URLs start there)
-    // PixelTexture (SFImage): row 0 is the bottom row; one packed integer a pixel (0xRRGGBB for 3 components)
+    // PixelTexture (SFImage): row 0 is the bottom row; one packed integer a pixel (0xRRGGBB for 3
+    // components)
     int width = 0, height = 0, components = 0;
     std::vector<uint32_t> pixels;
     bool repeat_s = true;
@@ -95,15 +107,25 @@ struct Appearance {
 struct VertexData {
     std::vector<Vec3> coords;
     std::vector<Vec3> normals;
-    std::vector<Vec3> colors;    // RGB (ColorRGBA's alpha is dropped)
+    std::vector<Vec3> colors;  // RGB (ColorRGBA's alpha is dropped)
     std::vector<Vec2> texcoords;
     bool has_texcoord_node = false;  // a TextureCoordinate node was given (even if empty)
 };
 
-struct Sphere { double radius = 1.0; };
-struct Box { Vec3 size{2.0}; };
-struct Cylinder { double radius = 1.0, height = 2.0; bool side = true, top = true, bottom = true; };
-struct Cone { double bottom_radius = 1.0, height = 2.0; bool side = true, bottom = true; };
+struct Sphere {
+    double radius = 1.0;
+};
+struct Box {
+    Vec3 size{2.0};
+};
+struct Cylinder {
+    double radius = 1.0, height = 2.0;
+    bool side = true, top = true, bottom = true;
+};
+struct Cone {
+    double bottom_radius = 1.0, height = 2.0;
+    bool side = true, bottom = true;
+};
 
 // IndexedFaceSet; also the common polygon form that src/geometry turns the other mesh nodes into.
 struct IndexedFaceSet {
@@ -113,7 +135,8 @@ struct IndexedFaceSet {
     bool ccw = true, solid = true, convex = true;
     bool color_per_vertex = true, normal_per_vertex = true;
     double crease_angle = 0.0;  // radians
-    // X3D composed geometry without normals: smooth over faces sharing a vertex index, whatever the angle.
+    // X3D composed geometry without normals: smooth over faces sharing a vertex index, whatever the
+    // angle.
     bool smooth_all = false;
 };
 
@@ -137,11 +160,17 @@ struct Extrusion {
     double crease_angle = 0.0;
 };
 
-// X3D IndexedTriangleSet, TriangleSet, IndexedTriangleFanSet, TriangleFanSet, IndexedTriangleStripSet,
-// TriangleStripSet, IndexedQuadSet, QuadSet.
+// X3D IndexedTriangleSet, TriangleSet, IndexedTriangleFanSet, TriangleFanSet,
+// IndexedTriangleStripSet, TriangleStripSet, IndexedQuadSet, QuadSet.
 enum class ComposedKind : uint8_t {
-    IndexedTriangleSet, TriangleSet, IndexedTriangleFanSet, TriangleFanSet,
-    IndexedTriangleStripSet, TriangleStripSet, IndexedQuadSet, QuadSet,
+    IndexedTriangleSet,
+    TriangleSet,
+    IndexedTriangleFanSet,
+    TriangleFanSet,
+    IndexedTriangleStripSet,
+    TriangleStripSet,
+    IndexedQuadSet,
+    QuadSet,
 };
 struct ComposedSet {
     ComposedKind kind = ComposedKind::TriangleSet;
@@ -152,11 +181,13 @@ struct ComposedSet {
     bool color_per_vertex = true, normal_per_vertex = true;
 };
 
-using GeometryShape = std::variant<std::monostate, Sphere, Box, Cylinder, Cone, IndexedFaceSet,
-                                   ElevationGrid, Extrusion, ComposedSet>;
+// The polygon nodes are held out of line so that the many primitives stay small.
+using GeometryShape = std::variant<std::monostate, Sphere, Box, Cylinder, Cone,
+                                   std::unique_ptr<IndexedFaceSet>, std::unique_ptr<ElevationGrid>,
+                                   std::unique_ptr<Extrusion>, std::unique_ptr<ComposedSet>>;
 struct Geometry {
     Origin origin;
-    Hints hints;  // the geometry node's own metadata (Sphere)
+    Index hints = kNone;  // the geometry node's own metadata (Sphere), into Scene::hints
     GeometryShape shape;  // monostate: nothing to render (already warned)
 };
 
@@ -164,7 +195,7 @@ struct Shape {
     Origin origin;
     Index appearance = kNone;
     Index geometry = kNone;
-    Hints hints;
+    Index hints = kNone;  // into Scene::hints
 };
 
 enum class LightType : uint8_t { Directional, Point, Spot };
@@ -172,8 +203,8 @@ struct Light {
     Origin origin;
     LightType type = LightType::Directional;
     bool on = true;
-    // Global lights light the whole scene; the others only their parent group's subtree.
-    // VRML97: directional scoped, point/spot global; X3D: the `global` field.
+    // Global lights light the whole scene; the others only their parent group's subtree. VRML97:
+    // directional scoped, point/spot global; X3D: the `global` field.
     bool global = false;
     Vec3 color{1.0};
     double intensity = 1.0;
@@ -192,8 +223,8 @@ struct Viewpoint {
     std::string description;
     bool ortho = false;  // OrthoViewpoint
     Vec3 position{0.0, 0.0, 10.0};
-    Vec4 orientation{0.0, 0.0, 1.0, 0.0};  // axis xyz, angle w
-    double field_of_view = 0.785398;        // perspective
+    Vec4 orientation{0.0, 0.0, 1.0, 0.0};                      // axis xyz, angle w
+    double field_of_view = 0.785398;                           // perspective
     std::array<double, 4> ortho_extent{-1.0, -1.0, 1.0, 1.0};  // OrthoViewpoint fieldOfView
 };
 
@@ -230,11 +261,11 @@ struct ChildRef {
 struct Group {
     Origin origin;
     bool has_transform = false;
-    Mat4 local_from_child{1.0};   // Transform: T * C * R * SR * S * SR^-1 * C^-1
-    bool singular = false;        // the transform is singular or not finite: the subtree is skipped
+    Mat4 local_from_child{1.0};  // Transform: T * C * R * SR * S * SR^-1 * C^-1
+    bool singular = false;       // the transform is singular or not finite: the subtree is skipped
     bool billboard = false;
     Vec3 billboard_axis{0.0, 1.0, 0.0};  // (0,0,0): screen-aligned
-    bool inline_content = false;  // children are the top-level nodes of an inlined file
+    bool inline_content = false;         // children are the top-level nodes of an inlined file
     std::vector<ChildRef> children;
 };
 
@@ -255,6 +286,12 @@ struct Scene {
     std::vector<sg::Background> backgrounds;
     std::vector<sg::Fog> fogs;
     std::vector<sg::NavigationInfo> navigation_infos;
+    std::vector<sg::Hints> hints;  // only the nodes that have hints point here
+
+    const sg::Hints& hints_of(sg::Index index) const {
+        static const sg::Hints none;
+        return index == sg::kNone ? none : hints[index];
+    }
 
     std::filesystem::path main_file;
     std::vector<std::filesystem::path> allowed_roots;  // folders texture URLs may reach

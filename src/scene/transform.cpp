@@ -44,7 +44,8 @@ Mat4 transform_matrix(const TransformFields& f) {
     return T * C * R * SR * S * SR_inv * C_inv;
 }
 
-Mat3 texture_transform_matrix(const Vec2& center, double rotation, const Vec2& scale, const Vec2& translation) {
+Mat3 texture_transform_matrix(const Vec2& center, double rotation, const Vec2& scale,
+                              const Vec2& translation) {
     auto translate = [](const Vec2& t) {
         Mat3 m(1.0);
         m[2] = Vec3(t, 1.0);
@@ -59,7 +60,7 @@ Mat3 texture_transform_matrix(const Vec2& center, double rotation, const Vec2& s
     Mat3 S(1.0);
     S[0][0] = scale.x;
     S[1][1] = scale.y;
-    return translate(-center) * S * R * translate(center) * translate(translation);
+    return translate(center) * S * R * translate(-center) * translate(translation);
 }
 
 bool all_finite(const Mat4& m) {
@@ -74,7 +75,8 @@ bool is_singular(const Mat4& m) {
     const Mat3 l = linear_part(m);
     const double product = glm::length(l[0]) * glm::length(l[1]) * glm::length(l[2]);
     if (!(product > 0.0) || !std::isfinite(product)) return true;
-    // |det| / product is the volume of the parallelepiped of the unit columns: 0 when flat, 1 when orthogonal.
+    // |det| / product is the volume of the parallelepiped of the unit columns: 0 when flat, 1 when
+    // orthogonal.
     return std::abs(glm::determinant(l)) <= 1e-12 * product;
 }
 
@@ -82,8 +84,8 @@ double uniform_scale(const Mat3& l) {
     const Mat3 g = glm::transpose(l) * l;  // = s^2 I for a rotation times a uniform scale
     const double s2 = (g[0][0] + g[1][1] + g[2][2]) / 3.0;
     if (!(s2 > 0.0) || !std::isfinite(s2)) return 0.0;
-    // Exporters print about 6 significant digits, so rotations read from files are orthonormal only to
-    // about 1e-6; a sphere whose axes differ by 1e-5 relative is a sphere to any image.
+    // Exporters print about 6 significant digits, so rotations read from files are orthonormal only
+    // to about 1e-6; a sphere whose axes differ by 1e-5 relative is a sphere to any image.
     const double tolerance = 1e-5 * s2;
     for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r) {

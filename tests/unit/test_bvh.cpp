@@ -24,7 +24,8 @@ FlatScene random_scene(Rng& rng, int spheres, int quadrics, int triangles, doubl
     FlatScene scene = testing::empty_scene();
     testing::add_shading(scene, Material());
     std::uniform_real_distribution<double> pos(-extent, extent), size(0.05, 1.5);
-    for (int i = 0; i < spheres; ++i) testing::add_sphere(scene, Vec3(pos(rng), pos(rng), pos(rng)), size(rng), 0);
+    for (int i = 0; i < spheres; ++i)
+        testing::add_sphere(scene, Vec3(pos(rng), pos(rng), pos(rng)), size(rng), 0);
     for (int i = 0; i < quadrics; ++i) {
         Quadric q;
         q.kind = QuadricKind(i % 4);
@@ -66,9 +67,12 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
     ASSERT_EQ(bvh.order.size(), original.size());
     std::set<uint32_t> seen(bvh.order.begin(), bvh.order.end());
     EXPECT_EQ(seen.size(), original.size());
-    // Every leaf range lies inside its node's bounds, and every child inside its parent.
+    // Every leaf range lies inside its node's bounds, and every child inside its parent; children
+    // come in pairs at even indices, 64-byte aligned (one cache line a pair). Node 1 is padding.
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(bvh.nodes.data()) % 64, 0u);
     size_t leaf_prims = 0;
     for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+        if (i == 1) continue;
         const BvhNode& n = bvh.nodes[i];
         auto inside = [&](const float* lo, const float* hi) {
             for (int k = 0; k < 3; ++k)
@@ -83,8 +87,10 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
                 EXPECT_TRUE(inside(b.lo, b.hi));
             }
         } else {
-            EXPECT_TRUE(inside(bvh.nodes[i + 1].lo, bvh.nodes[i + 1].hi));
+            ASSERT_EQ(n.offset % 2, 0u);
+            ASSERT_GE(n.offset, 2u);
             EXPECT_TRUE(inside(bvh.nodes[n.offset].lo, bvh.nodes[n.offset].hi));
+            EXPECT_TRUE(inside(bvh.nodes[n.offset + 1].lo, bvh.nodes[n.offset + 1].hi));
         }
     }
     EXPECT_EQ(leaf_prims, original.size());
@@ -120,7 +126,8 @@ TEST(Bvh, ClosestHitEqualsBruteForce) {
             Ray ray;
             ray.o = Vec3(pos(rng), pos(rng), pos(rng));
             // Half the rays aim at a sphere's centre, so sparse scenes get hits too.
-            ray.d = i % 2 ? random_unit(rng) : glm::normalize(scene.spheres[pick(rng)].center - ray.o);
+            ray.d =
+                i % 2 ? random_unit(rng) : glm::normalize(scene.spheres[pick(rng)].center - ray.o);
             ray.d *= (i % 3 == 0 ? 7.5 : 1.0);  // non-unit directions too
             if (i % 10 == 0) ray.t_max = 3.0;
             Hit a, b;
@@ -138,6 +145,66 @@ TEST(Bvh, ClosestHitEqualsBruteForce) {
         }
         EXPECT_GT(hits, 100);
     }
+}
+
+// Spheres growing geometrically make SAH peel one primitive per level; the depth must stay within
+// the traversal stack, and hits stay exact.
+TEST(Bvh, DepthIsBoundedOnSkewedScenes) {
+    FlatScene scene = testing::empty_scene();
+    testing::add_shading(scene, Material());
+    const int n = 79;  // 3^79 = 5e37: still inside float range
+    for (int i = 0; i < n; ++i)
+        for (int copy = 0; copy < 3; ++copy)
+            testing::add_sphere(scene, Vec3(std::pow(3.0, i), copy * std::pow(3.0, i) * 0.3, 0.0),
+                                0.1 * std::pow(3.0, i), 0);
+    Accel accel;
+    accel.build(scene, 1);
+    const Bvh& bvh = accel.bvh();
+    // Depth by walking the tree.
+    int max_depth = 0;
+    std::vector<std::pair<uint32_t, int>> todo = {{0u, 0}};
+    while (!todo.empty()) {
+        auto [i, d] = todo.back();
+        todo.pop_back();
+        max_depth = std::max(max_depth, d);
+        if (bvh.nodes[i].count == 0) {
+            todo.push_back({bvh.nodes[i].offset, d + 1});
+            todo.push_back({bvh.nodes[i].offset + 1, d + 1});
+        }
+    }
+    EXPECT_LT(max_depth, 128);
+    for (int i = 0; i < n; i += 3) {
+        Ray ray;
+        ray.o = Vec3(std::pow(3.0, i), 0.0, 10.0 * std::pow(3.0, i));
+        ray.d = Vec3(0.0, 0.0, -1.0);
+        Hit a, b;
+        ASSERT_TRUE(accel.intersect(ray, a));
+        ASSERT_TRUE(accel.intersect_brute_force(ray, b));
+        EXPECT_EQ(a.t, b.t);
+    }
+}
+
+// Boxes growing by 1.4x from 1e-37 to 1e38 push SAH far past the depth limit, where median splits
+// take over: the tree stays within the traversal stack.
+TEST(Bvh, DepthLimitTakesOver) {
+    std::vector<BuildBox> boxes;
+    double x = 1e-37;
+    for (uint32_t i = 0; x < 1e38; ++i, x *= 1.4)
+        boxes.push_back(make_build_box(Vec3(x), Vec3(x * 1.1), i));
+    Bvh bvh = build_bvh(boxes, BvhBuildOptions());
+    int max_depth = 0;
+    std::vector<std::pair<uint32_t, int>> todo = {{0u, 0}};
+    while (!todo.empty()) {
+        auto [i, d] = todo.back();
+        todo.pop_back();
+        max_depth = std::max(max_depth, d);
+        if (bvh.nodes[i].count == 0) {
+            todo.push_back({bvh.nodes[i].offset, d + 1});
+            todo.push_back({bvh.nodes[i].offset + 1, d + 1});
+        }
+    }
+    EXPECT_GT(max_depth, 64);  // the limit was reached
+    EXPECT_LT(max_depth, 128);
 }
 
 TEST(Bvh, EmptySceneMissesEverything) {

@@ -30,7 +30,7 @@ TEST(Camera, DefaultIsTheVrmlDefault) {
     std::string error;
     ASSERT_TRUE(make_camera(scene, sized(640, 480), cam, error)) << error;
     EXPECT_EQ(cam.position, Vec3(0.0, 0.0, 10.0));
-    EXPECT_NEAR(cam.field_of_view, kPi / 4.0, 1e-6);
+    EXPECT_NEAR(cam.field_of_view, kPi / 4.0, 1e-6);  // the default is written as 0.785398
     EXPECT_FALSE(cam.ortho);
     EXPECT_EQ(cam.forward(), Vec3(0.0, 0.0, -1.0));
 }
@@ -46,7 +46,8 @@ TEST(Camera, FieldOfViewSpansTheSmallerDimension) {
         // The image edge in the middle of the smaller dimension is fov/2 off the axis.
         Vec3 edge = w < h ? cam.ray(0.0, 0.5 * h, w, h).d : cam.ray(0.5 * w, 0.0, w, h).d;
         EXPECT_NEAR(angle_between(edge, f), 0.4, kAngleTolerance) << w << "x" << h;
-        // Pixel (i, j) has its centre at (i + 0.5, j + 0.5): the middle of an odd image is on the axis.
+        // Pixel (i, j) has its centre at (i + 0.5, j + 0.5): the middle of an odd image is on the
+        // axis.
         Camera c2 = cam;
         Ray centre = c2.ray(0.5 * w, 0.5 * h, w, h);
         EXPECT_NEAR(angle_between(centre.d, f), 0.0, kAngleTolerance);
@@ -107,7 +108,8 @@ TEST(Camera, OrthoViewpointExtents) {
     Camera cam;
     std::string error;
     ASSERT_TRUE(make_camera(scene, sized(200, 100), cam, error));
-    // Height is the smaller dimension: y from -1 to 3 spans it, centred at (1, 1).
+    // Height is the smaller dimension: y from -1 to 3 spans it, centred at (1, 1). 1e-12: a few
+    // roundings of order-1 numbers.
     Ray top = cam.ray(100.0, 0.0, 200, 100), bottom = cam.ray(100.0, 100.0, 200, 100);
     EXPECT_NEAR(top.o.y, 3.0, 1e-12);
     EXPECT_NEAR(bottom.o.y, -1.0, 1e-12);
@@ -126,6 +128,7 @@ TEST(Camera, FitFramesTheBounds) {
     std::string error;
     ASSERT_TRUE(make_camera(scene, o, cam, error));
     // Same direction, camera on the view axis through the scene centre, box corners just inside.
+    // 1e-9 / 1e-12: roundings of numbers of order 100 / of order 1.
     EXPECT_EQ(cam.forward(), Vec3(0.0, 0.0, -1.0));
     EXPECT_NEAR(cam.position.x, 100.0, 1e-9);
     EXPECT_NEAR(cam.position.y, 50.0, 1e-9);
@@ -149,7 +152,8 @@ TEST(Camera, OrthoFromPerspectiveKeepsTheSizeAtTheSceneCentre) {
     Camera cam;
     std::string error;
     ASSERT_TRUE(make_camera(scene, o, cam, error));
-    EXPECT_NEAR(cam.ortho_size, 2.0 * 10.0 * std::tan(0.25), 1e-12);
+    EXPECT_NEAR(cam.ortho_size, 2.0 * 10.0 * std::tan(0.25),
+                1e-12);  // roundings of order-10 numbers
 }
 
 TEST(Camera, Samplers) {

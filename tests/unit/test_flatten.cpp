@@ -1,4 +1,5 @@
-// Typed scene -> FlatScene: world-space primitives, light scoping, material dedup, hints, bindables.
+// Typed scene -> FlatScene: world-space primitives, light scoping, material dedup, hints,
+// bindables.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -11,7 +12,8 @@
 namespace vr {
 namespace {
 
-// World coordinates here are a few products of exact inputs and sin/cos; 1e-12 absorbs that rounding.
+// World coordinates here are a few products of exact inputs and sin/cos; 1e-12 absorbs that
+// rounding.
 constexpr double kTight = 1e-12;
 
 struct Flat {
@@ -40,7 +42,8 @@ bool has_message(const Diagnostics& d, std::string_view text) {
 
 TEST(Flatten, TransformThroughTheParserMatchesHandComputed) {
     // The same transform as SceneTransform.ComposesTCRSRSInverseSRInverseC: p -> (2-2y, x+1, z+3).
-    const Flat f = flatten(R"(Transform { translation 1 2 3 center 1 0 0 rotation 0 0 1 1.5707963267948966
+    const Flat f =
+        flatten(R"(Transform { translation 1 2 3 center 1 0 0 rotation 0 0 1 1.5707963267948966
                                           scale 2 1 1 scaleOrientation 0 0 1 1.5707963267948966
                                           children Shape { geometry IndexedFaceSet {
                                             coord Coordinate { point [0 0 0, 1 0 0, 0 1 0] } coordIndex [0 1 2] } } })");
@@ -66,8 +69,11 @@ TEST(Flatten, DirectionalLightIsScopedToItsGroup) {
     ASSERT_EQ(f.flat.spheres.size(), 2u);
     ASSERT_EQ(f.flat.quadrics.size(), 1u);
     ASSERT_EQ(f.flat.lights.size(), 2u);  // the off light is dropped
-    auto lights_of = [&](uint32_t shading) { return f.flat.light_sets[f.flat.shadings[shading].light_set]; };
-    // Both spheres (even the one a level deeper, and before the light in file order) get the directional light.
+    auto lights_of = [&](uint32_t shading) {
+        return f.flat.light_sets[f.flat.shadings[shading].light_set];
+    };
+    // Both spheres (even the one a level deeper, and before the light in file order) get the
+    // directional light.
     for (const Sphere& s : f.flat.spheres) EXPECT_EQ(lights_of(s.shading).size(), 2u);
     // The box outside the group gets only the (global) point light.
     const auto box_lights = lights_of(f.flat.quadrics[0].shading);
@@ -102,7 +108,8 @@ TEST(Flatten, SphereUnderUniformAndNonUniformScale) {
 TEST(Flatten, MaterialsAreDeduplicated) {
     std::ostringstream text;
     for (int i = 0; i < 100; ++i)
-        text << "Transform { translation " << i << " 0 0 children Shape { appearance Appearance { material Material { "
+        text << "Transform { translation " << i
+             << " 0 0 children Shape { appearance Appearance { material Material { "
              << "diffuseColor " << (i % 2 ? "1 0 0" : "0 0 1") << " } } geometry Sphere {} } }\n";
     const Flat f = flatten(text.str());
     EXPECT_EQ(f.flat.spheres.size(), 100u);
@@ -163,13 +170,16 @@ TEST(Flatten, QuadricsCarryTheirParts) {
 
 TEST(Flatten, MeshUsedManyTimesIsTriangulatedOnceAndCopied) {
     std::ostringstream text;
-    text << "DEF M Shape { geometry IndexedFaceSet { creaseAngle 3.2 coord Coordinate { point [0 0 0, 1 0 0, 1 1 0, 0 1 0] }"
+    text << "DEF M Shape { geometry IndexedFaceSet { creaseAngle 3.2 coord Coordinate { point [0 0 "
+            "0, 1 0 0, 1 1 0, 0 1 0] }"
             " coordIndex [0 1 2 3] } }\n";
-    for (int i = 1; i < 50; ++i) text << "Transform { translation 0 0 " << i << " scale -1 1 1 children USE M }\n";
+    for (int i = 1; i < 50; ++i)
+        text << "Transform { translation 0 0 " << i << " scale -1 1 1 children USE M }\n";
     const Flat f = flatten(text.str());
     ASSERT_EQ(f.flat.meshes.size(), 50u);
     EXPECT_EQ(f.stats.triangles, 100u);
-    // A mirror keeps the front side: winding swapped so that the geometric normal matches the normals.
+    // A mirror keeps the front side: winding swapped so that the geometric normal matches the
+    // normals.
     const Mesh& m = f.flat.meshes[1];
     const Vec3 n = glm::cross(m.positions[m.triangles[1]] - m.positions[m.triangles[0]],
                               m.positions[m.triangles[2]] - m.positions[m.triangles[0]]);
@@ -215,6 +225,22 @@ TEST(Flatten, BillboardFacesTheViewer) {
     EXPECT_NEAR(glm::length(f.flat.meshes[0].positions[0] - Vec3(1, 0, 0)), 0.0, kTight);
 }
 
+TEST(Flatten, ScreenAlignedBillboardFollowsTheCameraAxes) {
+    // The camera at +X looks along -X (turned 90 degrees about +Y): its backward axis is +X, its up
+    // +Y.
+    const Flat f = flatten(R"(
+        Viewpoint { position 10 3 0 orientation 0 1 0 1.5707963267948966 }
+        Billboard { axisOfRotation 0 0 0 children Shape { geometry IndexedFaceSet {
+            coord Coordinate { point [0 0 1, 0 1 0, 1 0 0] } coordIndex [0 1 2] } } })");
+    ASSERT_EQ(f.flat.meshes.size(), 1u);
+    const auto& p = f.flat.meshes[0].positions;
+    // Local +Z goes to +X even though the viewer stands above the billboard's plane
+    // (screen-aligned, not pointing at the viewer); local +Y stays +Y; local +X goes to -Z.
+    EXPECT_NEAR(glm::length(p[0] - Vec3(1, 0, 0)), 0.0, kTight);
+    EXPECT_NEAR(glm::length(p[1] - Vec3(0, 1, 0)), 0.0, kTight);
+    EXPECT_NEAR(glm::length(p[2] - Vec3(0, 0, -1)), 0.0, kTight);
+}
+
 TEST(Flatten, PixelTextureAndMissingImage) {
     const Flat f = flatten(R"(
         Shape { appearance Appearance { texture PixelTexture { image 2 1 3 0xFF0000 0x00FF00 repeatS FALSE } }
@@ -236,8 +262,8 @@ TEST(Flatten, ThousandSpheresStats) {
     std::ostringstream text;
     for (int i = 0; i < 1000; ++i)
         text << "Transform { translation " << i % 10 << ' ' << (i / 10) % 10 << ' ' << i / 100
-             << " children Shape { appearance Appearance { material Material { diffuseColor " << (i % 7) / 7.0
-             << " 0.5 0.5 } } geometry Sphere { radius 0.4 } } }\n";
+             << " children Shape { appearance Appearance { material Material { diffuseColor "
+             << (i % 7) / 7.0 << " 0.5 0.5 } } geometry Sphere { radius 0.4 } } }\n";
     text << "DirectionalLight {}\n";
     const Flat f = flatten(text.str());
     EXPECT_EQ(f.stats.spheres, 1000u);
@@ -250,19 +276,24 @@ TEST(Flatten, ThousandSpheresStats) {
 }
 
 TEST(Flatten, CyclesAndDeepUseChainsDoNotHang) {
-    // A DEF'd group USEd inside itself: the parser may refuse or keep it; either way no hang, no crash.
-    LoadedScene loaded = load_scene_text("#VRML V2.0 utf8\nDEF A Group { children [ Shape { geometry Box {} } USE A ] }",
-                                         "test.wrl");
+    // A DEF'd group USEd inside itself: the parser may refuse or keep it; either way no hang, no
+    // crash.
+    LoadedScene loaded = load_scene_text(
+        "#VRML V2.0 utf8\nDEF A Group { children [ Shape { geometry Box {} } USE A ] }",
+        "test.wrl");
     Diagnostics diagnostics;
     const Scene scene = build_scene(loaded, diagnostics);
     FlattenStats stats;
     const FlatScene flat = flatten_scene(scene, {}, diagnostics, stats);
     EXPECT_LE(flat.quadrics.size(), 1u);
 
-    // Doubling chains: 2^30 instances would be reached; the primitive limit stops it with one error.
+    // Doubling chains: 2^30 instances would be reached; the primitive limit stops it with one
+    // error.
     std::ostringstream text;
     text << "#VRML V2.0 utf8\nDEF L0 Shape { geometry Sphere {} }\n";
-    for (int i = 1; i <= 30; ++i) text << "DEF L" << i << " Group { children [ USE L" << i - 1 << " USE L" << i - 1 << " ] }\n";
+    for (int i = 1; i <= 30; ++i)
+        text << "DEF L" << i << " Group { children [ USE L" << i - 1 << " USE L" << i - 1
+             << " ] }\n";
     LoadedScene big = load_scene_text(text.str(), "test.wrl");
     Diagnostics d2;
     const Scene s2 = build_scene(big, d2);
@@ -272,6 +303,23 @@ TEST(Flatten, CyclesAndDeepUseChainsDoNotHang) {
     const FlatScene f2 = flatten_scene(s2, options, d2, st2);
     EXPECT_EQ(f2.spheres.size(), 100000u);
     EXPECT_TRUE(d2.has_errors());
+
+    // A USE chain far deeper than any stack: D_k = Group { USE D_k-1 }, each DEF at the top level.
+    std::ostringstream chain;
+    chain << "#VRML V2.0 utf8\nDEF D0 Shape { geometry Box {} }\n";
+    for (int i = 1; i <= 20000; ++i)
+        chain << "DEF D" << i << " Group { children USE D" << i - 1 << " }\n";
+    chain << "Viewpoint {}\n";
+    LoadedScene deep = load_scene_text(chain.str(), "test.wrl");
+    Diagnostics d3;
+    const Scene s3 = build_scene(deep, d3);
+    FlattenOptions shallow;
+    shallow.max_depth = 50;
+    FlattenStats st3;
+    const FlatScene f3 = flatten_scene(s3, shallow, d3, st3);
+    EXPECT_EQ(f3.viewpoints.size(), 1u);
+    EXPECT_GT(f3.quadrics.size(), 0u);
+    EXPECT_TRUE(has_message(d3, "levels deep"));
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Every good file of the shared corpus builds and flattens without crashing (folders named bad, warnings or
-// errors hold broken files on purpose and are left to the parser's tests).
+// Every good file of the shared corpus builds and flattens without crashing (folders named bad,
+// warnings or errors hold broken files on purpose and are left to the parser's tests).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -19,7 +19,8 @@ std::vector<fs::path> corpus_files(const fs::path& folder) {
     for (const auto& entry : fs::recursive_directory_iterator(folder)) {
         if (!entry.is_regular_file()) continue;
         const std::string ext = entry.path().extension().string();
-        if (ext != ".wrl" && ext != ".x3dv" && ext != ".x3d" && ext != ".gz" && ext != ".x3dz" && ext != ".x3dvz")
+        if (ext != ".wrl" && ext != ".x3dv" && ext != ".x3d" && ext != ".gz" && ext != ".x3dz" &&
+            ext != ".x3dvz")
             continue;
         bool broken = false;
         for (const fs::path& part : fs::relative(entry.path(), folder))
@@ -30,7 +31,7 @@ std::vector<fs::path> corpus_files(const fs::path& folder) {
     return files;
 }
 
-void flatten_all(const std::string& subfolder, bool expect_primitives = true) {
+void flatten_all(const std::string& subfolder) {
     const std::vector<fs::path> files = corpus_files(fs::path(VRMLRAY_CORPUS_DIR) / subfolder);
     if (files.empty()) GTEST_SKIP() << "no corpus at " << VRMLRAY_CORPUS_DIR << "/" << subfolder;
     size_t primitives = 0;
@@ -46,7 +47,8 @@ void flatten_all(const std::string& subfolder, bool expect_primitives = true) {
         const FlatScene flat = flatten_scene(scene, options, diagnostics, stats);
         primitives += flat.spheres.size() + flat.quadrics.size() + flat.meshes.size();
         // Everything emitted is finite.
-        for (const Sphere& s : flat.spheres) EXPECT_TRUE(std::isfinite(s.radius) && std::isfinite(s.center.x));
+        for (const Sphere& s : flat.spheres)
+            EXPECT_TRUE(std::isfinite(s.radius) && std::isfinite(s.center.x));
         for (const Mesh& m : flat.meshes)
             for (const Vec3& p : m.positions) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
         for (const Shading& s : flat.shadings) {
@@ -54,15 +56,13 @@ void flatten_all(const std::string& subfolder, bool expect_primitives = true) {
             ASSERT_LT(s.light_set, flat.light_sets.size());
         }
     }
-    if (expect_primitives) {
-        EXPECT_GT(primitives, 0u);
-    }
+    EXPECT_GT(primitives, 0u);
 }
 
 TEST(FlattenCorpus, Vrml97) { flatten_all("vrml97"); }
 TEST(FlattenCorpus, X3dClassic) { flatten_all("x3dv"); }
 TEST(FlattenCorpus, X3dXml) { flatten_all("x3d"); }
-TEST(FlattenCorpus, Vrml1) { flatten_all("vrml1", false); }  // no crash; the VRML 1.0 upgrade is the reader's
+TEST(FlattenCorpus, Vrml1) { flatten_all("vrml1"); }
 
 }  // namespace
 }  // namespace vr

@@ -1,4 +1,5 @@
-// Polygon geometry -> triangles: ear clipping, IndexedFaceSet rules, ElevationGrid, Extrusion, X3D sets.
+// Polygon geometry -> triangles: ear clipping, IndexedFaceSet rules, ElevationGrid, Extrusion, X3D
+// sets.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,13 +12,13 @@
 namespace vr {
 namespace {
 
-// Areas and coordinates here are sums of a few exact binary fractions; 1e-12 only absorbs the rounding of
-// the projections onto the polygon plane.
+// Areas and coordinates here are sums of a few exact binary fractions; 1e-12 only absorbs the
+// rounding of the projections onto the polygon plane.
 constexpr double kTight = 1e-12;
 
 sg::Origin test_origin(std::string_view type) {
     sg::Origin o;
-    o.type = type;
+    o.type = intern(type);
     return o;
 }
 
@@ -43,7 +44,8 @@ TEST(Geometry, EarClippingConcaveLShape) {
         points.push_back(tilt * Vec3(p, 0.0) + Vec3(100, -50, 7));
     std::vector<uint32_t> triangles;
     ASSERT_TRUE(triangulate_polygon(points, triangles));
-    // At most n - 2 triangles: fewer when the ears leave three collinear vertices (no area) at the end.
+    // At most n - 2 triangles: fewer when the ears leave three collinear vertices (no area) at the
+    // end.
     ASSERT_GE(triangles.size(), 9u);
     ASSERT_LE(triangles.size(), 12u);
     double area = 0.0;
@@ -72,7 +74,8 @@ TEST(Geometry, DegeneratePolygonsHaveNoTriangles) {
 
 TEST(Geometry, IndexedFaceSetConcaveLArea) {
     sg::IndexedFaceSet f;
-    f.data.coords = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(1, 1, 0), Vec3(1, 2, 0), Vec3(0, 2, 0)};
+    f.data.coords = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0),
+                     Vec3(1, 1, 0), Vec3(1, 2, 0), Vec3(0, 2, 0)};
     f.coord_index = {0, 1, 2, 3, 4, 5, -1};
     FaceSetRun run("IndexedFaceSet");
     const TriMesh mesh = run.faces(f);
@@ -106,7 +109,8 @@ TEST(Geometry, IndexedFaceSetSkipsBadFacesAndWarnsOnce) {
 // A unit cube as six quads, outward.
 sg::IndexedFaceSet cube() {
     sg::IndexedFaceSet f;
-    for (int i = 0; i < 8; ++i) f.data.coords.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1) - Vec3(0.5));
+    for (int i = 0; i < 8; ++i)
+        f.data.coords.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1) - Vec3(0.5));
     f.coord_index = {0, 2, 3, 1, -1, 4, 5, 7, 6, -1, 0, 1, 5, 4, -1,
                      2, 6, 7, 3, -1, 0, 4, 6, 2, -1, 1, 3, 7, 5, -1};
     return f;
@@ -172,7 +176,8 @@ TEST(Geometry, ExplicitNormalsColorsAndIndices) {
 }
 
 TEST(Geometry, DefaultTextureMappingUsesTwoLargestDimensions) {
-    // A 4 x 2 rectangle in the XZ plane: s along X (0..1), t along Z (0..0.5: divided by the larger size).
+    // A 4 x 2 rectangle in the XZ plane: s along X (0..1), t along Z (0..0.5: divided by the larger
+    // size).
     sg::IndexedFaceSet f;
     f.data.coords = {Vec3(0, 0, 0), Vec3(0, 0, 2), Vec3(4, 0, 2), Vec3(4, 0, 0)};
     f.coord_index = {0, 1, 2, 3, -1};
@@ -208,7 +213,8 @@ TEST(Geometry, ExtrusionOfASquareAlongAStraightSpineIsABox) {
         const auto& p = mesh.positions;
         const uint32_t* c = &mesh.triangles[t];
         const Vec3 n = glm::cross(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
-        EXPECT_GT(glm::dot(n, (p[c[0]] + p[c[1]] + p[c[2]]) / 3.0 - Vec3(0, 0.5, 0)), 0.0) << "triangle " << t / 3;
+        EXPECT_GT(glm::dot(n, (p[c[0]] + p[c[1]] + p[c[2]]) / 3.0 - Vec3(0, 0.5, 0)), 0.0)
+            << "triangle " << t / 3;
     }
     EXPECT_EQ(diagnostics.warning_count(), 0u);
 
@@ -222,8 +228,10 @@ TEST(Geometry, ExtrusionOfASquareAlongAStraightSpineIsABox) {
 TEST(Geometry, ExtrusionAroundABendKeepsCrossSectionArea) {
     // A circle-ish hexagon swept along a quarter circle; each cap's area equals the hexagon's.
     sg::Extrusion e;
-    for (int k = 0; k <= 6; ++k) e.cross_section.push_back(Vec2(std::cos(-k * kPi / 3), std::sin(-k * kPi / 3)));
-    for (int k = 0; k <= 8; ++k) e.spine.push_back(Vec3(10 * (1 - std::cos(k * kPi / 16)), 10 * std::sin(k * kPi / 16), 0));
+    for (int k = 0; k <= 6; ++k)
+        e.cross_section.push_back(Vec2(std::cos(-k * kPi / 3), std::sin(-k * kPi / 3)));
+    for (int k = 0; k <= 8; ++k)
+        e.spine.push_back(Vec3(10 * (1 - std::cos(k * kPi / 16)), 10 * std::sin(k * kPi / 16), 0));
     e.scale = {Vec2(1, 1)};
     e.orientation = {Vec4(0, 0, 1, 0)};
     e.begin_cap = e.end_cap = false;
@@ -280,9 +288,11 @@ TEST(Geometry, X3DTriangleAndQuadSets) {
     const TriMesh s = triangulate_face_set(composed_faces(strip, report), false, report);
     EXPECT_EQ(s.triangle_count(), 3u);
     EXPECT_NEAR(s.area(), 1.5, kTight);
-    // Strips alternate their winding in the input; the output keeps the first triangle's orientation.
+    // Strips alternate their winding in the input; the output keeps the first triangle's
+    // orientation.
     const double first = glm::cross(s.positions[s.triangles[1]] - s.positions[s.triangles[0]],
-                                    s.positions[s.triangles[2]] - s.positions[s.triangles[0]]).z;
+                                    s.positions[s.triangles[2]] - s.positions[s.triangles[0]])
+                             .z;
     for (size_t t = 0; t < s.triangles.size(); t += 3) {
         const auto& p = s.positions;
         const uint32_t* c = &s.triangles[t];
@@ -296,13 +306,15 @@ TEST(Geometry, X3DTriangleAndQuadSets) {
     const TriMesh f = triangulate_face_set(composed_faces(fan, report), false, report);
     EXPECT_EQ(f.triangle_count(), 2u);
     EXPECT_NEAR(f.area(), 1.0, kTight);
-    // normalPerVertex TRUE without normals: averaged over the triangles sharing a vertex (all coplanar).
+    // normalPerVertex TRUE without normals: averaged over the triangles sharing a vertex (all
+    // coplanar).
     ASSERT_EQ(f.normals.size(), 6u);
     for (const Vec3& n : f.normals) EXPECT_NEAR(n.z, 1.0, kTight);
 
     sg::ComposedSet quads;
     quads.kind = sg::ComposedKind::QuadSet;
-    quads.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(5, 5, 5), Vec3(6, 6, 6)};
+    quads.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0),
+                         Vec3(0, 1, 0), Vec3(5, 5, 5), Vec3(6, 6, 6)};
     const TriMesh q = triangulate_face_set(composed_faces(quads, report), false, report);
     EXPECT_EQ(q.triangle_count(), 2u);  // the two extra coordinates are ignored
     EXPECT_EQ(diagnostics.warning_count(), 0u);

@@ -6,6 +6,7 @@
 
 #include "core/ray.h"
 #include "render/accel.h"
+#include "render/integrator.h"
 #include "render/intersect.h"
 #include "test_render_util.h"
 
@@ -38,10 +39,13 @@ FlatScene random_primitive(int kind, double s, const Vec3& centre, Rng& rng) {
         testing::add_sphere(scene, centre, s * u(rng), 0);
     } else if (kind <= 4) {
         Quadric q;
-        q.kind = kind == 1 ? QuadricKind::Box : kind == 2 ? QuadricKind::Cylinder
-               : kind == 3 ? QuadricKind::Cone : QuadricKind::Ellipsoid;
+        q.kind = kind == 1   ? QuadricKind::Box
+                 : kind == 2 ? QuadricKind::Cylinder
+                 : kind == 3 ? QuadricKind::Cone
+                             : QuadricKind::Ellipsoid;
         double r = u(rng);
-        q.size = kind == 1 ? Vec3(u(rng), u(rng), u(rng)) * 2.0 : Vec3(2.0 * r, 2.0 * u(rng), 2.0 * r);
+        q.size =
+            kind == 1 ? Vec3(u(rng), u(rng), u(rng)) * 2.0 : Vec3(2.0 * r, 2.0 * u(rng), 2.0 * r);
         Mat4 scale = glm::scale(Mat4(1.0), Vec3(stretch(rng), stretch(rng), stretch(rng)) * s);
         q.world_from_object = glm::translate(Mat4(1.0), centre) * random_rotation(rng) * scale;
         q.object_from_world = glm::inverse(q.world_from_object);
@@ -51,7 +55,8 @@ FlatScene random_primitive(int kind, double s, const Vec3& centre, Rng& rng) {
         scene.quadrics.push_back(q);
     } else {
         Mesh m;
-        m.positions = {centre + s * random_unit(rng), centre + s * random_unit(rng), centre + s * random_unit(rng)};
+        m.positions = {centre + s * random_unit(rng), centre + s * random_unit(rng),
+                       centre + s * random_unit(rng)};
         m.triangles = {0, 1, 2};
         scene.meshes.push_back(m);
     }
@@ -66,12 +71,13 @@ const char* kKindNames[] = {"sphere", "box", "cylinder", "cone", "ellipsoid", "t
 TEST(IntersectRobustness, SpawnedRaysNeverReHitTheirSurface) {
     Rng rng(1234);
     std::uniform_real_distribution<double> log_scale(-3.0, 5.0), u01(0.0, 1.0);
-    int tested = 0, failures[6] = {0, 0, 0, 0, 0, 0};
+    int tested = 0, failures[6] = {0, 0, 0, 0, 0, 0}, tested_kind[6] = {0, 0, 0, 0, 0, 0};
     for (int trial = 0; trial < 10000; ++trial) {
         const int kind = trial % 6;
         const double s = std::pow(10.0, log_scale(rng));
         Vec3 centre = s * 3.0 * (Vec3(u01(rng), u01(rng), u01(rng)) - 0.5);
-        if (trial % 4 == 0) centre += Vec3(1e5, -1e5, 3e4);  // a scene translated far from the origin
+        if (trial % 4 == 0)
+            centre += Vec3(1e5, -1e5, 3e4);  // a scene translated far from the origin
         FlatScene scene = random_primitive(kind, s, centre, rng);
         Accel accel;
         accel.build(scene, 1);
@@ -92,11 +98,13 @@ TEST(IntersectRobustness, SpawnedRaysNeverReHitTheirSurface) {
             Ray r = spawn_ray(sh.p, sh.p_error, n, w);
             Hit again;
             ++tested;
+            ++tested_kind[kind];
             if (accel.intersect(r, again)) {
                 ++failures[kind];
                 if (failures[kind] <= 3)
-                    ADD_FAILURE() << kKindNames[kind] << " re-hit at t=" << again.t << " scale " << s
-                                  << " centre " << centre.x << "," << centre.y << "," << centre.z;
+                    ADD_FAILURE() << kKindNames[kind] << " re-hit at t=" << again.t << " scale "
+                                  << s << " centre " << centre.x << "," << centre.y << ","
+                                  << centre.z;
             }
             // A shadow ray towards a point on the same side is not blocked by the surface either.
             Vec3 target = sh.p + (s * (0.5 + u01(rng))) * w;
@@ -105,7 +113,10 @@ TEST(IntersectRobustness, SpawnedRaysNeverReHitTheirSurface) {
         }
     }
     EXPECT_GT(tested, 50000);
-    for (int k = 0; k < 6; ++k) EXPECT_EQ(failures[k], 0) << kKindNames[k];
+    for (int k = 0; k < 6; ++k) {
+        EXPECT_EQ(failures[k], 0) << kKindNames[k];
+        EXPECT_GT(tested_kind[k], 3000) << kKindNames[k];  // triangles are missed most often
+    }
 }
 
 // Rays that enter a sphere through its surface find the far side, not the point they left.
@@ -135,7 +146,8 @@ TEST(IntersectRobustness, RaysIntoASphereFindTheFarSide) {
             ++failures;
             continue;
         }
-        // The chord length is -2 r (w . n); the far hit is one chord away.
+        // The chord length is -2 r (w . n); the far hit is one chord away, up to roundings of the
+        // largest coordinates (1e-9 relative is far above them, far below any real error).
         double chord = -2.0 * r * glm::dot(w, sh.ng);
         if (std::fabs(far.t - chord) > 1e-9 * (r + glm::length(c))) ++failures;
     }
@@ -144,7 +156,8 @@ TEST(IntersectRobustness, RaysIntoASphereFindTheFarSide) {
 
 // Exact (80-bit) distance from point c to the line o + t d, for reference answers.
 long double line_distance(const Vec3& o, const Vec3& d, const Vec3& c) {
-    long double ox = (long double)c.x - o.x, oy = (long double)c.y - o.y, oz = (long double)c.z - o.z;
+    long double ox = (long double)c.x - o.x, oy = (long double)c.y - o.y,
+                oz = (long double)c.z - o.z;
     long double dx = d.x, dy = d.y, dz = d.z;
     long double cx = oy * dz - oz * dy, cy = oz * dx - ox * dz, cz = ox * dy - oy * dx;
     return std::sqrt((cx * cx + cy * cy + cz * cz) / (dx * dx + dy * dy + dz * dz));
@@ -152,7 +165,8 @@ long double line_distance(const Vec3& o, const Vec3& d, const Vec3& c) {
 
 // Checks every ray of a grid against the extended-precision reference, except rays within a
 // relative 1e-7 of the silhouette (there double precision itself cannot decide).
-void check_silhouette(const Vec3& eye, const Vec3& forward_target, double half_angle, const Vec3& c, double r) {
+void check_silhouette(const Vec3& eye, const Vec3& forward_target, double half_angle, const Vec3& c,
+                      double r) {
     FlatScene scene = testing::empty_scene();
     testing::add_shading(scene, Material());
     testing::add_sphere(scene, c, r, 0);
@@ -180,7 +194,8 @@ void check_silhouette(const Vec3& eye, const Vec3& forward_target, double half_a
             EXPECT_EQ(got, expected) << "pixel " << i << "," << j;
             if (got) {
                 ++hits;
-                // The hit point lies on the sphere to within the rounding of its coordinates.
+                // The hit point lies on the sphere to within the rounding of its coordinates (a few
+                // ulps, 2.2e-16 relative each).
                 SurfaceHit sh = accel.surface(ray, hit);
                 double on = glm::length(sh.p - c) - r;
                 EXPECT_LT(std::fabs(on), 1e-12 * (glm::length(c) + r)) << "pixel " << i << "," << j;
@@ -193,7 +208,8 @@ void check_silhouette(const Vec3& eye, const Vec3& forward_target, double half_a
 }
 
 TEST(IntersectRobustness, FarTinySphere) {
-    // r = 1e-4 at distance 1e4: the view spans twice the sphere, so about a quarter of the rays hit.
+    // r = 1e-4 at distance 1e4: the view spans twice the sphere, so about a quarter of the rays
+    // hit.
     const Vec3 c(0.0, 0.0, -1e4);
     check_silhouette(Vec3(0.0), c, std::atan(2e-4 / 1e4), c, 1e-4);
     // The same, translated by 1e5.
@@ -234,8 +250,99 @@ TEST(IntersectRobustness, CameraInsideASphereSeesItsInside) {
         ray.d = random_unit(rng);
         Hit hit;
         ASSERT_TRUE(accel.intersect(ray, hit));
+        // o + t d is not refined: a few roundings of order-10 numbers.
         EXPECT_NEAR(glm::length(ray.at(hit.t) - Vec3(1.0, 2.0, 3.0)), 5.0, 1e-12);
     }
+}
+
+// Self-shadowing ("acne"): lit convex objects alone in the scene must show exactly the unshadowed
+// Lambert value wherever they face the light, at every scale and far from the origin.
+TEST(IntersectRobustness, NoShadowAcneAtAnyScale) {
+    for (double scale : {1e-3, 1.0, 1e5}) {
+        for (const Vec3& offset : {Vec3(0.0), Vec3(1e5, -2e5, 3e5)}) {
+            for (int kind : {0, 1, 2}) {  // sphere, thin box, ellipsoid under a non-uniform scale
+                FlatScene scene = testing::empty_scene();
+                Material m;
+                m.diffuse = Vec3(1.0);
+                m.ambient_intensity = 0.0;
+                testing::add_shading(scene, m);
+                const Vec3 centre = offset;
+                if (kind == 0) {
+                    testing::add_sphere(scene, centre, scale, 0);
+                } else {
+                    Quadric q;
+                    q.kind = kind == 1 ? QuadricKind::Box : QuadricKind::Ellipsoid;
+                    q.size = kind == 1 ? Vec3(2.0, 1e-6, 2.0) : Vec3(2.0);
+                    Vec3 stretch = kind == 1 ? Vec3(1.0) : Vec3(1.0, 0.01, 3.0);
+                    q.world_from_object = glm::translate(Mat4(1.0), centre) *
+                                          glm::rotate(Mat4(1.0), 0.3, Vec3(1.0, 0.0, 0.2)) *
+                                          glm::scale(Mat4(1.0), stretch * scale);
+                    q.object_from_world = glm::inverse(q.world_from_object);
+                    scene.quadrics.push_back(q);
+                }
+                Light l;
+                l.direction = glm::normalize(Vec3(0.3, -1.0, -0.2));
+                testing::add_light(scene, l);
+                Accel accel;
+                accel.build(scene, 1);
+                RenderOptions options;
+                Camera camera;
+                Integrator integrator(scene, accel, camera, options);
+                Rng rng(11);
+                int lit = 0, acne = 0;
+                for (int i = 0; i < 2000; ++i) {
+                    Ray ray;
+                    ray.o = centre + 5.0 * scale * random_unit(rng);
+                    ray.d = glm::normalize(centre + 0.8 * scale * random_unit(rng) - ray.o);
+                    Hit hit;
+                    if (!accel.intersect(ray, hit)) continue;
+                    SurfaceHit sh = accel.surface(ray, hit);
+                    Vec3 n = glm::dot(sh.ng, ray.d) < 0.0 ? sh.ng : -sh.ng;
+                    double n_dot_l = glm::dot(n, -l.direction);
+                    if (n_dot_l <= 0.0) continue;
+                    // A convex closed object: facing the light means unshadowed (the thin box's
+                    // far face never faces both the viewer and the light).
+                    RayCounters counters;
+                    double v = integrator.trace(ray, 0, 1.0, counters).color.x;
+                    ++lit;
+                    // Acne would show as 0 (shadowed); 1e-9 allows the normal's rounding.
+                    if (std::fabs(v - n_dot_l) > 1e-9) ++acne;
+                }
+                EXPECT_GT(lit, 100) << "scale " << scale << " kind " << kind;
+                EXPECT_EQ(acne, 0)
+                    << "scale " << scale << " kind " << kind << " offset " << offset.x;
+            }
+        }
+    }
+}
+
+// Two coincident spheres look exactly like one: neither shadows the other.
+TEST(IntersectRobustness, CoincidentSpheresDoNotShadowEachOther) {
+    auto render_centre_row = [](int copies) {
+        FlatScene scene = testing::empty_scene();
+        Material m;
+        m.ambient_intensity = 0.0;
+        testing::add_shading(scene, m);
+        for (int i = 0; i < copies; ++i) testing::add_sphere(scene, Vec3(1e3, 2e3, -3e3), 7.0, 0);
+        Light l;
+        l.direction = glm::normalize(Vec3(-1.0, -1.0, -1.0));
+        testing::add_light(scene, l);
+        Accel accel;
+        accel.build(scene, 1);
+        RenderOptions options;
+        Camera camera;
+        Integrator integrator(scene, accel, camera, options);
+        std::vector<double> row;
+        for (int i = 0; i < 400; ++i) {
+            Ray ray;
+            ray.o = Vec3(1e3, 2e3, -3e3 + 50.0);
+            ray.d = glm::normalize(Vec3(-7.5 + i * 15.0 / 400.0, 0.3, -50.0));
+            RayCounters counters;
+            row.push_back(integrator.trace(ray, 0, 1.0, counters).color.x);
+        }
+        return row;
+    };
+    EXPECT_EQ(render_centre_row(1), render_centre_row(2));
 }
 
 TEST(IntersectRobustness, DegenerateTrianglesNeverHit) {

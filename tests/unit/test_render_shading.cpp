@@ -1,4 +1,5 @@
-// The opaque integrator against closed forms: VRML97 lighting terms, reflection, refraction, Fresnel.
+// The opaque integrator against closed forms: VRML97 lighting terms, reflection, refraction,
+// Fresnel.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,6 +22,9 @@ using testing::empty_scene;
 // Everything here is a handful of double operations on exact inputs; the float output pixel is the
 // limiting precision (about 6e-8 relative), so 1e-6 absolute covers colours of order 1.
 constexpr double kPixelTolerance = 1e-6;
+// Paths traced in double precision straight to a closed form, without the float image: a few dozen
+// operations on order-1 numbers, each off by at most 1.1e-16.
+constexpr double kDoubleTolerance = 1e-12;
 
 Image render(const FlatScene& scene, RenderOptions options, int threads = 1) {
     options.threads = threads;
@@ -115,8 +119,9 @@ TEST(RenderShading, SpecularHighlightPeak) {
     Vec3 v = -r.d, l(0.0, 0.0, 1.0);
     Vec3 h = glm::normalize(l + v);
     double expected = 0.4 * glm::dot(n, l) + 0.5 * std::pow(glm::dot(n, h), 25.6);
-    // The closed form above uses the textbook discriminant, fine for this well-conditioned hit.
-    EXPECT_NEAR(img.pixel(51, 50)[0], expected, 1e-6);
+    // The closed form above uses the textbook discriminant, fine for this well-conditioned hit;
+    // the float pixel limits the comparison.
+    EXPECT_NEAR(img.pixel(51, 50)[0], expected, kPixelTolerance);
 }
 
 Light point_light(const Vec3& pos, double intensity, const Vec3& attenuation, double radius) {
@@ -137,7 +142,8 @@ TEST(RenderShading, PointLightAttenuation) {
     // Light at (0, 0, 5): distance 4 from the hit (0, 0, 1); 1 + 0.5*4 + 0.25*16 = 7.
     add_light(scene, point_light(Vec3(0.0, 0.0, 5.0), 0.7, Vec3(1.0, 0.5, 0.25), 100.0));
     Image img = render(scene, small_options(101, 101));
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.pixel(50, 50)[c], m.diffuse[c] * 0.7 / 7.0, kPixelTolerance);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(img.pixel(50, 50)[c], m.diffuse[c] * 0.7 / 7.0, kPixelTolerance);
 
     // Attenuation below 1 is clamped: 1/max(0.1, 1) = 1.
     FlatScene scene2 = unit_sphere_scene(m);
@@ -158,12 +164,14 @@ TEST(RenderShading, SpotFactorRamp) {
     l.direction = Vec3(0.0, 0.0, -1.0);
     l.beam_width = 0.2;
     l.cutoff_angle = 0.6;
-    auto at = [&](double angle) { return spot_factor(l, Vec3(std::sin(angle), 0.0, -std::cos(angle))); };
+    auto at = [&](double angle) {
+        return spot_factor(l, Vec3(std::sin(angle), 0.0, -std::cos(angle)));
+    };
     // acos of a rounded cosine: about 1e-8 of angle error near 0, 1e-15 elsewhere.
     EXPECT_EQ(at(0.0), 1.0);
     EXPECT_EQ(at(0.19), 1.0);
-    EXPECT_NEAR(at(0.4), 0.5, 1e-12);
-    EXPECT_NEAR(at(0.5), 0.25, 1e-12);
+    EXPECT_NEAR(at(0.4), 0.5, kDoubleTolerance);
+    EXPECT_NEAR(at(0.5), 0.25, kDoubleTolerance);
     EXPECT_EQ(at(0.61), 0.0);
     l.beam_width = 1.0;  // beyond the cut-off: hard edge
     EXPECT_EQ(at(0.59), 1.0);
@@ -201,6 +209,7 @@ TEST(RenderShading, SpotCutOffOnAPlane) {
         double y = -(50 + 0.5 - 50.0) * 0.1;
         double r = std::hypot(x, y);
         float v = img.pixel(i, 50)[0];
+        // Pixels within 1e-9 of the cut-off circle could round either way: not checked.
         if (r < edge - 1e-9) {
             double cos_l = 5.0 / std::hypot(r, 5.0);  // N.L
             EXPECT_NEAR(v, cos_l, kPixelTolerance) << "x=" << x;
@@ -216,14 +225,15 @@ TEST(RenderShading, MirrorReflectsAKnownColour) {
     mirror.lit = false;
     mirror.reflectivity = 1.0;
     uint32_t mirror_sh = add_shading(scene, mirror);
-    add_quad(scene, Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0), mirror_sh);
+    add_quad(scene, Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0),
+             mirror_sh);
     Material colored;
     colored.lit = false;
     uint32_t col_sh = add_shading(scene, colored);
     const Vec3 k(0.3, 0.6, 0.9);
     // Behind the camera, facing it: only reflected rays see it.
-    add_quad(scene, Vec3(-100, -100, 20), Vec3(-100, 100, 20), Vec3(100, 100, 20), Vec3(100, -100, 20), col_sh,
-             {k, k, k, k});
+    add_quad(scene, Vec3(-100, -100, 20), Vec3(-100, 100, 20), Vec3(100, 100, 20),
+             Vec3(100, -100, 20), col_sh, {k, k, k, k});
     scene.viewpoints.push_back(testing::look_from(Vec3(0.0, 0.0, 10.0), 0.5));
     Image img = render(scene, small_options(21, 21));
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.pixel(10, 10)[c], k[c], kPixelTolerance);
@@ -232,7 +242,8 @@ TEST(RenderShading, MirrorReflectsAKnownColour) {
     // Half mirror over an unlit white surface: 0.5 * white + 0.5 * k.
     scene.materials[0].reflectivity = 0.5;
     img = render(scene, small_options(21, 21));
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.pixel(10, 10)[c], 0.5 + 0.5 * k[c], kPixelTolerance);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(img.pixel(10, 10)[c], 0.5 + 0.5 * k[c], kPixelTolerance);
 
     // Depth 1 allows no reflection: the mirror is black.
     scene.materials[0].reflectivity = 1.0;
@@ -246,14 +257,14 @@ TEST(RenderShading, FresnelNormalIncidence) {
     for (double n : {1.33, 1.5, 2.4}) {
         double cos_t;
         double expected = std::pow((n - 1.0) / (n + 1.0), 2.0);
-        // A few roundings of order-1 numbers.
+        // A few roundings of order-1 numbers (1.1e-16 each).
         EXPECT_NEAR(fresnel_dielectric(1.0, 1.0 / n, cos_t), expected, 1e-15);
         EXPECT_NEAR(fresnel_dielectric(1.0, n, cos_t), expected, 1e-15);  // same from inside
         EXPECT_EQ(cos_t, 1.0);
     }
     double cos_t;
     EXPECT_EQ(fresnel_dielectric(1.0, 1.0, cos_t), 0.0);
-    // Grazing incidence reflects everything.
+    // Grazing incidence reflects everything (a few roundings of order-1 numbers).
     EXPECT_NEAR(fresnel_dielectric(0.0, 1.0 / 1.5, cos_t), 1.0, 1e-15);
 }
 
@@ -264,11 +275,13 @@ TEST(RenderShading, TotalInternalReflection) {
     EXPECT_LT(fresnel_dielectric(std::cos(critical - 1e-6), n, cos_t), 1.0);
     EXPECT_EQ(fresnel_dielectric(std::cos(critical + 1e-6), n, cos_t), 1.0);
     Vec3 out;
-    Vec3 d(std::sin(1.0), -std::cos(1.0), 0.0);  // 57 degrees inside glass: beyond the critical 41.8
+    Vec3 d(std::sin(1.0), -std::cos(1.0),
+           0.0);  // 57 degrees inside glass: beyond the critical 41.8
     EXPECT_FALSE(refract_direction(d, Vec3(0.0, 1.0, 0.0), n, out));
 
-    // In a glass plate the ray bounces off top and bottom (60 degrees) and leaves through the end face
-    // at x = 10 (30 degrees) towards a red wall; a green wall above the plate never sees light.
+    // In a glass plate the ray bounces off top and bottom (60 degrees) and leaves through the end
+    // face at x = 10 (30 degrees) towards a red wall; a green wall above the plate never sees
+    // light.
     FlatScene scene = empty_scene();
     Material glass;
     glass.lit = false;
@@ -284,8 +297,8 @@ TEST(RenderShading, TotalInternalReflection) {
     wall.lit = false;
     uint32_t wall_sh = add_shading(scene, wall);
     const Vec3 red(1, 0, 0), green(0, 1, 0);
-    add_quad(scene, Vec3(15, -50, -50), Vec3(15, 50, -50), Vec3(15, 50, 50), Vec3(15, -50, 50), wall_sh,
-             {red, red, red, red});
+    add_quad(scene, Vec3(15, -50, -50), Vec3(15, 50, -50), Vec3(15, 50, 50), Vec3(15, -50, 50),
+             wall_sh, {red, red, red, red});
     add_quad(scene, Vec3(-50, 5, -50), Vec3(50, 5, -50), Vec3(50, 5, 50), Vec3(-50, 5, 50), wall_sh,
              {green, green, green, green});
     Accel accel;
@@ -302,14 +315,15 @@ TEST(RenderShading, TotalInternalReflection) {
     EXPECT_EQ(v.color.y, 0.0);
     double exit_cos_t;
     double f_exit = fresnel_dielectric(std::cos(kPi / 6.0), n, exit_cos_t);
-    // Only one path reaches the red wall: three total reflections, then (1 - F) out of the end face.
-    EXPECT_NEAR(v.color.x, 1.0 - f_exit, 1e-12);
+    // Only one path reaches the red wall: three total reflections, then (1 - F) out of the end
+    // face.
+    EXPECT_NEAR(v.color.x, 1.0 - f_exit, kDoubleTolerance);
 }
 
 TEST(RenderShading, GlassSlabShiftsTheRay) {
     // A plate of thickness T = 1 in z, n = 1.5; a ray at incidence theta leaves parallel, displaced
-    // sideways by D = T sin(theta - theta_r) / cos(theta_r). The wall behind has red = (x + 50)/100,
-    // green = 1, so red / green gives the x where the ray arrives.
+    // sideways by D = T sin(theta - theta_r) / cos(theta_r). The wall behind has red = (x +
+    // 50)/100, green = 1, so red / green gives the x where the ray arrives.
     const double n = 1.5, thickness = 1.0, theta = 0.6;
     FlatScene scene = empty_scene();
     Material glass;
@@ -326,8 +340,8 @@ TEST(RenderShading, GlassSlabShiftsTheRay) {
     wall.lit = false;
     uint32_t wall_sh = add_shading(scene, wall);
     auto ramp = [](double x) { return Vec3((x + 50.0) / 100.0, 1.0, 0.0); };
-    add_quad(scene, Vec3(-50, -50, -5), Vec3(50, -50, -5), Vec3(50, 50, -5), Vec3(-50, 50, -5), wall_sh,
-             {ramp(-50), ramp(50), ramp(50), ramp(-50)});
+    add_quad(scene, Vec3(-50, -50, -5), Vec3(50, -50, -5), Vec3(50, 50, -5), Vec3(-50, 50, -5),
+             wall_sh, {ramp(-50), ramp(50), ramp(50), ramp(-50)});
     Accel accel;
     accel.build(scene, 1);
     RenderOptions options;
@@ -350,7 +364,7 @@ TEST(RenderShading, GlassSlabShiftsTheRay) {
     // Transmitted weight through both faces: (1 - F)^2 (the same F in and out by reciprocity).
     double cos_t;
     const double f = fresnel_dielectric(std::cos(theta), 1.0 / n, cos_t);
-    EXPECT_NEAR(v.color.y, (1.0 - f) * (1.0 - f), 1e-12);
+    EXPECT_NEAR(v.color.y, (1.0 - f) * (1.0 - f), kDoubleTolerance);
     EXPECT_EQ(v.background, 0.0);  // the wall is opaque
 }
 
@@ -379,7 +393,8 @@ TEST(RenderShading, ShadowsAndSeeThroughShadows) {
     floor_m.diffuse = Vec3(1.0);
     floor_m.ambient_intensity = 0.0;
     uint32_t floor_sh = add_shading(scene, floor_m);
-    add_quad(scene, Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0), floor_sh);
+    add_quad(scene, Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0),
+             floor_sh);
     Material blocker;
     blocker.transparency = 0.5;
     uint32_t blocker_sh = add_shading(scene, blocker);
@@ -391,12 +406,13 @@ TEST(RenderShading, ShadowsAndSeeThroughShadows) {
     Camera camera;
     Integrator integrator(scene, accel, camera, options);
     RayCounters counters;
-    // Look at the floor beside the sphere, from below the sphere's height (so the sphere is not in view).
+    // Look at the floor beside the sphere, from below the sphere's height (so the sphere is not in
+    // view).
     Ray ray;
     ray.o = Vec3(0.0, -5.0, 1.0);
     ray.d = glm::normalize(Vec3(0.0, 5.0, -1.0));  // hits the floor at the origin, under the sphere
     SampleValue v = integrator.trace(ray, 0, 1.0, counters);
-    EXPECT_NEAR(v.color.x, 0.25, 1e-12);  // through the see-through sphere: 0.5 twice
+    EXPECT_NEAR(v.color.x, 0.25, kDoubleTolerance);  // through the see-through sphere: 0.5 twice
     scene.materials[blocker_sh].transparency = 0.0;
     Accel accel2;
     accel2.build(scene, 1);
@@ -412,8 +428,10 @@ TEST(RenderShading, LightOnASurfaceIsNotBlockedByIt) {
     m.diffuse = Vec3(1.0);
     m.ambient_intensity = 0.0;
     uint32_t sh = add_shading(scene, m);
-    add_quad(scene, Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0), sh);  // floor
-    add_quad(scene, Vec3(-10, 5, -10), Vec3(10, 5, -10), Vec3(10, 5, 10), Vec3(-10, 5, 10), sh);   // wall y=5
+    add_quad(scene, Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0),
+             sh);  // floor
+    add_quad(scene, Vec3(-10, 5, -10), Vec3(10, 5, -10), Vec3(10, 5, 10), Vec3(-10, 5, 10),
+             sh);                                                                   // wall y=5
     add_light(scene, point_light(Vec3(0.3, 5.0, 2.0), 1.0, Vec3(1, 0, 0), 100.0));  // on the wall
     Accel accel;
     accel.build(scene, 1);
@@ -427,7 +445,7 @@ TEST(RenderShading, LightOnASurfaceIsNotBlockedByIt) {
     SampleValue v = integrator.trace(ray, 0, 1.0, counters);
     Vec3 l = Vec3(0.3, 5.0, 2.0);
     double expected = l.z / glm::length(l);  // N.L at the origin
-    EXPECT_NEAR(v.color.x, expected, 1e-12);
+    EXPECT_NEAR(v.color.x, expected, kDoubleTolerance);
 }
 
 TEST(RenderShading, DeterministicAcrossThreadCounts) {
@@ -458,7 +476,13 @@ TEST(RenderShading, DeterministicAcrossThreadCounts) {
     o.threads = 2;
     int progress_calls = 0;
     double last = 0.0;
-    Image b = render_image(scene, camera, o, [&](double f, uint64_t) { ++progress_calls; last = f; }, s2);
+    Image b = render_image(
+        scene, camera, o,
+        [&](double f, uint64_t) {
+            ++progress_calls;
+            last = f;
+        },
+        s2);
     ASSERT_EQ(a.rgba.size(), b.rgba.size());
     EXPECT_EQ(0, std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)));
     EXPECT_EQ(s1.primary_rays, uint64_t(97 * 61 * 4));

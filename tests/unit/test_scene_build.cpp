@@ -47,16 +47,20 @@ TEST(SceneBuild, SwitchAndLodInBothSpellings) {
         LOD { level [ Shape { geometry Cone {} } Shape { geometry Cylinder {} } ] }
         Switch { choice [ Shape { geometry Box {} } ] })");
     ASSERT_EQ(vrml.scene.shapes.size(), 2u);
-    EXPECT_TRUE(std::holds_alternative<sg::Sphere>(vrml.scene.geometries[vrml.scene.shapes[0].geometry].shape));
-    EXPECT_TRUE(std::holds_alternative<sg::Cone>(vrml.scene.geometries[vrml.scene.shapes[1].geometry].shape));
+    EXPECT_TRUE(std::holds_alternative<sg::Sphere>(
+        vrml.scene.geometries[vrml.scene.shapes[0].geometry].shape));
+    EXPECT_TRUE(std::holds_alternative<sg::Cone>(
+        vrml.scene.geometries[vrml.scene.shapes[1].geometry].shape));
 
     const Built x3d = build(R"(
         Switch { whichChoice 0 children [ Shape { geometry Box {} } Shape { geometry Sphere {} } ] }
         LOD { children [ Shape { geometry Cone {} } Shape { geometry Cylinder {} } ] })",
                             "#X3D V3.3 utf8\nPROFILE Immersive\n");
     ASSERT_EQ(x3d.scene.shapes.size(), 2u);
-    EXPECT_TRUE(std::holds_alternative<sg::Box>(x3d.scene.geometries[x3d.scene.shapes[0].geometry].shape));
-    EXPECT_TRUE(std::holds_alternative<sg::Cone>(x3d.scene.geometries[x3d.scene.shapes[1].geometry].shape));
+    EXPECT_TRUE(
+        std::holds_alternative<sg::Box>(x3d.scene.geometries[x3d.scene.shapes[0].geometry].shape));
+    EXPECT_TRUE(
+        std::holds_alternative<sg::Cone>(x3d.scene.geometries[x3d.scene.shapes[1].geometry].shape));
 }
 
 TEST(SceneBuild, HintsFromMaterialShapeAndSphere) {
@@ -74,13 +78,13 @@ TEST(SceneBuild, HintsFromMaterialShapeAndSphere) {
               MetadataFloat { name "emission" value [0.1 0.2 0.3] } ] } }
         })");
     ASSERT_EQ(b.scene.materials.size(), 1u);
-    const sg::Hints& m = b.scene.materials[0].hints;
+    const sg::Hints& m = b.scene.hints_of(b.scene.materials[0].hints);
     EXPECT_EQ(m.sphere_mode, sg::SphereHint::Gas);
     EXPECT_EQ(m.albedo, Vec3(0.9, 0.8, 0.7));
     EXPECT_EQ(m.ior, 1.5);
     EXPECT_LT(m.reflectivity, 0.0);  // 3 is out of range: warned, not set
-    EXPECT_EQ(b.scene.shapes[0].hints.density, 2.0);
-    EXPECT_EQ(b.scene.geometries[0].hints.emission, Vec3(0.1, 0.2, 0.3));
+    EXPECT_EQ(b.scene.hints_of(b.scene.shapes[0].hints).density, 2.0);
+    EXPECT_EQ(b.scene.hints_of(b.scene.geometries[0].hints).emission, Vec3(0.1, 0.2, 0.3));
     EXPECT_TRUE(has_warning(b, "reflectivity"));
     EXPECT_TRUE(has_warning(b, "sparkle"));
 }
@@ -124,15 +128,21 @@ TEST(SceneBuild, X3DMaterialsAndComposedGeometry) {
         Shape { appearance Appearance { material PhysicalMaterial { baseColor 1 0 0 metallic 0.5 roughness 0.2 } }
                 geometry IndexedTriangleSet { index [0 1 2] coord CoordinateDouble { point [0 0 0, 1 0 0, 0 1 0] }
                                               color ColorRGBA { color [1 0 0 1, 0 1 0 1, 0 0 1 0.5] } } }
-        Shape { appearance Appearance { material UnlitMaterial { emissiveColor 0 1 0 } } geometry Box {} })",
+        Shape { appearance Appearance { material UnlitMaterial { emissiveColor 0 1 0 } } geometry Box {} }
+        Shape { appearance Appearance { material Material { diffuseTexture PixelTexture { image 1 1 1 0xFF } } }
+                geometry Box {} })",
                           "#X3D V4.0 utf8\nPROFILE Immersive\n");
-    ASSERT_EQ(b.scene.materials.size(), 2u);
+    ASSERT_EQ(b.scene.materials.size(), 3u);
     EXPECT_EQ(b.scene.materials[0].model, sg::MaterialModel::Physical);
+    // X3D 4: the Material's diffuseTexture stands in for the Appearance's texture.
+    ASSERT_EQ(b.scene.appearances.size(), 3u);
+    EXPECT_NE(b.scene.appearances[2].texture, sg::kNone);
     EXPECT_EQ(b.scene.materials[0].diffuse_color, Vec3(1, 0, 0));
     EXPECT_EQ(b.scene.materials[0].metallic, 0.5);
     EXPECT_EQ(b.scene.materials[1].model, sg::MaterialModel::Unlit);
-    const auto* set = std::get_if<sg::ComposedSet>(&b.scene.geometries[0].shape);
-    ASSERT_NE(set, nullptr);
+    const auto* held = std::get_if<std::unique_ptr<sg::ComposedSet>>(&b.scene.geometries[0].shape);
+    ASSERT_NE(held, nullptr);
+    const sg::ComposedSet* set = held->get();
     EXPECT_EQ(set->data.coords.size(), 3u);
     ASSERT_EQ(set->data.colors.size(), 3u);
     EXPECT_EQ(set->data.colors[2], Vec3(0, 0, 1));

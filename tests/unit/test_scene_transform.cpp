@@ -1,4 +1,5 @@
-// Transform arithmetic: the VRML Transform matrix against a hand-computed one, rotations, TextureTransform.
+// Transform arithmetic: the VRML Transform matrix against a hand-computed one, rotations,
+// TextureTransform.
 #include <gtest/gtest.h>
 
 #include "scene/transform.h"
@@ -6,13 +7,14 @@
 namespace vr {
 namespace {
 
-// Entries are sums of a few products of small exact numbers and sin/cos of 90 degrees, which differ from
-// 0 and 1 by about 1e-16: 1e-12 leaves room for that and nothing else.
+// Entries are sums of a few products of small exact numbers and sin/cos of 90 degrees, which differ
+// from 0 and 1 by about 1e-16: 1e-12 leaves room for that and nothing else.
 constexpr double kTight = 1e-12;
 
 void expect_near(const Mat4& a, const Mat4& b, double tolerance) {
     for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) EXPECT_NEAR(a[c][r], b[c][r], tolerance) << "column " << c << " row " << r;
+        for (int r = 0; r < 4; ++r)
+            EXPECT_NEAR(a[c][r], b[c][r], tolerance) << "column " << c << " row " << r;
 }
 
 TEST(SceneTransform, ComposesTCRSRSInverseSRInverseC) {
@@ -22,9 +24,9 @@ TEST(SceneTransform, ComposesTCRSRSInverseSRInverseC) {
     f.rotation = Vec4(0, 0, 1, kPi / 2);
     f.scale = Vec3(2, 1, 1);
     f.scale_orientation = Vec4(0, 0, 1, kPi / 2);
-    // By hand: p - C = (x-1, y, z); SR^-1 turns -90 deg about z, S doubles x, SR turns back: together they
-    // double y -> (x-1, 2y, z); R turns +90 deg about z -> (-2y, x-1, z); + C -> (1-2y, x-1, z);
-    // + T -> (2-2y, x+1, z+3).
+    // By hand: p - C = (x-1, y, z); SR^-1 turns -90 deg about z, S doubles x, SR turns back:
+    // together they double y -> (x-1, 2y, z); R turns +90 deg about z -> (-2y, x-1, z); + C ->
+    // (1-2y, x-1, z); + T -> (2-2y, x+1, z+3).
     Mat4 expected(0.0);
     // glm is column-major: expected[column][row]
     expected[0] = Vec4(0, 1, 0, 0);   // d/dx
@@ -46,7 +48,8 @@ TEST(SceneTransform, RotationAxisNeedNotBeUnitAndZeroAxisIsIdentity) {
 }
 
 TEST(SceneTransform, TextureTransformOrder) {
-    // Tc' = -C * S * R * C * T * Tc: T first. With C = 0, R = 0, S = 2, T = (0.5, 0): (0,0) -> (1, 0).
+    // Tc' = -C * S * R * C * T * Tc: T first. With C = 0, R = 0, S = 2, T = (0.5, 0): (0,0) -> (1,
+    // 0).
     const Mat3 m = texture_transform_matrix(Vec2(0.0), 0.0, Vec2(2.0), Vec2(0.5, 0.0));
     const Vec3 p = m * Vec3(0, 0, 1);
     EXPECT_NEAR(p.x, 1.0, kTight);

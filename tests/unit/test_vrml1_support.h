@@ -1,5 +1,5 @@
-// Helpers for the VRML 1.0 tests: loading text, and flattening a node tree into shapes with world matrices
-// computed here independently of the upgrade's own matrix code.
+// Helpers for the VRML 1.0 tests: loading text, and flattening a node tree into shapes with world
+// matrices computed here independently of the upgrade's own matrix code.
 #pragma once
 #include <array>
 #include <cmath>
@@ -74,7 +74,8 @@ struct FlatShape {
 // The VRML97 Transform: T·C·R·SR·S·SR⁻¹·C⁻¹.
 inline Mat transform_of(const vr::NodeTree& t, vr::NodeId id) {
     auto v = [&](const char* f) { return t.get(id, f).numbers; };
-    auto tr = v("translation"), c = v("center"), r = v("rotation"), s = v("scale"), so = v("scaleOrientation");
+    auto tr = v("translation"), c = v("center"), r = v("rotation"), s = v("scale"),
+         so = v("scaleOrientation");
     return mul(mul(mul(mul(mul(mul(translate(tr[0], tr[1], tr[2]), translate(c[0], c[1], c[2])),
                                rotate(r[0], r[1], r[2], r[3])),
                            rotate(so[0], so[1], so[2], so[3])),
@@ -84,7 +85,8 @@ inline Mat transform_of(const vr::NodeTree& t, vr::NodeId id) {
 }
 
 // Shapes in traversal order (Switch: the chosen child; LOD: the first level).
-inline void flatten(const vr::NodeTree& t, vr::NodeId id, const Mat& parent, std::vector<FlatShape>& out) {
+inline void flatten(const vr::NodeTree& t, vr::NodeId id, const Mat& parent,
+                    std::vector<FlatShape>& out) {
     if (id == vr::kNullNode) return;
     const std::string_view type = t.type_name(id);
     auto kids = [&](const char* field) {
@@ -98,7 +100,8 @@ inline void flatten(const vr::NodeTree& t, vr::NodeId id, const Mat& parent, std
     } else if (type == "Switch") {
         auto choice = t.get(id, "choice").nodes;
         const int which = t.get_int(id, vr::intern("whichChoice"));
-        if (which >= 0 && static_cast<size_t>(which) < choice.size()) flatten(t, choice[which], parent, out);
+        if (which >= 0 && static_cast<size_t>(which) < choice.size())
+            flatten(t, choice[which], parent, out);
     } else if (type == "LOD") {
         auto level = t.get(id, "level").nodes;
         if (!level.empty()) flatten(t, level[0], parent, out);

@@ -1,0 +1,361 @@
+// Internals of the X3D XML reader (parser/x3d_xml.cpp: libxml2 glue; parser/x3d_xml_tree.cpp:
+// elements to nodes). Not part of the parser's interface.
+#pragma once
+#include <libxml/parser.h>
+#include <libxml/xmlerror.h>
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "parser/classic.h"
+#include "parser/load.h"
+#include "parser/proto.h"
+
+namespace vr::x3d_xml_detail {
+
+inline bool is_xml_text(std::string_view text) {
+    size_t p = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+    p = text.find_first_not_of(" \t\r\n", p);
+    return p != std::string_view::npos && text[p] == '<';
+}
+
+inline std::string_view trim(std::string_view s) {
+    while (!s.empty() && static_cast<unsigned char>(s.front()) <= ' ') s.remove_prefix(1);
+    while (!s.empty() && static_cast<unsigned char>(s.back()) <= ' ') s.remove_suffix(1);
+    return s;
+}
+
+// One attribute: the byte range of its raw value in the file, and the decoded value when the raw
+// text is not the value (character or entity references, or a file libxml2 transcoded).
+struct XmlAttr {
+    Name name = kNoName;
+    uint32_t name_offset = 0;
+    uint32_t begin = 0;
+    uint32_t end = 0;
+    int32_t decoded = -1;  // index into the element's string pool; -1: the raw text is the value
+};
+
+// An element as the handlers see it: live from libxml2, or replayed from a recorded ProtoBody.
+struct XmlElement {
+    Name tag = kNoName;
+    uint32_t file = 0;
+    uint32_t offset = 0;  // of the element name
+    std::span<const XmlAttr> attrs;
+    const std::vector<std::string>* strings = nullptr;
+    const XmlAttr* find(Name name) const {
+        for (const XmlAttr& a : attrs)
+            if (a.name == name) return &a;
+        return nullptr;
+    }
+};
+
+// One element start (with its attributes, attrs[first_attr, first_attr + attr_count)) or end of a
+// ProtoBody.
+struct RecordedEvent {
+    Name tag;
+    uint32_t offset;
+    uint32_t first_attr;
+    uint32_t attr_count;
+    bool start;
+};
+
+// A ProtoDeclare of an XML file: its ProtoBody as the events that make it up.
+struct XmlProtoDecl : ProtoDecl {
+    bool has_body = false;
+    std::vector<RecordedEvent> events;
+    std::vector<XmlAttr> attrs;
+    std::vector<std::string> strings;
+};
+
+// What a value belongs to, for messages: "attribute 'translation' of Transform". Built only for a
+// message.
+struct What {
+    const char* kind;
+    std::string_view name;
+    std::string_view owner = {};
+    What(const char* kind, std::string_view name, std::string_view owner = {})
+        : kind(kind), name(name), owner(owner) {}
+    What(const char* kind, Name name, Name owner) : kind(kind), name_id(name), owner_id(owner) {}
+    Name name_id = kNoName, owner_id = kNoName;  // names not yet looked up
+    std::string text() const {
+        std::string_view n = name_id != kNoName ? name_text(name_id) : name;
+        std::string_view o = owner_id != kNoName ? name_text(owner_id) : owner;
+        std::string s = std::string(kind) + " '" + std::string(n) + "'";
+        if (!o.empty()) s += " of " + std::string(o);
+        return s;
+    }
+};
+
+// A reader error: stops the reader; becomes one Diagnostic.
+struct XmlFailure {
+    uint32_t file;
+    uint32_t offset;
+    std::string message;
+};
+
+// Attribute names the reader looks for, interned once per reader.
+struct Names {
+    Name def = intern("DEF"), use = intern("USE"), container = intern("containerField"),
+         cls = intern("class"), id = intern("id"), style = intern("style"), name = intern("name"),
+         type = intern("type"), access = intern("accessType"), value = intern("value"),
+         url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField");
+    // Elements of the encoding.
+    Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"),
+         proto_interface = intern("ProtoInterface"), proto_body = intern("ProtoBody"),
+         field = intern("field"), field_value = intern("fieldValue"), is = intern("IS"),
+         connect = intern("connect"), proto_declare = intern("ProtoDeclare"),
+         extern_proto_declare = intern("ExternProtoDeclare"),
+         proto_instance = intern("ProtoInstance"), route = intern("ROUTE"),
+         import = intern("IMPORT"), export_ = intern("EXPORT");
+    // Nodes and fields with VRML97 names (x3d_field_name) or a declared interface.
+    Name switch_ = intern("Switch"), lod = intern("LOD"), collision = intern("Collision"),
+         choice = intern("choice"), level = intern("level"), collide = intern("collide"),
+         children = intern("children"), enabled = intern("enabled"), script = intern("Script"),
+         composed_shader = intern("ComposedShader"), packaged_shader = intern("PackagedShader"),
+         shader_program = intern("ShaderProgram");
+};
+
+class XmlReader {
+  public:
+    XmlReader(LoadedScene& scene, const LoadLimits& limits, const ExternProtoResolver& resolver)
+        : scene_(scene),
+          tree_(scene.tree),
+          registry_(Registry::builtin()),
+          limits_(limits),
+          resolver_(resolver) {}
+
+    ClassicResult read(uint32_t file);
+
+  private:
+    // What an open element is to the reader. Skip: ignored with all it contains; Leaf: takes no
+    // children (ROUTE, IMPORT, EXPORT, connect); ReplayRoot: collects the top-level nodes of a
+    // ProtoBody being replayed.
+    enum class Role : uint8_t {
+        Document,
+        X3d,
+        Scene,
+        Skip,
+        Leaf,
+        Node,
+        Use,
+        ProtoDeclare,
+        ProtoInterface,
+        InterfaceField,
+        ProtoBody,
+        ExternProto,
+        ExternField,
+        Instance,
+        FieldValue,
+        DynamicField,
+        Is,
+        ReplayRoot,
+    };
+    struct Instance {
+        const ProtoDecl* proto = nullptr;
+        std::unordered_map<Name, FieldEntry> values;
+    };
+    // An element that has started and not yet ended; the members used depend on the role.
+    struct Open {
+        Role role = Role::Skip;
+        Name tag = kNoName;
+        uint32_t file = 0;
+        uint32_t offset = 0;
+        const NodeTypeDecl* decl = nullptr;
+        Name def = kNoName;
+        Name container = kNoName;  // explicit containerField
+        uint32_t container_offset = 0;
+        size_t field_mark = 0;  // into scratch_
+        size_t child_mark = 0;  // into children_
+        bool dynamic = false;
+        bool value_given = false;
+        NodeId use = kNullNode;
+        ProtoField field;  // field, fieldValue
+        std::shared_ptr<XmlProtoDecl> proto;
+        std::vector<std::string> urls;
+        std::unique_ptr<Instance> instance;
+    };
+    // A scope of DEF names and PROTOs: the file, one PROTO instance, or one interface default
+    // value.
+    struct Frame {
+        uint32_t file = 0;
+        std::unordered_map<Name, NodeId> defs;
+        const std::unordered_map<Name, NodeId>* outer_defs = nullptr;
+        std::shared_ptr<ProtoScope> protos;
+        const std::unordered_map<Name, FieldEntry>* is_values = nullptr;
+        const ProtoDecl* proto = nullptr;
+        size_t proto_depth = 0;
+    };
+    struct Child {
+        Name field;
+        NodeId id;
+    };
+
+    // ---- libxml2 glue ---------------------------------------------------------------------------
+    static void sax_start(void* self, const xmlChar* local, const xmlChar*, const xmlChar*, int,
+                          const xmlChar**, int nb_attrs, int nb_defaulted, const xmlChar** attrs) {
+        auto* r = static_cast<XmlReader*>(self);
+        ++r->events_;
+        r->guarded([&] { r->on_start(local, nb_attrs, nb_defaulted, attrs); });
+    }
+    static void sax_end(void* self, const xmlChar*, const xmlChar*, const xmlChar*) {
+        auto* r = static_cast<XmlReader*>(self);
+        ++r->events_;
+        r->guarded([&] { r->end_element(); });
+    }
+    static void sax_error(void* self, xmlErrorPtr error) {
+        static_cast<XmlReader*>(self)->on_xml_error(error);
+    }
+    static void sax_entity_decl(void* self, const xmlChar* name, int, const xmlChar*,
+                                const xmlChar*, xmlChar*) {
+        auto* r = static_cast<XmlReader*>(self);
+        r->guarded([&] {
+            throw XmlFailure{
+                r->main_file_, r->current_offset(),
+                "the document declares the entity '" +
+                    std::string(reinterpret_cast<const char*>(name)) +
+                    "': entity declarations are refused (vrmlray never expands DTD entities)"};
+        });
+    }
+    static void sax_unparsed_entity_decl(void* self, const xmlChar* name, const xmlChar*,
+                                         const xmlChar*, const xmlChar*) {
+        sax_entity_decl(self, name, 0, nullptr, nullptr, nullptr);
+    }
+
+    template <class F>
+    void guarded(F&& f) {
+        if (stopped_) return;
+        try {
+            f();
+        } catch (const XmlFailure& e) {
+            stop(e.file, e.offset, e.message);
+        } catch (const std::exception& e) {
+            stop(main_file_, current_offset(),
+                 std::string("cannot read the document: ") + e.what());
+        }
+    }
+    void stop(uint32_t file, uint32_t offset, const std::string& message) {
+        if (!stopped_) scene_.diagnostics.error({file, offset}, message);
+        stopped_ = true;
+        failed_ = true;
+        xmlStopParser(ctxt_);
+    }
+
+    void on_start(const xmlChar* local, int nb_attrs, int nb_defaulted, const xmlChar** attrs);
+    void on_xml_error(xmlErrorPtr error);
+    uint32_t current_offset();
+    uint32_t offset_at(int line, int column);
+    Name cached_name(const xmlChar* text);
+
+    // ---- elements -------------------------------------------------------------------------------
+    void start_element(const XmlElement& e);
+    void end_element();
+    void content_element(const XmlElement& e);
+    void node_start(const XmlElement& e, const NodeTypeDecl* decl);
+    void use_start(const XmlElement& e, const XmlAttr& use, bool instance);
+    void node_end(Open& o);
+    void attach(NodeId id, const Open& child);
+    void instance_start(const XmlElement& e);
+    void field_value_start(const XmlElement& e);
+    void connect(const XmlElement& e);
+    void field_start(const XmlElement& e, Role role);
+    void field_end(Open& o);
+    void proto_declare_start(const XmlElement& e);
+    void extern_start(const XmlElement& e);
+    void record(const XmlElement& e);
+    NodeId expand(const Instance& inst, uint32_t file, uint32_t offset);
+    NodeId builtin_instance(const NodeTypeDecl& decl,
+                            const std::unordered_map<Name, FieldEntry>& values, uint32_t file,
+                            uint32_t offset);
+
+    // ---- values ---------------------------------------------------------------------------------
+    std::string attr_text(const XmlElement& e, const XmlAttr& a) const;
+    std::string required(const XmlElement& e, Name attr, const char* what);
+    void read_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
+                    const What& what);
+    void lex_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
+                   const What& what);
+    Name default_container(Name type);
+    void type_default(FieldType type, FieldEntry& entry);
+    void node_entry(FieldType type, size_t mark, FieldEntry& entry, uint32_t file, uint32_t offset,
+                    const std::string& what);
+    void push_field(size_t mark, const FieldEntry& entry);
+    NodeId make_node(const NodeTypeDecl* decl, Name type, uint32_t file, uint32_t offset,
+                     size_t mark);
+
+    [[noreturn]] void fail(uint32_t file, uint32_t offset, std::string message) {
+        throw XmlFailure{file, offset, std::move(message)};
+    }
+    void warn(uint32_t file, uint32_t offset, std::string message, const std::string& cause) {
+        scene_.diagnostics.warning({file, offset}, std::move(message), cause);
+    }
+    Frame& frame() { return *frames_.back(); }
+    std::string tag_of(const Open& o) const { return std::string(name_text(o.tag)); }
+    static std::string tag_text(const XmlElement& e) { return std::string(name_text(e.tag)); }
+    // x3d_field_name() on names: the X3D name of a field VRML97 named differently.
+    Name x3d_field(Name type, Name field) const {
+        if (field == n_.choice && type == n_.switch_) return n_.children;
+        if (field == n_.level && type == n_.lod) return n_.children;
+        if (field == n_.collide && type == n_.collision) return n_.enabled;
+        return field;
+    }
+    bool dynamic_type(Name type) const {
+        return type == n_.script || type == n_.composed_shader || type == n_.packaged_shader ||
+               type == n_.shader_program;
+    }
+    void push(Open o) {
+        if (stack_.size() > limits_.max_nesting_depth + 2)
+            fail(o.file, o.offset,
+                 "elements nested deeper than " + std::to_string(limits_.max_nesting_depth) +
+                     " (limit)");
+        stack_.push_back(std::move(o));
+    }
+    Open make_open(Role role, const XmlElement& e) {
+        Open o;
+        o.role = role;
+        o.tag = e.tag;
+        o.file = e.file;
+        o.offset = e.offset;
+        o.child_mark = children_.size();
+        o.field_mark = scratch_.size();
+        return o;
+    }
+
+    LoadedScene& scene_;
+    NodeTree& tree_;
+    const Registry& registry_;
+    const LoadLimits& limits_;
+    const ExternProtoResolver& resolver_;
+    const Names n_;
+    xmlParserCtxtPtr ctxt_ = nullptr;
+    uint32_t main_file_ = 0;
+    std::string_view text_;  // the main file's text
+    std::vector<uint32_t> line_starts_;
+    bool stopped_ = false;
+    bool failed_ = false;
+    uint64_t events_ = 0;  // elements started or ended, to size the pieces given to libxml2
+
+    std::vector<Open> stack_;
+    std::vector<std::unique_ptr<Frame>> frames_;
+    std::vector<FieldEntry> scratch_;  // fields of the open nodes, innermost last
+    std::vector<Child> children_;      // child nodes of the open elements, innermost last
+    std::vector<NodeId> roots_;
+    XmlProtoDecl* recording_ = nullptr;  // the ProtoBody being recorded
+    size_t record_depth_ = 0;
+
+    std::unordered_map<const xmlChar*, Name>
+        name_cache_;                                  // libxml2's dictionary strings are stable
+    std::unordered_map<Name, Name> container_cache_;  // node type -> default containerField
+    std::vector<XmlAttr> attr_scratch_;
+    std::vector<std::string> string_scratch_;
+    struct RawAttr {
+        std::string_view qname;
+        uint32_t name_offset, begin, end;
+    };
+    std::vector<RawAttr> raw_scratch_;
+};
+
+}  // namespace vr::x3d_xml_detail
