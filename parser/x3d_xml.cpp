@@ -172,6 +172,8 @@ ClassicResult XmlReader::read(uint32_t file) {
         if (last || stopped_) break;
         chunk = events_ == events ? chunk * 2 : kChunk;
     }
+    // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to free.
+    if (ctxt_->myDoc) xmlFreeDoc(ctxt_->myDoc);
     xmlFreeParserCtxt(ctxt_);
     ctxt_ = nullptr;
     result.ok = !failed_;

@@ -41,6 +41,8 @@ int run_render(const RenderCommand& cmd) {
     FlattenOptions flatten_options;
     flatten_options.spheres = cmd.options.spheres;
     flatten_options.density = cmd.options.density;
+    flatten_options.albedo = cmd.options.albedo;
+    flatten_options.emission = cmd.options.emission;
     flatten_options.viewpoint = cmd.options.viewpoint;
     flatten_options.scene_file = loaded.main_file;
     flatten_options.allowed_roots = loaded.allowed_roots;

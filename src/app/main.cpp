@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <tuple>
 
 #include "app/commands.h"
 
@@ -50,6 +51,9 @@ int main(int argc, char** argv) {
     r->add_option("--tolerance", render.options.tolerance, "Relative tolerance of the gas integrator")
         ->check(CLI::Range(1e-12, 1.0));
     r->add_option("--density", render.options.density, "Gas extinction per scene unit")->check(CLI::NonNegativeNumber);
+    std::string albedo, emission;
+    r->add_option("--albedo", albedo, "Gas albedo R,G,B where no hint gives one (default: the Material's diffuseColor)");
+    r->add_option("--emission", emission, "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
     r->add_option("--background", background, "Background colour R,G,B (overrides the scene's Background)");
     r->add_flag("--srgb", render.options.srgb, "sRGB-encode integer image formats");
     r->add_option("--seed", render.options.seed, "Random seed for stochastic samplers");
@@ -103,6 +107,15 @@ int main(int argc, char** argv) {
             render.options.background = parse_rgb(background);
             if (!render.options.background) {
                 std::cerr << "vrmlray: error: --background wants R,G,B (three numbers separated by commas)\n";
+                return vr::kExitUsage;
+            }
+        }
+        for (auto [text, target, name] : {std::tuple{&albedo, &render.options.albedo, "--albedo"},
+                                          std::tuple{&emission, &render.options.emission, "--emission"}}) {
+            if (text->empty()) continue;
+            *target = parse_rgb(*text);
+            if (!*target) {
+                std::cerr << "vrmlray: error: " << name << " wants R,G,B (three numbers separated by commas)\n";
                 return vr::kExitUsage;
             }
         }

@@ -1,8 +1,7 @@
 // The tracer's view of a FlatScene: compact copies of every primitive's intersection data, stored
 // in BVH leaf order (so a leaf's primitives sit together in memory), one BVH over all of them, and
 // the two queries the integrator asks: closest hit, and how much light passes along a shadow
-// segment. Gas spheres (Sphere::gas) are held as opaque spheres for now; the gas integrator (SPEC
-// section 6) is to keep them out of this structure and integrate them along each ray segment.
+// segment. Gas spheres (Sphere::gas) are not in it: they are volumes, integrated by render/gas.h.
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -620,8 +620,8 @@ class Flattener {
             out.sphere_mode = int8_t(hints.sphere_mode == sg::SphereHint::Gas ? SphereMode::Gas
                                                                               : SphereMode::Opaque);
         out.density = hints.density >= 0.0 ? hints.density : options_.density;
-        out.albedo = hints.albedo.x >= 0.0 ? hints.albedo : out.diffuse;
-        out.emission = hints.emission.x >= 0.0 ? hints.emission : out.emissive;
+        out.albedo = hints.albedo.x >= 0.0 ? hints.albedo : options_.albedo ? *options_.albedo : out.diffuse;
+        out.emission = hints.emission.x >= 0.0 ? hints.emission : options_.emission ? *options_.emission : out.emissive;
         return out;
     }
 

@@ -39,6 +39,7 @@
 //   repeat mode. A texture that cannot be found or read is one warning; the shape renders
 //   untextured.
 #pragma once
+#include <optional>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -53,6 +54,8 @@ namespace vr {
 struct FlattenOptions {
     SpheresOption spheres = SpheresOption::FromHints;
     double density = 1.0;
+    std::optional<Vec3> albedo;    // --albedo: gas albedo where no hint says (default: diffuseColor)
+    std::optional<Vec3> emission;  // --emission: gas emission where no hint says (default: emissiveColor)
     std::string viewpoint;  // for Billboard: faces the chosen viewpoint (first if empty)
     std::filesystem::path scene_file;
     std::vector<std::filesystem::path> allowed_roots;

@@ -123,19 +123,19 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
                               RayCounters& counters) const {
     if (!gas_) return trace_surfaces(ray, depth, weight, counters);
     // Gas along the ray up to the first surface (SPEC section 6): L = gas + T * L_end.
-    Hit hit;
-    const bool hit_surface = accel_.intersect(ray, hit);
+    std::optional<Hit> surface;
+    if (Hit hit; accel_.intersect(ray, hit)) surface = hit;
     const double len = glm::length(ray.d);
     Ray unit = ray;
     unit.d = ray.d / len;
     unit.t_max = kInf;
     GasStats stats;
-    const GasVolume::Result g = gas_->integrate(unit, hit_surface ? hit.t * len : kInf,
+    const GasVolume::Result g = gas_->integrate(unit, surface ? surface->t * len : kInf,
                                                 gas_lighting_, options_.tolerance, stats);
     counters.shadow += stats.visibility_rays;
     SampleValue out;
     if (g.transmittance > 0.0) {
-        out = trace_surfaces(ray, depth, weight * g.transmittance, counters);
+        out = trace_surfaces(ray, depth, weight * g.transmittance, counters, &surface);
         out.color *= g.transmittance;
         out.background *= g.transmittance;
     }
@@ -144,10 +144,12 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
 }
 
 SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
-                                       RayCounters& counters) const {
+                                       RayCounters& counters, const std::optional<Hit>* known_hit) const {
     SampleValue out;
     Hit hit;
-    if (!accel_.intersect(ray, hit)) {
+    const bool found = known_hit ? known_hit->has_value() : accel_.intersect(ray, hit);
+    if (known_hit && found) hit = **known_hit;
+    if (!found) {
         out.color = background_.radiance(ray.d);
         out.background = 1.0;
         return out;

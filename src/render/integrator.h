@@ -3,6 +3,7 @@
 // refraction/see-through transparency by the reflectivity/transparency/ior hints.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/ray.h"
@@ -48,7 +49,9 @@ class Integrator {
     // by `weight`.
     SampleValue trace(const Ray& ray, int depth, double weight, RayCounters& counters) const;
     // The same without the gas along the ray: the first surface, or the background.
-    SampleValue trace_surfaces(const Ray& ray, int depth, double weight, RayCounters& counters) const;
+    // `known_hit`: the closest hit if the caller has already looked for it (null: look here).
+    SampleValue trace_surfaces(const Ray& ray, int depth, double weight, RayCounters& counters,
+                               const std::optional<Hit>* known_hit = nullptr) const;
 
     // The local VRML97 colour at a hit: emissive + sum over lights of on * att * spot * colour *
     // (ambient + visibility * (diffuse + specular)). `ng`/`ns` face the viewer, `to_viewer` is

@@ -24,6 +24,8 @@ struct RenderOptions {
     int threads = 0;                // 0: all cores
     double tolerance = 1e-4;        // gas integrator, relative
     double density = 1.0;           // gas extinction per scene unit
+    std::optional<Vec3> albedo;     // gas albedo where no hint says (default: the Material's diffuseColor)
+    std::optional<Vec3> emission;   // gas emission where no hint says (default: emissiveColor)
     std::optional<Vec3> background; // overrides the scene's Background
     bool srgb = false;
     uint64_t seed = 0;
