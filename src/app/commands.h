@@ -32,7 +32,17 @@ struct CompareCommand {
     bool json = false;
 };
 
+struct BenchCommand {
+    std::string scene;
+    RenderOptions options;  // size, viewpoint, spheres, gas settings; the ladder sets sampler/spp/tolerance
+    std::string reference;  // empty: render one at grid 8x8 (gas: tolerance 1e-8) and cache it
+    std::string csv, plot;  // empty: SCENE's stem + "-bench.csv" / "-bench.png"
+    int runs = 3;           // renders per setting; the median time is reported
+    CommonOptions common;
+};
+
 int run_render(const RenderCommand& cmd);
+int run_bench(const BenchCommand& cmd);
 int run_info(const std::string& scene, const CommonOptions& common);
 int run_convert(const std::string& in, const std::string& out, const CommonOptions& common);
 int run_compare(const CompareCommand& cmd);

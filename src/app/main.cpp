@@ -88,6 +88,25 @@ int main(int argc, char** argv) {
     cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference");
     cmp->add_flag("--json", compare.json, "Print the figures as JSON");
 
+    // bench
+    vr::BenchCommand bench;
+    bench.options.width = 320;
+    bench.options.height = 240;
+    std::string bench_spheres = "hints";
+    CLI::App* b = app.add_subcommand("bench", "Speed against error: render at rising quality, measure time and error");
+    b->add_option("scene", bench.scene, "Scene file")->required();
+    b->add_option("-W,--width", bench.options.width, "Image width (default 320)")->check(CLI::Range(1, 16384));
+    b->add_option("-H,--height", bench.options.height, "Image height (default 240)")->check(CLI::Range(1, 16384));
+    b->add_option("--reference", bench.reference, "Reference image (default: rendered at grid 8x8 and cached)");
+    b->add_option("--csv", bench.csv, "Where to write the table (default: SCENE-bench.csv)");
+    b->add_option("--plot", bench.plot, "Where to draw error against time (default: SCENE-bench.png)");
+    b->add_option("--runs", bench.runs, "Renders per setting; the median time is reported")->check(CLI::Range(1, 100));
+    b->add_option("--spheres", bench_spheres, "opaque, gas, or hints")->check(CLI::IsMember({"opaque", "gas", "hints"}));
+    b->add_option("--viewpoint", bench.options.viewpoint, "Viewpoint to use: DEF name or description");
+    b->add_option("--density", bench.options.density, "Gas extinction per scene unit")->check(CLI::NonNegativeNumber);
+    b->add_option("--threads", bench.options.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+    add_common(b);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -120,6 +139,13 @@ int main(int argc, char** argv) {
             }
         }
         return vr::run_render(render);
+    }
+    if (b->parsed()) {
+        bench.common = common;
+        bench.options.spheres = bench_spheres == "opaque" ? vr::SpheresOption::Opaque
+                                : bench_spheres == "gas"  ? vr::SpheresOption::Gas
+                                                          : vr::SpheresOption::FromHints;
+        return vr::run_bench(bench);
     }
     if (i->parsed()) return vr::run_info(info_scene, common);
     if (c->parsed()) return vr::run_convert(convert_in, convert_out, common);

@@ -54,6 +54,12 @@ expect 0 "compare --json and --diff" -- "$bin" compare "$work/a.png" "$work/b.pn
 grep -q '"rmse"' "$work/out.txt" && pass || fail "compare --json prints rmse"
 [ -s "$work/diff.png" ] && pass || fail "compare --diff writes the heat-map"
 
+# --- bench (SPEC section 11) ------------------------------------------------------------------------
+(cd "$work" && "$bin" bench "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --runs 1 -q >"$work/out.txt" 2>"$work/err.txt")
+[ $? -eq 0 ] && pass || fail "bench runs"
+[ "$(wc -l <"$work/001_sphere-bench.csv")" -eq 6 ] && pass || fail "bench CSV has a header and 5 settings"
+"$bin" compare "$work/001_sphere-bench.png" "$work/001_sphere-bench.png" >/dev/null && pass || fail "bench plot is a readable image"
+
 # --- convert round trip ------------------------------------------------------------------------------
 expect 0 "convert to X3D classic" -- "$bin" convert "$src/scenes/seeds/001_sphere.wrl" "$work/s.x3dv"
 expect 0 "convert back to VRML97 gzip" -- "$bin" convert "$work/s.x3dv" "$work/s.wrl.gz"
