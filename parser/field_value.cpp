@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 namespace vr {
 
@@ -56,7 +57,8 @@ bool parse_int32(std::string_view w, int64_t& out) {
 bool normalise_rotation(double* r) {
     double len2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     if (len2 == 0.0) return r[3] == 0.0;  // a zero axis only makes sense with a zero angle
-    if (len2 == 1.0) return true;
+    // Unit to within double rounding: left as written, so that reading a written file again changes nothing.
+    if (std::abs(len2 - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon()) return true;
     double inv = 1.0 / std::sqrt(len2);
     r[0] *= inv;
     r[1] *= inv;

@@ -48,6 +48,17 @@ int run_info(const std::string& path, const CommonOptions& common) {
                 flat.spheres.size(), flat.quadrics.size(), flat.meshes.size(), flat.triangle_count());
     std::printf("            %zu materials, %zu textures, %zu shapes skipped\n", flat.materials.size(),
                 flat.textures.size(), fs.skipped_shapes);
+    {
+        // Tessellated spheres (Jmol atoms) that gas mode or --recover-spheres renders as exact spheres.
+        FlattenOptions recover = fo;
+        recover.recover_spheres = true;
+        Diagnostics quiet;
+        FlattenStats rs;
+        (void)flatten_scene(scene, recover, quiet, rs);
+        std::printf("            %zu tessellated spheres recognised (rendered as spheres in gas mode or with "
+                    "--recover-spheres)\n",
+                    rs.recovered_spheres);
+    }
     Bounds3 b = flat.bounds();
     if (b.empty()) {
         std::printf("bounds      empty (nothing to render)\n");

@@ -42,6 +42,7 @@ int run_render(const RenderCommand& cmd) {
     flatten_options.spheres = cmd.options.spheres;
     flatten_options.density = cmd.options.density;
     flatten_options.albedo = cmd.options.albedo;
+    flatten_options.recover_spheres = cmd.recover_spheres;
     flatten_options.emission = cmd.options.emission;
     flatten_options.viewpoint = cmd.options.viewpoint;
     flatten_options.scene_file = loaded.main_file;

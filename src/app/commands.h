@@ -21,6 +21,7 @@ struct RenderCommand {
     std::string output;  // empty: the scene's stem + ".png" in the current folder
     RenderOptions options;
     std::string stats_path;
+    std::optional<bool> recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
     CommonOptions common;
 };
 

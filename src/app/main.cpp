@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
     r->add_flag("--srgb", render.options.srgb, "sRGB-encode integer image formats");
     r->add_option("--seed", render.options.seed, "Random seed for stochastic samplers");
     r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file");
+    bool recover = false, no_recover = false;
+    r->add_flag("--recover-spheres", recover,
+                "Render meshes whose vertices all lie on one sphere (Jmol atoms) as exact spheres (default in gas mode)");
+    r->add_flag("--no-recover-spheres", no_recover, "Keep such meshes as triangles, also in gas mode");
     add_common(r);
 
     // info
@@ -68,7 +72,7 @@ int main(int argc, char** argv) {
 
     // convert
     std::string convert_in, convert_out;
-    CLI::App* c = app.add_subcommand("convert", "Rewrite a scene as VRML97 (.wrl) or X3D classic (.x3dv), gzip by .gz/.wrz/.x3dvz");
+    CLI::App* c = app.add_subcommand("convert", "Rewrite a scene as VRML97 (.wrl), X3D classic (.x3dv) or X3D XML (.x3d); gzip by .gz/.wrz/.x3dvz/.x3dz");
     c->add_option("in", convert_in, "Input scene")->required();
     c->add_option("out", convert_out, "Output scene")->required();
     add_common(c);
@@ -116,6 +120,8 @@ int main(int argc, char** argv) {
 
     if (r->parsed()) {
         render.common = common;
+        if (recover) render.recover_spheres = true;
+        if (no_recover) render.recover_spheres = false;
         render.options.spheres = spheres == "opaque" ? vr::SpheresOption::Opaque
                                  : spheres == "gas"  ? vr::SpheresOption::Gas
                                                      : vr::SpheresOption::FromHints;

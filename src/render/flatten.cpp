@@ -1,5 +1,7 @@
 #include "render/flatten.h"
 
+#include "geometry/sphere_fit.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -106,6 +108,8 @@ class Flattener {
         if (scene_.groups.empty()) return std::move(out_);
         texture_index_.assign(scene_.textures.size(), kUnloaded);
         mesh_cache_[0].resize(scene_.geometries.size());
+        sphere_fits_.resize(scene_.geometries.size());
+        recover_spheres_ = options_.recover_spheres.value_or(options_.spheres == SpheresOption::Gas);
         mesh_cache_[1].resize(scene_.geometries.size());
         reserve_primitives();
         appearance_material_.assign(scene_.appearances.size() + 1, -1);
@@ -473,6 +477,22 @@ class Flattener {
         std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
         if (!cached)
             cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
+        if (recover_spheres_ && !want_uvs && std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape)) {
+            auto& fit = sphere_fits_[shape.geometry];
+            if (!fit) fit = fit_tessellated_sphere(cached->positions);
+            const double scale = uniform_scale(linear_part(m));
+            if (*fit && scale > 0.0) {
+                Sphere sphere;
+                sphere.center = transform_point(m, (**fit).center);
+                sphere.radius = (**fit).radius * scale;
+                sphere.shading = shading;
+                sphere.gas = gas_of(out_.materials[material]);
+                out_.spheres.push_back(sphere);
+                ++stats_.spheres;
+                ++stats_.recovered_spheres;
+                return;
+            }
+        }
         if (cached->triangles.empty()) {
             ++stats_.skipped_shapes;
             return;
@@ -718,6 +738,9 @@ class Flattener {
     std::unordered_map<std::string, int32_t> image_index_;
     std::vector<std::unique_ptr<TriMesh>>
         mesh_cache_[2];  // per geometry, without / with texture coordinates
+    // Per geometry: unset until tried, then the sphere its mesh lies on (or nothing).
+    std::vector<std::optional<std::optional<SphereFit>>> sphere_fits_;
+    bool recover_spheres_ = false;
     bool stopped_ = false;
     bool depth_warned_ = false;
     size_t visits_ = 0;

@@ -54,6 +54,9 @@ namespace vr {
 struct FlattenOptions {
     SpheresOption spheres = SpheresOption::FromHints;
     double density = 1.0;
+    // Render a mesh whose vertices all lie on one sphere as that sphere (Jmol's atoms); unset: on in gas
+    // mode, off otherwise.
+    std::optional<bool> recover_spheres;
     std::optional<Vec3> albedo;    // --albedo: gas albedo where no hint says (default: diffuseColor)
     std::optional<Vec3> emission;  // --emission: gas emission where no hint says (default: emissiveColor)
     std::string viewpoint;  // for Billboard: faces the chosen viewpoint (first if empty)
@@ -73,6 +76,7 @@ struct FlattenStats {
     size_t spheres = 0, quadrics = 0, meshes = 0, triangles = 0, materials = 0, lights = 0,
            textures = 0;
     size_t skipped_shapes = 0;  // shapes with no renderable geometry
+    size_t recovered_spheres = 0;  // tessellated spheres rendered as exact spheres
 };
 
 FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
