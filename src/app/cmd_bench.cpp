@@ -58,20 +58,9 @@ std::string stem_of(const std::string& scene) {
 int run_bench(const BenchCommand& cmd) {
     LoadedScene loaded;
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
-    Diagnostics diagnostics;
-    Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    fo.spheres = cmd.options.spheres;
-    fo.density = cmd.options.density;
-    fo.albedo = cmd.options.albedo;
-    fo.emission = cmd.options.emission;
-    fo.viewpoint = cmd.options.viewpoint;
-    fo.scene_file = loaded.main_file;
-    fo.allowed_roots = loaded.allowed_roots;
+    FlatScene flat;
     FlattenStats fs;
-    FlatScene flat = flatten_scene(scene, fo, diagnostics, fs);
-    print_diagnostics(diagnostics, loaded.sources, cmd.common.quiet);
-    if (diagnostics.has_errors()) return kExitBadInput;
+    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common.quiet, flat, fs)) return kExitBadInput;
     const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(), [](const Sphere& s) { return s.gas; });
 
     // The ladder: every sampler at rising spp; for gas scenes also rising integrator accuracy.

@@ -36,21 +36,10 @@ int run_render(const RenderCommand& cmd) {
     const double parse_seconds = seconds_since(t0);
 
     auto t1 = std::chrono::steady_clock::now();
-    Diagnostics diagnostics;
-    Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions flatten_options;
-    flatten_options.spheres = cmd.options.spheres;
-    flatten_options.density = cmd.options.density;
-    flatten_options.albedo = cmd.options.albedo;
-    flatten_options.recover_spheres = cmd.recover_spheres;
-    flatten_options.emission = cmd.options.emission;
-    flatten_options.viewpoint = cmd.options.viewpoint;
-    flatten_options.scene_file = loaded.main_file;
-    flatten_options.allowed_roots = loaded.allowed_roots;
+    FlatScene flat;
     FlattenStats flatten_stats;
-    FlatScene flat = flatten_scene(scene, flatten_options, diagnostics, flatten_stats);
-    print_diagnostics(diagnostics, loaded.sources, cmd.common.quiet);
-    if (diagnostics.has_errors()) return kExitBadInput;
+    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common.quiet, flat, flatten_stats))
+        return kExitBadInput;
     const double scene_seconds = seconds_since(t1);
 
     Camera camera;

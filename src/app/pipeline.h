@@ -4,6 +4,8 @@
 
 #include "app/commands.h"
 #include "parser/load.h"
+#include "render/flat_scene.h"
+#include "render/flatten.h"
 
 namespace vr {
 
@@ -11,5 +13,9 @@ namespace vr {
 void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet);
 // Loads `path`, prints its diagnostics; false when it has errors.
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
+// Builds the typed scene and flattens it with the render options' sphere and gas settings; prints the
+// diagnostics; false when there are errors.
+bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
+                       bool quiet, FlatScene& flat, FlattenStats& stats);
 
 }  // namespace vr
