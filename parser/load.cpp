@@ -159,6 +159,7 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
     url = percent_decode(url);
     fs::path candidate = fs::path(url).is_absolute() ? fs::path(url) : from_file.parent_path() / url;
     std::error_code ec;
+    candidate = fs::absolute(candidate, ec);  // a relative main file name must not make this relative
     fs::path canonical = fs::weakly_canonical(candidate, ec);
     if (ec) canonical = candidate.lexically_normal();
     bool allowed = false;

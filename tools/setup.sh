@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages vrmlray needs, and nothing when they are all there.
 set -euo pipefail
 pkgs=(cmake g++ make pkg-config libopenimageio-dev libglm-dev libxml2-dev libcli11-dev zlib1g-dev
-      libgtest-dev libgmock-dev)
+      libgtest-dev libgmock-dev libxml2-utils)
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

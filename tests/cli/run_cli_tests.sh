@@ -66,6 +66,16 @@ expect 0 "convert back to VRML97 gzip" -- "$bin" convert "$work/s.x3dv" "$work/s
 expect 0 "render the converted file" -- "$bin" render "$work/s.wrl.gz" -W 32 -H 24 -o "$work/s.png" -q
 expect 0 "converted file renders the same image" -- "$bin" compare "$work/a.png" "$work/s.png" --max-abs 0
 
+# --- tests/corpus/good: valid files load (exit 0) with exactly their expected warnings ----------------------
+for f in "$src"/tests/corpus/good/*.wrl; do
+    name=$(basename "$f")
+    (cd "$(dirname "$f")" && "$bin" info "$name" >/dev/null 2>"$work/err.txt")
+    code=$?
+    if [ $code -eq 0 ] && cmp -s "$work/err.txt" "${f%.wrl}.expected"; then pass; else
+        fail "good/$name: exit $code, or warnings differ from ${name%.wrl}.expected:"; diff "$work/err.txt" "${f%.wrl}.expected" | head -5
+    fi
+done
+
 # --- tests/corpus/bad: every broken file fails with exit 3 and exactly its expected first message ---------
 for f in "$src"/tests/corpus/bad/*.wrl; do
     name=$(basename "$f")
