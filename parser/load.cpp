@@ -174,7 +174,7 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
         return {};
     }
     if (!fs::is_regular_file(canonical, ec)) {
-        why = "file '" + candidate.string() + "' not found";
+        why = "file '" + url_in + "' not found";
         return {};
     }
     return canonical;
