@@ -42,6 +42,11 @@ public:
         ClassicResult result;
         error_file_ = file;
         const std::string& text = scene_.sources.file(file).text;
+        // Growing the pools by doubling copies them and touches every page again; molecular exports hold
+        // about one node per 50 bytes and one number per 10. Reserving costs address space only.
+        tree_.nodes.reserve(tree_.nodes.size() + text.size() / 50);
+        tree_.fields.reserve(tree_.fields.size() + text.size() / 40);
+        tree_.numbers.reserve(tree_.numbers.size() + text.size() / 10);
         Frame frame{Lexer(text), file, {}, nullptr, std::make_shared<ProtoScope>()};
         result.protos = frame.protos;
         try {
@@ -397,7 +402,15 @@ private:
         entry.type = type;
         Token first = f.lexer.peek();
         entry.loc = {f.file, first.offset};
-        std::vector<NodeId> ids;
+        // Node values collect on a stack shared by all levels (no allocation per field): nested fields push
+        // above this mark and are gone again before control returns here.
+        const size_t mark = node_scratch_.size();
+        struct Ids {
+            std::vector<NodeId>& v;
+            size_t mark;
+            void push_back(NodeId id) { v.push_back(id); }
+            size_t size() const { return v.size() - mark; }
+        } ids{node_scratch_, mark};
         if (!type.multi) {
             if (peek_word(f, "NULL")) {
                 f.lexer.next();
@@ -442,8 +455,10 @@ private:
             }
         }
         entry.begin = static_cast<uint32_t>(tree_.node_refs.size());
-        tree_.node_refs.insert(tree_.node_refs.end(), ids.begin(), ids.end());
-        entry.count = static_cast<uint32_t>(ids.size());
+        tree_.node_refs.insert(tree_.node_refs.end(), node_scratch_.begin() + static_cast<ptrdiff_t>(mark),
+                               node_scratch_.end());
+        entry.count = static_cast<uint32_t>(node_scratch_.size() - mark);
+        node_scratch_.resize(mark);
     }
 
     // `field IS protoField` inside a PROTO body: the node's field takes the instance's value.
@@ -659,6 +674,7 @@ private:
     const LoadLimits& limits_;
     const ExternProtoResolver& resolver_;
     std::vector<FieldEntry> scratch_;  // fields of the nodes being read, innermost last
+    std::vector<NodeId> node_scratch_;  // node values of the fields being read, innermost last
     uint32_t error_file_ = 0;
 };
 
