@@ -1,10 +1,12 @@
 #include "parser/load.h"
 
+#include <pthread.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -441,14 +443,39 @@ void set_roots(LoadedScene& scene, const fs::path& main, const LoadOptions& opti
 
 }  // namespace
 
+// The readers recurse once per nesting level; LoadLimits::max_nesting_depth bounds that, and this stack
+// holds it with room to spare in any build (sanitizers make frames several times larger).
+static void run_on_large_stack(const std::function<void()>& work) {
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, size_t(512) << 20);  // address space only; pages come as used
+    pthread_t thread;
+    auto trampoline = [](void* arg) -> void* {
+        (*static_cast<const std::function<void()>*>(arg))();
+        return nullptr;
+    };
+    if (pthread_create(&thread, &attr, trampoline, const_cast<std::function<void()>*>(&work)) != 0) {
+        work();  // no thread to be had: read on this stack
+    } else {
+        pthread_join(thread, nullptr);
+    }
+    pthread_attr_destroy(&attr);
+}
+
 LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options) {
     LoadedScene scene;
     set_roots(scene, path, options);
     uint32_t file = scene.sources.add(path, std::move(text));
-    Loader loader(scene, options);
-    loader.enter_main_file(path);
-    ClassicResult r = loader.read_source(file, 0);
-    scene.tree.roots = std::move(r.roots);
+    run_on_large_stack([&] {
+        try {
+            Loader loader(scene, options);
+            loader.enter_main_file(path);
+            ClassicResult r = loader.read_source(file, 0);
+            scene.tree.roots = std::move(r.roots);
+        } catch (const std::bad_alloc&) {
+            scene.diagnostics.error_in_file(path, "out of memory while reading the scene");
+        }
+    });
     return scene;
 }
 
