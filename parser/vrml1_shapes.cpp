@@ -478,17 +478,10 @@ void Upgrader::cube(uint32_t id, const State& s, OutList& out) {
     emit_shape(id, s, out, appearance(s, mat), geometry);
 }
 
-void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
-    if (cached_shape(id, s, out)) return;
+// The Material of an indexed set, and its colours as a Color node with colorIndex/colorPerVertex when
+// the binding asks for several (then the Material itself is dropped if it only carried emission).
+NodeId Upgrader::indexed_colors(uint32_t id, const State& s, Fields& f, const std::vector<double>& coord_index) {
     const Names& n = names();
-    // Copies: making nodes appends to the pools these values live in.
-    const std::vector<double> coord_index = values(id, n.coordIndex);
-    Fields f = begin("IndexedFaceSet");
-    set_node(f, n.coord, coordinate(s.coords));
-    reuse(f, n.coordIndex, id, n.coordIndex);
-
-    // Materials: a colour per face or vertex when the binding asks and the Material has several
-    // values.
     NodeId mat = material(s.material, 0);
     const size_t colors = material_count(s.material);
     if (colors > 1) {
@@ -502,6 +495,21 @@ void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
             if (pure_emissive(s.material)) mat = kNullNode;
         }
     }
+    return mat;
+}
+
+void Upgrader::face_set(uint32_t id, const State& s, OutList& out) {
+    if (cached_shape(id, s, out)) return;
+    const Names& n = names();
+    // Copies: making nodes appends to the pools these values live in.
+    const std::vector<double> coord_index = values(id, n.coordIndex);
+    Fields f = begin("IndexedFaceSet");
+    set_node(f, n.coord, coordinate(s.coords));
+    reuse(f, n.coordIndex, id, n.coordIndex);
+
+    // Materials: a colour per face or vertex when the binding asks and the Material has several
+    // values.
+    NodeId mat = indexed_colors(id, s, f, coord_index);
     // Normals: used when the state holds enough of them; otherwise the renderer generates them
     // (VRML 1.0 says the same). OVERALL has no VRML97 form.
     if (s.normals != kNone) {
@@ -572,20 +580,8 @@ void Upgrader::line_set(uint32_t id, const State& s, OutList& out) {
     Fields f = begin("IndexedLineSet");
     set_node(f, n.coord, coordinate(s.coords));
     reuse(f, n.coordIndex, id, n.coordIndex);
-    NodeId mat = material(s.material, 0);
-    const size_t colors = material_count(s.material);
-    if (colors > 1) {
-        // PER_PART (one material per segment) becomes one colour per polyline.
-        const FieldEntry* given = set_entry(id, n.materialIndex);
-        IndexMapping m = map_indices(s.material_binding, colors, values(id, n.materialIndex),
-                                     given != nullptr, coord_index, true, id, "material");
-        if (m.use) {
-            set_node(f, n.color, color_node(s.material));
-            set(f, n.colorPerVertex, {m.per_vertex ? 1.0 : 0.0});
-            if (m.explicit_index) set(f, n.colorIndex, m.index);
-            if (pure_emissive(s.material)) mat = kNullNode;
-        }
-    }
+    // PER_PART (one material per segment) becomes one colour per polyline.
+    NodeId mat = indexed_colors(id, s, f, coord_index);
     const NodeId shape = shape_node(id, appearance(s, mat), make(f, file_.nodes[id].loc));
     cache_shape(id, s, {shape});
     emit(shape, s, out);
