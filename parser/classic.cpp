@@ -69,22 +69,7 @@ private:
         throw SyntaxError{t.offset, std::move(message)};
     }
 
-    std::string describe(Frame& f, const Token& t) {
-        switch (t.kind) {
-            case TokenKind::End: return "end of file";
-            case TokenKind::LBrace: return "'{'";
-            case TokenKind::RBrace: return "'}'";
-            case TokenKind::LBracket: return "'['";
-            case TokenKind::RBracket: return "']'";
-            case TokenKind::String: return "a string";
-            case TokenKind::BadString: return "an unterminated string";
-            case TokenKind::Word: {
-                std::string_view w = f.lexer.text(t);
-                return "'" + std::string(w.substr(0, 40)) + (w.size() > 40 ? "...'" : "'");
-            }
-        }
-        return "?";
-    }
+    std::string describe(Frame& f, const Token& t) { return f.lexer.describe(t); }
 
     Token expect(Frame& f, TokenKind kind, const char* what) {
         Token t = f.lexer.next();

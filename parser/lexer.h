@@ -46,6 +46,9 @@ public:
     // Offset of the next token (after skipping white space and comments).
     uint32_t next_offset() { return peek().offset; }
 
+    // A token as an error message names it: "end of file", "'{'", "a string", "'word'" (cut at 40 bytes).
+    std::string describe(const Token& t) const;
+
     // The value of a String token: quotes removed, \" and \\ unescaped.
     static std::string unescape(std::string_view quoted);
 

@@ -90,29 +90,7 @@ class Reader {
         throw SyntaxError{t.offset, std::move(message)};
     }
 
-    std::string describe(const Token& t) {
-        switch (t.kind) {
-            case TokenKind::End:
-                return "end of file";
-            case TokenKind::LBrace:
-                return "'{'";
-            case TokenKind::RBrace:
-                return "'}'";
-            case TokenKind::LBracket:
-                return "'['";
-            case TokenKind::RBracket:
-                return "']'";
-            case TokenKind::String:
-                return "a string";
-            case TokenKind::BadString:
-                return "an unterminated string";
-            case TokenKind::Word: {
-                std::string_view w = lexer_.text(t);
-                return "'" + std::string(w.substr(0, 40)) + (w.size() > 40 ? "...'" : "'");
-            }
-        }
-        return "?";
-    }
+    std::string describe(const Token& t) { return lexer_.describe(t); }
 
     std::string_view expect_word(const char* what) {
         Token t = lexer_.next();

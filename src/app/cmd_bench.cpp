@@ -17,7 +17,6 @@
 #include "image/plot.h"
 #include "render/flatten.h"
 #include "render/render.h"
-#include "scene/build.h"
 
 namespace vr {
 namespace {

@@ -12,7 +12,6 @@
 #include "image/image.h"
 #include "render/flatten.h"
 #include "render/render.h"
-#include "scene/build.h"
 
 namespace vr {
 namespace {
