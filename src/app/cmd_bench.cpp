@@ -22,15 +22,17 @@ namespace vr {
 namespace {
 
 struct Setting {
-    std::string series;  // the plot line it belongs to
+    std::string series;  // the plot line it belongs to: the sampler, or "gas tolerance"
     std::string sampler;
     int spp = 1;
+    double threshold = 0.0;  // adaptive: --adaptive-threshold; statistical: --noise-threshold; else unused
     double tolerance = 1e-4;
+    int depth = 3;  // adaptive: --adaptive-depth
 };
 
 struct Row {
     Setting setting;
-    double seconds = 0, rays_per_second = 0;
+    double seconds = 0, rays_per_second = 0, rays_per_pixel = 0;
     CompareMetrics metrics;
 };
 
@@ -40,6 +42,11 @@ bool render_once(const FlatScene& flat, const RenderOptions& base, const Setting
     o.sampler = s.sampler;
     o.spp = s.spp;
     o.tolerance = s.tolerance;
+    if (s.sampler == "adaptive") {
+        o.adaptive_threshold = s.threshold;
+        o.adaptive_depth = s.depth;
+    }
+    if (s.sampler == "statistical") o.noise_threshold = s.threshold;
     Camera camera;
     if (!make_camera(flat, o, camera, error)) return false;
     image = render_image(flat, camera, o, {}, stats);
@@ -52,6 +59,35 @@ std::string stem_of(const std::string& scene) {
     return p.string();
 }
 
+// The default ladder: each sampler at rising cost (spp, or a falling threshold -- and for adaptive a
+// deeper subdivision, for statistical a higher cap -- for the two that choose their own count), all at the given gas tolerance; for gas scenes also the centre sampler at
+// falling integrator tolerance.
+std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bool gas, double tolerance) {
+    std::vector<Setting> ladder;
+    auto wanted = [&](const char* name) {
+        return samplers.empty() || std::find(samplers.begin(), samplers.end(), name) != samplers.end();
+    };
+    if (wanted("center")) ladder.push_back({"center", "center", 1, 0.0, tolerance});
+    if (wanted("grid"))
+        for (int spp : {4, 9, 16, 36}) ladder.push_back({"grid", "grid", spp, 0.0, tolerance});
+    if (wanted("rgss"))
+        for (int spp : {4, 16, 36}) ladder.push_back({"rgss", "rgss", spp, 0.0, tolerance});
+    if (wanted("rooks8"))
+        for (int spp : {8, 32, 72}) ladder.push_back({"rooks8", "rooks8", spp, 0.0, tolerance});
+    if (wanted("quincunx")) ladder.push_back({"quincunx", "quincunx", 1, 0.0, tolerance});
+    if (wanted("jitter"))
+        for (int spp : {4, 16, 64}) ladder.push_back({"jitter", "jitter", spp, 0.0, tolerance});
+    if (wanted("adaptive"))
+        for (auto [t, depth] : {std::pair{0.2, 2}, {0.1, 3}, {0.05, 3}, {0.02, 4}, {0.01, 5}})
+            ladder.push_back({"adaptive", "adaptive", 1, t, tolerance, depth});
+    if (wanted("statistical"))
+        for (auto [t, cap] : {std::pair{0.05, 64}, {0.02, 256}, {0.01, 1024}, {0.005, 4096}})
+            ladder.push_back({"statistical", "statistical", cap, t, tolerance});
+    if (gas && (samplers.empty() || wanted("tolerance")))
+        for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6}) ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
+    return ladder;
+}
+
 }  // namespace
 
 int run_bench(const BenchCommand& cmd) {
@@ -62,27 +98,26 @@ int run_bench(const BenchCommand& cmd) {
     if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common.quiet, flat, fs)) return kExitBadInput;
     const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(), [](const Sphere& s) { return s.gas; });
 
-    // The ladder: every sampler at rising spp; for gas scenes also rising integrator accuracy.
-    std::vector<Setting> ladder;
-    ladder.push_back({"center", "center", 1, cmd.options.tolerance});
-    for (int n : {2, 3, 4, 6}) ladder.push_back({"grid", "grid", n * n, cmd.options.tolerance});
-    if (gas)
-        for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6}) ladder.push_back({"gas tolerance", "center", 1, tol});
+    const std::vector<Setting> ladder = default_ladder(cmd.samplers, gas, cmd.options.tolerance);
     const std::string stem = stem_of(cmd.scene);
     const std::string csv_path = cmd.csv.empty() ? stem + "-bench.csv" : cmd.csv;
     const std::string plot_path = cmd.plot.empty() ? stem + "-bench.png" : cmd.plot;
 
-    // Reference: given, or rendered at 8x8 samples (and 1e-8 gas tolerance) and cached.
+    // Reference: given, or rendered on a fine grid (and, for gas, at tolerance 1e-8) and cached under a
+    // name that holds the settings it depends on.
     Image reference;
     std::string error;
     std::string ref_path = cmd.reference;
     if (ref_path.empty()) {
         ref_path = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
-                   std::to_string(cmd.options.height) + ".exr";
+                   std::to_string(cmd.options.height) + "-grid" + std::to_string(cmd.reference_spp) + ".exr";
         if (!std::filesystem::exists(ref_path)) {
-            if (!cmd.common.quiet) std::cerr << "rendering the reference (grid 8x8" << (gas ? ", tolerance 1e-8" : "") << ") ...\n";
+            if (!cmd.common.quiet)
+                std::cerr << "rendering the reference (grid, " << cmd.reference_spp << " samples per pixel"
+                          << (gas ? ", tolerance 1e-8" : "") << ") ...\n";
             RenderStats stats;
-            if (!render_once(flat, cmd.options, {"reference", "grid", 64, 1e-8}, reference, stats, error)) {
+            if (!render_once(flat, cmd.options, {"reference", "grid", cmd.reference_spp, 0.0, 1e-8}, reference,
+                             stats, error)) {
                 std::cerr << "vrmlray: error: " << error << "\n";
                 return kExitUsage;
             }
@@ -98,8 +133,9 @@ int run_bench(const BenchCommand& cmd) {
     }
 
     std::vector<Row> rows;
-    std::printf("%-14s %-8s %5s %9s %10s %11s %11s %9s %10s %8s\n", "series", "sampler", "spp", "tolerance",
-                "seconds", "Mrays/s", "RMSE", "PSNR dB", "max err", "SSIM");
+    const double pixels = double(cmd.options.width) * cmd.options.height;
+    std::printf("%-13s %-11s %5s %9s %5s %9s %9s %8s %9s %10s %8s %10s %8s\n", "series", "sampler", "spp",
+                "threshold", "depth", "tolerance", "seconds", "rays/px", "Mrays/s", "RMSE", "PSNR dB", "max err", "SSIM");
     for (const Setting& s : ladder) {
         std::vector<double> seconds;
         Row row;
@@ -113,6 +149,7 @@ int run_bench(const BenchCommand& cmd) {
             }
             seconds.push_back(stats.render_seconds);
             row.rays_per_second = stats.rays_per_second();
+            row.rays_per_pixel = double(stats.primary_rays) / pixels;
         }
         std::sort(seconds.begin(), seconds.end());
         row.seconds = seconds[seconds.size() / 2];  // median
@@ -120,36 +157,60 @@ int run_bench(const BenchCommand& cmd) {
             std::cerr << "vrmlray: error: " << error << " (reference " << ref_path << ")\n";
             return kExitBadInput;
         }
+        const bool adaptive = s.sampler == "adaptive";
+        std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n", s.series.c_str(),
+                    s.sampler.c_str(), s.spp, s.threshold, adaptive ? std::to_string(s.depth).c_str() : "-",
+                    s.tolerance, row.seconds, row.rays_per_pixel,
+                    row.rays_per_second * 1e-6, row.metrics.rmse, row.metrics.psnr, row.metrics.max_abs,
+                    row.metrics.ssim);
         std::fflush(stdout);
-        std::printf("%-14s %-8s %5d %9.0e %10.4f %11.3f %11.3e %9.2f %10.3e %8.5f\n", s.series.c_str(),
-                    s.sampler.c_str(), s.spp, s.tolerance, row.seconds, row.rays_per_second * 1e-6,
-                    row.metrics.rmse, row.metrics.psnr, row.metrics.max_abs, row.metrics.ssim);
         rows.push_back(row);
     }
 
+    // Which series reaches a given error first: the least time among its settings at or below it.
+    std::printf("\nfastest to reach an RMSE (seconds of rendering; '-' = not reached on the ladder):\n");
+    for (double target : {1e-2, 5e-3, 2e-3, 1e-3}) {
+        std::map<std::string, double> best;
+        for (const Row& r : rows) {
+            if (r.metrics.rmse > target) continue;
+            auto [it, fresh] = best.emplace(r.setting.series, r.seconds);
+            if (!fresh) it->second = std::min(it->second, r.seconds);
+        }
+        std::vector<std::pair<double, std::string>> order;
+        for (auto& [name, t] : best) order.emplace_back(t, name);
+        std::sort(order.begin(), order.end());
+        std::printf("  RMSE <= %-7.0e", target);
+        if (order.empty()) std::printf(" -");
+        for (size_t i = 0; i < order.size() && i < 4; ++i)
+            std::printf("%s %s %.4f", i ? "," : "", order[i].second.c_str(), order[i].first);
+        std::printf("\n");
+    }
+
     std::ofstream csv(csv_path);
-    csv << "series,sampler,spp,tolerance,seconds,rays_per_second,rmse,psnr,max_abs,ssim\n";
+    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_second,rmse,psnr,max_abs,ssim\n";
     for (const Row& r : rows) {
-        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ',' << r.setting.tolerance << ','
-            << r.seconds << ',' << r.rays_per_second << ',' << r.metrics.rmse << ',' << r.metrics.psnr << ','
-            << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
+        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ',' << r.setting.threshold << ','
+            << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ',' << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ',' << r.rays_per_second << ','
+            << r.metrics.rmse << ',' << r.metrics.psnr << ',' << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
     }
     if (!csv) {
         std::cerr << "vrmlray: error: cannot write " << csv_path << "\n";
         return kExitOutput;
     }
-    std::map<std::string, PlotSeries> lines;
+    std::vector<PlotSeries> series;  // in ladder order, so the legend lists them as the table does
     for (const Row& r : rows) {
-        PlotSeries& line = lines[r.setting.series];
-        line.label = r.setting.series;
+        auto line = std::find_if(series.begin(), series.end(),
+                                 [&](const PlotSeries& p) { return p.label == r.setting.series; });
+        if (line == series.end()) {
+            series.push_back(PlotSeries{r.setting.series, {}, {}});
+            line = series.end() - 1;
+        }
         // A zero error cannot sit on a log axis; it is left out of the plot (the CSV keeps it).
         if (r.metrics.rmse > 0.0 && r.seconds > 0.0) {
-            line.x.push_back(r.seconds);
-            line.y.push_back(r.metrics.rmse);
+            line->x.push_back(r.seconds);
+            line->y.push_back(r.metrics.rmse);
         }
     }
-    std::vector<PlotSeries> series;
-    for (auto& [name, line] : lines) series.push_back(line);
     PlotOptions po;
     po.title = "RMSE vs time: " + stem;
     if (!write_image(plot_path, plot_series(series, po), false, error)) {

@@ -48,11 +48,23 @@ int run_render(const RenderCommand& cmd) {
         return kExitUsage;
     }
 
+    // --timeout counts from the start of the command; loading is bounded by the reader's limits
+    // instead, so what is left of it goes to the tracer, which stops at its next tile.
+    RenderOptions options = cmd.options;
+    if (options.timeout > 0.0) {
+        options.timeout -= seconds_since(t0);
+        if (options.timeout <= 0.0) options.timeout = 1e-9;
+    }
     ProgressBar bar(!cmd.common.quiet);
     RenderStats stats;
     Image image = render_image(
-        flat, camera, cmd.options, [&](double fraction, uint64_t rays) { bar.update(fraction, rays); }, stats);
+        flat, camera, options, [&](double fraction, uint64_t rays) { bar.update(fraction, rays); }, stats);
     bar.finish();
+    if (stats.timed_out) {
+        std::fprintf(stderr, "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
+                     cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
+        return kExitBadInput;
+    }
 
     std::string output = cmd.output;
     if (output.empty()) output = std::filesystem::path(cmd.scene).filename().string();

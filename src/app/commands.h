@@ -36,7 +36,9 @@ struct CompareCommand {
 struct BenchCommand {
     std::string scene;
     RenderOptions options;  // size, viewpoint, spheres, gas settings; the ladder sets sampler/spp/tolerance
-    std::string reference;  // empty: render one at grid 8x8 (gas: tolerance 1e-8) and cache it
+    std::string reference;  // empty: render one on a reference_spp grid (gas: tolerance 1e-8) and cache it
+    int reference_spp = 1024;  // a 32 x 32 grid: edge pixels within about 1e-3 of their coverage
+    std::vector<std::string> samplers;  // the ladder's series; empty: all (and "tolerance" for gas)
     std::string csv, plot;  // empty: SCENE's stem + "-bench.csv" / "-bench.png"
     int runs = 3;           // renders per setting; the median time is reported
     CommonOptions common;

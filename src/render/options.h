@@ -20,6 +20,10 @@ struct RenderOptions {
     CameraMode camera = CameraMode::FromViewpoint;
     int spp = 1;
     std::string sampler = "center";
+    double adaptive_threshold = 0.05;  // adaptive sampler: subdivide where taps differ by more
+    int adaptive_depth = 3;            // adaptive sampler: subdivisions at most
+    double noise_threshold = 0.005;    // statistical sampler: target standard error of the pixel mean
+    double timeout = 0.0;              // seconds; 0: none. The render stops with an error when exceeded
     int max_depth = 8;
     int threads = 0;                // 0: all cores
     double tolerance = 1e-4;        // gas integrator, relative

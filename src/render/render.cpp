@@ -43,6 +43,7 @@ double RenderStats::rays_per_second() const {
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
                    const ProgressFn& progress, RenderStats& stats) {
     stats = RenderStats();
+    const auto start = Clock::now();
     const int width = std::max(options.width, 0), height = std::max(options.height, 0);
     int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
     threads = std::max(threads, 1);
@@ -84,36 +85,44 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
     std::atomic<int> next_tile{0};
     std::atomic<int> tiles_done{0};
     std::atomic<uint64_t> rays_done{0};
+    std::atomic<bool> stop{false};  // --timeout passed: remaining tiles are skipped
+    const bool has_deadline = options.timeout > 0.0;
+    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(has_deadline ? options.timeout : 0.0));
     // One cache line per thread: the counters change on every ray.
     struct alignas(64) PerThread {
         RayCounters rays;
         uint64_t nonfinite = 0;
+        SamplerScratch scratch;
     };
     std::vector<PerThread> per_thread(static_cast<size_t>(threads));
     std::mutex mutex;
     std::condition_variable finished;
 
     auto worker = [&](int id) {
-        RayCounters& c = per_thread[size_t(id)].rays;
-        uint64_t& bad = per_thread[size_t(id)].nonfinite;
+        PerThread& mine = per_thread[size_t(id)];
+        RayCounters& c = mine.rays;
+        uint64_t& bad = mine.nonfinite;
         for (;;) {
             const int tile = next_tile.fetch_add(1, std::memory_order_relaxed);
             if (tile >= tile_count) break;
             const uint64_t before = c.total();
-            const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
-            const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
-            for (int y = y0; y < y1; ++y) {
-                for (int x = x0; x < x1; ++x) {
-                    SampleValue v = camera.sampler.pixel(x, y, [&](double px, double py) {
-                        return integrator.trace_camera_ray(camera_rays(px, py), c);
+            if (has_deadline && !stop.load(std::memory_order_relaxed) && Clock::now() > deadline)
+                stop.store(true, std::memory_order_relaxed);
+            if (!stop.load(std::memory_order_relaxed)) {
+                const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
+                const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+                sample_tile(
+                    camera.sampler, x0, y0, x1, y1, mine.scratch,
+                    [&](double px, double py) { return integrator.trace_camera_ray(camera_rays(px, py), c); },
+                    [&](int x, int y, const SampleValue& v) {
+                        float* out = image.pixel(x, y);
+                        out[0] = to_output(v.color.x, bad);
+                        out[1] = to_output(v.color.y, bad);
+                        out[2] = to_output(v.color.z, bad);
+                        double alpha = 1.0 - v.background;
+                        out[3] = std::isfinite(alpha) ? float(std::clamp(alpha, 0.0, 1.0)) : 1.0f;
                     });
-                    float* out = image.pixel(x, y);
-                    out[0] = to_output(v.color.x, bad);
-                    out[1] = to_output(v.color.y, bad);
-                    out[2] = to_output(v.color.z, bad);
-                    double alpha = 1.0 - v.background;
-                    out[3] = std::isfinite(alpha) ? float(std::clamp(alpha, 0.0, 1.0)) : 1.0f;
-                }
             }
             rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);
             if (tiles_done.fetch_add(1, std::memory_order_acq_rel) + 1 == tile_count) {
@@ -152,6 +161,7 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
     stats.shadow_rays = total.shadow;
     stats.secondary_rays = total.secondary;
     stats.render_seconds = seconds_since(render_start);
+    stats.timed_out = stop.load();
     if (progress) progress(1.0, total.total());
     return image;
 }

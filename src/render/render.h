@@ -21,6 +21,7 @@ struct RenderStats {
     uint64_t primary_rays = 0, shadow_rays = 0, secondary_rays = 0;
     size_t bvh_nodes = 0;
     size_t primitives = 0;
+    bool timed_out = false;         // options.timeout passed; the image is incomplete
     uint64_t nonfinite_values = 0;  // NaN/inf channel values replaced before output (should stay 0)
     double rays_per_second() const;
 };
@@ -33,7 +34,8 @@ using ProgressFn = std::function<void(double fraction_done, uint64_t rays_so_far
 // Builds the acceleration structure and renders the whole image (options.width x options.height) on
 // options.threads threads (0: all cores) in 16x16 tiles. Deterministic for any thread count. Pixels
 // hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC
-// section 9); no NaN or infinity ever reaches the image.
+// section 9); no NaN or infinity ever reaches the image. With options.timeout > 0, tiles not begun
+// when that many seconds (counted from this call) have passed are skipped and stats.timed_out is set.
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
                    const ProgressFn& progress, RenderStats& stats);
 

@@ -1,9 +1,16 @@
-// Pixel samplers (SPEC section 7). A sampler decides where in a pixel to trace and how many times,
-// and averages the results (box filter over the pixel). Implemented: `center` and `grid`; the
-// others named by the SPEC are later work and are rejected by make_sampler with an error.
+// Pixel samplers (SPEC section 7; the seed thesis 000_*, section 6). A sampler decides where in a
+// pixel to trace and how often, and how the samples make the pixel's value. All of them are a box
+// filter over the pixel except quincunx and adaptive, whose corner taps are shared with the
+// neighbouring pixels (their weights: centre 1/2, each corner 1/8, as the seed describes).
+//
+// Random positions come from a counter-based hash of (seed, pixel, sample index), never from a
+// stream shared between pixels, so an image is the same for every thread count and tile order.
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/math.h"
 #include "render/options.h"
@@ -16,38 +23,193 @@ struct SampleValue {
     double background = 1.0;
 };
 
-enum class SamplerKind : uint8_t { Center, Grid };
+enum class SamplerKind : uint8_t { Center, Grid, Rgss, Rooks8, Quincunx, Jitter, Adaptive, Statistical };
 
 struct PixelSampler {
     SamplerKind kind = SamplerKind::Center;
-    int n = 1;  // grid: n x n samples
+    int n = 1;                        // grid, jitter: n x n cells; rgss, rooks8: the pattern tiled n x n
+    uint64_t seed = 0;                // jitter, statistical
+    double adaptive_threshold = 0.05; // adaptive: subdivide where corner and centre differ by more
+    int adaptive_depth = 3;           // adaptive: at most this many subdivisions (finest square 1/8 pixel)
+    double noise_threshold = 0.005;   // statistical: stop when the standard error of the mean is below
+    int min_samples = 16;             // statistical: samples before the first test, stratified 4 x 4
+    int max_samples = 256;            // statistical: the cap
 
-    int samples_per_pixel() const { return kind == SamplerKind::Grid ? n * n : 1; }
-
-    // Traces the pixel whose top-left corner is (px, py) (pixel units, y down) through
-    // eval(x, y) -> SampleValue and returns the average. Deterministic: no random numbers.
-    template <class Eval>
-    SampleValue pixel(int px, int py, Eval&& eval) const {
-        if (kind == SamplerKind::Center) return eval(px + 0.5, py + 0.5);
-        SampleValue sum;
-        sum.background = 0.0;
-        const double step = 1.0 / n;
-        for (int b = 0; b < n; ++b) {
-            for (int a = 0; a < n; ++a) {
-                SampleValue s = eval(px + (a + 0.5) * step, py + (b + 0.5) * step);
-                sum.color += s.color;
-                sum.background += s.background;
-            }
-        }
-        const double inv = 1.0 / (double(n) * n);
-        sum.color *= inv;
-        sum.background *= inv;
-        return sum;
-    }
+    // Samples of one pixel for the fixed patterns (center, grid, rgss, rooks8, jitter); 0 for the
+    // others, whose count varies (quincunx and adaptive share corners; statistical stops on its own).
+    int fixed_samples_per_pixel() const;
+    bool shares_corners() const { return kind == SamplerKind::Quincunx || kind == SamplerKind::Adaptive; }
 };
 
-// From options.sampler and options.spp. `center` with spp > 1 means the grid (the SPEC makes center
-// the default for spp 1 only); grid needs a square spp (1, 4, 9, ...).
+// From options.sampler, options.spp and the sampler thresholds; false and a message when they do not
+// fit together (grid and jitter need a square spp, rgss 4 m^2, rooks8 8 m^2; quincunx and adaptive
+// take no --spp; statistical reads --spp as its cap).
 bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::string& error);
+
+// Uniform numbers in [0, 1) from (seed, pixel, index): SplitMix64's finaliser over the combined key.
+inline uint64_t sample_hash(uint64_t seed, int px, int py, uint64_t index) {
+    uint64_t z = seed * 0x9E3779B97F4A7C15ull ^ (uint64_t(uint32_t(px)) << 32 | uint32_t(py));
+    z += (index + 1) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    z = (z ^ (z >> 29)) * 0xBF58476D1CE4E5B9ull;  // second round: neighbouring keys stay unrelated
+    return z ^ (z >> 32);
+}
+inline double sample_uniform(uint64_t seed, int px, int py, uint64_t index) {
+    return double(sample_hash(seed, px, py, index) >> 11) * 0x1.0p-53;
+}
+
+// Positions, as offsets in [0,1)^2 from the pixel's top-left corner, of the fixed patterns; empty
+// for the other kinds. Public for the tests of the patterns.
+void fixed_offsets(const PixelSampler& sampler, int px, int py, std::vector<Vec2>& offsets);
+
+// Per-thread work space of the samplers.
+struct SamplerScratch {
+    std::vector<Vec2> offsets;
+    std::vector<SampleValue> corners;      // quincunx, adaptive: the tile's (w+1) x (h+1) corner taps
+    std::vector<int> lattice_slot;         // adaptive: lattice point -> index in lattice_values, -1
+    std::vector<int> lattice_touched;
+    std::vector<SampleValue> lattice_values;
+};
+
+namespace sampling_detail {
+
+inline void accumulate(SampleValue& sum, const SampleValue& s, double w) {
+    sum.color += w * s.color;
+    sum.background += w * s.background;
+}
+
+// The largest difference between two samples over colour and background weight (which is alpha).
+inline double difference(const SampleValue& a, const SampleValue& b) {
+    return std::max({std::abs(a.color.x - b.color.x), std::abs(a.color.y - b.color.y),
+                     std::abs(a.color.z - b.color.z), std::abs(a.background - b.background)});
+}
+
+// Adaptive supersampling inside one pixel. Points live on the lattice of spacing 1/2^(depth+1)
+// pixel; `at(i, j)` traces lattice point (i, j) once and remembers it. The square with centre
+// (ci, cj) and half-size h (lattice units) has its value as the mean over its four quadrants: a
+// quadrant whose corner differs from the centre by more than the threshold is subdivided, else it
+// is (corner + centre) / 2 -- so without subdivision the weights are quincunx's.
+template <class At>
+SampleValue adaptive_square(const PixelSampler& s, At& at, int ci, int cj, int h, int depth) {
+    const SampleValue centre = at(ci, cj);
+    SampleValue sum;
+    sum.background = 0.0;
+    for (int q = 0; q < 4; ++q) {
+        const int di = (q & 1) ? h : -h, dj = (q & 2) ? h : -h;
+        const SampleValue corner = at(ci + di, cj + dj);
+        if (depth < s.adaptive_depth && h >= 2 && difference(corner, centre) > s.adaptive_threshold) {
+            accumulate(sum, adaptive_square(s, at, ci + di / 2, cj + dj / 2, h / 2, depth + 1), 0.25);
+        } else {
+            accumulate(sum, corner, 0.125);
+            accumulate(sum, centre, 0.125);
+        }
+    }
+    return sum;
+}
+
+}  // namespace sampling_detail
+
+// Renders the pixels [x0, x1) x [y0, y1) of a tile: eval(x, y) -> SampleValue traces the camera ray
+// through image point (x, y) (pixel units, y down); store(px, py, value) receives each pixel's value.
+// Corner taps of quincunx and adaptive are traced once per tile and shared by its pixels.
+template <class Eval, class Store>
+void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerScratch& scratch, Eval&& eval,
+                 Store&& store) {
+    using namespace sampling_detail;
+    if (s.shares_corners()) {
+        const int w = x1 - x0 + 1;
+        scratch.corners.resize(size_t(w) * size_t(y1 - y0 + 1));
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) scratch.corners[size_t(y - y0) * w + size_t(x - x0)] = eval(x, y);
+        const int side = (1 << (s.adaptive_depth + 1)) + 1;  // lattice points across a pixel
+        if (s.kind == SamplerKind::Adaptive && scratch.lattice_slot.size() != size_t(side) * side)
+            scratch.lattice_slot.assign(size_t(side) * side, -1);
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
+                const SampleValue* c = &scratch.corners[size_t(y - y0) * w + size_t(x - x0)];
+                const SampleValue corner[4] = {c[0], c[1], c[w], c[w + 1]};
+                if (s.kind == SamplerKind::Quincunx) {
+                    SampleValue v = eval(x + 0.5, y + 0.5);
+                    v.color *= 0.5;
+                    v.background *= 0.5;
+                    for (const SampleValue& k : corner) accumulate(v, k, 0.125);
+                    store(x, y, v);
+                    continue;
+                }
+                const int last = side - 1;
+                auto at = [&](int i, int j) -> SampleValue {
+                    if ((i == 0 || i == last) && (j == 0 || j == last))
+                        return corner[(i == last ? 1 : 0) + (j == last ? 2 : 0)];
+                    int& slot = scratch.lattice_slot[size_t(j) * side + size_t(i)];
+                    if (slot < 0) {
+                        slot = int(scratch.lattice_values.size());
+                        scratch.lattice_touched.push_back(j * side + i);
+                        scratch.lattice_values.push_back(eval(x + double(i) / last, y + double(j) / last));
+                    }
+                    return scratch.lattice_values[size_t(slot)];
+                };
+                store(x, y, adaptive_square(s, at, last / 2, last / 2, last / 2, 0));
+                for (int k : scratch.lattice_touched) scratch.lattice_slot[size_t(k)] = -1;
+                scratch.lattice_touched.clear();
+                scratch.lattice_values.clear();
+            }
+        }
+        return;
+    }
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            if (s.kind == SamplerKind::Center) {
+                store(x, y, eval(x + 0.5, y + 0.5));
+                continue;
+            }
+            SampleValue sum;
+            sum.background = 0.0;
+            if (s.kind == SamplerKind::Statistical) {
+                // Welford's running mean and variance per channel; stop once the standard error of
+                // the mean, sqrt(variance / n), is below the threshold in every channel.
+                double mean[4] = {0, 0, 0, 0}, m2[4] = {0, 0, 0, 0};
+                int n = 0;
+                const double limit = s.noise_threshold * s.noise_threshold;
+                for (;;) {
+                    double u = sample_uniform(s.seed, x, y, 2 * uint64_t(n));
+                    double v = sample_uniform(s.seed, x, y, 2 * uint64_t(n) + 1);
+                    if (n < 16) {
+                        // The first 16 are jittered over a 4 x 4 grid: an edge or a detail covering
+                        // more than about an eighth of the pixel cannot hide from all of them (four
+                        // random samples miss a quarter-pixel detail a third of the time), and the
+                        // test that follows, which assumes independent samples, only overestimates
+                        // the error of such a stratified set.
+                        u = std::min(0.25 * ((n & 3) + u), std::nextafter(1.0, 0.0));
+                        v = std::min(0.25 * ((n >> 2) + v), std::nextafter(1.0, 0.0));
+                    }
+                    const SampleValue r = eval(x + u, y + v);
+                    const double values[4] = {r.color.x, r.color.y, r.color.z, r.background};
+                    ++n;
+                    for (int c = 0; c < 4; ++c) {
+                        const double d = values[c] - mean[c];
+                        mean[c] += d / n;
+                        m2[c] += d * (values[c] - mean[c]);
+                    }
+                    if (n >= s.max_samples) break;
+                    if (n >= s.min_samples) {
+                        const double worst = std::max({m2[0], m2[1], m2[2], m2[3]});
+                        // variance/n = m2/((n-1) n), the unbiased estimate of the mean's variance
+                        if (worst <= limit * double(n - 1) * n) break;
+                    }
+                }
+                sum.color = Vec3(mean[0], mean[1], mean[2]);
+                sum.background = mean[3];
+                store(x, y, sum);
+                continue;
+            }
+            fixed_offsets(s, x, y, scratch.offsets);
+            const double w = 1.0 / double(scratch.offsets.size());
+            for (const Vec2& o : scratch.offsets) accumulate(sum, eval(x + o.x, y + o.y), w);
+            store(x, y, sum);
+        }
+    }
+}
 
 }  // namespace vr

@@ -41,6 +41,16 @@ expect_stderr "bad_field.wrl:3:47: error: unknown field 'colour' in node Sphere"
 expect_stderr "^    +\^$" "caret under the column"
 expect 4 "unwritable output" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 -o "$work/no/such/dir/x.png"
 expect 0 "info on the seed scene" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
+expect 2 "unknown sampler" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler bogus -W 8 -H 8 -o "$work/x.png"
+expect 2 "grid needs a square spp" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler grid --spp 5 -W 8 -H 8 -o "$work/x.png"
+expect_stderr "sampler 'grid' needs a square number" "sampler message"
+for s in center grid rgss rooks8 quincunx jitter adaptive statistical; do
+    expect 0 "sampler $s renders" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler $s -W 24 -H 16 -o "$work/s_$s.png" -q
+done
+rm -f "$work/timeout.png"
+expect 3 "--timeout stops a long render" -- "$bin" render "$src/scenes/seeds/000_scene1_glass_bubbles.wrl" -W 2000 -H 2000 --spp 256 --timeout 0.5 -o "$work/timeout.png"
+expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"
+[ ! -e "$work/timeout.png" ] && pass || fail "no image is written after a timeout"
 expect 2 "unknown viewpoint" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --viewpoint Nowhere -W 8 -H 8 -o "$work/x.png"
 
 # --- compare (SPEC section 10) -----------------------------------------------------------------------
@@ -57,7 +67,13 @@ grep -q '"rmse"' "$work/out.txt" && pass || fail "compare --json prints rmse"
 # --- bench (SPEC section 11) ------------------------------------------------------------------------
 (cd "$work" && "$bin" bench "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --runs 1 -q >"$work/out.txt" 2>"$work/err.txt")
 [ $? -eq 0 ] && pass || fail "bench runs"
-[ "$(wc -l <"$work/001_sphere-bench.csv")" -eq 6 ] && pass || fail "bench CSV has a header and 5 settings"
+[ "$(wc -l <"$work/001_sphere-bench.csv")" -eq 25 ] && pass || fail "bench CSV has a header and 24 settings"
+# Along each fixed-pattern series the error must fall as the samples rise (the CSV's rmse column).
+for series in grid rgss rooks8 jitter; do
+    awk -F, -v s="$series" 'NR > 1 && $1 == s { if (n++ && $10 >= last) bad = 1; last = $10 } END { exit bad || n < 3 }' \
+        "$work/001_sphere-bench.csv" && pass || fail "bench: RMSE falls along the $series series"
+done
+grep -Eq '^RMSE <=|fastest to reach' "$work/out.txt" && pass || fail "bench names the fastest sampler per error"
 "$bin" compare "$work/001_sphere-bench.png" "$work/001_sphere-bench.png" >/dev/null && pass || fail "bench plot is a readable image"
 
 # --- convert round trip ------------------------------------------------------------------------------
