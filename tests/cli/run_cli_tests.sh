@@ -68,9 +68,11 @@ grep -q '"rmse"' "$work/out.txt" && pass || fail "compare --json prints rmse"
 (cd "$work" && "$bin" bench "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --runs 1 -q >"$work/out.txt" 2>"$work/err.txt")
 [ $? -eq 0 ] && pass || fail "bench runs"
 [ "$(wc -l <"$work/001_sphere-bench.csv")" -eq 25 ] && pass || fail "bench CSV has a header and 24 settings"
-# Along each fixed-pattern series the error must fall as the samples rise (the CSV's rmse column).
+# Along each fixed-pattern series the error must fall as the samples rise (the CSV's rmse column): the
+# last setting at least halves the first one's error. Neighbouring settings are not compared, because on
+# a 32x24 image a 3x3 grid can alias worse than a 2x2 one.
 for series in grid rgss rooks8 jitter; do
-    awk -F, -v s="$series" 'NR > 1 && $1 == s { if (n++ && $10 >= last) bad = 1; last = $10 } END { exit bad || n < 3 }' \
+    awk -F, -v s="$series" 'NR > 1 && $1 == s { if (!n++) first = $10; last = $10 } END { exit !(n >= 3 && last < first / 2) }' \
         "$work/001_sphere-bench.csv" && pass || fail "bench: RMSE falls along the $series series"
 done
 grep -Eq '^RMSE <=|fastest to reach' "$work/out.txt" && pass || fail "bench names the fastest sampler per error"
