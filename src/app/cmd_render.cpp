@@ -41,6 +41,7 @@ int run_render(const RenderCommand& cmd) {
         return kExitBadInput;
     const double scene_seconds = seconds_since(t1);
 
+    if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
     Camera camera;
     std::string error;
     if (!make_camera(flat, cmd.options, camera, error)) {

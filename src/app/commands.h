@@ -14,6 +14,7 @@ enum ExitCode : int { kExitOk = 0, kExitCompareFailed = 1, kExitUsage = 2, kExit
 struct CommonOptions {
     bool quiet = false;
     std::vector<std::filesystem::path> allow_paths;  // --allow-path: folders URLs may reach besides the scene's
+    double max_memory_gb = 0.0;  // --max-memory: a render that would need more is refused; 0: physical memory
 };
 
 struct RenderCommand {

@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
     vr::CommonOptions common;
     auto add_common = [&](CLI::App* sub) {
         sub->add_flag("-q,--quiet", common.quiet, "Print errors only");
+        sub->add_option("--max-memory", common.max_memory_gb,
+                        "Refuse a render estimated to need more than this many GB (default: physical memory)")
+            ->check(CLI::PositiveNumber);
         sub->add_option("--allow-path", common.allow_paths,
                         "Folder that Inline/EXTERNPROTO/texture URLs may reach besides the scene's own (repeatable)");
     };

@@ -1,7 +1,11 @@
 #include "app/pipeline.h"
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <iostream>
 
+#include "render/render.h"
 #include "scene/build.h"
 
 namespace vr {
@@ -37,6 +41,26 @@ bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, 
     flat = flatten_scene(scene, fo, diagnostics, stats);
     print_diagnostics(diagnostics, loaded.sources, quiet);
     return !diagnostics.has_errors();
+}
+
+bool check_render_memory(const std::string& scene_path, const FlatScene& flat, const RenderOptions& options,
+                         const CommonOptions& common) {
+    double limit = common.max_memory_gb * 1e9;
+    const char* what = "--max-memory";
+    if (limit <= 0.0) {
+        const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+        if (pages <= 0 || page <= 0) return true;  // unknown: nothing to compare with
+        limit = double(pages) * double(page);
+        what = "this machine's memory; --max-memory raises the limit";
+    }
+    const double need = double(estimate_render_bytes(flat, options));
+    if (need <= limit) return true;
+    std::fprintf(stderr,
+                 "%s: error: rendering %dx%d with %zu spheres, %zu quadrics and %zu triangles needs about %.1f GB, "
+                 "more than %.1f GB (%s)\n",
+                 scene_path.c_str(), options.width, options.height, flat.spheres.size(), flat.quadrics.size(),
+                 flat.triangle_count(), need / 1e9, limit / 1e9, what);
+    return false;
 }
 
 }  // namespace vr

@@ -6,6 +6,7 @@
 #include "parser/load.h"
 #include "render/flat_scene.h"
 #include "render/flatten.h"
+#include "render/options.h"
 
 namespace vr {
 
@@ -17,5 +18,10 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
 // diagnostics; false when there are errors.
 bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
                        bool quiet, FlatScene& flat, FlattenStats& stats);
+
+// Refuses (prints an error naming the scene, returns false) a render whose estimated memory
+// (estimate_render_bytes) exceeds --max-memory, or the machine's physical memory when that is not set.
+bool check_render_memory(const std::string& scene_path, const FlatScene& flat, const RenderOptions& options,
+                         const CommonOptions& common);
 
 }  // namespace vr

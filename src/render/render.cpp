@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "render/accel.h"
+#include "render/intersect.h"
 #include "render/integrator.h"
 
 namespace vr {
@@ -34,6 +35,22 @@ float to_output(double v, uint64_t& nonfinite) {
 }
 
 }  // namespace
+
+size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& options) {
+    const double pixels = double(std::max(options.width, 0)) * double(std::max(options.height, 0));
+    // Per primitive: its packed geometry, a reference and a transparency entry, up to two 32-byte BVH
+    // nodes (one leaf per primitive at worst, and as many inner nodes) and the build's bounds and
+    // centroid (64 bytes); gas spheres are copied once more into the gas volume's own BVH.
+    constexpr double kPerPrimitive = 12.0 + 64.0 + 64.0;
+    size_t gas_spheres = 0;
+    for (const Sphere& s : scene.spheres) gas_spheres += s.gas ? 1 : 0;
+    const double bytes = pixels * (4 * sizeof(float) + 8) +
+                         double(scene.spheres.size()) * (sizeof(SphereGeom) + kPerPrimitive) +
+                         double(gas_spheres) * (sizeof(Sphere) + kPerPrimitive) +
+                         double(scene.quadrics.size()) * (sizeof(QuadricGeom) + kPerPrimitive) +
+                         double(scene.triangle_count()) * (sizeof(TriangleGeom) + kPerPrimitive);
+    return bytes >= double(std::numeric_limits<size_t>::max()) ? std::numeric_limits<size_t>::max() : size_t(bytes);
+}
 
 double RenderStats::rays_per_second() const {
     double rays = double(primary_rays + shadow_rays + secondary_rays);

@@ -31,6 +31,11 @@ using ProgressFn = std::function<void(double fraction_done, uint64_t rays_so_far
 
 // make_camera is declared in render/camera.h.
 
+// What render_image and writing its result will allocate, about (within a few tens of percent): the
+// float image and its 8- or 16-bit copy for writing, the packed primitives, the BVH and its build's
+// temporaries, and the gas volume's copies. For refusing a render before it runs out of memory.
+size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& options);
+
 // Builds the acceleration structure and renders the whole image (options.width x options.height) on
 // options.threads threads (0: all cores) in 16x16 tiles. Deterministic for any thread count. Pixels
 // hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC

@@ -47,6 +47,10 @@ expect_stderr "sampler 'grid' needs a square number" "sampler message"
 for s in center grid rgss rooks8 quincunx jitter adaptive statistical; do
     expect 0 "sampler $s renders" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler $s -W 24 -H 16 -o "$work/s_$s.png" -q
 done
+expect 3 "a render that cannot fit in memory is refused before allocating" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 65536 -H 65536 -o "$work/x.png"
+expect_stderr "001_sphere.wrl: error: rendering 65536x65536 .* needs about 10[0-9]\.[0-9] GB, more than" "memory estimate message"
+expect 3 "--max-memory lowers the limit" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 640 -H 480 --max-memory 0.001 -o "$work/x.png"
+expect 0 "--max-memory raises nothing that fits" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 64 -H 48 --max-memory 0.01 -o "$work/x.png"
 rm -f "$work/timeout.png"
 expect 3 "--timeout stops a long render" -- "$bin" render "$src/scenes/seeds/000_scene1_glass_bubbles.wrl" -W 2000 -H 2000 --spp 256 --timeout 0.5 -o "$work/timeout.png"
 expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"
