@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (AddressSanitizer + UndefinedBehaviorSanitizer) and runs each for
-# the given number of seconds (default 60) on all cores, seeded from ../shared/corpus and tests/corpus.
-# Crashing inputs land in build-fuzz/crashes/TARGET/; copy each into tests/corpus/fuzz/ as a regression test.
+# the given number of seconds (default 60) in one worker process, seeded from ../shared/corpus and
+# tests/corpus. A crash, timeout (60 s) or out-of-memory (4 GB) does not end the run: each input lands in
+# build-fuzz/crashes/TARGET/ and fuzzing goes on (fork mode). Copy each into tests/corpus/bad/ with its
+# expected message as a regression test.
 # Usage: tools/fuzz/run.sh [SECONDS] [TARGET...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -25,6 +27,7 @@ for t in "${targets[@]}"; do
     esac
     echo "== $t: ${seconds}s" >&2
     "$build/$t" "$corpus" "${seeds[@]}" -dict="$root/tools/fuzz/vrml.dict" -max_total_time="$seconds" \
-        -max_len=65536 -timeout=20 -rss_limit_mb=4096 -artifact_prefix="$build/crashes/$t/" \
-        -print_final_stats=1 2>&1 | tail -15
+        -max_len=65536 -timeout=60 -rss_limit_mb=4096 -artifact_prefix="$build/crashes/$t/" \
+        -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 2>&1 | grep -E '^#[0-9]+: |INFO: (fuzzed|exiting)|crash|timeout|oom' | tail -6 || true
+    echo "== $t: findings: $(ls "$build/crashes/$t" | wc -l)" >&2
 done
