@@ -56,8 +56,8 @@ bool check_render_memory(const std::string& scene_path, const FlatScene& flat, c
     const double need = double(estimate_render_bytes(flat, options));
     if (need <= limit) return true;
     std::fprintf(stderr,
-                 "%s: error: rendering %dx%d with %zu spheres, %zu quadrics and %zu triangles needs about %.1f GB, "
-                 "more than %.1f GB (%s)\n",
+                 "%s: error: rendering %dx%d with %zu spheres, %zu quadrics and %zu triangles needs about %.3g GB, "
+                 "more than %.3g GB (%s)\n",
                  scene_path.c_str(), options.width, options.height, flat.spheres.size(), flat.quadrics.size(),
                  flat.triangle_count(), need / 1e9, limit / 1e9, what);
     return false;
