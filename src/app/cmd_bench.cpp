@@ -104,35 +104,46 @@ int run_bench(const BenchCommand& cmd) {
     const std::string csv_path = cmd.csv.empty() ? stem + "-bench.csv" : cmd.csv;
     const std::string plot_path = cmd.plot.empty() ? stem + "-bench.png" : cmd.plot;
 
-    // Reference: given, or rendered on a fine grid (and, for gas, at tolerance 1e-8) and cached under a
-    // name that holds the settings it depends on.
-    Image reference;
+    // References: given (--reference, then used for every series), or rendered and cached under a name
+    // that holds the settings they depend on: a fine grid (and for gas tolerance 1e-8) for the sampler
+    // series, and for the gas tolerance series the same centre sampling at tolerance 1e-8, so that that
+    // series shows the integrator's error alone, not the missing anti-aliasing.
     std::string error;
-    std::string ref_path = cmd.reference;
-    if (ref_path.empty()) {
-        ref_path = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
-                   std::to_string(cmd.options.height) + "-grid" + std::to_string(cmd.reference_spp) + ".exr";
-        if (!std::filesystem::exists(ref_path)) {
-            if (!cmd.common.quiet)
-                std::cerr << "rendering the reference (grid, " << cmd.reference_spp << " samples per pixel"
-                          << (gas ? ", tolerance 1e-8" : "") << ") ...\n";
-            RenderStats stats;
-            if (!render_once(flat, cmd.options, {"reference", "grid", cmd.reference_spp, 0.0, 1e-8}, reference,
-                             stats, error)) {
-                std::cerr << "vrmlray: error: " << error << "\n";
-                return kExitUsage;
-            }
-            if (!write_image(ref_path, reference, false, error)) {
-                std::cerr << "vrmlray: error: " << error << "\n";
-                return kExitOutput;
+    auto reference_for = [&](const Setting& s, Image& image, std::string& path) -> int {
+        if (!cmd.reference.empty()) {
+            path = cmd.reference;
+        } else {
+            const bool tolerance_series = s.series == "gas tolerance";
+            const Setting ref = tolerance_series ? Setting{"reference", "center", 1, 0.0, 1e-8}
+                                                 : Setting{"reference", "grid", cmd.reference_spp, 0.0, 1e-8};
+            path = stem + "-reference-" + std::to_string(cmd.options.width) + "x" + std::to_string(cmd.options.height) +
+                   (tolerance_series ? std::string("-center") : "-grid" + std::to_string(cmd.reference_spp)) +
+                   (gas ? "-tol1e-8" : "") + ".exr";
+            if (!std::filesystem::exists(path)) {
+                if (!cmd.common.quiet)
+                    std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", " << ref.spp
+                              << " samples per pixel" << (gas ? ", tolerance 1e-8" : "") << ") ...\n";
+                RenderStats stats;
+                if (!render_once(flat, cmd.options, ref, image, stats, error)) {
+                    std::cerr << "vrmlray: error: " << error << "\n";
+                    return kExitUsage;
+                }
+                if (!write_image(path, image, false, error)) {
+                    std::cerr << "vrmlray: error: " << error << "\n";
+                    return kExitOutput;
+                }
+                return kExitOk;
             }
         }
-    }
-    if (reference.width == 0 && !read_image(ref_path, reference, error)) {
-        std::cerr << "vrmlray: error: " << error << "\n";
-        return kExitBadInput;
-    }
-
+        if (!read_image(path, image, error)) {
+            std::cerr << "vrmlray: error: " << error << "\n";
+            return kExitBadInput;
+        }
+        return kExitOk;
+    };
+    Image reference;
+    std::string ref_path, used_refs;
+    bool have_center = false;  // the reference in `reference` is the centre-sampled one
     std::vector<Row> rows;
     const double pixels = double(cmd.options.width) * cmd.options.height;
     std::printf("%-13s %-11s %5s %9s %5s %9s %9s %8s %9s %10s %8s %10s %8s\n", "series", "sampler", "spp",
@@ -154,6 +165,14 @@ int run_bench(const BenchCommand& cmd) {
         }
         std::sort(seconds.begin(), seconds.end());
         row.seconds = seconds[seconds.size() / 2];  // median
+        const bool want_center = cmd.reference.empty() && s.series == "gas tolerance";
+        if (reference.width == 0 || want_center != have_center) {
+            std::string path;
+            if (int code = reference_for(s, reference, path); code != kExitOk) return code;
+            ref_path = path;
+            have_center = want_center;
+            if (used_refs.find(path) == std::string::npos) used_refs += (used_refs.empty() ? "" : ", ") + path;
+        }
         if (!compare_images(image, reference, 1.0 / 255.0, row.metrics, error)) {
             std::cerr << "vrmlray: error: " << error << " (reference " << ref_path << ")\n";
             return kExitBadInput;
@@ -218,7 +237,7 @@ int run_bench(const BenchCommand& cmd) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitOutput;
     }
-    if (!cmd.common.quiet) std::cerr << "wrote " << csv_path << " and " << plot_path << " (reference " << ref_path << ")\n";
+    if (!cmd.common.quiet) std::cerr << "wrote " << csv_path << " and " << plot_path << " (reference " << used_refs << ")\n";
     return kExitOk;
 }
 
