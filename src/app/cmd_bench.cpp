@@ -95,7 +95,7 @@ int run_bench(const BenchCommand& cmd) {
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
     FlatScene flat;
     FlattenStats fs;
-    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common.quiet, flat, fs)) return kExitBadInput;
+    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common, flat, fs)) return kExitBadInput;
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
     const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(), [](const Sphere& s) { return s.gas; });
 

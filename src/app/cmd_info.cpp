@@ -41,6 +41,7 @@ int run_info(const std::string& path, const CommonOptions& common) {
     FlattenOptions fo;
     fo.scene_file = loaded.main_file;
     fo.allowed_roots = loaded.allowed_roots;
+    common.limits.apply(fo);
     FlattenStats fs;
     FlatScene flat = flatten_scene(scene, fo, diagnostics, fs);
     print_diagnostics(diagnostics, loaded.sources, common.quiet);

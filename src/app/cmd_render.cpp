@@ -37,7 +37,7 @@ int run_render(const RenderCommand& cmd) {
     auto t1 = std::chrono::steady_clock::now();
     FlatScene flat;
     FlattenStats flatten_stats;
-    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common.quiet, flat, flatten_stats))
+    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat, flatten_stats))
         return kExitBadInput;
     const double scene_seconds = seconds_since(t1);
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "app/limits.h"
 #include "render/options.h"
 
 namespace vr {
@@ -14,6 +15,7 @@ enum ExitCode : int { kExitOk = 0, kExitCompareFailed = 1, kExitUsage = 2, kExit
 struct CommonOptions {
     bool quiet = false;
     std::vector<std::filesystem::path> allow_paths;  // --allow-path: folders URLs may reach besides the scene's
+    Limits limits;               // --limit NAME=VALUE
     double max_memory_gb = 0.0;  // --max-memory: a render that would need more is refused; 0: physical memory
 };
 

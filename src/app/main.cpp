@@ -24,8 +24,13 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "vrmlray 0.1.0");
 
     vr::CommonOptions common;
+    std::vector<std::string> limit_texts;
+    std::string limit_help = "Raise or lower a limit (repeatable; VALUE may end in k, M, G). Limits and defaults:";
+    for (const vr::LimitInfo& l : vr::limit_table())
+        limit_help += std::string("\n  ") + l.name + "=" + std::to_string(l.value) + "  " + l.meaning;
     auto add_common = [&](CLI::App* sub) {
         sub->add_flag("-q,--quiet", common.quiet, "Print errors only");
+        sub->add_option("--limit", limit_texts, limit_help)->type_name("NAME=VALUE");
         sub->add_option("--max-memory", common.max_memory_gb,
                         "Refuse a render estimated to need more than this many GB (default: physical memory)")
             ->check(CLI::PositiveNumber);
@@ -152,6 +157,14 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         int code = app.exit(e);
         return code == 0 ? vr::kExitOk : vr::kExitUsage;
+    }
+
+    for (const std::string& text : limit_texts) {
+        std::string error;
+        if (!vr::parse_limit(text, common.limits, error)) {
+            std::cerr << "vrmlray: error: " << error << "\n";
+            return vr::kExitUsage;
+        }
     }
 
     if (r->parsed()) {

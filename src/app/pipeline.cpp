@@ -20,13 +20,15 @@ void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sour
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene) {
     LoadOptions options;
     options.allowed_roots = common.allow_paths;
+    options.limits = common.limits.load;
     scene = load_scene(path, options);
     print_diagnostics(scene.diagnostics, scene.sources, common.quiet);
     return scene.ok();
 }
 
 bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
-                       bool quiet, FlatScene& flat, FlattenStats& stats) {
+                       const CommonOptions& common, FlatScene& flat, FlattenStats& stats) {
+    const bool quiet = common.quiet;
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
     FlattenOptions fo;
@@ -38,6 +40,7 @@ bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, 
     fo.viewpoint = options.viewpoint;
     fo.scene_file = loaded.main_file;
     fo.allowed_roots = loaded.allowed_roots;
+    common.limits.apply(fo);
     flat = flatten_scene(scene, fo, diagnostics, stats);
     print_diagnostics(diagnostics, loaded.sources, quiet);
     return !diagnostics.has_errors();

@@ -17,7 +17,7 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
 // Builds the typed scene and flattens it with the render options' sphere and gas settings; prints the
 // diagnostics; false when there are errors.
 bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
-                       bool quiet, FlatScene& flat, FlattenStats& stats);
+                       const CommonOptions& common, FlatScene& flat, FlattenStats& stats);
 
 // Refuses (prints an error naming the scene, returns false) a render whose estimated memory
 // (estimate_render_bytes) exceeds --max-memory, or the machine's physical memory when that is not set.

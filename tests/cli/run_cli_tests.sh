@@ -51,6 +51,15 @@ expect 3 "a render that cannot fit in memory is refused before allocating" -- "$
 expect_stderr "001_sphere.wrl: error: rendering 65536x65536 .* needs about 103 GB, more than" "memory estimate message"
 expect 3 "--max-memory lowers the limit" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 640 -H 480 --max-memory 0.001 -o "$work/x.png"
 expect 0 "--max-memory raises nothing that fits" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 64 -H 48 --max-memory 0.01 -o "$work/x.png"
+# --limit: a limit lowered below what a scene needs stops it with exit 3; an unknown name is a usage error.
+printf '#VRML V2.0 utf8\nGroup { children Group { children Group { children Shape { geometry Sphere {} } } } }\n' >"$work/nested.wrl"
+expect 0 "three levels pass the default nesting limit" -- "$bin" info "$work/nested.wrl"
+expect 3 "--limit nesting-depth=2 refuses three levels" -- "$bin" info "$work/nested.wrl" --limit nesting-depth=2
+expect_stderr "nested.wrl:2:.*: error: nodes nested deeper than 2" "lowered nesting limit message"
+expect 3 "--limit primitives=1 refuses a scene of 17 quadrics" -- "$bin" render "$src/scenes/seeds/000_scene5_table_chairs.wrl" --limit primitives=1 -W 8 -H 8 -o "$work/x.png"
+expect 2 "unknown --limit name" -- "$bin" info "$work/nested.wrl" --limit bogus=1
+expect_stderr "--limit wants NAME=VALUE with NAME one of nesting-depth" "unknown limit message"
+expect 2 "--limit needs a positive number" -- "$bin" info "$work/nested.wrl" --limit nodes=0
 rm -f "$work/timeout.png"
 expect 3 "--timeout stops a long render" -- "$bin" render "$src/scenes/seeds/000_scene1_glass_bubbles.wrl" -W 2000 -H 2000 --spp 256 --timeout 0.5 -o "$work/timeout.png"
 expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"
