@@ -60,6 +60,14 @@ expect 3 "--limit primitives=1 refuses a scene of 17 quadrics" -- "$bin" render 
 expect 2 "unknown --limit name" -- "$bin" info "$work/nested.wrl" --limit bogus=1
 expect_stderr "--limit wants NAME=VALUE with NAME one of nesting-depth" "unknown limit message"
 expect 2 "--limit needs a positive number" -- "$bin" info "$work/nested.wrl" --limit nodes=0
+# Determinism: the same floats for 1 and 2 threads and on a second run (opaque with a random sampler, and gas).
+for scene in 000_scene2_metal_glass 003_particles_gas; do
+    "$bin" render "$src/scenes/seeds/$scene.wrl" -W 48 -H 36 --sampler jitter --spp 4 --seed 3 --threads 1 -q -o "$work/det1.exr"
+    "$bin" render "$src/scenes/seeds/$scene.wrl" -W 48 -H 36 --sampler jitter --spp 4 --seed 3 --threads 2 -q -o "$work/det2.exr"
+    "$bin" render "$src/scenes/seeds/$scene.wrl" -W 48 -H 36 --sampler jitter --spp 4 --seed 3 --threads 2 -q -o "$work/det3.exr"
+    expect 0 "$scene: 1 and 2 threads give the same image" -- "$bin" compare "$work/det1.exr" "$work/det2.exr" --max-abs 0
+    expect 0 "$scene: a second run gives the same image" -- "$bin" compare "$work/det2.exr" "$work/det3.exr" --max-abs 0
+done
 rm -f "$work/timeout.png"
 expect 3 "--timeout stops a long render" -- "$bin" render "$src/scenes/seeds/000_scene1_glass_bubbles.wrl" -W 2000 -H 2000 --spp 256 --timeout 0.5 -o "$work/timeout.png"
 expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"
