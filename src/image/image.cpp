@@ -1,4 +1,5 @@
-// Reading and writing float RGBA images through OpenImageIO.
+// Reading and writing float RGBA images: PNG (png.h) and binary PPM natively, every other format
+// through the OpenImageIO module (oiio_module.h), which is loaded only then.
 //
 // What reaches a file (SPEC section 9):
 //   - The extension picks the format and the stored sample type:
@@ -18,19 +19,27 @@
 //   - Colour is stored exactly as computed, not divided or multiplied by alpha: the files are
 //     marked (and read back) as unassociated alpha so that OpenImageIO does not premultiply or
 //     un-premultiply.
+//   - The native writers store what OpenImageIO stored before them: PNG 8-bit RGBA (tEXt
+//     Software, and the sRGB/gAMA/cHRM chunks with `srgb`), PPM "P6 W H 255" with 8-bit RGB.
 // Reading returns the stored values as floats (8/16-bit code k as the float nearest k/255 or
-// k/65535), no transfer curve undone.
+// k/65535), no transfer curve undone. PNG files are recognised by their signature, not their
+// name; interlaced PNGs and other formats go through the module.
 #include "image/image.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
+
+#include "image/oiio_module.h"
+#include "image/png.h"
 
 namespace vr {
 namespace {
@@ -84,11 +93,11 @@ uint32_t quantize(float value, bool srgb, double max_code) {
     return uint32_t(std::floor(v * max_code + 0.5));
 }
 
-std::string oiio_error(const std::string& specific) {
-    std::string global = OIIO::geterror();
-    if (!specific.empty()) return specific;
-    if (!global.empty()) return global;
-    return "unknown OpenImageIO error";
+// "EXR" for "exr": how a message names the format that needed the module.
+std::string format_name(const std::string& ext) {
+    std::string name = ext;
+    for (char& c : name) c = char(std::toupper(static_cast<unsigned char>(c)));
+    return name.empty() ? std::string("the image") : name;
 }
 
 // Converts `image` to the interleaved samples stored in the file (nchannels per pixel).
@@ -120,120 +129,35 @@ std::vector<float> to_float_samples(const Image& image, int nchannels, bool clam
     return out;
 }
 
-}  // namespace
-
-bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error) {
-    if (image.width <= 0 || image.height <= 0 ||
-        image.rgba.size() != size_t(image.width) * size_t(image.height) * 4) {
-        error = "cannot write '" + path + "': the image is empty or malformed";
+// Binary PPM (P6), byte for byte what OpenImageIO's writer produced.
+bool write_ppm(const std::string& path, const Image& image, bool srgb, std::string& error) {
+    const std::vector<uint8_t> samples = to_integer_samples<uint8_t>(image, 3, srgb, 255.0);
+    FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) {
+        error = std::strerror(errno);
         return false;
     }
-    const std::string ext = lower_extension(path);
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) {
-        OIIO::geterror();  // drop the pending message; ours names the extension
-        error = "cannot write '" + path + "': " +
-                (ext.empty() ? std::string("no file extension to choose an image format by")
-                             : "unknown image format '." + ext + "'");
-        return false;
-    }
-    const FormatChoice format = choose_format(ext);
-    const int nchannels = out->supports("alpha") ? 4 : 3;
-
-    OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
-    if (format.kind == SampleKind::kUint16) type = OIIO::TypeDesc::UINT16;
-    if (format.kind == SampleKind::kFloat) type = OIIO::TypeDesc::FLOAT;
-
-    OIIO::ImageSpec spec(image.width, image.height, nchannels, type);
-    if (nchannels == 4) {
-        spec.alpha_channel = 3;
-        spec.attribute("oiio:UnassociatedAlpha", 1);
-    }
-    if (format.kind != SampleKind::kFloat && srgb) spec.attribute("oiio:ColorSpace", "sRGB");
-    if (ext == "exr") spec.attribute("compression", "zip");
-    if (ext == "jpg" || ext == "jpeg") spec.attribute("Compression", "jpeg:95");
-    if (ext == "ppm" || ext == "pnm") spec.attribute("pnm:binary", 1);
-    spec.attribute("Software", "vrmlray");
-
-    if (!out->open(path, spec)) {
-        error = "cannot write '" + path + "': " + oiio_error(out->geterror());
-        return false;
-    }
-    bool ok = false;
-    switch (format.kind) {
-        case SampleKind::kUint8: {
-            auto samples = to_integer_samples<uint8_t>(image, nchannels, srgb, 255.0);
-            ok = out->write_image(OIIO::TypeDesc::UINT8, samples.data());
-            break;
-        }
-        case SampleKind::kUint16: {
-            auto samples = to_integer_samples<uint16_t>(image, nchannels, srgb, 65535.0);
-            ok = out->write_image(OIIO::TypeDesc::UINT16, samples.data());
-            break;
-        }
-        case SampleKind::kFloat: {
-            auto samples = to_float_samples(image, nchannels, format.clamp_negative);
-            ok = out->write_image(OIIO::TypeDesc::FLOAT, samples.data());
-            break;
-        }
-    }
-    const bool closed = out->close();
-    if (!ok || !closed) {
-        error = "cannot write '" + path + "': " + oiio_error(out->geterror());
+    const bool written = std::fprintf(f, "P6\n%d %d\n255\n", image.width, image.height) > 0 &&
+                         std::fwrite(samples.data(), 1, samples.size(), f) == samples.size();
+    const bool closed = std::fclose(f) == 0;
+    if (!written || !closed) {
+        error = std::string("write error: ") + std::strerror(errno);
+        std::remove(path.c_str());
         return false;
     }
     return true;
 }
 
-bool read_image(const std::string& path, Image& image, std::string& error) {
-    // Keep alpha unassociated so colour comes back exactly as stored.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path, &config);
-    if (!in) {
-        std::string why = oiio_error("");
-        if (!std::filesystem::exists(path)) why = "no such file";
-        error = "cannot read '" + path + "': " + why;
-        return false;
-    }
-    const OIIO::ImageSpec& spec = in->spec();
-    const int nch = spec.nchannels;
-    if (spec.width <= 0 || spec.height <= 0 || nch <= 0 || spec.deep) {
-        error = "cannot read '" + path + "': not a flat image with pixels";
-        return false;
-    }
-    const size_t npix = size_t(spec.width) * size_t(spec.height);
-    std::vector<float> samples(npix * size_t(nch));
-    // 8- and 16-bit files are read as integers and divided here, so that code k becomes exactly the
-    // float nearest k/255 (OpenImageIO's own conversion multiplies by a rounded reciprocal).
-    bool ok = false;
-    if (spec.format == OIIO::TypeDesc::UINT8) {
-        std::vector<uint8_t> codes(samples.size());
-        ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, codes.data());
-        for (size_t i = 0; i < codes.size(); ++i) samples[i] = float(codes[i]) / 255.0f;
-    } else if (spec.format == OIIO::TypeDesc::UINT16) {
-        std::vector<uint16_t> codes(samples.size());
-        ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT16, codes.data());
-        for (size_t i = 0; i < codes.size(); ++i) samples[i] = float(codes[i]) / 65535.0f;
-    } else {
-        ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, samples.data());
-    }
-    if (!ok) {
-        error = "cannot read '" + path + "': " + oiio_error(in->geterror());
-        return false;
-    }
-    in->close();
-
-    // The colour channels are the non-alpha ones in file order: one is grey (replicated), two or
-    // more give R, G (and B); a missing alpha is 1.
-    int alpha = spec.alpha_channel;
+// Interleaved samples (nch a pixel) -> RGBA. The colour channels are the non-alpha ones in file
+// order: one is grey (replicated), two or more give R, G (and B); a missing alpha is 1.
+Image to_rgba(int width, int height, int nch, int alpha, const std::vector<float>& samples) {
     if (alpha < 0 && nch == 2) alpha = 1;  // grey + alpha without a name
     if (alpha >= nch) alpha = -1;
     std::vector<int> colour;
     for (int c = 0; c < nch && colour.size() < 3; ++c)
         if (c != alpha) colour.push_back(c);
-
-    Image result(spec.width, spec.height);
+    Image result(width, height);
+    const size_t npix = size_t(width) * size_t(height);
     for (size_t p = 0; p < npix; ++p) {
         const float* src = samples.data() + p * size_t(nch);
         float* dst = result.rgba.data() + p * 4;
@@ -244,7 +168,107 @@ bool read_image(const std::string& path, Image& image, std::string& error) {
         }
         dst[3] = alpha >= 0 ? src[alpha] : 1.0f;
     }
-    image = std::move(result);
+    return result;
+}
+
+}  // namespace
+
+bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.rgba.size() != size_t(image.width) * size_t(image.height) * 4) {
+        error = "cannot write '" + path + "': the image is empty or malformed";
+        return false;
+    }
+    const std::string ext = lower_extension(path);
+    if (ext.empty()) {
+        error = "cannot write '" + path + "': no file extension to choose an image format by";
+        return false;
+    }
+    std::string why;
+    if (ext == "png") {
+        // RGBA, 8-bit: the common case never loads the module.
+        const std::vector<uint8_t> samples = to_integer_samples<uint8_t>(image, 4, srgb, 255.0);
+        if (write_png(path, image.width, image.height, 4, 8, samples.data(), srgb, why))
+            return true;
+        error = "cannot write '" + path + "': " + why;
+        return false;
+    }
+    if (ext == "ppm") {
+        if (write_ppm(path, image, srgb, why)) return true;
+        error = "cannot write '" + path + "': " + why;
+        return false;
+    }
+
+    const int nchannels = oiio_output_channels(path, why);
+    if (nchannels < 0) {
+        error = "cannot write " + format_name(ext) + " '" + path + "': " + why;
+        return false;
+    }
+    if (nchannels == 0) {
+        error = "cannot write '" + path + "': unknown image format '." + ext + "'";
+        return false;
+    }
+    const FormatChoice format = choose_format(ext);
+    bool ok = false;
+    switch (format.kind) {
+        case SampleKind::kUint8: {
+            auto samples = to_integer_samples<uint8_t>(image, nchannels, srgb, 255.0);
+            ok = oiio_write_pixels(path, image.width, image.height, nchannels, VR_OIIO_UINT8,
+                                   samples.data(), srgb, why);
+            break;
+        }
+        case SampleKind::kUint16: {
+            auto samples = to_integer_samples<uint16_t>(image, nchannels, srgb, 65535.0);
+            ok = oiio_write_pixels(path, image.width, image.height, nchannels, VR_OIIO_UINT16,
+                                   samples.data(), srgb, why);
+            break;
+        }
+        case SampleKind::kFloat: {
+            auto samples = to_float_samples(image, nchannels, format.clamp_negative);
+            ok = oiio_write_pixels(path, image.width, image.height, nchannels, VR_OIIO_FLOAT,
+                                   samples.data(), srgb, why);
+            break;
+        }
+    }
+    if (!ok) {
+        error = "cannot write '" + path + "': " + why;
+        return false;
+    }
+    return true;
+}
+
+bool read_image(const std::string& path, Image& image, std::string& error) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        error = "cannot read '" + path + "': no such file";
+        return false;
+    }
+    std::string why;
+    PngPixels png;
+    const PngStatus status = read_png(path, kMaxImagePixels, png, why);
+    if (status == PngStatus::kOk) {
+        const int alpha = png.channels == 2 ? 1 : png.channels == 4 ? 3 : -1;
+        image = to_rgba(png.width, png.height, png.channels, alpha, png.samples);
+        return true;
+    }
+    if (status == PngStatus::kError) {
+        error = "cannot read '" + path + "': " + why;
+        return false;
+    }
+    if (!oiio_module(why)) {
+        const std::string format = status == PngStatus::kInterlaced
+                                       ? "interlaced PNG"
+                                       : format_name(lower_extension(path));
+        error = "cannot read " + format + " '" + path + "': " + why;
+        return false;
+    }
+    OiioPixels pixels;
+    if (!oiio_read_pixels(path, INT_MAX, kMaxImagePixels, pixels, why)) {
+        error = "cannot read '" + path + "': " + why;
+        return false;
+    }
+    image =
+        to_rgba(pixels.width, pixels.height, pixels.channels, pixels.alpha_channel, pixels.samples);
     return true;
 }
 

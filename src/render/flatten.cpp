@@ -696,7 +696,7 @@ class Flattener {
             if (const auto it = image_index_.find(key); it != image_index_.end()) return it->second;
             ImageData image;
             std::string error;
-            if (!read_image_file(path, image, error)) {
+            if (!read_image_file(path, image, error, options_.max_texture_pixels)) {
                 reasons += (reasons.empty() ? "" : "; ") + url + ": " + error;
                 continue;
             }

@@ -36,8 +36,8 @@
 //   moves the camera after flattening; billboards keep facing the viewpoint.)
 // * Textures: URLs resolved with resolve_url from the file the node stands in, limited to
 //   FlattenOptions::allowed_roots (or Scene::allowed_roots when empty); loaded once per file and
-//   repeat mode. A texture that cannot be found or read is one warning; the shape renders
-//   untextured.
+//   repeat mode. A texture that cannot be found or read, or has more than max_texture_pixels
+//   texels, is one warning; the shape renders untextured.
 #pragma once
 #include <optional>
 #include <filesystem>
@@ -47,6 +47,7 @@
 #include "parser/diagnostics.h"
 #include "render/flat_scene.h"
 #include "render/options.h"
+#include "scene/image_file.h"
 #include "scene/scene.h"
 
 namespace vr {
@@ -70,6 +71,9 @@ struct FlattenOptions {
     size_t max_group_visits = 100'000'000;
     size_t max_depth =
         2000;  // group nesting along one path (deeper parts are skipped with a warning)
+    // An ImageTexture with more texels (width x height, read from the file's header before
+    // decoding) is refused with the usual unreadable-texture warning, naming the size.
+    size_t max_texture_pixels = kDefaultMaxTexturePixels;
 };
 
 struct FlattenStats {

@@ -1,48 +1,50 @@
 #include "scene/image_file.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
-#include <cstring>
+#include <cctype>
+#include <cstddef>
+
+#include "image/oiio_module.h"
+#include "image/png.h"
 
 namespace vr {
 
 bool read_image_file(const std::filesystem::path& path, ImageData& image, std::string& error,
                      size_t max_texels) {
-    auto input = OIIO::ImageInput::open(path.string());
-    if (!input) {
-        error = OIIO::geterror();
-        if (error.empty()) error = "cannot open the image";
-        return false;
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> top_first;
+    PngPixels png;
+    const PngStatus status = read_png(path.string(), max_texels, png, error);
+    if (status == PngStatus::kError) return false;
+    if (status == PngStatus::kOk) {
+        width = png.width, height = png.height, channels = png.channels;
+        top_first = std::move(png.samples);
+    } else {
+        std::string why;
+        if (!oiio_module(why)) {
+            std::string format = path.extension().string();
+            if (!format.empty() && format[0] == '.') format.erase(0, 1);
+            for (char& c : format) c = char(std::toupper(static_cast<unsigned char>(c)));
+            if (status == PngStatus::kInterlaced) format = "interlaced PNG";
+            error =
+                "cannot read " + (format.empty() ? std::string("the image") : format) + ": " + why;
+            return false;
+        }
+        OiioPixels pixels;
+        if (!oiio_read_pixels(path.string(), 4, max_texels, pixels, error)) return false;
+        width = pixels.width, height = pixels.height, channels = pixels.channels;
+        top_first = std::move(pixels.samples);
     }
-    const OIIO::ImageSpec& spec = input->spec();
-    const int width = spec.width, height = spec.height;
-    const int file_channels = spec.nchannels;
-    if (width <= 0 || height <= 0 || file_channels <= 0) {
-        error = "the image is empty";
-        return false;
-    }
-    if (size_t(width) * size_t(height) > max_texels) {
-        error = "the image is too large (" + std::to_string(width) + " x " +
-                std::to_string(height) + ")";
-        return false;
-    }
-    const int channels = std::min(file_channels, 4);
-    std::vector<float> top_first(size_t(width) * height * channels);
-    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, top_first.data())) {
-        error = input->geterror();
-        if (error.empty()) error = "cannot read the image";
-        return false;
-    }
-    input->close();
     image.width = width;
     image.height = height;
     image.channels = channels;
-    image.texels.resize(top_first.size());
+    // Flipped in place: a large texture is not held twice.
     const size_t row = size_t(width) * channels;
-    for (int y = 0; y < height; ++y)
-        std::memcpy(image.texels.data() + size_t(height - 1 - y) * row,
-                    top_first.data() + size_t(y) * row, row * sizeof(float));
+    for (int y = 0; y < height / 2; ++y)
+        std::swap_ranges(top_first.begin() + ptrdiff_t(size_t(y) * row),
+                         top_first.begin() + ptrdiff_t(size_t(y + 1) * row),
+                         top_first.begin() + ptrdiff_t(size_t(height - 1 - y) * row));
+    image.texels = std::move(top_first);
     return true;
 }
 
