@@ -23,6 +23,8 @@ const Entry kEntries[] = {
     {"primitives", "spheres, quadrics and meshes after instancing", &Limits::max_primitives, nullptr},
     {"triangles", "triangles after instancing", &Limits::max_triangles, nullptr},
     {"group-visits", "grouping nodes visited while instancing", &Limits::max_group_visits, nullptr},
+    {"texture-pixels", "pixels of one texture image (a larger one is ignored, with a warning)",
+     &Limits::max_texture_pixels, nullptr},
 };
 
 }  // namespace
@@ -31,6 +33,7 @@ void Limits::apply(FlattenOptions& options) const {
     options.max_primitives = max_primitives;
     options.max_triangles = max_triangles;
     options.max_group_visits = max_group_visits;
+    options.max_texture_pixels = max_texture_pixels;
 }
 
 std::vector<LimitInfo> limit_table() {

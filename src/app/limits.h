@@ -16,6 +16,7 @@ struct Limits {
     size_t max_primitives = FlattenOptions().max_primitives;
     size_t max_triangles = FlattenOptions().max_triangles;
     size_t max_group_visits = FlattenOptions().max_group_visits;
+    size_t max_texture_pixels = FlattenOptions().max_texture_pixels;  // checked from the image's header
 
     void apply(FlattenOptions& options) const;
 };

@@ -57,6 +57,13 @@ expect 0 "three levels pass the default nesting limit" -- "$bin" info "$work/nes
 expect 3 "--limit nesting-depth=2 refuses three levels" -- "$bin" info "$work/nested.wrl" --limit nesting-depth=2
 expect_stderr "nested.wrl:2:.*: error: nodes nested deeper than 2" "lowered nesting limit message"
 expect 3 "--limit primitives=1 refuses a scene of 17 quadrics" -- "$bin" render "$src/scenes/seeds/000_scene5_table_chairs.wrl" --limit primitives=1 -W 8 -H 8 -o "$work/x.png"
+mkdir -p "$work/tex"
+"$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 4 -H 4 -q -o "$work/tex/t.png"
+printf '#VRML V2.0 utf8\nShape { appearance Appearance { texture ImageTexture { url "t.png" } } geometry Box {} }\n' >"$work/tex/textured.wrl"
+expect 0 "a 4x4 texture within the default limit" -- "$bin" render "$work/tex/textured.wrl" -W 8 -H 8 -o "$work/x.png"
+grep -q "too large" "$work/err.txt" && fail "a small texture is not too large" || pass
+expect 0 "--limit texture-pixels=15 ignores a 16-pixel texture with a warning" -- "$bin" render "$work/tex/textured.wrl" -W 8 -H 8 --limit texture-pixels=15 -o "$work/x.png"
+expect_stderr "warning: .*t.png: the image is too large \(4 x 4 = 16 pixels; the limit is 15\)" "texture limit warning"
 expect 2 "unknown --limit name" -- "$bin" info "$work/nested.wrl" --limit bogus=1
 expect_stderr "--limit wants NAME=VALUE with NAME one of nesting-depth" "unknown limit message"
 expect 2 "--limit needs a positive number" -- "$bin" info "$work/nested.wrl" --limit nodes=0
