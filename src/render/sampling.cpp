@@ -53,9 +53,8 @@ void fixed_offsets(const PixelSampler& s, int px, int py, std::vector<Vec2>& out
             for (int b = 0; b < s.n; ++b) {
                 for (int a = 0; a < s.n; ++a) {
                     const uint64_t k = 2 * (uint64_t(b) * s.n + a);
-                    // min(): a uniform number just below 1 times the cell may round up to the next cell
-                    const double u = std::min(sample_uniform(s.seed, px, py, k), 1.0 - 0x1.0p-53);
-                    const double v = std::min(sample_uniform(s.seed, px, py, k + 1), 1.0 - 0x1.0p-53);
+                    const double u = sample_uniform(s.seed, px, py, k), v = sample_uniform(s.seed, px, py, k + 1);
+                    // (a + u) * cell can round up to the cell's far edge; min() keeps the last one inside the pixel
                     out.emplace_back(std::min((a + u) * cell, std::nextafter(1.0, 0.0)),
                                      std::min((b + v) * cell, std::nextafter(1.0, 0.0)));
                 }
