@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Reading speed and memory on a 100 MB molecular-style scene (Transform + Shape + Sphere + full Material per
 # atom, as PyMOL writes them), in the classic encoding and, converted by vrmlray, in X3D XML. For each run:
-# the reader's time (load phase of `render --stats`, a 1x1 render so nothing else counts), MB/s, and the
-# whole process's peak memory. Medians of RUNS runs. Usage: bench/parse_speed.sh [VRMLRAY_BINARY] [RUNS]
+# the reader's time (load phase of `render --stats`, a 1x1 render so nothing else counts), MB/s, the
+# whole process's peak memory, and the peak of reading alone (bench/parse_only.cpp, built against the
+# libvrml_parser.a beside the binary when there is one: no scene build, no flattening). Medians of RUNS runs.
+# Usage: bench/parse_speed.sh [VRMLRAY_BINARY] [RUNS]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$root/build/vrmlray}
@@ -16,6 +18,12 @@ if [ ! -s "$wrl" ]; then
     python3 "$root/tools/gen_molecule.py" 345000 "$wrl" --no-bonds
 fi
 [ -s "$x3d" ] || "$bin" convert "$wrl" "$x3d" -q
+lib=$(dirname "$bin")/libvrml_parser.a
+reader=""
+if [ -f "$lib" ] && g++ -std=c++20 -O2 -I "$root" "$root/bench/parse_only.cpp" "$lib" -lz -lxml2 -lpthread \
+        -o "$work/parse_only" 2>/dev/null; then
+    reader=$work/parse_only
+fi
 for file in "$wrl" "$x3d"; do
     bytes=$(stat -c %s "$file")
     rows=()
@@ -23,9 +31,16 @@ for file in "$wrl" "$x3d"; do
         /usr/bin/time -f "%M" -o "$work/rss.txt" "$bin" render "$file" -W 1 -H 1 -o "$work/one.png" -q \
             --stats "$work/stats.json" >/dev/null
         parse=$(grep -o '"parse": [0-9.e+-]*' "$work/stats.json" | awk '{print $2}')
-        rows+=("$parse $(cat "$work/rss.txt")")
+        alone=0
+        if [ -n "$reader" ]; then
+            /usr/bin/time -f "%M" -o "$work/rss_reader.txt" "$reader" "$file" >/dev/null || true
+            alone=$(cat "$work/rss_reader.txt")
+        fi
+        rows+=("$parse $(cat "$work/rss.txt") $alone")
     done
     printf '%s\n' "${rows[@]}" | sort -g | awk -v b="$bytes" -v n="$runs" -v f="$(basename "$file")" '
-        NR == int((n + 1) / 2) { printf "%-22s %6.1f MB  read %.2f s  %6.1f MB/s  peak %d MB (%.1fx the file)\n",
-                                 f, b / 1e6, $1, b / 1e6 / $1, $2 / 1024, $2 * 1024 / b }'
+        NR == int((n + 1) / 2) { printf "%-22s %6.1f MB  read %.2f s  %6.1f MB/s  peak %d MB (%.1fx the file)",
+                                 f, b / 1e6, $1, b / 1e6 / $1, $2 / 1024, $2 * 1024 / b
+                                 if ($3 > 0) printf ", reading alone %d MB (%.1fx)", $3 / 1024, $3 * 1024 / b
+                                 printf "\n" }'
 done

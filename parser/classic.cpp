@@ -26,6 +26,7 @@ struct Frame {
     const std::unordered_map<Name, FieldEntry>* is_values = nullptr;  // inside a PROTO body
     const ProtoDecl* proto = nullptr;
     size_t proto_depth = 0;
+    bool whole_file = false;  // reads its file from the start: the pages behind it may be given back
 };
 
 class Reader {
@@ -41,13 +42,9 @@ public:
     ClassicResult read_file(uint32_t file) {
         ClassicResult result;
         error_file_ = file;
-        const std::string& text = scene_.sources.file(file).text;
-        // Growing the pools by doubling copies them and touches every page again; molecular exports hold
-        // about one node per 50 bytes and one number per 10. Reserving costs address space only.
-        tree_.nodes.reserve(tree_.nodes.size() + text.size() / 50);
-        tree_.fields.reserve(tree_.fields.size() + text.size() / 40);
-        tree_.numbers.reserve(tree_.numbers.size() + text.size() / 10);
+        const std::string_view text = scene_.sources.file(file).text;
         Frame frame{Lexer(text), file, {}, nullptr, std::make_shared<ProtoScope>()};
+        frame.whole_file = true;
         result.protos = frame.protos;
         try {
             while (frame.lexer.peek().kind != TokenKind::End) {
@@ -369,6 +366,7 @@ private:
         tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark), scratch_.end());
         scratch_.resize(mark);
         tree_.nodes.push_back(n);
+        if (f.whole_file) scene_.sources.release_before(f.file, f.lexer.position());
         return static_cast<NodeId>(tree_.nodes.size() - 1);
     }
 
@@ -619,7 +617,7 @@ private:
         if (f.proto_depth + 1 > limits_.max_proto_depth)
             fail(f, type_token, "PROTO instances nested deeper than " + std::to_string(limits_.max_proto_depth) +
                                     " (limit; a PROTO that instantiates itself?)");
-        const std::string& text = scene_.sources.file(impl->file).text;
+        const std::string_view text = scene_.sources.file(impl->file).text;
         Frame body{Lexer(text, impl->body_begin, impl->body_end), impl->file, {}, nullptr,
                    std::make_shared<ProtoScope>(), &bound, impl, f.proto_depth + 1};
         body.protos->parent = impl->scope.lock();

@@ -49,7 +49,7 @@ std::string Diagnostics::format_one(const Diagnostic& d, const SourceManager& so
                std::to_string(lc.column) + ": " + kind + ": " + d.message;
         if (d.count > 1) out += " (" + std::to_string(d.count) + " times)";
         out += "\n";
-        std::string_view line = sources.line_text(d.loc.file, lc.line);
+        std::string_view line = sources.line_text(d.loc);
         if (line.size() <= 300) {
             out += "  ";
             out += line;

@@ -39,9 +39,14 @@ constexpr std::array<KindInfo, 21> kKinds = {{
 
 const KindInfo& info(ValueKind kind) { return kKinds[static_cast<size_t>(kind)]; }
 
-}  // namespace
+constexpr bool components_agree() {
+    for (size_t i = 0; i < kKinds.size(); ++i)
+        if (static_cast<size_t>(kKinds[i].kind) != i || kKinds[i].components != kComponents[i]) return false;
+    return sizeof kComponents == kKinds.size();
+}
+static_assert(components_agree(), "kComponents in field_type.h disagrees with kKinds");
 
-int components(ValueKind kind) { return info(kind).components; }
+}  // namespace
 
 bool is_numeric(ValueKind kind) {
     return kind != ValueKind::String && kind != ValueKind::Node;

@@ -1,5 +1,6 @@
 // The field types of VRML97 and X3D, and how many numbers one value of each holds.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -20,7 +21,9 @@ struct FieldType {
 };
 
 // Numbers in one value of this kind (SFImage: 0, it is variable; String and Node: 0, they are not numbers).
-int components(ValueKind kind);
+// Inline: the readers ask once per value. field_type.cpp checks the table against the kind table.
+inline constexpr int8_t kComponents[] = {1, 1, 1, 1, 1, 0, 2, 3, 4, 2, 3, 4, 4, 3, 4, 0, 0, 9, 16, 9, 16};
+inline int components(ValueKind kind) { return kComponents[static_cast<size_t>(kind)]; }
 bool is_numeric(ValueKind kind);
 // "SFVec3f", "MFNode", ...
 std::string_view type_name(FieldType type);

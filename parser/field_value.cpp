@@ -14,6 +14,10 @@ bool parse_double(std::string_view w, double& out) {
         negative = body.front() == '-';
         body.remove_prefix(1);
     }
+    // Plain decimals, the bulk of every scene, exactly as from_chars below would read them.
+    const auto* first = reinterpret_cast<const unsigned char*>(w.data());
+    Decimal d;
+    if (read_decimal(first, first + w.size(), d) == first + w.size() && d.to_double(out)) return true;
     if (body.size() > 2 && body[0] == '0' && (body[1] == 'x' || body[1] == 'X')) {
         int64_t v;
         if (!parse_int32(w, v)) return false;
@@ -88,7 +92,16 @@ std::string describe(Lexer& lex, const Token& t) {
 }
 
 double read_number(ValueContext& ctx, ValueKind kind) {
-    Token t = ctx.lexer.next();
+    Decimal d;
+    Token t = kind == ValueKind::Bool ? ctx.lexer.next() : ctx.lexer.next_number(d);
+    // The common spellings, converted exactly as the general code below would.
+    if (kind != ValueKind::Int32) {
+        double v;
+        if (d.to_double(v)) return v;
+    } else if (d.plain && d.fraction < 0 && d.digits <= (d.negative ? 0x80000000ull : 0x7fffffffull)) {
+        const int64_t v = static_cast<int64_t>(d.digits);
+        return static_cast<double>(d.negative ? -v : v);
+    }
     if (t.kind != TokenKind::Word) fail(t, "expected a number, found " + describe(ctx.lexer, t));
     std::string_view w = ctx.lexer.text(t);
     if (kind == ValueKind::Int32) {

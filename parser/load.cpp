@@ -1,6 +1,9 @@
 #include "parser/load.h"
 
+#include <fcntl.h>
 #include <pthread.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -30,24 +33,35 @@ std::string_view encoding_name(Encoding e) {
     return "unknown";
 }
 
-static std::string gunzip(const std::string& data, size_t max_bytes) {
+// Decompresses a whole gzip stream into one string, written in place (no staging buffer, no copy per chunk).
+// The stream's trailer gives the size modulo 2^32; it sizes the string when it is plausible (a deflate
+// stream expands at most about 1032 times), so a 100 MB scene is not grown, and copied, by doubling.
+static std::string gunzip(std::string_view data, size_t max_bytes) {
     z_stream zs{};
     if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::runtime_error("cannot start gzip decompression");
     zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
     zs.avail_in = static_cast<uInt>(data.size());
-    std::string out;
-    char buffer[1 << 16];
+    size_t hint = size_t(1) << 16;
+    if (data.size() >= 18) {
+        const auto* t = reinterpret_cast<const unsigned char*>(data.data() + data.size() - 4);
+        const size_t isize = size_t(t[0]) | size_t(t[1]) << 8 | size_t(t[2]) << 16 | size_t(t[3]) << 24;
+        if (isize <= data.size() * 1032) hint = std::max(hint, isize + 1);  // +1: the end shows without growing
+    }
+    std::string out(std::min(hint, max_bytes + 1), '\0');
+    size_t used = 0;
     int ret = Z_OK;
     do {
-        zs.next_out = reinterpret_cast<Bytef*>(buffer);
-        zs.avail_out = sizeof(buffer);
+        if (used == out.size()) out.resize(std::min(out.size() * 2, max_bytes + 1));
+        const size_t room = std::min<size_t>(out.size() - used, size_t(1) << 30);
+        zs.next_out = reinterpret_cast<Bytef*>(out.data() + used);
+        zs.avail_out = static_cast<uInt>(room);
         ret = inflate(&zs, Z_NO_FLUSH);
         if (ret != Z_OK && ret != Z_STREAM_END && ret != Z_BUF_ERROR) {
             inflateEnd(&zs);
             throw std::runtime_error("gzip data is corrupt");
         }
-        out.append(buffer, sizeof(buffer) - zs.avail_out);
-        if (out.size() > max_bytes) {
+        used += room - zs.avail_out;
+        if (used > max_bytes) {
             inflateEnd(&zs);
             throw std::runtime_error("decompressed size exceeds the limit of " + std::to_string(max_bytes) + " bytes");
         }
@@ -59,7 +73,12 @@ static std::string gunzip(const std::string& data, size_t max_bytes) {
         throw std::runtime_error("gzip data is truncated (the file ends before the compressed stream does)");
     }
     inflateEnd(&zs);
+    out.resize(used);
     return out;
+}
+
+static bool is_gzip(std::string_view data) {
+    return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f && static_cast<unsigned char>(data[1]) == 0x8b;
 }
 
 std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
@@ -76,9 +95,28 @@ std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
     std::string data(static_cast<size_t>(size), '\0');
     in.read(data.data(), size);
     if (!in) throw std::runtime_error("cannot read file");
-    if (data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f && static_cast<unsigned char>(data[1]) == 0x8b)
-        return gunzip(data, max_bytes);
+    if (is_gzip(data)) return gunzip(data, max_bytes);
     return data;
+}
+
+SourceText read_source_text(const fs::path& path, size_t max_bytes) {
+    // Plain regular files of a megabyte or more are mapped; gzip is decompressed straight from the mapping.
+    // Anything else (small files, pipes, devices, a failed mapping) is read by read_file_bytes.
+    constexpr size_t kMapFrom = size_t(1) << 20;
+    struct stat st{};
+    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && static_cast<uint64_t>(st.st_size) >= kMapFrom &&
+        static_cast<uint64_t>(st.st_size) <= max_bytes) {
+        SourceText mapped = SourceText::map(fd, static_cast<size_t>(st.st_size));
+        ::close(fd);
+        if (mapped.mapped()) {
+            if (!is_gzip(mapped.view())) return mapped;
+            return SourceText(gunzip(mapped.view(), max_bytes));
+        }
+        return SourceText(read_file_bytes(path, max_bytes));
+    }
+    if (fd >= 0) ::close(fd);
+    return SourceText(read_file_bytes(path, max_bytes));
 }
 
 // The first line as it can be shown in a message: non-printable bytes as \xNN.
@@ -96,7 +134,7 @@ static std::string printable(std::string_view s) {
     return out;
 }
 
-static Encoding detect_encoding(const std::string& text, std::string& header) {
+static Encoding detect_encoding(std::string_view text, std::string& header) {
     size_t start = 0;
     if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) start = 3;  // UTF-8 byte order mark
     size_t end = text.find_first_of("\r\n", start);
@@ -328,7 +366,7 @@ private:
             }
             uint32_t file;
             try {
-                file = scene_.sources.add(key, read_file_bytes(path, options_.limits.max_file_bytes));
+                file = scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
             } catch (const std::exception& e) {
                 reasons += (reasons.empty() ? "" : "; ") + key + ": " + e.what();
                 continue;
@@ -387,7 +425,7 @@ private:
                 }
                 uint32_t file;
                 try {
-                    file = scene_.sources.add(key, read_file_bytes(path, options_.limits.max_file_bytes));
+                    file = scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
                 } catch (const std::exception& e) {
                     reasons += (reasons.empty() ? "" : "; ") + key + ": " + e.what();
                     continue;
@@ -462,7 +500,7 @@ static void run_on_large_stack(const std::function<void()>& work) {
     pthread_attr_destroy(&attr);
 }
 
-LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options) {
+static LoadedScene load_scene_source(SourceText text, const std::string& path, const LoadOptions& options) {
     LoadedScene scene;
     set_roots(scene, path, options);
     uint32_t file = scene.sources.add(path, std::move(text));
@@ -479,17 +517,21 @@ LoadedScene load_scene_text(std::string text, const std::string& path, const Loa
     return scene;
 }
 
+LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options) {
+    return load_scene_source(SourceText(std::move(text)), path, options);
+}
+
 LoadedScene load_scene(const fs::path& path, const LoadOptions& options) {
-    std::string text;
+    SourceText text;
     try {
-        text = read_file_bytes(path, options.limits.max_file_bytes);
+        text = read_source_text(path, options.limits.max_file_bytes);
     } catch (const std::exception& e) {
         LoadedScene scene;
         scene.main_file = path;
         scene.diagnostics.error_in_file(path.string(), e.what());
         return scene;
     }
-    return load_scene_text(std::move(text), path.string(), options);
+    return load_scene_source(std::move(text), path.string(), options);
 }
 
 }  // namespace vr

@@ -55,5 +55,7 @@ std::filesystem::path resolve_url(const std::string& url, const std::filesystem:
 
 // Reads a whole file, decompressing gzip data (found by its magic bytes). Throws std::runtime_error.
 std::string read_file_bytes(const std::filesystem::path& path, size_t max_bytes);
+// The same, for a reader: a large plain file is mapped instead of copied (see SourceText).
+SourceText read_source_text(const std::filesystem::path& path, size_t max_bytes);
 
 }  // namespace vr

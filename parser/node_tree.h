@@ -10,6 +10,7 @@
 
 #include "parser/field_type.h"
 #include "parser/name.h"
+#include "parser/pool.h"
 #include "parser/source.h"
 
 namespace vr {
@@ -54,11 +55,11 @@ struct FieldView {
 };
 
 struct NodeTree {
-    std::vector<Node> nodes;
-    std::vector<FieldEntry> fields;
-    std::vector<double> numbers;
+    Pool<Node> nodes;
+    Pool<FieldEntry> fields;
+    Pool<double> numbers;
     std::vector<std::string> strings;
-    std::vector<NodeId> node_refs;
+    Pool<NodeId> node_refs;
 
     std::vector<NodeId> roots;  // top-level nodes of the main file, in order
     // Inline nodes that were resolved: the top-level nodes of the file they name.

@@ -52,6 +52,7 @@ struct ProtoScope {
 
     const ProtoDecl* find(Name name) const {
         for (const ProtoScope* s = this; s; s = s->parent.get()) {
+            if (s->protos.empty()) continue;  // most files declare none, and this runs for every node
             auto it = s->protos.find(name);
             if (it != s->protos.end()) return it->second.get();
         }

@@ -138,6 +138,12 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
         if (current) throw std::runtime_error(g.file + ": node " + std::string(name_text(current->name)) +
                                               " is not closed");
     }
+    for (int spec = 0; spec < 5; ++spec) {
+        for (const auto& [name, position] : index_[spec]) {
+            if (by_name_[spec].size() <= name) by_name_[spec].resize(name + 1, 0);
+            by_name_[spec][name] = position + 1;
+        }
+    }
 }
 
 Registry::~Registry() { delete defaults_; }
@@ -148,9 +154,9 @@ const Registry& Registry::builtin() {
 }
 
 const NodeTypeDecl* Registry::find(Spec spec, Name node) const {
-    const auto& index = index_[static_cast<int>(spec)];
-    auto it = index.find(node);
-    return it == index.end() ? nullptr : &tables_[static_cast<int>(spec)][it->second];
+    const auto& index = by_name_[static_cast<int>(spec)];
+    const uint32_t position = node < index.size() ? index[node] : 0;
+    return position ? &tables_[static_cast<int>(spec)][position - 1] : nullptr;
 }
 
 const NodeTypeDecl* Registry::find(Spec spec, std::string_view node) const { return find(spec, intern(node)); }

@@ -65,6 +65,9 @@ public:
 private:
     std::vector<NodeTypeDecl> tables_[5];
     std::unordered_map<Name, uint32_t> index_[5];
+    // The same index as a table by Name (names are small dense integers): 1 + position, 0 for none.
+    // Readers look a node type up for every node they read.
+    std::vector<uint32_t> by_name_[5];
     NodeTree* defaults_;  // owns the parsed default values
 };
 

@@ -116,7 +116,7 @@ class Reader {
     }
 
     void check_header() {
-        const std::string& text = scene_.sources.file(file_).text;
+        const std::string_view text = scene_.sources.file(file_).text;
         size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
         size_t end = text.find_first_of("\r\n", start);
         std::string_view line = std::string_view(text).substr(

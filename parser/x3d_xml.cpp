@@ -168,6 +168,9 @@ ClassicResult XmlReader::read(uint32_t file) {
         const bool last = pos + n >= text_.size();
         const uint64_t events = events_;
         xmlParseChunk(ctxt_, text_.data() + pos, static_cast<int>(n), last ? 1 : 0);
+        // libxml2 copied what it still needs; attribute values before this piece are read again only
+        // for PROTO bodies, which a mapped file brings back from the page cache.
+        scene_.sources.release_before(file, static_cast<uint32_t>(pos));
         pos += n;
         if (last || stopped_) break;
         chunk = events_ == events ? chunk * 2 : kChunk;
@@ -426,7 +429,7 @@ void XmlReader::read_value(const XmlElement& e, const XmlAttr& a, FieldType type
 // they are the value (so messages point into the attribute), else over the decoded value.
 void XmlReader::lex_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
                           const What& what) {
-    const std::string& file_text = scene_.sources.file(e.file).text;
+    const std::string_view file_text = scene_.sources.file(e.file).text;
     std::string decoded;
     const bool raw = a.decoded < 0;
     if (!raw) decoded = (*e.strings)[static_cast<size_t>(a.decoded)];
