@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#endif
 
 #include "render/lights.h"
 
@@ -69,110 +74,225 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// Separating-axis test of a triangle against a box (Akenine-Moeller), made conservative: the box is
-// grown by a relative margin so that rounding never separates what touches.
-bool triangle_overlaps_box(const Vec3 tri[3], const Vec3& lo, const Vec3& hi) {
-    const Vec3 c = 0.5 * (lo + hi);
-    const Vec3 h = 0.5 * (hi - lo) * (1.0 + 1e-9) + Vec3(1e-300);
-    const Vec3 v[3] = {tri[0] - c, tri[1] - c, tri[2] - c};
-    for (int k = 0; k < 3; ++k) {
-        const double mn = std::min({v[0][k], v[1][k], v[2][k]}), mx = std::max({v[0][k], v[1][k], v[2][k]});
-        if (mn > h[k] || mx < -h[k]) return false;
+// Quadrature on a panel [x0, x1] of an interval's unit parameter (see gas.h for the substitution). A new
+// panel gets the 5-point Gauss-Lobatto rule (exact for degree 7) with Simpson's rule on its end and centre
+// values as the error estimate: three evaluations, since the end values are known (0 at the ends of the
+// interval, where the substitution's derivative vanishes; the parent's values after a bisection). When
+// that is not enough, the panel gets Gauss-Kronrod 7/15 (QUADPACK's qk15; 15 evaluations, an error
+// estimate of a degree-13 rule: the substituted integrand is smooth, so this usually settles it), and a
+// Gauss-Kronrod panel that is still not enough is halved into two Lobatto panels (a jump inside: an
+// opaque surface's shadow edge). Every estimate is the difference to a lower-order rule on the same
+// nodes, which overstates the error of the value used.
+constexpr double kLobattoX = 0.654653670707977143798292456246859;  // sqrt(3/7)
+constexpr double kX15[7] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+                            0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+                            0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+                            0.207784955007898467600689403773245};
+constexpr double kW15[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+                            0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+                            0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+                            0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+constexpr double kW7[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+                           0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+
+struct Panel {
+    double x0, x1, f0, fc, f1;  // ends, end and centre values
+    double value, error;
+    uint32_t interval;
+    bool kronrod;  // false: Lobatto
+};
+
+template <class F>
+Panel lobatto(F&& f, double x0, double x1, double f0, double f1, uint32_t interval) {
+    const double centre = 0.5 * (x0 + x1), half = 0.5 * (x1 - x0);
+    const double fc = f(centre);
+    const double inner = f(centre - half * kLobattoX) + f(centre + half * kLobattoX);
+    const double lob = (f0 + f1) * (1.0 / 10.0) + inner * (49.0 / 90.0) + fc * (32.0 / 45.0);
+    const double simpson = (f0 + f1) * (1.0 / 3.0) + fc * (4.0 / 3.0);
+    return {x0, x1, f0, fc, f1, lob * half, std::abs((lob - simpson) * half), interval, false};
+}
+
+// The panel again by Gauss-Kronrod 7/15 (its centre value is known).
+template <class F>
+Panel kronrod(F&& f, const Panel& p) {
+    const double centre = 0.5 * (p.x0 + p.x1), half = 0.5 * (p.x1 - p.x0);
+    double k15 = p.fc * kW15[7], g7 = p.fc * kW7[3];
+    for (int k = 0; k < 7; ++k) {
+        const double dx = half * kX15[k];
+        const double sum = f(centre - dx) + f(centre + dx);
+        k15 += kW15[k] * sum;
+        if (k & 1) g7 += kW7[k >> 1] * sum;
     }
-    const Vec3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
-    const Vec3 n = glm::cross(e[0], e[1]);
-    const double slack = 1e-9;
-    {
-        const double d = glm::dot(n, v[0]);
-        const double r = glm::dot(h, glm::abs(n));
-        if (std::abs(d) > r * (1.0 + slack) + 1e-300) return false;
+    Panel out = p;
+    out.value = k15 * half;
+    out.error = std::abs((k15 - g7) * half);
+    out.kronrod = true;
+    return out;
+}
+
+// A sphere that may lie on the path from a point of a piece to one light, in a frame p(s) = point + s u
+// along the ray (s = t - mid), so that the optical depth at a quadrature node is a plain loop over a list
+// of these, with no BVH traversal.
+//   Directional light (unit direction l towards it): the sphere's chord along the half-line p + lambda l,
+//   lambda >= 0, has its centre at lambda = m(s) = c[3] + s c[4] and half length h(s) with
+//   h^2 = c[0] - s (c[1] + s c[2]) (where positive): chord = max(0, (m + h) - max(0, m - h)).
+//   Point and spot light: c[0..2] = point - centre, c[3] = r^2; the chord along the segment to the light
+//   is found with the same closest-approach form as sphere_interval.
+struct Shadower {
+    double c[5];
+    double sigma;
+};
+
+// The shadowing spheres of a window of pieces (a run of consecutive pieces sharing one frame): per
+// sphere where (in s) the path to the light can cross it at all (lo, hi: the shadow cylinder's
+// crossings; unbounded for point lights), where that path touches its silhouette with the sphere between
+// the point and the light (cut[0], cut[1]; NaN for none), its radius and its index.
+struct WindowSphere {
+    Shadower shadower;
+    double lo, hi, cut[2], radius;
+    uint32_t id;
+};
+
+// The window's entry for sphere g (frame point + s u, s in [s0, s1]); false when the path from no point
+// of the window to the light can cross it.
+bool window_sphere(const GasSphere& g, uint32_t index, const Light& light, const Vec3& point, const Vec3& u,
+                   double s0, double s1, WindowSphere& out) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Vec3 q0 = point - g.center;
+    const double r2 = g.radius * g.radius;
+    double roots[2];
+    out.cut[0] = out.cut[1] = nan;
+    out.lo = -kInf, out.hi = kInf;
+    out.radius = g.radius;
+    out.id = index;
+    out.shadower.sigma = g.sigma;
+    double* c = out.shadower.c;
+    if (light.kind == LightKind::Directional) {
+        const Vec3 to_light = -light.direction;
+        const double z0 = glm::dot(q0, to_light), zu = glm::dot(u, to_light);
+        const Vec3 q0p = q0 - z0 * to_light, up = u - zu * to_light;
+        const double k0 = r2 - glm::dot(q0p, q0p), k1 = 2.0 * glm::dot(q0p, up), k2 = glm::dot(up, up);
+        c[0] = k0, c[1] = k1, c[2] = k2, c[3] = -z0, c[4] = -zu;
+        // Ahead of the window somewhere: m + r > 0 at one of its ends (m is linear in s).
+        if (!(std::max(-z0 - zu * s0, -z0 - zu * s1) + g.radius > 0.0)) return false;
+        // h^2 is positive between its roots (everywhere or nowhere without them).
+        const int n = quadratic_roots(k2, k1, -k0, roots);
+        if (n == 2 && k2 > 0.0) {
+            out.lo = std::min(roots[0], roots[1]);
+            out.hi = std::max(roots[0], roots[1]);
+            if (!(out.lo < s1 && out.hi > s0)) return false;
+            for (int i = 0; i < 2; ++i)
+                if (-z0 - zu * roots[i] > 0.0) out.cut[i] = roots[i];
+            return true;
+        }
+        return k0 > 0.0 && k2 == 0.0;
     }
-    for (const Vec3& edge : e) {
-        for (int k = 0; k < 3; ++k) {
-            Vec3 unit(0.0);
-            unit[k] = 1.0;
-            const Vec3 axis = glm::cross(unit, edge);
-            const double p0 = glm::dot(axis, v[0]), p1 = glm::dot(axis, v[1]), p2 = glm::dot(axis, v[2]);
-            const double r = glm::dot(h, glm::abs(axis));
-            const double mn = std::min({p0, p1, p2}), mx = std::max({p0, p1, p2});
-            const double tol = slack * (r + std::max(std::abs(mn), std::abs(mx))) + 1e-300;
-            if (mn > r + tol || mx < -r - tol) return false;
+    c[0] = q0.x, c[1] = q0.y, c[2] = q0.z, c[3] = r2, c[4] = 0.0;
+    const Vec3 m = g.center - light.position, w0 = point - light.position;
+    const double k = glm::dot(m, m) - r2;
+    if (k > 0.0) {  // else the light is inside: every path crosses the sphere
+        const double mu = glm::dot(m, u), mw = glm::dot(m, w0);
+        const int n = quadratic_roots(k * glm::dot(u, u) - mu * mu, 2.0 * (k * glm::dot(w0, u) - mw * mu),
+                                      k * glm::dot(w0, w0) - mw * mw, roots);
+        for (int i = 0; i < n; ++i) {
+            const Vec3 p = point + roots[i] * u, d = light.position - p;
+            const double lambda = glm::dot(g.center - p, d);
+            if (lambda > 0.0 && lambda < glm::dot(d, d)) out.cut[i] = roots[i];
         }
     }
     return true;
 }
 
-// The light paths from a segment [A, B] of a ray to a light form a flat fan: the triangle (L, A, B) for
-// a point light, the strip {A..B} - s * direction (s >= 0) for a directional light, cut off beyond the
-// gas. A sphere can shadow some point of the segment only if it meets the fan.
-struct Fan {
-    Vec3 tri[2][3];
-    int count = 0;
+// Shadowers four side by side, one array per coefficient, so that the optical depth at a node is found for
+// four spheres at once. Unused lanes have sigma = 0 and c[0] = c[3] = -1 (h^2 < 0, r^2 < 0: no chord).
+struct ShadowBlock {
+    double c[5][4];
+    double sigma[4];
 };
 
-Fan light_fan(const Light& light, const Vec3& A, const Vec3& B, const Bounds3& bounds) {
-    Fan fan;
-    if (light.kind == LightKind::Directional) {
-        const Vec3 centre = 0.5 * (bounds.lo + bounds.hi);
-        const double reach = glm::length(bounds.hi - bounds.lo) + glm::length(A - centre) + glm::length(B - centre);
-        const Vec3 A2 = A - reach * light.direction, B2 = B - reach * light.direction;
-        fan.tri[0][0] = A, fan.tri[0][1] = B, fan.tri[0][2] = B2;
-        fan.tri[1][0] = A, fan.tri[1][1] = B2, fan.tri[1][2] = A2;
-        fan.count = 2;
-    } else {
-        fan.tri[0][0] = light.position, fan.tri[0][1] = A, fan.tri[0][2] = B;
-        fan.count = 1;
+// Appends shadowers to a list of blocks: begin() starts a new list, push() fills lanes.
+struct ShadowBlocks {
+    std::vector<ShadowBlock> blocks;
+    int lane = 4;
+    uint32_t begin() {
+        lane = 4;
+        return uint32_t(blocks.size());
     }
-    return fan;
-}
-
-bool fan_overlaps_box(const Fan& fan, const Vec3& lo, const Vec3& hi) {
-    for (int i = 0; i < fan.count; ++i)
-        if (triangle_overlaps_box(fan.tri[i], lo, hi)) return true;
-    return false;
-}
-
-bool fan_meets_sphere(const Fan& fan, const Vec3& c, double r) {
-    for (int i = 0; i < fan.count; ++i) {
-        const Vec3 q = closest_on_triangle(c, fan.tri[i][0], fan.tri[i][1], fan.tri[i][2]);
-        const Vec3 dq = q - c;
-        if (glm::dot(dq, dq) <= r * r * (1.0 + 1e-9)) return true;
+    void push(const Shadower& s) {
+        if (lane == 4) {
+            ShadowBlock& b = blocks.emplace_back();
+            for (int k = 0; k < 5; ++k)
+                for (int l = 0; l < 4; ++l) b.c[k][l] = k == 0 || k == 3 ? -1.0 : 0.0;
+            for (int l = 0; l < 4; ++l) b.sigma[l] = 0.0;
+            lane = 0;
+        }
+        ShadowBlock& b = blocks.back();
+        for (int k = 0; k < 5; ++k) b.c[k][lane] = s.c[k];
+        b.sigma[lane] = s.sigma;
+        ++lane;
     }
-    return false;
-}
-
-// Gauss-Kronrod 3/7 rule on [-1, 1]: the 3-point Gauss rule and its 7-point Kronrod extension, whose
-// difference is the panel's error estimate (pessimistic for smooth integrands, so the estimate is honest).
-constexpr double kXk[4] = {0.960491268708020283423507092629080, 0.774596669241483377035853079956480,
-                           0.434243749346802558002071502844628, 0.0};
-constexpr double kWk[4] = {0.104656226026467265193823857192073, 0.268488089868333440728569280666710,
-                           0.401397414775962222905051818618432, 0.450916538658474142345110087045571};
-constexpr double kWg[2] = {0.555555555555555555555555555555556, 0.888888888888888888888888888888889};
-
-struct Panel {
-    double a, b, value, error;
-    uint32_t piece;
 };
 
-template <class F>
-Panel gauss_kronrod(F&& f, double a, double b, uint32_t piece) {
-    const double centre = 0.5 * (a + b), half = 0.5 * (b - a);
-    const double fc = f(centre);
-    double kronrod = fc * kWk[3], gauss = fc * kWg[1];
-    for (int j = 0; j < 3; ++j) {
-        const double dx = half * kXk[j];
-        const double sum = f(centre - dx) + f(centre + dx);
-        kronrod += kWk[j] * sum;
-        if (j == 1) gauss += kWg[0] * sum;
+double directional_depth(const ShadowBlock* blocks, size_t n, double s) {
+#if defined(__AVX2__) && defined(__FMA__)
+    const __m256d S = _mm256_set1_pd(s), zero = _mm256_setzero_pd();
+    __m256d depth = zero;
+    for (size_t i = 0; i < n; ++i) {
+        const ShadowBlock& b = blocks[i];
+        const __m256d h2 = _mm256_fnmadd_pd(S, _mm256_fmadd_pd(S, _mm256_loadu_pd(b.c[2]), _mm256_loadu_pd(b.c[1])),
+                                            _mm256_loadu_pd(b.c[0]));
+        const __m256d h = _mm256_sqrt_pd(_mm256_max_pd(h2, zero));  // max(NaN, 0) = 0
+        const __m256d m = _mm256_fmadd_pd(S, _mm256_loadu_pd(b.c[4]), _mm256_loadu_pd(b.c[3]));
+        const __m256d chord = _mm256_max_pd(
+            zero, _mm256_sub_pd(_mm256_add_pd(m, h), _mm256_max_pd(zero, _mm256_sub_pd(m, h))));
+        depth = _mm256_fmadd_pd(_mm256_loadu_pd(b.sigma), chord, depth);
     }
-    return {a, b, kronrod * half, std::abs((kronrod - gauss) * half), piece};
+    const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(depth), _mm256_extractf128_pd(depth, 1));
+    return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
+#else
+    double depth = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        for (int l = 0; l < 4; ++l) {
+            const ShadowBlock& b = blocks[i];
+            const double h2 = b.c[0][l] - s * (b.c[1][l] + s * b.c[2][l]);
+            if (!(h2 > 0.0)) continue;
+            const double h = std::sqrt(h2), m = b.c[3][l] + s * b.c[4][l];
+            const double chord = (m + h) - std::max(0.0, m - h);
+            if (chord > 0.0) depth += b.sigma[l] * chord;
+        }
+    return depth;
+#endif
 }
 
+// `from` = p(s) - point is s u; `to_light` = light position - p(s), `len2` its squared length.
+double point_depth(const ShadowBlock* blocks, size_t n, const Vec3& from, const Vec3& to_light, double len2) {
+    const double inv = 1.0 / len2;
+    double depth = 0.0;  // in units of the segment's length
+    for (size_t i = 0; i < n; ++i)
+        for (int l = 0; l < 4; ++l) {
+            const ShadowBlock& b = blocks[i];
+            const Vec3 oc(b.c[0][l] + from.x, b.c[1][l] + from.y, b.c[2][l] + from.z);
+            const double tca = -glm::dot(oc, to_light) * inv;
+            const Vec3 q = oc + tca * to_light;
+            const double disc = b.c[3][l] - glm::dot(q, q);
+            if (!(disc > 0.0)) continue;
+            const double thc = std::sqrt(disc * inv);
+            const double t0 = std::max(tca - thc, 0.0), t1 = std::min(tca + thc, 1.0);
+            if (t1 > t0) depth += b.sigma[l] * (t1 - t0);
+        }
+    return depth * std::sqrt(len2);
+}
+
+// Whether a ball (centre C, radius R) meets the triangle (light, A, B): the paths from the segment [A, B]
+// to a point light.
+bool meets_point_fan(const Vec3& light, const Vec3& A, const Vec3& B, const Vec3& C, double R) {
+    const Vec3 q = closest_on_triangle(C, light, A, B) - C;
+    return glm::dot(q, q) <= R * R * (1.0 + 1e-9);
+}
 }  // namespace
 
 void GasVolume::build(const FlatScene& scene, const RenderOptions& options) {
     spheres_.clear();
-    bounds_ = Bounds3{};
     std::vector<BuildBox> boxes;
     for (const Sphere& s : scene.spheres) {
         if (!s.gas || !(s.radius > 0.0)) continue;
@@ -190,10 +310,12 @@ void GasVolume::build(const FlatScene& scene, const RenderOptions& options) {
         if (!(g.sigma > 0.0)) continue;  // no extinction: invisible and casting nothing
         const Vec3 r(s.radius);
         boxes.push_back(make_build_box(s.center - r, s.center + r, static_cast<uint32_t>(spheres_.size())));
-        bounds_.extend(s.center - r);
-        bounds_.extend(s.center + r);
         spheres_.push_back(g);
     }
+    // Pieces are gathered into windows about a sphere diameter long for the search of shadowing spheres.
+    double radii = 0.0;
+    for (const GasSphere& g : spheres_) radii += g.radius;
+    window_length_ = spheres_.empty() ? 0.0 : 2.0 * radii / double(spheres_.size());
     BvhBuildOptions bo;
     bo.threads = options.threads > 0 ? options.threads : 2;
     bvh_ = spheres_.empty() ? Bvh{} : build_bvh(std::move(boxes), bo);
@@ -265,65 +387,48 @@ double GasVolume::light_weight(const Light& light, const Vec3& p, bool ambient, 
     return inc.factor * ((ambient ? light.ambient_intensity : 0.0) + light.intensity * visibility);
 }
 
-void GasVolume::split_points(const Light& light, const Ray& ray, double a, double b, std::vector<double>& out) const {
-    // Roots are solved around the piece's midpoint, so that a far camera costs no precision.
-    const double mid = 0.5 * (a + b), half = 0.5 * (b - a);
-    const Vec3 pm = ray.at(mid);
-    const Vec3& u = ray.d;
-    auto keep = [&](int n, const double* s) {
-        for (int i = 0; i < n; ++i)
-            if (std::abs(s[i]) < half) out.push_back(mid + s[i]);
-    };
-    double s[2];
-    if (light.kind != LightKind::Directional) {
-        const Vec3 w0 = pm - light.position;
-        // Where the light's radius ends (weight jumps to 0).
-        keep(quadratic_roots(glm::dot(u, u), 2.0 * glm::dot(w0, u), glm::dot(w0, w0) - light.radius * light.radius, s),
-             s);
-        if (light.kind == LightKind::Spot) {
-            const Vec3& D = light.direction;
-            for (double angle : {light.cutoff_angle, light.beam_width}) {
-                if (!(angle > 0.0 && angle < kPi)) continue;
-                const double c2 = std::cos(angle) * std::cos(angle);
-                const double uD = glm::dot(u, D), wD = glm::dot(w0, D);
-                int n = quadratic_roots(uD * uD - c2 * glm::dot(u, u), 2.0 * (wD * uD - c2 * glm::dot(w0, u)),
-                                        wD * wD - c2 * glm::dot(w0, w0), s);
-                keep(n, s);
-            }
+template <class Visit>
+void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B, Visit&& visit) const {
+    if (bvh_.empty()) return;
+    // The fan lies within rho = |B - A| / 2 of the line from the segment's midpoint M towards the light
+    // (s in [-rho, inf) for a directional light, [0, 1] along M -> position for a point light): nodes are
+    // culled by a slab test of that line against their boxes grown by rho; spheres by their distance from the
+    // line (directional; window_sphere then looks closer) or by the fan itself (point and spot).
+    const Vec3 M = 0.5 * (A + B);
+    const double rho = 0.5 * glm::length(B - A) * (1.0 + 1e-9);
+    const bool directional = light.kind == LightKind::Directional;
+    const Vec3 d = directional ? -light.direction : light.position - M;
+    const double s_lo = directional ? -rho : 0.0, s_hi = directional ? kInf : 1.0;
+    double inv[3], o[3];
+    for (int k = 0; k < 3; ++k) inv[k] = 1.0 / d[k], o[k] = M[k];
+    uint32_t stack[256];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const BvhNode& n = bvh_.nodes[stack[--top]];
+        double t0 = s_lo, t1 = s_hi;
+        for (int k = 0; k < 3; ++k) {
+            double a = (double(n.lo[k]) - rho - o[k]) * inv[k], b = (double(n.hi[k]) + rho - o[k]) * inv[k];
+            if (inv[k] < 0.0) std::swap(a, b);
+            // NaN (a line in a slab plane) keeps the node: the comparisons fail.
+            if (a > t0) t0 = a;
+            if (b < t1) t1 = b;
         }
-    }
-    if (light.headlight || spheres_.empty()) return;
-    // Spheres that can shadow the piece: those meeting its light fan. For each, where the path to the
-    // light touches the sphere's silhouette (the camera ray meets its shadow cylinder or cone).
-    const Fan fan = light_fan(light, ray.at(a), ray.at(b), bounds_);
-    thread_local std::vector<uint32_t> stack;
-    stack.assign(1, 0);
-    while (!stack.empty()) {
-        const uint32_t ni = stack.back();
-        stack.pop_back();
-        const BvhNode& n = bvh_.nodes[ni];
-        const Vec3 lo(n.lo[0], n.lo[1], n.lo[2]), hi(n.hi[0], n.hi[1], n.hi[2]);
-        if (!fan_overlaps_box(fan, lo, hi)) continue;
+        if (!(t0 <= t1 + 1e-9 * (std::abs(t0) + std::abs(t1)))) continue;
         if (n.count == 0) {
-            stack.push_back(ni + 1);
-            stack.push_back(n.offset);
+            stack[top++] = n.offset;
+            stack[top++] = n.offset + 1;
             continue;
         }
         for (uint32_t i = n.offset; i < n.offset + n.count; ++i) {
-            const GasSphere& g = spheres_[bvh_.order[i]];
-            if (!fan_meets_sphere(fan, g.center, g.radius)) continue;
-            const double r2 = g.radius * g.radius;
-            if (light.kind == LightKind::Directional) {
-                const Vec3& l = light.direction;
-                const Vec3 q0 = pm - g.center;
-                const Vec3 q0p = q0 - glm::dot(q0, l) * l, up = u - glm::dot(u, l) * l;
-                keep(quadratic_roots(glm::dot(up, up), 2.0 * glm::dot(q0p, up), glm::dot(q0p, q0p) - r2, s), s);
-            } else {
-                const Vec3 m = g.center - light.position, w0 = pm - light.position;
-                const double k = glm::dot(m, m) - r2, mu = glm::dot(m, u), mw = glm::dot(m, w0);
-                keep(quadratic_roots(k * glm::dot(u, u) - mu * mu, 2.0 * (k * glm::dot(w0, u) - mw * mu),
-                                     k * glm::dot(w0, w0) - mw * mw, s),
-                     s);
+            const uint32_t id = bvh_.order[i];
+            const GasSphere& g = spheres_[id];
+            if (directional) {  // within rho + r of the line and not behind its start
+                const Vec3 x = g.center - M;
+                const double z = glm::dot(x, d), reach = rho + g.radius;
+                if (glm::dot(x, x) - z * z <= reach * reach * (1.0 + 1e-9) && z + reach >= 0.0) visit(id);
+            } else if (meets_point_fan(light.position, A, B, g.center, g.radius)) {
+                visit(id);
             }
         }
     }
@@ -389,14 +494,39 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
         }
         prev = std::max(prev, e.t);
     }
+    result.transmittance = T;
     // The rest of each light's term varies along a piece (shadows, attenuation, spot): integrated over the
     // whole ray at once, so that the error goes where the light is, to tolerance * the light's total.
+    struct Interval {
+        double t0, width;
+        uint32_t piece;
+    };
+    struct Frame {  // a piece's frame (its window's): p(s) = point + s u, s = t - mid; its shadow spheres in the pool
+        Vec3 point;
+        double mid;
+        uint32_t begin, end;
+    };
     thread_local std::vector<Panel> panels;
+    thread_local std::vector<Interval> intervals;
+    thread_local std::vector<Frame> frames;
+    struct Window {  // a run of consecutive pieces: its frame and its shadowing spheres in `window`
+        Vec3 point;
+        double mid;
+        uint32_t begin, end;
+    };
+    thread_local std::vector<WindowSphere> window;
+    thread_local std::vector<Window> windows;
+    thread_local std::vector<uint32_t> window_of;  // per piece: its window
+    constexpr uint32_t kNoWindow = ~0u;
+    thread_local ShadowBlocks pool;
     thread_local std::vector<double> cuts;
     thread_local std::vector<std::pair<double, uint32_t>> order;
+    const Vec3& u = ray.d;
     for (size_t li = 0; li < n_lights; ++li) {
         const Light& light = (*lighting.lights)[li];
-        const bool ambient_varies = light.kind != LightKind::Directional;
+        const bool directional = light.kind == LightKind::Directional;
+        const bool ambient_varies = !directional;
+        const bool shadowed = light.intensity > 0.0 && !light.headlight;
         const double w_max = (ambient_varies ? light.ambient_intensity : 0.0) + light.intensity;
         if (!(w_max > 0.0)) continue;
         // Scalar weight of a piece (its colour factor's largest channel), and a bound on its integral:
@@ -417,17 +547,60 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
         }
         if (order.empty()) continue;
         std::sort(order.begin(), order.end(), [](auto& x, auto& y) { return x.first > y.first; });
-        auto integrand = [&](uint32_t p) {
+        const Vec3 to_light = -light.direction;
+        // The integrand at t in piece p.
+        auto integrand = [&](uint32_t p, double t) {
             const Piece& pc = pieces[p];
-            const double s = scale(p);
-            return [&, p, s](double t) {
-                return pc.T * s * std::exp(-pc.sigma * (t - pc.a)) *
-                       light_weight(light, ray.at(t), ambient_varies, lighting.surfaces, stats);
+            const Frame& fr = frames[p];
+            const double s = t - fr.mid;
+            const Vec3 at = fr.point + s * u;
+            double factor = 1.0;
+            if (!directional) {
+                factor = light_incidence(light, at).factor;
+                if (!(factor > 0.0)) return 0.0;
+            }
+            double visibility = shadowed ? 1.0 : 0.0, depth = 0.0;  // V = visibility * exp(-depth)
+            if (shadowed) {
+                ++stats.visibility_rays;
+                Ray shadow;
+                shadow.o = at;
+                if (directional) {
+                    shadow.d = to_light;
+                    shadow.t_max = kInf;
+                } else {
+                    shadow.d = light.position - at;  // t = 1 at the light
+                    shadow.t_max = 1.0;
+                }
+                if (lighting.surfaces) visibility = lighting.surfaces(shadow);
+                if (visibility > 0.0 && fr.end > fr.begin)
+                    depth = directional ? directional_depth(pool.blocks.data() + fr.begin, fr.end - fr.begin, s)
+                                        : point_depth(pool.blocks.data() + fr.begin, fr.end - fr.begin, s * u,
+                                                      shadow.d, glm::dot(shadow.d, shadow.d));
+            }
+            // T(0, t) * sigma rho * att * spot * (ambient + intensity * V), with one exp where possible.
+            const double camera = pc.sigma * (t - pc.a);
+            const double weight = pc.T * scale(p) * factor;
+            if (!ambient_varies || !(light.ambient_intensity > 0.0))
+                return visibility > 0.0 ? weight * light.intensity * visibility * std::exp(-(camera + depth)) : 0.0;
+            return weight * std::exp(-camera) * (light.ambient_intensity + light.intensity * visibility * std::exp(-depth));
+        };
+        // The integrand of interval i in its unit parameter x: t = t0 + w g(x), g(x) = x^2 (3 - 2x).
+        auto mapped = [&](uint32_t i) {
+            const Interval& iv = intervals[i];
+            return [&, iv](double x) {
+                const double g = x * x * (3.0 - 2.0 * x), dg = 6.0 * x * (1.0 - x);
+                return integrand(iv.piece, iv.t0 + iv.width * g) * (iv.width * dg);
             };
         };
+        pool.blocks.clear();
+        intervals.clear();
+        panels.clear();
+        frames.resize(pieces.size());
+        window.clear();
+        window_of.assign(pieces.size(), kNoWindow);
+        windows.clear();
         // Pieces in order of their bound; once the bounds of all the rest are below a quarter of the
         // tolerance times what has been found so far (a lower bound of the total), they are left out.
-        panels.clear();
         double found = 0.0;
         for (const auto& [bound, p] : order) {
             if (remaining <= 0.25 * tolerance * found) break;
@@ -435,50 +608,129 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
             const Piece& pc = pieces[p];
             cuts.clear();
             cuts.push_back(pc.a);
-            split_points(light, ray, pc.a, pc.b, cuts);
+            double s[2];
+            if (!directional) {
+                // Where the light's radius ends (the weight jumps to 0) and a spot light's cones, solved
+                // about the piece's midpoint so that a far camera costs no precision.
+                const double mid = 0.5 * (pc.a + pc.b), half = 0.5 * (pc.b - pc.a);
+                auto keep = [&](int n) {
+                    for (int i = 0; i < n; ++i)
+                        if (std::abs(s[i]) < half) cuts.push_back(mid + s[i]);
+                };
+                const Vec3 w0 = ray.at(mid) - light.position;
+                keep(quadratic_roots(glm::dot(u, u), 2.0 * glm::dot(w0, u),
+                                     glm::dot(w0, w0) - light.radius * light.radius, s));
+                if (light.kind == LightKind::Spot) {
+                    const Vec3& D = light.direction;
+                    for (double angle : {light.cutoff_angle, light.beam_width}) {
+                        if (!(angle > 0.0 && angle < kPi)) continue;
+                        const double c2 = std::cos(angle) * std::cos(angle);
+                        const double uD = glm::dot(u, D), wD = glm::dot(w0, D);
+                        keep(quadratic_roots(uD * uD - c2 * glm::dot(u, u), 2.0 * (wD * uD - c2 * glm::dot(w0, u)),
+                                             wD * wD - c2 * glm::dot(w0, w0), s));
+                    }
+                }
+            }
+            Frame& fr = frames[p];
+            fr.begin = fr.end = pool.begin();
+            fr.mid = 0.5 * (pc.a + pc.b);
+            fr.point = ray.at(fr.mid);
+            if (shadowed) {
+                if (window_of[p] == kNoWindow) {
+                    // A window: this piece and the next ones up to window_length_ further, whose shadowing
+                    // spheres are gathered from the BVH at once, with their coefficients in the window's
+                    // frame and the places where the path to the light touches their silhouettes.
+                    size_t q = p;
+                    while (q + 1 < pieces.size() && pieces[q + 1].b - pc.a <= window_length_) ++q;
+                    Window w;
+                    w.mid = 0.5 * (pc.a + pieces[q].b);
+                    w.point = ray.at(w.mid);
+                    w.begin = uint32_t(window.size());
+                    const double s0 = pc.a - w.mid, s1 = pieces[q].b - w.mid;
+                    WindowSphere ws;
+                    spheres_in_fan(light, ray.at(pc.a), ray.at(pieces[q].b), [&](uint32_t id) {
+                        if (window_sphere(spheres_[id], id, light, w.point, u, s0, s1, ws)) window.push_back(ws);
+                    });
+                    w.end = uint32_t(window.size());
+                    windows.push_back(w);
+                    for (size_t k = p; k <= q; ++k) window_of[k] = uint32_t(windows.size() - 1);
+                }
+                const Window& w = windows[window_of[p]];
+                fr.point = w.point;
+                fr.mid = w.mid;
+                // The spheres that can shadow this piece, and the cuts inside it.
+                const double a = pc.a - w.mid, b = pc.b - w.mid;
+                const Vec3 A = ray.at(pc.a), B = ray.at(pc.b);
+                for (uint32_t i = w.begin; i < w.end; ++i) {
+                    const WindowSphere& ws = window[i];
+                    if (!(ws.lo < b && ws.hi > a)) continue;
+                    if (directional) {
+                        // Wholly behind the piece: the chord's centre is more than a radius behind it.
+                        const double* c = ws.shadower.c;
+                        if (!(std::max(c[3] + a * c[4], c[3] + b * c[4]) + ws.radius > 0.0)) continue;
+                    } else if (!meets_point_fan(light.position, A, B, spheres_[ws.id].center, ws.radius)) {
+                        continue;
+                    }
+                    pool.push(ws.shadower);
+                    for (double c : ws.cut)
+                        if (c > a && c < b) cuts.push_back(w.mid + c);
+                }
+                fr.end = uint32_t(pool.blocks.size());
+            }
             cuts.push_back(pc.b);
             std::sort(cuts.begin() + 1, cuts.end() - 1);
-            auto f = integrand(p);
             for (size_t i = 0; i + 1 < cuts.size(); ++i) {
                 if (!(cuts[i + 1] > cuts[i])) continue;
-                panels.push_back(gauss_kronrod(f, cuts[i], cuts[i + 1], p));
+                intervals.push_back({cuts[i], cuts[i + 1] - cuts[i], p});
+                const uint32_t id = uint32_t(intervals.size() - 1);
+                panels.push_back(lobatto(mapped(id), 0.0, 1.0, 0.0, 0.0, id));
                 found += panels.back().value;
             }
             ++stats.quadrature;
         }
-        // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance.
+        // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance: the panel with
+        // the largest error estimate gets the higher-order rule or is halved (see Panel) until the estimates
+        // add up to little enough.
         auto by_error = [](const Panel& x, const Panel& y) { return x.error < y.error; };
         std::make_heap(panels.begin(), panels.end(), by_error);
         const size_t max_panels = panels.size() + 2000;
+        double value = 0.0, error = 0.0;
+        for (const Panel& pn : panels) value += pn.value, error += pn.error;
         for (;;) {
-            double value = 0.0, error = 0.0;
-            for (const Panel& pn : panels) {
-                value += pn.value;
-                error += pn.error;
+            if (error <= 0.75 * tolerance * std::abs(value) || panels.size() >= max_panels) {
+                // The running sums drift by rounding: decide on fresh ones.
+                value = error = 0.0;
+                for (const Panel& pn : panels) value += pn.value, error += pn.error;
+                if (error <= 0.75 * tolerance * std::abs(value) || panels.size() >= max_panels) break;
             }
-            if (error <= 0.75 * tolerance * std::abs(value) || error == 0.0 || panels.size() >= max_panels) break;
+            if (panels.empty() || panels.front().error == 0.0) break;
             std::pop_heap(panels.begin(), panels.end(), by_error);
             const Panel worst = panels.back();
             panels.pop_back();
-            const double mid = 0.5 * (worst.a + worst.b);
-            if (!(mid > worst.a && mid < worst.b)) {  // cannot split further in double: keep it as it is
-                panels.push_back({worst.a, worst.b, worst.value, 0.0, worst.piece});
+            value -= worst.value, error -= worst.error;
+            auto f = mapped(worst.interval);
+            const double mid = 0.5 * (worst.x0 + worst.x1);
+            if (!worst.kronrod) {
+                panels.push_back(kronrod(f, worst));
+            } else if (mid > worst.x0 && mid < worst.x1) {
+                panels.push_back(lobatto(f, worst.x0, mid, worst.f0, worst.fc, worst.interval));
+                value += panels.back().value, error += panels.back().error;
                 std::push_heap(panels.begin(), panels.end(), by_error);
-                continue;
+                panels.push_back(lobatto(f, mid, worst.x1, worst.fc, worst.f1, worst.interval));
+            } else {  // cannot split further in double: keep it as it is
+                panels.push_back(worst);
+                panels.back().error = 0.0;
             }
-            auto f = integrand(worst.piece);
-            panels.push_back(gauss_kronrod(f, worst.a, mid, worst.piece));
-            std::push_heap(panels.begin(), panels.end(), by_error);
-            panels.push_back(gauss_kronrod(f, mid, worst.b, worst.piece));
+            value += panels.back().value, error += panels.back().error;
             std::push_heap(panels.begin(), panels.end(), by_error);
         }
         for (const Panel& pn : panels) {
-            const double s = scale(pn.piece);
-            if (s > 0.0) L += (pn.value / s) * coef[pn.piece * n_lights + li] * light.color;
+            const uint32_t p = intervals[pn.interval].piece;
+            const double s = scale(p);
+            if (s > 0.0) L += (pn.value / s) * coef[p * n_lights + li] * light.color;
         }
     }
     result.radiance = L;
-    result.transmittance = T;
     return result;
 }
 
