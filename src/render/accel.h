@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/ray.h"
-#include "render/bvh.h"
+#include "render/bvh4.h"
 #include "render/flat_scene.h"
 #include "render/intersect.h"
 
@@ -41,7 +41,7 @@ class Accel {
 
     size_t node_count() const { return bvh_.nodes.size(); }
     size_t primitive_count() const { return prims_.size(); }
-    const Bvh& bvh() const { return bvh_; }
+    const Bvh4& bvh() const { return bvh_; }
 
     // Brute force over every primitive, for tests.
     bool intersect_brute_force(const Ray& ray, Hit& hit) const;
@@ -52,7 +52,7 @@ class Accel {
     int crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray) const;
 
     const FlatScene* scene_ = nullptr;
-    Bvh bvh_;
+    Bvh4 bvh_;  // collapsed from the binary build, which is not kept
     std::vector<uint32_t> prims_;           // packed references in leaf order
     std::vector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;

@@ -17,7 +17,6 @@ namespace vr {
 namespace {
 
 constexpr int kBins = 16;
-constexpr double kTraversalCost = 2.0;  // an interior node tests two boxes; one box ~ one primitive
 constexpr int kMaxDepth = 64;  // then median splits: depth <= 64 + 32 < the traversal stack (128)
 constexpr uint32_t kParallelMin = 16 * 1024;
 constexpr uint32_t kAllAxesBelow = 1024;  // smaller ranges are binned along all three axes
@@ -270,7 +269,7 @@ class Builder {
             }
         }
         if (best_axis < 0) return -1;
-        cost = kTraversalCost + (parent_area > 0.0 ? best / parent_area : double(n));
+        cost = options_.traversal_cost + (parent_area > 0.0 ? best / parent_area : double(n));
         const int k = best_axis;
         const float lo_k = c_lo[k], scale_k = scale[k];
         auto goes_left = [&](const BuildBox& b) {

@@ -159,20 +159,8 @@ TEST(Bvh, DepthIsBoundedOnSkewedScenes) {
                                 0.1 * std::pow(3.0, i), 0);
     Accel accel;
     accel.build(scene, 1);
-    const Bvh& bvh = accel.bvh();
-    // Depth by walking the tree.
-    int max_depth = 0;
-    std::vector<std::pair<uint32_t, int>> todo = {{0u, 0}};
-    while (!todo.empty()) {
-        auto [i, d] = todo.back();
-        todo.pop_back();
-        max_depth = std::max(max_depth, d);
-        if (bvh.nodes[i].count == 0) {
-            todo.push_back({bvh.nodes[i].offset, d + 1});
-            todo.push_back({bvh.nodes[i].offset + 1, d + 1});
-        }
-    }
-    EXPECT_LT(max_depth, 128);
+    // The 4-wide tree's traversal stack holds three entries a level.
+    EXPECT_LE(3 * bvh4_depth(accel.bvh()) + 1, kBvh4StackSize);
     for (int i = 0; i < n; i += 3) {
         Ray ray;
         ray.o = Vec3(std::pow(3.0, i), 0.0, 10.0 * std::pow(3.0, i));
@@ -205,6 +193,61 @@ TEST(Bvh, DepthLimitTakesOver) {
     }
     EXPECT_GT(max_depth, 64);  // the limit was reached
     EXPECT_LT(max_depth, 128);
+}
+
+// The collapse keeps the binary tree's leaves: every primitive lies in exactly one leaf, under boxes
+// that contain its own.
+TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> pos(-100.0, 100.0), size(0.01, 5.0);
+    for (size_t count : {1u, 2u, 3u, 5u, 17u, 1000u, 40000u}) {
+        std::vector<BuildBox> boxes;
+        for (uint32_t i = 0; i < count; ++i) {
+            const Vec3 lo(pos(rng), pos(rng), pos(rng));
+            boxes.push_back(make_build_box(lo, lo + Vec3(size(rng), size(rng), size(rng)), i));
+        }
+        const std::vector<BuildBox> original = boxes;
+        const Bvh binary = build_bvh(boxes, BvhBuildOptions());
+        const Bvh4 wide = collapse_bvh(binary);
+        std::vector<int> seen(count, 0);
+        struct Todo {
+            uint32_t node;
+            float lo[3], hi[3];
+        };
+        std::vector<Todo> todo = {{0, {-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}}};
+        while (!todo.empty()) {
+            const Todo t = todo.back();
+            todo.pop_back();
+            const Bvh4Node& n = wide.nodes[t.node];
+            ASSERT_GE(n.lanes, t.node == 0 ? 1 : 2);  // only a root that is one leaf has one lane
+            for (int c = 0; c < n.lanes; ++c) {
+                Todo child{n.child[c], {}, {}};
+                for (int k = 0; k < 3; ++k) {
+                    child.lo[k] = n.lo[k][c], child.hi[k] = n.hi[k][c];
+                    EXPECT_GE(child.lo[k], t.lo[k]);
+                    EXPECT_LE(child.hi[k], t.hi[k]);
+                }
+                if (n.count[c] == 0) {
+                    todo.push_back(child);
+                    continue;
+                }
+                for (uint32_t j = n.child[c]; j < n.child[c] + n.count[c]; ++j) {
+                    const uint32_t id = binary.order[j];
+                    ++seen[id];
+                    for (int k = 0; k < 3; ++k) {
+                        EXPECT_GE(original[id].lo[k], child.lo[k]);
+                        EXPECT_LE(original[id].hi[k], child.hi[k]);
+                    }
+                }
+            }
+        }
+        for (size_t i = 0; i < count; ++i) ASSERT_EQ(seen[i], 1) << count << " boxes, box " << i;
+        // A binary tree of L leaves has 2L nodes (L - 1 interior); the collapse leaves about 0.5L (most
+        // nodes four lanes wide, those over two leaves two): fewer than a third of the binary count.
+        if (count >= 1000) {
+            EXPECT_LT(wide.nodes.size(), binary.nodes.size() / 3);
+        }
+    }
 }
 
 TEST(Bvh, EmptySceneMissesEverything) {

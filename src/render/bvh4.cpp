@@ -1,0 +1,99 @@
+#include "render/bvh4.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vr {
+namespace {
+
+double half_area(const BvhNode& n) {
+    const double dx = double(n.hi[0]) - n.lo[0], dy = double(n.hi[1]) - n.lo[1], dz = double(n.hi[2]) - n.lo[2];
+    return dx * dy + dy * dz + dz * dx;
+}
+
+// Fills node `at` of `out` from the binary interior node `b`: its children, with the interior child of
+// largest area opened while fewer than four (the usual greedy collapse: big boxes are the ones rays meet).
+void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
+    const BvhNode* kids[4] = {&binary.nodes[b.offset], &binary.nodes[b.offset + 1], nullptr, nullptr};
+    int n = 2;
+    while (n < 4) {
+        int open = -1;
+        double best = -1.0;
+        for (int i = 0; i < n; ++i)
+            if (kids[i]->count == 0 && half_area(*kids[i]) > best) {
+                best = half_area(*kids[i]);
+                open = i;
+            }
+        if (open < 0) break;
+        const BvhNode* opened = kids[open];
+        kids[open] = &binary.nodes[opened->offset];
+        kids[n++] = &binary.nodes[opened->offset + 1];
+    }
+    Bvh4Node node;
+    for (int c = 0; c < 4; ++c) {
+        for (int k = 0; k < 3; ++k) {
+            node.lo[k][c] = c < n ? kids[c]->lo[k] : INFINITY;
+            node.hi[k][c] = c < n ? kids[c]->hi[k] : -INFINITY;
+        }
+        node.child[c] = 0;
+        node.count[c] = c < n ? kids[c]->count : 0;
+    }
+    node.lanes = uint8_t(n);
+    out.nodes[at] = node;
+    for (int c = 0; c < n; ++c) {
+        if (kids[c]->count > 0) {
+            out.nodes[at].child[c] = kids[c]->offset;
+            continue;
+        }
+        const uint32_t index = uint32_t(out.nodes.size());
+        out.nodes.emplace_back();
+        out.nodes[at].child[c] = index;
+        collapse(binary, *kids[c], index, out);
+    }
+}
+
+}  // namespace
+
+Bvh4 collapse_bvh(const Bvh& binary) {
+    Bvh4 out;
+    if (binary.empty()) return out;
+    // A binary tree of L leaves has 2L nodes; its collapse about L / 3 (one node for every three
+    // interior ones); more only when few lanes fill (the vector then grows).
+    out.nodes.reserve(binary.nodes.size() / 5 + 4);
+    out.nodes.emplace_back();
+    const BvhNode& root = binary.nodes[0];
+    if (root.count > 0) {  // a single leaf: one lane
+        Bvh4Node node;
+        for (int c = 0; c < 4; ++c) {
+            for (int k = 0; k < 3; ++k) {
+                node.lo[k][c] = c == 0 ? root.lo[k] : INFINITY;
+                node.hi[k][c] = c == 0 ? root.hi[k] : -INFINITY;
+            }
+            node.child[c] = c == 0 ? root.offset : 0;
+            node.count[c] = c == 0 ? root.count : 0;
+        }
+        node.lanes = 1;
+        out.nodes[0] = node;
+        return out;
+    }
+    collapse(binary, root, 0, out);
+    if (out.nodes.capacity() > out.nodes.size() + out.nodes.size() / 4) out.nodes.shrink_to_fit();
+    return out;
+}
+
+int bvh4_depth(const Bvh4& bvh) {
+    if (bvh.empty()) return 0;
+    int deepest = 0;
+    std::vector<std::pair<uint32_t, int>> todo = {{0u, 1}};
+    while (!todo.empty()) {
+        const auto [i, d] = todo.back();
+        todo.pop_back();
+        deepest = std::max(deepest, d);
+        const Bvh4Node& n = bvh.nodes[i];
+        for (int c = 0; c < n.lanes; ++c)
+            if (n.count[c] == 0) todo.push_back({n.child[c], d + 1});
+    }
+    return deepest;
+}
+
+}  // namespace vr
