@@ -93,6 +93,31 @@ uint32_t quantize(float value, bool srgb, double max_code) {
     return uint32_t(std::floor(v * max_code + 0.5));
 }
 
+// quantize(value, true, 255) without a pow per sample: code i + 1 starts at the smallest float whose
+// code is at least i + 1, found once by bisection over the bit patterns of [0, 1] (ordered like their
+// values) with quantize itself, so the two agree on every float.
+struct Srgb8 {
+    float first[255];  // first[i]: where code i + 1 starts
+    Srgb8() {
+        for (uint32_t code = 1; code <= 255; ++code) {
+            uint32_t lo = 0, hi = 0x3F800000u;  // 0.0f, 1.0f: quantize(1) = 255
+            while (lo < hi) {
+                const uint32_t mid = lo + (hi - lo) / 2;
+                float f;
+                std::memcpy(&f, &mid, sizeof f);
+                if (quantize(f, true, 255.0) >= code) hi = mid;
+                else lo = mid + 1;
+            }
+            std::memcpy(&first[code - 1], &lo, sizeof(float));
+        }
+    }
+    uint8_t operator()(float value) const {
+        const float v = finite_or_zero(value);
+        // Codes are monotone in the value: count the starts at or below it (NaN was made 0).
+        return uint8_t(std::upper_bound(first, first + 255, v) - first);
+    }
+};
+
 // "EXR" for "exr": how a message names the format that needed the module.
 std::string format_name(const std::string& ext) {
     std::string name = ext;
@@ -105,6 +130,15 @@ template <typename T>
 std::vector<T> to_integer_samples(const Image& image, int nchannels, bool srgb, double max_code) {
     const size_t npix = size_t(image.width) * size_t(image.height);
     std::vector<T> out(npix * size_t(nchannels));
+    if (srgb && max_code == 255.0) {
+        static const Srgb8 encode;
+        for (size_t p = 0; p < npix; ++p) {
+            const float* px = image.rgba.data() + p * 4;
+            for (int c = 0; c < nchannels; ++c)
+                out[p * nchannels + c] = T(c == 3 ? quantize(px[c], false, max_code) : encode(px[c]));
+        }
+        return out;
+    }
     for (size_t p = 0; p < npix; ++p) {
         const float* px = image.rgba.data() + p * 4;
         for (int c = 0; c < nchannels; ++c) {

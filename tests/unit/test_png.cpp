@@ -5,7 +5,9 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -322,6 +324,45 @@ TEST_F(PngTest, NativePpmIsByteForByteOpenImageIOs) {
         oiio_write_pixels(path("oiio.ppm"), 5, 3, 3, VR_OIIO_UINT8, codes.data(), false, error))
         << error;
     EXPECT_EQ(read_file(path("native.ppm")), read_file(path("oiio.ppm")));
+}
+
+// 8-bit sRGB codes come from a table of where each code starts, not a pow per sample: they must equal
+// the formula round(255 * encode(clamp(v))) on every float, so the test puts floats on both sides of
+// every code boundary (a few ulps apart), spread over [0, 1], and outside it.
+TEST_F(PngTest, EightBitSrgbCodesEqualTheFormula) {
+    auto expected = [](float value) {
+        double v = std::isnan(value) ? 0.0 : std::clamp(double(value), 0.0, 1.0);
+        v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+        return uint8_t(std::floor(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5));
+    };
+    std::vector<float> values = {0.0f, -0.0f, -1.0f, 1.0f, 2.0f, 1e-45f, 0.0031308f, NAN, INFINITY, -INFINITY};
+    for (int code = 0; code < 255; ++code) {
+        // Where code + 1 begins: the linear value whose encoding is (code + 0.5) / 255.
+        const double e = (code + 0.5) / 255.0;
+        const double boundary = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+        float f = float(boundary);
+        for (int k = 0; k < 8; ++k) f = std::nextafter(f, 0.0f);
+        for (int k = 0; k < 17; ++k, f = std::nextafter(f, 2.0f)) values.push_back(f);
+    }
+    for (uint32_t bits = 0; bits <= 0x3F800000u; bits += 4099) {
+        float f;
+        std::memcpy(&f, &bits, sizeof f);
+        values.push_back(f);
+    }
+    const int width = 1024, height = int((values.size() + width - 1) / width);
+    Image im(width, height);
+    for (size_t i = 0; i < size_t(width) * height; ++i)
+        for (int c = 0; c < 3; ++c) im.rgba[4 * i + c] = values[(i + size_t(c) * 7919) % values.size()];
+    std::string error;
+    ASSERT_TRUE(write_image(path("srgb.ppm"), im, true, error)) << error;
+    const std::vector<uint8_t> bytes = read_file(path("srgb.ppm"));
+    const std::string header = "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
+    ASSERT_EQ(bytes.size(), header.size() + size_t(width) * height * 3);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < size_t(width) * height; ++i)
+        for (int c = 0; c < 3; ++c)
+            if (bytes[header.size() + 3 * i + c] != expected(im.rgba[4 * i + c])) ++mismatches;
+    EXPECT_EQ(mismatches, 0u) << "of " << values.size() << " values";
 }
 
 TEST_F(PngTest, OpenImageIOWrittenFilesReadNatively) {
