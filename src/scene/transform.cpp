@@ -1,6 +1,7 @@
 #include "scene/transform.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace vr {
 
@@ -68,6 +69,12 @@ bool all_finite(const Mat4& m) {
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(m[c][r])) return false;
     return true;
+}
+
+bool is_translation(const Mat4& m) {
+    Mat4 rebuilt(1.0);
+    rebuilt[3] = Vec4(Vec3(m[3]), 1.0);
+    return std::memcmp(&rebuilt, &m, sizeof(Mat4)) == 0;
 }
 
 bool is_singular(const Mat4& m) {
