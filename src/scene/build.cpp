@@ -459,7 +459,7 @@ sg::Index Builder::appearance(NodeId id) {
     sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
     if (!a.has_texture_transform) {
         const uint64_t key = (uint64_t(a.material) << 32) | a.texture;
-        index = same_appearance_.try_emplace(key, index).first->second;
+        index = same_appearance_.find_or_add(key, index);
     }
     if (index == scene_.appearances.size()) scene_.appearances.push_back(std::move(a));
     if ((memo = shared(id))) memo->typed = index;

@@ -75,7 +75,7 @@ sg::Index Builder::geometry(NodeId id) {
     sg::Index index = static_cast<sg::Index>(scene_.geometries.size());
     // Spheres of one radius are one geometry (nothing is reported against a Sphere after this).
     if (const auto* sphere = std::get_if<sg::Sphere>(&g.shape); sphere && g.hints == sg::kNone)
-        index = same_sphere_.try_emplace(std::bit_cast<uint64_t>(sphere->radius), index).first->second;
+        index = same_sphere_.find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
     if (index == scene_.geometries.size()) scene_.geometries.push_back(std::move(g));
     if (Memo* memo = shared(id)) memo->typed = index;
     return index;

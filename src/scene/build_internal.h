@@ -65,6 +65,47 @@ struct Names {
 // clang-format on
 const Names& names();
 
+// 64-bit key -> first index, open addressing in one flat array: the sphere merge looks up every
+// Sphere of a 1e6-sphere file, and std::unordered_map's bucket and node loads were two cache
+// misses a lookup.
+class FirstIndexMap {
+  public:
+    // The index stored for `key`, storing `index` first if the key is new.
+    sg::Index find_or_add(uint64_t key, sg::Index index) {
+        if (2 * (size_ + 1) > slots_.size()) grow();
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+            Slot& s = slots_[i];
+            if (s.index == sg::kNone) {
+                s = Slot{key, index};
+                ++size_;
+                return index;
+            }
+            if (s.key == key) return s.index;
+        }
+    }
+
+  private:
+    struct Slot {
+        uint64_t key = 0;
+        sg::Index index = sg::kNone;  // kNone: empty
+    };
+    static uint64_t mix(uint64_t k) {  // splitmix64's finaliser
+        k = (k ^ (k >> 30)) * 0xBF58476D1CE4E5B9ull;
+        k = (k ^ (k >> 27)) * 0x94D049BB133111EBull;
+        return k ^ (k >> 31);
+    }
+    void grow() {
+        std::vector<Slot> old = std::move(slots_);
+        slots_.assign(old.empty() ? 64 : 2 * old.size(), Slot{});
+        size_ = 0;
+        for (const Slot& s : old)
+            if (s.index != sg::kNone) find_or_add(s.key, s.index);
+    }
+    std::vector<Slot> slots_;
+    size_t size_ = 0;
+};
+
 class Builder {
   public:
     static constexpr size_t kMaxDepth =
@@ -156,8 +197,8 @@ class Builder {
         size_t operator()(const MaterialKey& key) const;
     };
     std::unordered_map<MaterialKey, sg::Index, KeyHash> same_material_;
-    std::unordered_map<uint64_t, sg::Index> same_appearance_;  // (material, texture)
-    std::unordered_map<uint64_t, sg::Index> same_sphere_;      // radius bits
+    FirstIndexMap same_appearance_;  // (material, texture)
+    FirstIndexMap same_sphere_;      // radius bits
     size_t depth_ = 0;
 };
 
