@@ -36,8 +36,10 @@ int run_info(const std::string& path, const CommonOptions& common) {
         for (auto& [type, count] : s.skipped_nodes) std::printf("  %-28s %zu\n", type.c_str(), count);
     }
 
+    // Each stage's input is released once the next has what it needs, so that their peaks do not stack.
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
+    release_tree(loaded);
     FlattenOptions fo;
     fo.scene_file = loaded.main_file;
     fo.allowed_roots = loaded.allowed_roots;
@@ -49,6 +51,10 @@ int run_info(const std::string& path, const CommonOptions& common) {
                 flat.spheres.size(), flat.quadrics.size(), flat.meshes.size(), flat.triangle_count());
     std::printf("            %zu materials, %zu textures, %zu shapes skipped\n", flat.materials.size(),
                 flat.textures.size(), fs.skipped_shapes);
+    const Bounds3 b = flat.bounds();
+    flat.spheres = {};
+    flat.quadrics = {};
+    flat.meshes = {};
     {
         // Tessellated spheres (Jmol atoms) that gas mode or --recover-spheres renders as exact spheres.
         FlattenOptions recover = fo;
@@ -56,11 +62,11 @@ int run_info(const std::string& path, const CommonOptions& common) {
         Diagnostics quiet;
         FlattenStats rs;
         (void)flatten_scene(scene, recover, quiet, rs);
+        scene = Scene{};
         std::printf("            %zu tessellated spheres recognised (rendered as spheres in gas mode or with "
                     "--recover-spheres)\n",
                     rs.recovered_spheres);
     }
-    Bounds3 b = flat.bounds();
     if (b.empty()) {
         std::printf("bounds      empty (nothing to render)\n");
     } else {

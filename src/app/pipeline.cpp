@@ -26,11 +26,14 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
     return scene.ok();
 }
 
-bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
+void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }
+
+bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
                        const CommonOptions& common, FlatScene& flat, FlattenStats& stats) {
     const bool quiet = common.quiet;
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
+    release_tree(loaded);
     FlattenOptions fo;
     fo.spheres = options.spheres;
     fo.density = options.density;
@@ -42,6 +45,7 @@ bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, 
     fo.allowed_roots = loaded.allowed_roots;
     common.limits.apply(fo);
     flat = flatten_scene(scene, fo, diagnostics, stats);
+    scene = Scene{};  // before the diagnostics are printed and the caller builds its BVH
     print_diagnostics(diagnostics, loaded.sources, quiet);
     return !diagnostics.has_errors();
 }

@@ -14,9 +14,13 @@ namespace vr {
 void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet);
 // Loads `path`, prints its diagnostics; false when it has errors.
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
+// Gives the node tree's memory back (build_scene has copied what it needs).
+void release_tree(LoadedScene& loaded);
 // Builds the typed scene and flattens it with the render options' sphere and gas settings; prints the
-// diagnostics; false when there are errors.
-bool build_and_flatten(const LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
+// diagnostics; false when there are errors. The node tree is released once the typed scene is built
+// and the typed scene once it is flattened, so that their peaks do not stack (`loaded` keeps its
+// sources, diagnostics and statistics).
+bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
                        const CommonOptions& common, FlatScene& flat, FlattenStats& stats);
 
 // Refuses (prints an error naming the scene, returns false) a render whose estimated memory

@@ -170,7 +170,7 @@ class Flattener {
             stack.emplace_back(start, 0);
             while (!stack.empty()) {
                 auto& [g, next] = stack.back();
-                const std::vector<sg::ChildRef>& children = scene_.groups[g].children;
+                const std::span<const sg::ChildRef> children = scene_.children_of(scene_.groups[g]);
                 if (next < children.size()) {
                     const sg::ChildRef c = children[next++];
                     if (c.kind != sg::NodeKind::Group) {
@@ -202,10 +202,10 @@ class Flattener {
         if (group.singular || depth > options_.max_depth || !has_bindable_[g]) return;
         if (++collect_visits_ > options_.max_primitives)
             return;  // instancing blow-up: visit() reports it
-        const Mat4 m = group.has_transform ? parent * group.local_from_child : parent;
+        const Mat4 m = group.has_transform() ? parent * scene_.local_from_child(group) : parent;
         in_inline = in_inline || group.inline_content;
         Bindables& b = in_inline ? inlined_ : main_;
-        for (const sg::ChildRef& c : group.children) {
+        for (const sg::ChildRef& c : scene_.children_of(group)) {
             switch (c.kind) {
                 case sg::NodeKind::Group:
                     collect(c.index, m, in_inline, depth + 1);
@@ -344,19 +344,20 @@ class Flattener {
             return;
         }
         if (++visits_ > options_.max_group_visits) return stop("grouping nodes");
-        Mat4 m = group.has_transform ? parent * group.local_from_child : parent;
-        if (group.billboard) {
+        Mat4 m = group.has_transform() ? parent * scene_.local_from_child(group) : parent;
+        if (group.billboard()) {
             const Mat4 local_from_world = glm::inverse(m);
             const Vec3 viewer = transform_point(local_from_world, viewer_position_);
             const Mat3 local_from_world_linear = glm::inverse(linear_part(m));
-            m = m * Mat4(billboard_rotation(group.billboard_axis, viewer,
+            m = m * Mat4(billboard_rotation(scene_.billboard_axes[group.transform], viewer,
                                             local_from_world_linear * viewer_up_,
                                             local_from_world_linear * viewer_back_));
         }
 
         // Scoped lights among the children light this group's whole subtree.
         const size_t scoped_before = scoped_.size();
-        for (const sg::ChildRef& c : group.children)
+        const std::span<const sg::ChildRef> children = scene_.children_of(group);
+        for (const sg::ChildRef& c : children)
             if (c.kind == sg::NodeKind::Light) {
                 const sg::Light& l = scene_.lights[c.index];
                 if (!l.on || l.global) continue;
@@ -364,7 +365,7 @@ class Flattener {
             }
         if (scoped_.size() != scoped_before) light_set = light_set_of(scoped_);
 
-        for (const sg::ChildRef& c : group.children) {
+        for (const sg::ChildRef& c : children) {
             switch (c.kind) {
                 case sg::NodeKind::Group:
                     visit(c.index, m, light_set, depth + 1);

@@ -2,6 +2,7 @@
 // nodes. Geometry nodes are in build_geometry.cpp.
 #include "scene/build.h"
 
+#include <bit>
 #include <cmath>
 #include <unordered_map>
 
@@ -151,7 +152,7 @@ std::span<const NodeId> Builder::nodes(NodeId n, Name f) const { return tree_.ge
 
 sg::Origin Builder::origin(NodeId n) const {
     const Node& node = tree_.nodes[n];
-    return sg::Origin{n, node.type, node.def_name, node.loc};
+    return sg::Origin{node.type, node.def_name, node.loc};
 }
 
 sg::Index Builder::hints(NodeId n) {
@@ -183,12 +184,39 @@ std::filesystem::path Builder::file_of(NodeId n) const {
 
 Builder::Builder(const LoadedScene& loaded, Diagnostics& diagnostics)
     : loaded_(loaded), tree_(loaded.tree), diagnostics_(diagnostics) {
-    const size_t count = tree_.nodes.size();
-    reserve_huge(memo_, count);
-    reserve_huge(memo_child_, count);
-    memo_.assign(count, sg::kNone);
-    memo_child_.assign(count, sg::ChildRef{});
-    state_.assign(count, 0);
+    count_references();
+}
+
+void Builder::count_references() {
+    const size_t words = (tree_.nodes.size() + 63) / 64;
+    referred_once_.assign(words, 0);
+    referred_twice_.assign(words, 0);
+    size_t shared = 0;
+    auto refer = [&](NodeId id) {
+        if (id >= tree_.nodes.size()) return;  // kNullNode
+        const uint64_t bit = uint64_t(1) << (id % 64);
+        uint64_t& once = referred_once_[id / 64];
+        uint64_t& twice = referred_twice_[id / 64];
+        if ((once & bit) && !(twice & bit)) {
+            twice |= bit;
+            ++shared;
+        }
+        once |= bit;
+    };
+    for (NodeId id : tree_.node_refs) refer(id);
+    for (NodeId id : tree_.roots) refer(id);
+    for (const auto& [inline_node, roots] : tree_.inline_roots)
+        for (NodeId id : roots) refer(id);
+    memo_.reserve(shared);
+}
+
+size_t Builder::KeyHash::operator()(const MaterialKey& key) const {
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (uint64_t k : key) {
+        h ^= k + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+        h *= 0xBF58476D1CE4E5B9ull;
+    }
+    return size_t(h ^ (h >> 31));
 }
 
 Scene Builder::build() {
@@ -203,63 +231,71 @@ Scene Builder::build() {
 
 void Builder::reserve() {
     // Arenas sized from the node counts up front: PyMOL files hold 1e5 shapes, and growing the
-    // arenas by doubling would move (and touch) every element several times.
+    // arenas by doubling would move (and touch) every element several times. Appearances,
+    // materials and geometries are mostly merged (see same_material_): they grow as needed.
     const Names& n = names();
-    size_t groups = 1, shapes = 0, appearances = 0, materials = 0, geometries = 0;
+    size_t groups = 1, shapes = 0, transforms = 0;
     for (const Node& node : tree_.nodes) {
         const Name t = node.type;
-        if (t == n.Shape)
+        if (t == n.Shape) {
             ++shapes;
-        else if (t == n.Appearance)
-            ++appearances;
-        else if (t == n.Material || t == n.PhysicalMaterial || t == n.UnlitMaterial ||
-                 t == n.TwoSidedMaterial)
-            ++materials;
-        else if (is_geometry_type(t))
-            ++geometries;
-        else {
-            const ChildKind kind = child_kind(t);
-            if (kind <= ChildKind::CADFace) ++groups;
+            continue;
         }
+        // The most common nodes besides groups, told apart without child_kind's suffix checks.
+        if (t == n.Appearance || t == n.Material || is_geometry_type(t)) continue;
+        const ChildKind kind = child_kind(t);
+        if (kind <= ChildKind::CADFace) ++groups;
+        if (kind == ChildKind::Transform) ++transforms;
     }
     reserve_huge(scene_.groups, groups);
     reserve_huge(scene_.shapes, shapes);
-    reserve_huge(scene_.appearances, appearances);
-    reserve_huge(scene_.materials, materials);
-    reserve_huge(scene_.geometries, geometries);
+    reserve_huge(scene_.translations, transforms);
+    // Every child is a reference in the tree: an upper bound (pages past the end stay untouched).
+    size_t refs = tree_.node_refs.size() + tree_.roots.size();
+    for (const auto& [inline_node, roots] : tree_.inline_roots) refs += roots.size();
+    reserve_huge(scene_.child_refs, refs);
 }
 
 void Builder::add_children(sg::Index group, std::span<const NodeId> children) {
-    std::vector<sg::ChildRef> refs;
-    refs.reserve(children.size());
+    // The group's block is claimed before its children are built (child groups append theirs
+    // after it) and filled from the front; children that draw nothing leave unused slots at its
+    // end, which cost less than building the list elsewhere and copying it.
+    const size_t first = scene_.child_refs.size();
+    scene_.child_refs.resize(first + children.size());
+    size_t count = 0;
     for (NodeId id : children) {
         if (id == kNullNode || id >= tree_.nodes.size()) continue;
-        if (const auto ref = child(id)) refs.push_back(*ref);
+        if (const auto ref = child(id)) scene_.child_refs[first + count++] = *ref;
     }
-    scene_.groups[group].children = std::move(refs);
+    sg::Group& g = scene_.groups[group];
+    g.first_child = static_cast<uint32_t>(first);
+    g.child_count = static_cast<uint32_t>(count);
 }
 
 std::optional<sg::ChildRef> Builder::child(NodeId id) {
-    if (state_[id] == 2) {
-        const sg::ChildRef ref = memo_child_[id];
-        if (ref.index == sg::kNone) return std::nullopt;
-        return ref;
-    }
-    if (state_[id] == 1) {
-        warn(id, "cycle", "is used inside itself (DEF/USE cycle); the inner use is skipped");
-        return std::nullopt;
+    if (Memo* memo = shared(id)) {
+        if (memo->state == 2) {
+            if (memo->child.index == sg::kNone) return std::nullopt;
+            return memo->child;
+        }
+        if (memo->state == 1) {
+            warn(id, "cycle", "is used inside itself (DEF/USE cycle); the inner use is skipped");
+            return std::nullopt;
+        }
     }
     if (depth_ >= kMaxDepth) {
         warn(id, "depth",
              "is nested more than " + std::to_string(kMaxDepth) + " levels deep; skipped");
         return std::nullopt;
     }
-    state_[id] = 1;
+    if (Memo* memo = shared(id)) memo->state = 1;
     ++depth_;
     const std::optional<sg::ChildRef> ref = make_child(id);
     --depth_;
-    state_[id] = 2;
-    memo_child_[id] = ref ? *ref : sg::ChildRef{sg::NodeKind::Group, sg::kNone};
+    if (Memo* memo = shared(id)) {  // the map may have grown: look again
+        memo->state = 2;
+        memo->child = ref ? *ref : sg::ChildRef{sg::NodeKind::Group, sg::kNone};
+    }
     return ref;
 }
 
@@ -314,21 +350,29 @@ sg::Index Builder::make_group(NodeId id) {
             f.scale = vec3(id, n.scale, f.scale);
             f.scale_orientation = rotation(id, n.scale_orientation);
             f.center = vec3(id, n.center, f.center);
-            group.has_transform = true;
-            group.local_from_child = transform_matrix(f);
-            if (is_singular(group.local_from_child)) {
-                group.singular = true;
+            const Mat4 m = transform_matrix(f);
+            if (is_singular(m)) {
+                group.singular = true;  // flattening skips the subtree: no matrix to keep
                 warn(id, "singular",
-                     all_finite(group.local_from_child)
+                     all_finite(m)
                          ? "has a singular transform (a zero scale); its children are skipped"
                          : "has a NaN or infinite transform value; its children are skipped");
+            } else if (is_translation(m)) {
+                group.transform_kind = sg::GroupTransform::Translation;
+                group.transform = static_cast<sg::Index>(scene_.translations.size());
+                scene_.translations.push_back(Vec3(m[3]));
+            } else {
+                group.transform_kind = sg::GroupTransform::Matrix;
+                group.transform = static_cast<sg::Index>(scene_.matrices.size());
+                scene_.matrices.push_back(m);
             }
             children = nodes(id, n.children);
             break;
         }
         case ChildKind::Billboard:
-            group.billboard = true;
-            group.billboard_axis = vec3(id, n.axis_of_rotation, group.billboard_axis);
+            group.transform_kind = sg::GroupTransform::Billboard;
+            group.transform = static_cast<sg::Index>(scene_.billboard_axes.size());
+            scene_.billboard_axes.push_back(vec3(id, n.axis_of_rotation, Vec3(0.0, 1.0, 0.0)));
             children = nodes(id, n.children);
             break;
         case ChildKind::Switch: {
@@ -363,7 +407,7 @@ sg::Index Builder::make_group(NodeId id) {
             children = nodes(id, n.children);
             break;
     }
-    scene_.groups[index] = std::move(group);
+    scene_.groups[index] = group;
     add_children(index, children);
     return index;
 }
@@ -389,7 +433,8 @@ std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
 
 sg::Index Builder::appearance(NodeId id) {
     const Names& n = names();
-    if (memo_[id] != sg::kNone) return memo_[id];
+    Memo* memo = shared(id);
+    if (memo && memo->typed != sg::kNone) return memo->typed;
     if (type(id) != n.Appearance) {
         warn(id, "wrong-type",
              "cannot be an appearance; the shape is drawn with the default appearance");
@@ -411,14 +456,19 @@ sg::Index Builder::appearance(NodeId id) {
     }
     if (const NodeId tt = node(id, n.texture_transform); tt != kNullNode)
         read_texture_transform(tt, a);
-    memo_[id] = static_cast<sg::Index>(scene_.appearances.size());
-    scene_.appearances.push_back(std::move(a));
-    return memo_[id];
+    sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
+    if (!a.has_texture_transform) {
+        const uint64_t key = (uint64_t(a.material) << 32) | a.texture;
+        index = same_appearance_.find_or_add(key, index);
+    }
+    if (index == scene_.appearances.size()) scene_.appearances.push_back(std::move(a));
+    if ((memo = shared(id))) memo->typed = index;
+    return index;
 }
 
 sg::Index Builder::material(NodeId id) {
     const Names& n = names();
-    if (memo_[id] != sg::kNone) return memo_[id];
+    if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     sg::Material m;
     m.origin = origin(id);
     const Name t = type(id);
@@ -443,20 +493,36 @@ sg::Index Builder::material(NodeId id) {
     m.emissive_color = vec3(id, n.emissive_color, m.emissive_color);
     m.transparency = number(id, n.transparency, m.transparency);
     m.hints = hints(id);
-    memo_[id] = static_cast<sg::Index>(scene_.materials.size());
-    scene_.materials.push_back(std::move(m));
-    return memo_[id];
+    sg::Index index = static_cast<sg::Index>(scene_.materials.size());
+    const double values[] = {m.diffuse_color.x,  m.diffuse_color.y,  m.diffuse_color.z,
+                             m.specular_color.x, m.specular_color.y, m.specular_color.z,
+                             m.emissive_color.x, m.emissive_color.y, m.emissive_color.z,
+                             m.ambient_intensity, m.shininess,       m.transparency,
+                             m.metallic,          m.roughness};
+    bool mergeable = m.hints == sg::kNone;  // hints belong to their node
+    MaterialKey key{uint64_t(m.model)};
+    for (size_t i = 0; i < std::size(values); ++i) {
+        mergeable = mergeable && std::isfinite(values[i]);  // warned per node by flattening
+        key[i + 1] = std::bit_cast<uint64_t>(values[i]);
+    }
+    if (mergeable) index = same_material_.try_emplace(key, index).first->second;
+    if (index == scene_.materials.size()) scene_.materials.push_back(std::move(m));
+    if (Memo* memo = shared(id)) memo->typed = index;
+    return index;
 }
 
 sg::Index Builder::texture(NodeId id) {
     const Names& n = names();
-    if (memo_[id] != sg::kNone) return memo_[id];
+    if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     const Name t = type(id);
     if (t == n.MultiTexture) {
         // The first texture stands for the stack (multi-texturing is not modelled).
         for (NodeId inner : nodes(id, n.texture))
-            if (inner != kNullNode && type(inner) != n.MultiTexture)
-                return memo_[id] = texture(inner);
+            if (inner != kNullNode && type(inner) != n.MultiTexture) {
+                const sg::Index index = texture(inner);
+                if (Memo* memo = shared(id)) memo->typed = index;
+                return index;
+            }
         return sg::kNone;
     }
     sg::Texture tex;
@@ -491,9 +557,10 @@ sg::Index Builder::texture(NodeId id) {
         warn(id, "not-modelled", "is not a texture type vrmlray renders; the shape is untextured");
         return sg::kNone;
     }
-    memo_[id] = static_cast<sg::Index>(scene_.textures.size());
+    const sg::Index index = static_cast<sg::Index>(scene_.textures.size());
     scene_.textures.push_back(std::move(tex));
-    return memo_[id];
+    if (Memo* memo = shared(id)) memo->typed = index;
+    return index;
 }
 
 void Builder::read_texture_transform(NodeId id, sg::Appearance& a) {

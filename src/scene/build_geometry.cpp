@@ -2,6 +2,7 @@
 // Extrusion and the X3D triangle/quad set family with their Coordinate/CoordinateDouble, Normal,
 // Color/ColorRGBA and TextureCoordinate nodes. Values are copied as they are; src/geometry checks
 // indices and numbers.
+#include <bit>
 #include <cmath>
 #include <unordered_map>
 
@@ -69,11 +70,15 @@ bool Builder::is_geometry_type(Name type) {
 }
 
 sg::Index Builder::geometry(NodeId id) {
-    if (memo_[id] != sg::kNone) return memo_[id];
+    if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     sg::Geometry g = make_geometry(id);
-    memo_[id] = static_cast<sg::Index>(scene_.geometries.size());
-    scene_.geometries.push_back(std::move(g));
-    return memo_[id];
+    sg::Index index = static_cast<sg::Index>(scene_.geometries.size());
+    // Spheres of one radius are one geometry (nothing is reported against a Sphere after this).
+    if (const auto* sphere = std::get_if<sg::Sphere>(&g.shape); sphere && g.hints == sg::kNone)
+        index = same_sphere_.find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
+    if (index == scene_.geometries.size()) scene_.geometries.push_back(std::move(g));
+    if (Memo* memo = shared(id)) memo->typed = index;
+    return index;
 }
 
 sg::Geometry Builder::make_geometry(NodeId id) {

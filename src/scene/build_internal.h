@@ -1,9 +1,11 @@
 // The scene builder's state and field readers, shared by build.cpp (grouping, appearance, lights,
 // bindable nodes) and build_geometry.cpp (geometry nodes). Private to src/scene.
 #pragma once
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "parser/load.h"
@@ -62,6 +64,47 @@ struct Names {
 };
 // clang-format on
 const Names& names();
+
+// 64-bit key -> first index, open addressing in one flat array: the sphere merge looks up every
+// Sphere of a 1e6-sphere file, and std::unordered_map's bucket and node loads were two cache
+// misses a lookup.
+class FirstIndexMap {
+  public:
+    // The index stored for `key`, storing `index` first if the key is new.
+    sg::Index find_or_add(uint64_t key, sg::Index index) {
+        if (2 * (size_ + 1) > slots_.size()) grow();
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+            Slot& s = slots_[i];
+            if (s.index == sg::kNone) {
+                s = Slot{key, index};
+                ++size_;
+                return index;
+            }
+            if (s.key == key) return s.index;
+        }
+    }
+
+  private:
+    struct Slot {
+        uint64_t key = 0;
+        sg::Index index = sg::kNone;  // kNone: empty
+    };
+    static uint64_t mix(uint64_t k) {  // splitmix64's finaliser
+        k = (k ^ (k >> 30)) * 0xBF58476D1CE4E5B9ull;
+        k = (k ^ (k >> 27)) * 0x94D049BB133111EBull;
+        return k ^ (k >> 31);
+    }
+    void grow() {
+        std::vector<Slot> old = std::move(slots_);
+        slots_.assign(old.empty() ? 64 : 2 * old.size(), Slot{});
+        size_ = 0;
+        for (const Slot& s : old)
+            if (s.index != sg::kNone) find_or_add(s.key, s.index);
+    }
+    std::vector<Slot> slots_;
+    size_t size_ = 0;
+};
 
 class Builder {
   public:
@@ -128,10 +171,34 @@ class Builder {
     Scene scene_;
 
   private:
-    std::vector<sg::Index> memo_;  // per node: its typed index (appearance, material, ...)
-    std::vector<sg::ChildRef>
-        memo_child_;              // per node used as a child; index kNone: nothing to render
-    std::vector<uint8_t> state_;  // per node used as a child: 0 new, 1 being built, 2 built
+    // What the builder remembers of a node the file refers to more than once (DEF/USE). A node
+    // referred to once is reached at most once (its one parent is built at most once), so only
+    // shared nodes are memoised; a dense memo cost 13 bytes a tree node. A cycle always passes
+    // through a shared node (its entry is referred to from outside and from inside), so the
+    // cycle check needs no state for the others either.
+    struct Memo {
+        sg::Index typed = sg::kNone;  // its appearance, material, texture or geometry index
+        sg::ChildRef child;           // as a child: index kNone for nothing to render
+        uint8_t state = 0;            // as a child: 0 new, 1 being built, 2 built
+    };
+    Memo* shared(NodeId id) {
+        return (referred_twice_[id / 64] >> (id % 64)) & 1 ? &memo_[id] : nullptr;
+    }
+    void count_references();
+    std::vector<uint64_t> referred_once_, referred_twice_;  // bit sets over the tree's nodes
+    std::unordered_map<NodeId, Memo> memo_;
+
+    // Content-equal nodes with no identity the renderer can see share one typed node: PyMOL writes
+    // an identical Material and Appearance per atom, and a Sphere per atom with a few radii. The
+    // first node's origin is kept (only non-finite values are reported against a Material, and
+    // those are never merged).
+    using MaterialKey = std::array<uint64_t, 15>;  // the model and every value's bits
+    struct KeyHash {
+        size_t operator()(const MaterialKey& key) const;
+    };
+    std::unordered_map<MaterialKey, sg::Index, KeyHash> same_material_;
+    FirstIndexMap same_appearance_;  // (material, texture)
+    FirstIndexMap same_sphere_;      // radius bits
     size_t depth_ = 0;
 };
 

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -26,9 +27,9 @@ namespace vr::sg {
 using Index = uint32_t;
 inline constexpr Index kNone = UINT32_MAX;
 
-// Where a typed node came from, for messages. (Kept small: PyMOL scenes hold 1e5 of each node.)
+// Where a typed node came from, for messages. (Kept small: PyMOL scenes hold 1e5 of each node.) It
+// holds no NodeId: the node tree may be released once the scene is built.
 struct Origin {
-    NodeId node = kNullNode;
     Name type = kNoName;      // node type name
     Name def_name = kNoName;  // DEF name, kNoName if none
     SourceLoc loc;
@@ -257,17 +258,33 @@ struct ChildRef {
     Index index = kNone;  // into the arena of that kind
 };
 
+// How a group maps its children's space into its own. Most Transforms in molecular files only
+// translate; they keep the translation (24 bytes) instead of a matrix (128 bytes).
+enum class GroupTransform : uint8_t {
+    None,         // a plain group (or a singular Transform, whose subtree is skipped)
+    Translation,  // `transform` indexes Scene::translations; the matrix is exactly [I | t]
+    Matrix,       // `transform` indexes Scene::matrices
+    Billboard,    // `transform` indexes Scene::billboard_axes (the rotation depends on the viewer)
+};
+
 // Group, Transform, Billboard, Switch, LOD, Collision, Anchor, Inline, StaticGroup, CAD* ...
+// Kept small (32 bytes): a 1e6-sphere file holds a Transform per sphere. Children, transforms and
+// billboard axes live in side arrays of the Scene (Scene::children_of, Scene::local_from_child).
 struct Group {
     Origin origin;
-    bool has_transform = false;
-    Mat4 local_from_child{1.0};  // Transform: T * C * R * SR * S * SR^-1 * C^-1
-    bool singular = false;       // the transform is singular or not finite: the subtree is skipped
-    bool billboard = false;
-    Vec3 billboard_axis{0.0, 1.0, 0.0};  // (0,0,0): screen-aligned
-    bool inline_content = false;         // children are the top-level nodes of an inlined file
-    std::vector<ChildRef> children;
+    uint32_t first_child = 0;  // into Scene::child_refs: the children are one block, in file order
+    uint32_t child_count = 0;
+    Index transform = kNone;  // into the side array `transform_kind` names
+    GroupTransform transform_kind = GroupTransform::None;
+    bool singular = false;        // the transform is singular or not finite: the subtree is skipped
+    bool inline_content = false;  // children are the top-level nodes of an inlined file
+    bool has_transform() const {
+        return transform_kind == GroupTransform::Translation ||
+               transform_kind == GroupTransform::Matrix;
+    }
+    bool billboard() const { return transform_kind == GroupTransform::Billboard; }
 };
+static_assert(sizeof(Group) <= 32, "a Group per sphere: keep it small");
 
 }  // namespace vr::sg
 
@@ -276,6 +293,10 @@ namespace vr {
 struct Scene {
     static constexpr sg::Index kRoot = 0;
     std::vector<sg::Group> groups;  // groups[kRoot]: the main file's top-level nodes
+    std::vector<sg::ChildRef> child_refs;  // every group's children, a block per group
+    std::vector<Vec3> translations;        // GroupTransform::Translation
+    std::vector<Mat4> matrices;            // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
+    std::vector<Vec3> billboard_axes;      // GroupTransform::Billboard: axisOfRotation; (0,0,0): screen-aligned
     std::vector<sg::Shape> shapes;
     std::vector<sg::Geometry> geometries;
     std::vector<sg::Appearance> appearances;
@@ -291,6 +312,17 @@ struct Scene {
     const sg::Hints& hints_of(sg::Index index) const {
         static const sg::Hints none;
         return index == sg::kNone ? none : hints[index];
+    }
+
+    std::span<const sg::ChildRef> children_of(const sg::Group& group) const {
+        return {child_refs.data() + group.first_child, group.child_count};
+    }
+    // The group's transform; only for groups with has_transform().
+    Mat4 local_from_child(const sg::Group& group) const {
+        if (group.transform_kind == sg::GroupTransform::Matrix) return matrices[group.transform];
+        Mat4 m(1.0);
+        m[3] = Vec4(translations[group.transform], 1.0);
+        return m;
     }
 
     std::filesystem::path main_file;

@@ -1,6 +1,7 @@
 #include "scene/transform.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace vr {
 
@@ -29,7 +30,24 @@ static Mat4 translation4(const Vec3& t) {
     return m;
 }
 
+// Bit for bit equal, +0 and -0 told apart.
+template <class V>
+static bool same_bits(const V& a, const V& b) {
+    return std::memcmp(&a, &b, sizeof(V)) == 0;
+}
+
 Mat4 transform_matrix(const TransformFields& f) {
+    // Molecular files hold 1e5-1e6 Transforms that only translate. With every other field at its
+    // default, each factor but T is exactly the identity (C^-1 holds -0s in its translation,
+    // which only touch zero components), and the product is exactly [I | t] when no component of
+    // t is zero: skip the six products (tested against them in test_scene_transform.cpp).
+    const TransformFields identity;
+    if (same_bits(f.rotation, identity.rotation) && same_bits(f.scale, identity.scale) &&
+        same_bits(f.scale_orientation, identity.scale_orientation) &&
+        same_bits(f.center, identity.center) && f.translation.x != 0.0 &&
+        f.translation.y != 0.0 && f.translation.z != 0.0 && std::isfinite(f.translation.x) &&
+        std::isfinite(f.translation.y) && std::isfinite(f.translation.z))
+        return translation4(f.translation);
     const Mat4 T = translation4(f.translation);
     const Mat4 C = translation4(f.center);
     const Mat4 C_inv = translation4(-f.center);
@@ -68,6 +86,12 @@ bool all_finite(const Mat4& m) {
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(m[c][r])) return false;
     return true;
+}
+
+bool is_translation(const Mat4& m) {
+    Mat4 rebuilt(1.0);
+    rebuilt[3] = Vec4(Vec3(m[3]), 1.0);
+    return std::memcmp(&rebuilt, &m, sizeof(Mat4)) == 0;
 }
 
 bool is_singular(const Mat4& m) {

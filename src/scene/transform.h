@@ -36,6 +36,9 @@ inline Mat3 linear_part(const Mat4& m) { return Mat3(m); }
 inline Vec3 transform_point(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0)); }
 
 bool all_finite(const Mat4& m);
+// True when `m` is bit for bit the identity with a translation column: rebuilding it from that
+// column gives the same matrix, so products with it are unchanged.
+bool is_translation(const Mat4& m);
 // True when the linear part maps some direction to (nearly) zero: |det| is tiny against the product
 // of the column lengths (a scale-free test), or the matrix holds NaN/inf.
 bool is_singular(const Mat4& m);

@@ -3,6 +3,7 @@
 
 #include "parser/load.h"
 #include "scene/build.h"
+#include "scene/transform.h"
 
 namespace vr {
 namespace {
@@ -146,6 +147,152 @@ TEST(SceneBuild, X3DMaterialsAndComposedGeometry) {
     EXPECT_EQ(set->data.coords.size(), 3u);
     ASSERT_EQ(set->data.colors.size(), 3u);
     EXPECT_EQ(set->data.colors[2], Vec3(0, 0, 1));
+}
+
+// Groups keep their children in one shared array; nested groups must not interleave their lists
+// with their parent's.
+TEST(SceneBuild, ChildrenKeepTheirOrderAcrossNestedGroups) {
+    const Built b = build(R"(
+        Group { children [
+          Shape { geometry Box {} }
+          Transform { translation 1 2 3 children [ Shape { geometry Cone {} } Shape { geometry Cylinder {} } ] }
+          Shape { geometry Sphere {} }
+        ] }
+        Shape { geometry Sphere { radius 2 } })");
+    const Scene& s = b.scene;
+    auto kind_of = [&](const sg::ChildRef& c) -> std::string {
+        if (c.kind == sg::NodeKind::Group) return "group";
+        const sg::GeometryShape& g = s.geometries[s.shapes[c.index].geometry].shape;
+        if (std::holds_alternative<sg::Box>(g)) return "box";
+        if (std::holds_alternative<sg::Cone>(g)) return "cone";
+        if (std::holds_alternative<sg::Cylinder>(g)) return "cylinder";
+        if (const auto* sphere = std::get_if<sg::Sphere>(&g)) return "sphere " + std::to_string(int(sphere->radius));
+        return "?";
+    };
+    auto list = [&](sg::Index g) {
+        std::vector<std::string> out;
+        for (const sg::ChildRef& c : s.children_of(s.groups[g])) out.push_back(kind_of(c));
+        return out;
+    };
+    ASSERT_EQ(s.groups.size(), 3u);  // root, Group, Transform
+    EXPECT_EQ(list(Scene::kRoot), (std::vector<std::string>{"group", "sphere 2"}));
+    EXPECT_EQ(list(1), (std::vector<std::string>{"box", "group", "sphere 1"}));
+    EXPECT_EQ(list(2), (std::vector<std::string>{"cone", "cylinder"}));
+    ASSERT_EQ(s.groups[2].transform_kind, sg::GroupTransform::Translation);
+    EXPECT_EQ(s.local_from_child(s.groups[2])[3], Vec4(1, 2, 3, 1));
+    EXPECT_FALSE(s.groups[1].has_transform());
+}
+
+// A Transform that rotates or scales keeps its full matrix; one that only translates rebuilds the
+// very same matrix from its translation.
+TEST(SceneBuild, TransformsKeepTheirExactMatrix) {
+    const Built b = build(R"(
+        Transform { translation 0.1 0.2 0.3 children Shape { geometry Box {} } }
+        Transform { rotation 0 1 0 0.5 scale 2 2 2 center 1 0 0 children Shape { geometry Box {} } }
+        Transform { children Shape { geometry Box {} } })");
+    const Scene& s = b.scene;
+    ASSERT_EQ(s.groups.size(), 4u);
+    EXPECT_EQ(s.groups[1].transform_kind, sg::GroupTransform::Translation);
+    EXPECT_EQ(s.groups[2].transform_kind, sg::GroupTransform::Matrix);
+    EXPECT_EQ(s.groups[3].transform_kind, sg::GroupTransform::Translation);  // the identity
+    TransformFields f;
+    f.translation = Vec3(0.1, 0.2, 0.3);
+    EXPECT_EQ(s.local_from_child(s.groups[1]), transform_matrix(f));
+    f = TransformFields{};
+    f.rotation = Vec4(0, 1, 0, 0.5);
+    f.scale = Vec3(2.0);
+    f.center = Vec3(1, 0, 0);
+    EXPECT_EQ(s.local_from_child(s.groups[2]), transform_matrix(f));
+    EXPECT_EQ(s.local_from_child(s.groups[3]), Mat4(1.0));
+}
+
+TEST(SceneBuild, BillboardAxisKeptBesideTheGroup) {
+    const Built b = build(R"(
+        Billboard { axisOfRotation 0 0 0 children Shape { geometry Box {} } }
+        Billboard { children Shape { geometry Box {} } }
+        Group { children Shape { geometry Box {} } })");
+    const Scene& s = b.scene;
+    ASSERT_EQ(s.groups.size(), 4u);
+    ASSERT_TRUE(s.groups[1].billboard());
+    ASSERT_TRUE(s.groups[2].billboard());
+    EXPECT_FALSE(s.groups[3].billboard());
+    EXPECT_FALSE(s.groups[1].has_transform());
+    EXPECT_EQ(s.billboard_axes[s.groups[1].transform], Vec3(0.0));
+    EXPECT_EQ(s.billboard_axes[s.groups[2].transform], Vec3(0, 1, 0));
+}
+
+// PyMOL writes an own, identical Material and Appearance per atom: they become one typed node, as
+// do Spheres of one radius. Different values stay apart.
+TEST(SceneBuild, ContentEqualMaterialsAppearancesAndSpheresMerge) {
+    std::string body;
+    for (int i = 0; i < 4; ++i) {
+        const char* colour = i % 2 ? "0.2 0.3 1" : "0.5 0.5 0.5";
+        body += "Transform { translation " + std::to_string(i) +
+                " 0 0 children Shape { appearance Appearance { material Material { diffuseColor " + colour +
+                " specularColor 0.3 0.3 0.3 } } geometry Sphere { radius " + (i < 3 ? "0.5" : "0.7") + " } } }\n";
+    }
+    const Built b = build(body);
+    const Scene& s = b.scene;
+    ASSERT_EQ(s.shapes.size(), 4u);
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[0].diffuse_color, Vec3(0.5));
+    EXPECT_EQ(s.materials[1].diffuse_color, Vec3(0.2, 0.3, 1.0));
+    ASSERT_EQ(s.appearances.size(), 2u);
+    EXPECT_EQ(s.shapes[0].appearance, s.shapes[2].appearance);
+    EXPECT_EQ(s.shapes[1].appearance, s.shapes[3].appearance);
+    EXPECT_NE(s.shapes[0].appearance, s.shapes[1].appearance);
+    EXPECT_EQ(s.appearances[s.shapes[1].appearance].material, 1u);
+    ASSERT_EQ(s.geometries.size(), 2u);
+    EXPECT_EQ(s.shapes[0].geometry, s.shapes[2].geometry);
+    EXPECT_NE(s.shapes[0].geometry, s.shapes[3].geometry);
+    EXPECT_EQ(std::get<sg::Sphere>(s.geometries[s.shapes[3].geometry].shape).radius, 0.7);
+}
+
+// Materials that differ in any value, in their model, or carry hints or non-finite values (which
+// flattening reports per node; the readers refuse them today) are not merged.
+TEST(SceneBuild, DistinctMaterialsStayDistinct) {
+    const Built b = build(R"(
+        Shape { appearance Appearance { material Material { shininess 0.5 } } geometry Box {} }
+        Shape { appearance Appearance { material Material { shininess 0.50000001 } } geometry Box {} }
+        Shape { appearance Appearance { material Material { transparency 0.1 } } geometry Box {} }
+        Shape { appearance Appearance { material UnlitMaterial {} } geometry Box {} }
+        Shape { appearance Appearance { material Material { diffuseColor 0.8 0.8 -0.0 } } geometry Box {} }
+        Shape { appearance Appearance { material Material { diffuseColor 0.8 0.8 0.0 } } geometry Box {} }
+        Shape { appearance Appearance { material Material {
+          metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "ior" value 1.5 } ] } } } geometry Box {} }
+        Shape { appearance Appearance { material Material {
+          metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "ior" value 1.5 } ] } } } geometry Box {} }
+        Shape { appearance Appearance { material Material { shininess 0.5 } } geometry Box {} })",
+                          "#X3D V4.0 utf8\nPROFILE Immersive\n");
+    const Scene& s = b.scene;
+    ASSERT_EQ(s.shapes.size(), 9u);
+    EXPECT_EQ(s.materials.size(), 8u);  // only the last equals the first
+    EXPECT_EQ(s.shapes[8].appearance, s.shapes[0].appearance);
+    for (size_t i = 1; i < 8; ++i) EXPECT_NE(s.shapes[i].appearance, s.shapes[0].appearance) << i;
+}
+
+// Merging content-equal nodes must not undo DEF/USE sharing, nor merge a textured appearance with
+// a plain one.
+TEST(SceneBuild, DefUseStillSharedNextToMerging) {
+    const Built b = build(R"(
+        DEF T Transform { translation 1 0 0 children Shape {
+          appearance DEF A Appearance { material Material {} } geometry DEF S Sphere { radius 3 } } }
+        USE T
+        Shape { appearance USE A geometry USE S }
+        Shape { appearance Appearance { material Material {} texture PixelTexture { image 1 1 1 0xFF } }
+                geometry Sphere { radius 3 } })");
+    const Scene& s = b.scene;
+    ASSERT_EQ(s.groups.size(), 2u);  // root and T, built once
+    const auto root = s.children_of(s.groups[Scene::kRoot]);
+    ASSERT_EQ(root.size(), 4u);
+    EXPECT_EQ(root[0].kind, sg::NodeKind::Group);
+    EXPECT_EQ(root[0].index, root[1].index);
+    ASSERT_EQ(s.shapes.size(), 3u);
+    EXPECT_EQ(s.shapes[0].appearance, s.shapes[1].appearance);
+    EXPECT_NE(s.shapes[0].appearance, s.shapes[2].appearance);  // the textured one
+    EXPECT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.geometries.size(), 1u);
+    EXPECT_EQ(b.diagnostics.warning_count(), 0u);
 }
 
 }  // namespace

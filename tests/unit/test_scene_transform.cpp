@@ -2,6 +2,9 @@
 // TextureTransform.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+
 #include "scene/transform.h"
 
 namespace vr {
@@ -34,6 +37,40 @@ TEST(SceneTransform, ComposesTCRSRSInverseSRInverseC) {
     expected[2] = Vec4(0, 0, 1, 0);   // d/dz
     expected[3] = Vec4(2, 1, 3, 1);   // image of the origin
     expect_near(transform_matrix(f), expected, kTight);
+}
+
+// transform_matrix skips the products for a Transform that only translates: its result must be
+// the products' bit for bit, zeros' signs included, for any translation.
+TEST(SceneTransform, TranslationOnlyShortcutMatchesTheProductsExactly) {
+    auto by_products = [](const TransformFields& f) {
+        auto translation4 = [](const Vec3& t) {
+            Mat4 m(1.0);
+            m[3] = Vec4(t, 1.0);
+            return m;
+        };
+        const Mat3 sr = rotation_matrix(f.scale_orientation);
+        Mat4 S(1.0);
+        S[0][0] = f.scale.x;
+        S[1][1] = f.scale.y;
+        S[2][2] = f.scale.z;
+        return translation4(f.translation) * translation4(f.center) * Mat4(rotation_matrix(f.rotation)) *
+               Mat4(sr) * S * Mat4(glm::transpose(sr)) * translation4(-f.center);
+    };
+    uint64_t state = 12345;
+    auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        const double u = double(state >> 11) * 0x1.0p-53;
+        return (u - 0.5) * std::pow(10.0, double(int(state % 13)) - 6.0);
+    };
+    const double specials[] = {0.0, -0.0, 1.0, -1.0, 1e-300, -1e300, 3.0e-320};
+    for (int i = 0; i < 2000; ++i) {
+        TransformFields f;
+        f.translation = Vec3(next(), next(), next());
+        if (i < 343) f.translation = Vec3(specials[i % 7], specials[i / 7 % 7], specials[i / 49 % 7]);
+        const Mat4 fast = transform_matrix(f), slow = by_products(f);
+        ASSERT_EQ(std::memcmp(&fast, &slow, sizeof(Mat4)), 0)
+            << f.translation.x << " " << f.translation.y << " " << f.translation.z;
+    }
 }
 
 TEST(SceneTransform, RotationAxisNeedNotBeUnitAndZeroAxisIsIdentity) {
