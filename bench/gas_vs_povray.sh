@@ -100,7 +100,7 @@ for scene in S4 S4lit; do
             wall povray -D -P +WT2 -A +W"$width" +H"$height" +FE +O"${scene}_pov.exr" File_Gamma=1.0 "${scene}_i$n.pov"
         done | median)
         report $scene POV-Ray "intervals $n" "$t" "${scene}_pov.exr" "$ref"
-        too_slow "$t" && break
+        if too_slow "$t"; then break; fi
     done
     for tol in $tols; do
         # shellcheck disable=SC2086
@@ -108,6 +108,6 @@ for scene in S4 S4lit; do
             wall "$bin" render $wrl -W "$width" -H "$height" --threads 2 $opts --tolerance "$tol" -o "${scene}_v.exr" -q
         done | median)
         report $scene vrmlray "tolerance $tol" "$t" "${scene}_v.exr" "$ref"
-        too_slow "$t" && break
+        if too_slow "$t"; then break; fi
     done
 done
