@@ -358,8 +358,7 @@ private:
         if (tree_.nodes.size() >= limits_.max_nodes)
             fail(f, at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         Node n;
-        n.decl = decl;
-        n.type = type_name;
+        n.kind = tree_.kind_of(decl, type_name);
         n.loc = {f.file, at.offset};
         n.first_field = static_cast<uint32_t>(tree_.fields.size());
         n.field_count = static_cast<uint32_t>(scratch_.size() - mark);

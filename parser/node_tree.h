@@ -2,6 +2,7 @@
 // DEF/USE is a shared NodeId (instancing, not copying). PROTO instances are already expanded: a PROTO
 // instance appears as the first node of its body, with IS fields filled in.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -31,14 +32,21 @@ struct FieldEntry {
     uint32_t count = 0;
 };
 
-struct Node {
+// What a node was read as: its interface and its type name. Nodes keep an index into
+// NodeTree::kinds instead of the pair, since a large scene holds millions of nodes of a few kinds.
+struct NodeKind {
     const NodeTypeDecl* decl = nullptr;  // the interface the node was read with
     Name type = kNoName;                 // node type name, e.g. "Transform"
+};
+
+struct Node {
+    uint32_t kind = 0;                   // into NodeTree::kinds
     Name def_name = kNoName;             // DEF name, if any
     SourceLoc loc;                       // where the node's type name stands
     uint32_t first_field = 0;            // into NodeTree::fields
     uint32_t field_count = 0;
 };
+static_assert(sizeof(Node) == 24, "a large scene holds millions of nodes");
 
 // A read-only view of one field's value: the value set in the file, or the grammar default.
 struct FieldView {
@@ -56,6 +64,7 @@ struct FieldView {
 
 struct NodeTree {
     Pool<Node> nodes;
+    std::vector<NodeKind> kinds{NodeKind{}};  // distinct (decl, type) pairs; 0 is (none, no name)
     Pool<FieldEntry> fields;
     Pool<double> numbers;
     std::vector<std::string> strings;
@@ -80,8 +89,17 @@ struct NodeTree {
     int32_t get_int(NodeId node, Name field) const;
     double get_number(NodeId node, Name field) const;  // SFFloat, SFDouble, SFTime
     NodeId get_node(NodeId node, Name field) const;    // SFNode; kNullNode if NULL
-    std::string_view type_name(NodeId node) const { return name_text(nodes[node].type); }
+    const NodeTypeDecl* decl(NodeId node) const { return kinds[nodes[node].kind].decl; }
+    Name type(NodeId node) const { return kinds[nodes[node].kind].type; }
+    std::string_view type_name(NodeId node) const { return name_text(type(node)); }
     std::string_view def_name(NodeId node) const { return name_text(nodes[node].def_name); }
+    // The index in `kinds` of the pair, added if new.
+    uint32_t kind_of(const NodeTypeDecl* decl, Name type);
+
+  private:
+    // Recently used kinds by hash of the pair (readers ask once per node), then all of them.
+    std::array<uint32_t, 64> kind_cache_{};
+    std::unordered_map<uint64_t, std::vector<uint32_t>> kind_index_;
 };
 
 // Statistics the readers keep for `vrmlray info`.

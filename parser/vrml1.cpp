@@ -611,8 +611,7 @@ class Reader {
         if (tree_.nodes.size() + out_.nodes.size() >= limits_.max_nodes)
             fail(type_token, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         Node n;
-        n.decl = &decl;
-        n.type = decl.name;
+        n.kind = tree_.kind_of(&decl, decl.name);
         n.loc = {file_, type_token.offset};
         n.first_field = static_cast<uint32_t>(tree_.fields.size());
         n.field_count = static_cast<uint32_t>(fields.size());

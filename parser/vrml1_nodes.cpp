@@ -227,8 +227,7 @@ NodeId Upgrader::make(Fields& f, SourceLoc loc, Name def) {
         throw SyntaxError{loc.offset,
                           "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)"};
     Node n;
-    n.decl = f.decl;
-    n.type = f.decl->name;
+    n.kind = tree_.kind_of(f.decl, f.decl->name);
     n.def_name = def;
     n.loc = loc;
     n.first_field = static_cast<uint32_t>(tree_.fields.size());

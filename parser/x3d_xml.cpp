@@ -516,8 +516,7 @@ NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, 
     if (tree_.nodes.size() >= limits_.max_nodes)
         fail(file, offset, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
     Node n;
-    n.decl = decl;
-    n.type = type;
+    n.kind = tree_.kind_of(decl, type);
     n.loc = {file, offset};
     n.first_field = static_cast<uint32_t>(tree_.fields.size());
     n.field_count = static_cast<uint32_t>(scratch_.size() - mark);
