@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 namespace vr {
 
@@ -58,6 +59,8 @@ uint32_t SourceManager::add(std::string path, std::string text) {
 }
 
 uint32_t SourceManager::add(std::string path, SourceText text) {
+    if (files_.size() >= kMaxFiles)
+        throw std::length_error("more than " + std::to_string(kMaxFiles) + " source files (limit)");
     auto file = std::make_unique<SourceFile>();
     file->path = std::move(path);
     file->storage = std::move(text);

@@ -376,7 +376,7 @@ class Reader {
                 p = q == std::string_view::npos ? allowed.size() + 1 : q + 1;
             }
             if (!known) {
-                warn(entry.loc.offset,
+                warn(entry.loc.get().offset,
                      "'" + std::string(w) + "' is not a value of " +
                          std::string(name_text(decl->name)) + " (" + decl->range +
                          "); the default is used",
@@ -387,7 +387,7 @@ class Reader {
             kept += w;
         }
         if (kept.empty()) {
-            warn(entry.loc.offset,
+            warn(entry.loc.get().offset,
                  "empty value for " + std::string(name_text(decl->name)) + "; the default is used",
                  "vrml1-enum-empty");
             return false;

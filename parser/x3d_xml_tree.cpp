@@ -283,7 +283,7 @@ void XmlReader::node_end(Open& o) {
             if (children_[k].field == field) tree_.node_refs.push_back(children_[k].id);
         entry.count = static_cast<uint32_t>(tree_.node_refs.size() - entry.begin);
         if (!decl->type.multi && entry.count > 1) {
-            warn(entry.loc.file, entry.loc.offset,
+            warn(entry.loc.get().file, entry.loc.get().offset,
                  "field '" + std::string(name_text(field)) + "' of " + tag_of(o) +
                      " holds one node but was given " + std::to_string(entry.count) +
                      "; the last is used",
