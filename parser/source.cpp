@@ -79,6 +79,14 @@ void SourceManager::release_before(uint32_t file, uint32_t offset) const {
     f.released_to = offset;
 }
 
+void SourceManager::release_all(uint32_t file) const {
+    if (file >= files_.size()) return;
+    const SourceFile& f = *files_[file];
+    if (!f.storage.mapped()) return;
+    f.storage.release(f.released_to, f.text.size());
+    f.released_to = f.text.size();
+}
+
 namespace {
 
 // Counts newlines of whole blocks until block `block` (or the end of the text) has its entry.

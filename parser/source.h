@@ -107,6 +107,8 @@ class SourceManager {
     // megabytes at a time. Nothing changes for anyone reading them again; it only keeps them out of
     // the process's memory.
     void release_before(uint32_t file, uint32_t offset) const;
+    // A reader is done with the whole file: gives back all of its pages at once.
+    void release_all(uint32_t file) const;
 
   private:
     std::vector<std::unique_ptr<SourceFile>> files_;  // pointers stay valid while files are added

@@ -175,6 +175,7 @@ ClassicResult XmlReader::read(uint32_t file) {
         if (last || stopped_) break;
         chunk = events_ == events ? chunk * 2 : kChunk;
     }
+    scene_.sources.release_all(file);  // the last piece too: the scene build comes next
     // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to free.
     if (ctxt_->myDoc) xmlFreeDoc(ctxt_->myDoc);
     xmlFreeParserCtxt(ctxt_);
