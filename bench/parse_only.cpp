@@ -39,7 +39,7 @@ void dump(const LoadedScene& scene) {
         const Node& n = tree.nodes[id];
         std::printf("#%u %s DEF '%s' at %u:%u decl %s\n", id,
                     std::string(tree.type_name(id)).c_str(), std::string(tree.def_name(id)).c_str(),
-                    n.loc.file, n.loc.offset,
+                    n.loc.get().file, n.loc.get().offset,
                     tree.decl(id) ? std::string(name_text(tree.decl(id)->name)).c_str() : "-");
         for (const FieldEntry& e : tree.set_fields(id)) {
             FieldView v = tree.view(e);

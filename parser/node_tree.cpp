@@ -35,6 +35,18 @@ static FieldView view_in(const NodeTree& tree, const FieldEntry& e, bool is_defa
     return v;
 }
 
+NodeId NodeTree::add_node(Node n, uint32_t field_count) {
+    const auto id = static_cast<NodeId>(nodes.size());
+    if (field_count >= Node::kManyFields) {
+        n.few_fields = Node::kManyFields;
+        many_fields[id] = field_count;
+    } else {
+        n.few_fields = static_cast<uint8_t>(field_count);
+    }
+    nodes.push_back(n);
+    return id;
+}
+
 uint32_t NodeTree::kind_of(const NodeTypeDecl* decl, Name type) {
     const uint64_t key = (reinterpret_cast<uintptr_t>(decl) >> 3) ^ (uint64_t(type) << 40);
     uint32_t& cached = kind_cache_[(key * 0x9E3779B97F4A7C15ull) >> 58];
@@ -52,10 +64,8 @@ FieldView NodeTree::view(const FieldEntry& entry) const { return view_in(*this, 
 
 FieldView NodeTree::get(NodeId id, Name field) const {
     const Node& n = nodes[id];
-    for (uint32_t i = 0; i < n.field_count; ++i) {
-        const FieldEntry& e = fields[n.first_field + i];
+    for (const FieldEntry& e : set_fields(id))
         if (e.name == field) return view_in(*this, e, false);
-    }
     const NodeTypeDecl* type = kinds[n.kind].decl;
     if (!type) return {};
     const Registry& reg = Registry::builtin();

@@ -44,11 +44,14 @@ struct NodeKind {
 struct Node {
     uint32_t kind = 0;                   // into NodeTree::kinds
     Name def_name = kNoName;             // DEF name, if any
-    SourceLoc loc;                       // where the node's type name stands
     uint32_t first_field = 0;            // into NodeTree::fields
-    uint32_t field_count = 0;
+    PackedLoc loc;                       // where the node's type name stands
+    // The number of fields set, when below kManyFields; else NodeTree::many_fields has it (one
+    // byte here keeps a node at 20 bytes; only Scripts and PROTOs can declare that many fields).
+    uint8_t few_fields = 0;
+    static constexpr uint8_t kManyFields = 255;
 };
-static_assert(sizeof(Node) == 24, "a large scene holds millions of nodes");
+static_assert(sizeof(Node) == 20, "a large scene holds millions of nodes");
 
 // A read-only view of one field's value: the value set in the file, or the grammar default.
 struct FieldView {
@@ -73,6 +76,8 @@ struct NodeTree {
     Pool<NodeId> node_refs;
 
     std::vector<NodeId> roots;  // top-level nodes of the main file, in order
+    std::unordered_map<NodeId, uint32_t> many_fields;  // field counts of Node::kManyFields or more
+
     // Inline nodes that were resolved: the top-level nodes of the file they name.
     std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;
 
@@ -81,9 +86,14 @@ struct NodeTree {
     FieldView get(NodeId node, std::string_view field) const;  // convenience (interns the name)
     // Explicitly set fields of a node, in file order.
     std::span<const FieldEntry> set_fields(NodeId node) const {
-        const Node& n = nodes[node];
-        return {fields.data() + n.first_field, n.field_count};
+        return {fields.data() + nodes[node].first_field, field_count(node)};
     }
+    uint32_t field_count(NodeId node) const {
+        const Node& n = nodes[node];
+        return n.few_fields < Node::kManyFields ? n.few_fields : many_fields.at(node);
+    }
+    // Appends a node whose `field_count` fields start at n.first_field.
+    NodeId add_node(Node n, uint32_t field_count);
     FieldView view(const FieldEntry& entry) const;
 
     // Typed helpers for the scene builder; they return the default when the field is not set.

@@ -614,9 +614,9 @@ class Reader {
         n.kind = tree_.kind_of(&decl, decl.name);
         n.loc = {file_, type_token.offset};
         n.first_field = static_cast<uint32_t>(tree_.fields.size());
-        n.field_count = static_cast<uint32_t>(fields.size());
+        const uint32_t field_count = static_cast<uint32_t>(fields.size());
         tree_.fields.insert(tree_.fields.end(), fields.begin(), fields.end());
-        tree_.nodes.push_back(n);
+        tree_.add_node(n, field_count);
         return static_cast<NodeId>(tree_.nodes.size() - 1);
     }
 

@@ -520,11 +520,11 @@ NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, 
     n.kind = tree_.kind_of(decl, type);
     n.loc = {file, offset};
     n.first_field = static_cast<uint32_t>(tree_.fields.size());
-    n.field_count = static_cast<uint32_t>(scratch_.size() - mark);
+    const uint32_t field_count = static_cast<uint32_t>(scratch_.size() - mark);
     tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark),
                         scratch_.end());
     scratch_.resize(mark);
-    tree_.nodes.push_back(n);
+    tree_.add_node(n, field_count);
     return static_cast<NodeId>(tree_.nodes.size() - 1);
 }
 

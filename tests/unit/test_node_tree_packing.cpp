@@ -95,5 +95,29 @@ TEST(NodeTreePacking, FieldPlaceInSecondInlineFileIsExact) {
     fs::remove_all(dir);
 }
 
+// A node keeps its field count in one byte; 255 and more go to NodeTree::many_fields.
+TEST(NodeTreePacking, FieldCountsAroundTheOneByteEdge) {
+    NodeTree tree;
+    std::vector<NodeId> ids;
+    for (uint32_t count : {0u, 1u, 254u, 255u, 256u, 70000u, 3u}) {
+        Node n;
+        n.first_field = static_cast<uint32_t>(tree.fields.size());
+        for (uint32_t i = 0; i < count; ++i) {
+            FieldEntry e;
+            e.name = static_cast<Name>(1000 + i);
+            tree.fields.push_back(e);
+        }
+        ids.push_back(tree.add_node(n, count));
+    }
+    const uint32_t expected[] = {0, 1, 254, 255, 256, 70000, 3};
+    for (size_t i = 0; i < ids.size(); ++i) {
+        EXPECT_EQ(tree.field_count(ids[i]), expected[i]);
+        const auto set = tree.set_fields(ids[i]);
+        ASSERT_EQ(set.size(), expected[i]);
+        if (!set.empty()) EXPECT_EQ(set.back().name, static_cast<Name>(1000 + expected[i] - 1));
+    }
+    EXPECT_EQ(tree.many_fields.size(), 3u);
+}
+
 }  // namespace
 }  // namespace vr
