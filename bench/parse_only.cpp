@@ -39,12 +39,12 @@ void dump(const LoadedScene& scene) {
         const Node& n = tree.nodes[id];
         std::printf("#%u %s DEF '%s' at %u:%u decl %s\n", id,
                     std::string(tree.type_name(id)).c_str(), std::string(tree.def_name(id)).c_str(),
-                    n.loc.file, n.loc.offset,
-                    n.decl ? std::string(name_text(n.decl->name)).c_str() : "-");
+                    n.loc.get().file, n.loc.get().offset,
+                    tree.decl(id) ? std::string(name_text(tree.decl(id)->name)).c_str() : "-");
         for (const FieldEntry& e : tree.set_fields(id)) {
             FieldView v = tree.view(e);
             std::printf("  %s %s at %u:%u =", std::string(name_text(e.name)).c_str(),
-                        std::string(type_name(e.type)).c_str(), e.loc.file, e.loc.offset);
+                        std::string(type_name(e.type)).c_str(), e.loc.get().file, e.loc.get().offset);
             dump_value(tree, v);
             std::printf("\n");
         }

@@ -55,6 +55,9 @@ public:
             scene_.diagnostics.error({error_file_, e.offset}, e.message);
             result.ok = false;
         }
+        // The last few megabytes release_before kept (it frees in steps) would stay resident
+        // through the scene build, the peak of a large scene's memory.
+        scene_.sources.release_all(file);
         return result;
     }
 
@@ -358,14 +361,13 @@ private:
         if (tree_.nodes.size() >= limits_.max_nodes)
             fail(f, at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         Node n;
-        n.decl = decl;
-        n.type = type_name;
+        n.kind = tree_.kind_of(decl, type_name);
         n.loc = {f.file, at.offset};
         n.first_field = static_cast<uint32_t>(tree_.fields.size());
-        n.field_count = static_cast<uint32_t>(scratch_.size() - mark);
+        const uint32_t field_count = static_cast<uint32_t>(scratch_.size() - mark);
         tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark), scratch_.end());
         scratch_.resize(mark);
-        tree_.nodes.push_back(n);
+        tree_.add_node(n, field_count);
         if (f.whole_file) scene_.sources.release_before(f.file, f.lexer.position());
         return static_cast<NodeId>(tree_.nodes.size() - 1);
     }

@@ -14,11 +14,17 @@ enum class ValueKind : uint8_t {
     Matrix3f, Matrix4f, Matrix3d, Matrix4d,
 };
 
+// One byte, so that the node tree's FieldEntry packs into 20 bytes.
+// (Constructors rather than member initializers: GCC 12 rejects `return {}` for aggregates holding
+// bit-fields with default member initializers.)
 struct FieldType {
-    ValueKind kind = ValueKind::Float;
-    bool multi = false;  // MF (true) or SF (false)
+    ValueKind kind : 7;
+    bool multi : 1;  // MF (true) or SF (false)
+    constexpr FieldType() : kind(ValueKind::Float), multi(false) {}
+    constexpr FieldType(ValueKind k, bool mf = false) : kind(k), multi(mf) {}
     bool operator==(const FieldType&) const = default;
 };
+static_assert(sizeof(FieldType) == 1);
 
 // Numbers in one value of this kind (SFImage: 0, it is variable; String and Node: 0, they are not numbers).
 // Inline: the readers ask once per value. field_type.cpp checks the table against the kind table.

@@ -324,7 +324,7 @@ private:
         NodeTree& tree = scene_.tree;
         const size_t end = tree.nodes.size();
         for (size_t id = first_node; id < end; ++id) {
-            if (tree.nodes[id].type != kInline) continue;
+            if (tree.type(id) != kInline) continue;
             FieldView urls = tree.get(static_cast<NodeId>(id), kUrl);
             std::vector<std::string> list(urls.strings.begin(), urls.strings.end());
             if (list.empty()) continue;  // an Inline with no URL loads nothing, as specified

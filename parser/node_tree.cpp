@@ -35,17 +35,41 @@ static FieldView view_in(const NodeTree& tree, const FieldEntry& e, bool is_defa
     return v;
 }
 
+NodeId NodeTree::add_node(Node n, uint32_t field_count) {
+    const auto id = static_cast<NodeId>(nodes.size());
+    if (field_count >= Node::kManyFields) {
+        n.few_fields = Node::kManyFields;
+        many_fields[id] = field_count;
+    } else {
+        n.few_fields = static_cast<uint8_t>(field_count);
+    }
+    nodes.push_back(n);
+    return id;
+}
+
+uint32_t NodeTree::kind_of(const NodeTypeDecl* decl, Name type) {
+    const uint64_t key = (reinterpret_cast<uintptr_t>(decl) >> 3) ^ (uint64_t(type) << 40);
+    uint32_t& cached = kind_cache_[(key * 0x9E3779B97F4A7C15ull) >> 58];
+    if (kinds[cached].decl == decl && kinds[cached].type == type) return cached;
+    std::vector<uint32_t>& same_key = kind_index_[key];
+    for (uint32_t k : same_key)
+        if (kinds[k].decl == decl && kinds[k].type == type) return cached = k;
+    const auto k = static_cast<uint32_t>(kinds.size());
+    kinds.push_back({decl, type});
+    same_key.push_back(k);
+    return cached = k;
+}
+
 FieldView NodeTree::view(const FieldEntry& entry) const { return view_in(*this, entry, false); }
 
 FieldView NodeTree::get(NodeId id, Name field) const {
     const Node& n = nodes[id];
-    for (uint32_t i = 0; i < n.field_count; ++i) {
-        const FieldEntry& e = fields[n.first_field + i];
+    for (const FieldEntry& e : set_fields(id))
         if (e.name == field) return view_in(*this, e, false);
-    }
-    if (!n.decl) return {};
+    const NodeTypeDecl* type = kinds[n.kind].decl;
+    if (!type) return {};
     const Registry& reg = Registry::builtin();
-    const FieldDecl* decl = reg.lookup_field(n.decl->spec, *n.decl, field);
+    const FieldDecl* decl = reg.lookup_field(type->spec, *type, field);
     if (!decl || decl->default_field == UINT32_MAX) return {};
     const NodeTree& defaults = reg.defaults();
     return view_in(defaults, defaults.fields[decl->default_field], true);

@@ -2,6 +2,7 @@
 // DEF/USE is a shared NodeId (instancing, not copying). PROTO instances are already expanded: a PROTO
 // instance appears as the first node of its body, with IS fields filled in.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -23,22 +24,34 @@ constexpr NodeId kNullNode = UINT32_MAX;
 
 // One field value set in a file. `begin`/`count` index the pool that fits the type: numbers for numeric
 // kinds (count = number of doubles, i.e. values * components), strings for String, node_refs for Node.
+// 20 bytes (type and place packed): a 100 MB scene holds some 3 million.
 struct FieldEntry {
     Name name = kNoName;
     FieldType type;
-    SourceLoc loc;
+    PackedLoc loc;  // where the value starts
     uint32_t begin = 0;
     uint32_t count = 0;
 };
+static_assert(sizeof(FieldEntry) == 20);
 
-struct Node {
+// What a node was read as: its interface and its type name. Nodes keep an index into
+// NodeTree::kinds instead of the pair, since a large scene holds millions of nodes of a few kinds.
+struct NodeKind {
     const NodeTypeDecl* decl = nullptr;  // the interface the node was read with
     Name type = kNoName;                 // node type name, e.g. "Transform"
-    Name def_name = kNoName;             // DEF name, if any
-    SourceLoc loc;                       // where the node's type name stands
-    uint32_t first_field = 0;            // into NodeTree::fields
-    uint32_t field_count = 0;
 };
+
+struct Node {
+    uint32_t kind = 0;                   // into NodeTree::kinds
+    Name def_name = kNoName;             // DEF name, if any
+    uint32_t first_field = 0;            // into NodeTree::fields
+    PackedLoc loc;                       // where the node's type name stands
+    // The number of fields set, when below kManyFields; else NodeTree::many_fields has it (one
+    // byte here keeps a node at 20 bytes; only Scripts and PROTOs can declare that many fields).
+    uint8_t few_fields = 0;
+    static constexpr uint8_t kManyFields = 255;
+};
+static_assert(sizeof(Node) == 20, "a large scene holds millions of nodes");
 
 // A read-only view of one field's value: the value set in the file, or the grammar default.
 struct FieldView {
@@ -56,12 +69,15 @@ struct FieldView {
 
 struct NodeTree {
     Pool<Node> nodes;
+    std::vector<NodeKind> kinds{NodeKind{}};  // distinct (decl, type) pairs; 0 is (none, no name)
     Pool<FieldEntry> fields;
     Pool<double> numbers;
     std::vector<std::string> strings;
     Pool<NodeId> node_refs;
 
     std::vector<NodeId> roots;  // top-level nodes of the main file, in order
+    std::unordered_map<NodeId, uint32_t> many_fields;  // field counts of Node::kManyFields or more
+
     // Inline nodes that were resolved: the top-level nodes of the file they name.
     std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;
 
@@ -70,9 +86,14 @@ struct NodeTree {
     FieldView get(NodeId node, std::string_view field) const;  // convenience (interns the name)
     // Explicitly set fields of a node, in file order.
     std::span<const FieldEntry> set_fields(NodeId node) const {
-        const Node& n = nodes[node];
-        return {fields.data() + n.first_field, n.field_count};
+        return {fields.data() + nodes[node].first_field, field_count(node)};
     }
+    uint32_t field_count(NodeId node) const {
+        const Node& n = nodes[node];
+        return n.few_fields < Node::kManyFields ? n.few_fields : many_fields.at(node);
+    }
+    // Appends a node whose `field_count` fields start at n.first_field.
+    NodeId add_node(Node n, uint32_t field_count);
     FieldView view(const FieldEntry& entry) const;
 
     // Typed helpers for the scene builder; they return the default when the field is not set.
@@ -80,8 +101,17 @@ struct NodeTree {
     int32_t get_int(NodeId node, Name field) const;
     double get_number(NodeId node, Name field) const;  // SFFloat, SFDouble, SFTime
     NodeId get_node(NodeId node, Name field) const;    // SFNode; kNullNode if NULL
-    std::string_view type_name(NodeId node) const { return name_text(nodes[node].type); }
+    const NodeTypeDecl* decl(NodeId node) const { return kinds[nodes[node].kind].decl; }
+    Name type(NodeId node) const { return kinds[nodes[node].kind].type; }
+    std::string_view type_name(NodeId node) const { return name_text(type(node)); }
     std::string_view def_name(NodeId node) const { return name_text(nodes[node].def_name); }
+    // The index in `kinds` of the pair, added if new.
+    uint32_t kind_of(const NodeTypeDecl* decl, Name type);
+
+  private:
+    // Recently used kinds by hash of the pair (readers ask once per node), then all of them.
+    std::array<uint32_t, 64> kind_cache_{};
+    std::unordered_map<uint64_t, std::vector<uint32_t>> kind_index_;
 };
 
 // Statistics the readers keep for `vrmlray info`.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 namespace vr {
 
@@ -58,6 +59,8 @@ uint32_t SourceManager::add(std::string path, std::string text) {
 }
 
 uint32_t SourceManager::add(std::string path, SourceText text) {
+    if (files_.size() >= kMaxFiles)
+        throw std::length_error("more than " + std::to_string(kMaxFiles) + " source files (limit)");
     auto file = std::make_unique<SourceFile>();
     file->path = std::move(path);
     file->storage = std::move(text);
@@ -74,6 +77,14 @@ void SourceManager::release_before(uint32_t file, uint32_t offset) const {
     if (!f.storage.mapped() || offset < f.released_to + kStep) return;
     f.storage.release(f.released_to, offset);
     f.released_to = offset;
+}
+
+void SourceManager::release_all(uint32_t file) const {
+    if (file >= files_.size()) return;
+    const SourceFile& f = *files_[file];
+    if (!f.storage.mapped()) return;
+    f.storage.release(f.released_to, f.text.size());
+    f.released_to = f.text.size();
 }
 
 namespace {

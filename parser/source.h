@@ -17,6 +17,28 @@ struct SourceLoc {
     bool valid() const { return file != UINT32_MAX; }
 };
 
+// A SourceLoc in 7 bytes with no alignment, for the node tree's millions of field entries: the file
+// index has 24 bits, which SourceManager::add guarantees (kMaxFiles).
+struct PackedLoc {
+    uint8_t bytes[7] = {0xff, 0xff, 0xff, 0, 0, 0, 0};  // file (3), offset (4), little-endian
+    PackedLoc() = default;
+    PackedLoc(uint32_t file, uint32_t offset) : PackedLoc(SourceLoc{file, offset}) {}
+    PackedLoc(SourceLoc loc) {
+        const uint32_t f = loc.valid() ? loc.file : kNoFile;
+        for (int i = 0; i < 3; ++i) bytes[i] = static_cast<uint8_t>(f >> (8 * i));
+        for (int i = 0; i < 4; ++i) bytes[3 + i] = static_cast<uint8_t>(loc.offset >> (8 * i));
+    }
+    operator SourceLoc() const { return get(); }
+    SourceLoc get() const {
+        uint32_t f = 0, o = 0;
+        for (int i = 0; i < 3; ++i) f |= uint32_t(bytes[i]) << (8 * i);
+        for (int i = 0; i < 4; ++i) o |= uint32_t(bytes[3 + i]) << (8 * i);
+        return {f == kNoFile ? UINT32_MAX : f, o};
+    }
+    bool valid() const { return get().valid(); }
+    static constexpr uint32_t kNoFile = 0xffffff;  // no place (SourceLoc's UINT32_MAX)
+};
+
 struct LineCol {
     uint32_t line = 0;    // 1-based
     uint32_t column = 0;  // 1-based, in bytes
@@ -69,6 +91,9 @@ struct SourceFile {
 
 class SourceManager {
   public:
+    // Files one scene may read (main file, Inlines, EXTERNPROTO files): indices fit PackedLoc.
+    static constexpr uint32_t kMaxFiles = PackedLoc::kNoFile;
+    // Throws std::length_error past kMaxFiles files.
     uint32_t add(std::string path, std::string text);
     uint32_t add(std::string path, SourceText text);
     const SourceFile& file(uint32_t index) const { return *files_.at(index); }
@@ -82,6 +107,8 @@ class SourceManager {
     // megabytes at a time. Nothing changes for anyone reading them again; it only keeps them out of
     // the process's memory.
     void release_before(uint32_t file, uint32_t offset) const;
+    // A reader is done with the whole file: gives back all of its pages at once.
+    void release_all(uint32_t file) const;
 
   private:
     std::vector<std::unique_ptr<SourceFile>> files_;  // pointers stay valid while files are added

@@ -376,7 +376,7 @@ class Reader {
                 p = q == std::string_view::npos ? allowed.size() + 1 : q + 1;
             }
             if (!known) {
-                warn(entry.loc.offset,
+                warn(entry.loc.get().offset,
                      "'" + std::string(w) + "' is not a value of " +
                          std::string(name_text(decl->name)) + " (" + decl->range +
                          "); the default is used",
@@ -387,7 +387,7 @@ class Reader {
             kept += w;
         }
         if (kept.empty()) {
-            warn(entry.loc.offset,
+            warn(entry.loc.get().offset,
                  "empty value for " + std::string(name_text(decl->name)) + "; the default is used",
                  "vrml1-enum-empty");
             return false;
@@ -611,13 +611,12 @@ class Reader {
         if (tree_.nodes.size() + out_.nodes.size() >= limits_.max_nodes)
             fail(type_token, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         Node n;
-        n.decl = &decl;
-        n.type = decl.name;
+        n.kind = tree_.kind_of(&decl, decl.name);
         n.loc = {file_, type_token.offset};
         n.first_field = static_cast<uint32_t>(tree_.fields.size());
-        n.field_count = static_cast<uint32_t>(fields.size());
+        const uint32_t field_count = static_cast<uint32_t>(fields.size());
         tree_.fields.insert(tree_.fields.end(), fields.begin(), fields.end());
-        tree_.nodes.push_back(n);
+        tree_.add_node(n, field_count);
         return static_cast<NodeId>(tree_.nodes.size() - 1);
     }
 

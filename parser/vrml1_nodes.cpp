@@ -227,14 +227,13 @@ NodeId Upgrader::make(Fields& f, SourceLoc loc, Name def) {
         throw SyntaxError{loc.offset,
                           "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)"};
     Node n;
-    n.decl = f.decl;
-    n.type = f.decl->name;
+    n.kind = tree_.kind_of(f.decl, f.decl->name);
     n.def_name = def;
     n.loc = loc;
     n.first_field = static_cast<uint32_t>(tree_.fields.size());
-    n.field_count = static_cast<uint32_t>(f.list.size());
+    const uint32_t field_count = static_cast<uint32_t>(f.list.size());
     tree_.fields.insert(tree_.fields.end(), f.list.begin(), f.list.end());
-    tree_.nodes.push_back(n);
+    tree_.add_node(n, field_count);
     f.list.clear();
     return static_cast<NodeId>(tree_.nodes.size() - 1);
 }

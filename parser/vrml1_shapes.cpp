@@ -193,7 +193,7 @@ NodeId Upgrader::appearance(const State& s, NodeId material_node) {
     set_node(f, n.material, material_node);
     set_node(f, n.texture, tex);
     set_node(f, n.textureTransform, tt);
-    const SourceLoc loc = material_node != kNullNode ? tree_.nodes[material_node].loc : SourceLoc{};
+    const SourceLoc loc = material_node != kNullNode ? tree_.nodes[material_node].loc.get() : SourceLoc{};
     NodeId node = make(f, loc);
     values_[key] = node;
     return node;

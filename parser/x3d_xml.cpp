@@ -175,6 +175,7 @@ ClassicResult XmlReader::read(uint32_t file) {
         if (last || stopped_) break;
         chunk = events_ == events ? chunk * 2 : kChunk;
     }
+    scene_.sources.release_all(file);  // the last piece too: the scene build comes next
     // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to free.
     if (ctxt_->myDoc) xmlFreeDoc(ctxt_->myDoc);
     xmlFreeParserCtxt(ctxt_);
@@ -516,15 +517,14 @@ NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, 
     if (tree_.nodes.size() >= limits_.max_nodes)
         fail(file, offset, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
     Node n;
-    n.decl = decl;
-    n.type = type;
+    n.kind = tree_.kind_of(decl, type);
     n.loc = {file, offset};
     n.first_field = static_cast<uint32_t>(tree_.fields.size());
-    n.field_count = static_cast<uint32_t>(scratch_.size() - mark);
+    const uint32_t field_count = static_cast<uint32_t>(scratch_.size() - mark);
     tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark),
                         scratch_.end());
     scratch_.resize(mark);
-    tree_.nodes.push_back(n);
+    tree_.add_node(n, field_count);
     return static_cast<NodeId>(tree_.nodes.size() - 1);
 }
 

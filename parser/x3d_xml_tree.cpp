@@ -192,7 +192,7 @@ void XmlReader::use_start(const XmlElement& e, const XmlAttr& use, bool instance
                  "xml-use-attribute");
         }
     }
-    if (!instance && o.use != kNullNode && tree_.nodes[o.use].type != e.tag)
+    if (!instance && o.use != kNullNode && tree_.type(o.use) != e.tag)
         warn(e.file, e.offset,
              "USE '" + name + "' names a " + std::string(tree_.type_name(o.use)) + ", not a " +
                  std::string(name_text(e.tag)),
@@ -283,7 +283,7 @@ void XmlReader::node_end(Open& o) {
             if (children_[k].field == field) tree_.node_refs.push_back(children_[k].id);
         entry.count = static_cast<uint32_t>(tree_.node_refs.size() - entry.begin);
         if (!decl->type.multi && entry.count > 1) {
-            warn(entry.loc.file, entry.loc.offset,
+            warn(entry.loc.get().file, entry.loc.get().offset,
                  "field '" + std::string(name_text(field)) + "' of " + tag_of(o) +
                      " holds one node but was given " + std::to_string(entry.count) +
                      "; the last is used",
@@ -339,7 +339,7 @@ void XmlReader::attach(NodeId id, const Open& child) {
         children_.push_back({field->name, id});
         return;
     }
-    const Name wanted_name = default_container(tree_.nodes[id].type);
+    const Name wanted_name = default_container(tree_.type(id));
     const FieldDecl* field = registry_.lookup_field(Spec::X3d, *parent.decl, wanted_name);
     if (!field || field->type.kind != ValueKind::Node || !has_value(field->access)) {
         const std::string wanted(name_text(wanted_name));

@@ -21,7 +21,7 @@ int run_info(const std::string& path, const CommonOptions& common) {
     const ReadStats& s = loaded.stats;
 
     std::map<std::string_view, size_t> by_type;
-    for (const Node& n : tree.nodes) ++by_type[name_text(n.type)];
+    for (const Node& n : tree.nodes) ++by_type[name_text(tree.kinds[n.kind].type)];
     std::printf("nodes       %zu read (PROTO bodies expanded), %zu top-level\n", tree.nodes.size(), tree.roots.size());
     std::vector<std::pair<std::string_view, size_t>> sorted(by_type.begin(), by_type.end());
     std::sort(sorted.begin(), sorted.end(), [](auto& a, auto& b) { return a.second != b.second ? a.second > b.second : a.first < b.first; });

@@ -152,7 +152,7 @@ std::span<const NodeId> Builder::nodes(NodeId n, Name f) const { return tree_.ge
 
 sg::Origin Builder::origin(NodeId n) const {
     const Node& node = tree_.nodes[n];
-    return sg::Origin{node.type, node.def_name, node.loc};
+    return sg::Origin{tree_.type(n), node.def_name, node.loc};
 }
 
 sg::Index Builder::hints(NodeId n) {
@@ -236,7 +236,7 @@ void Builder::reserve() {
     const Names& n = names();
     size_t groups = 1, shapes = 0, transforms = 0;
     for (const Node& node : tree_.nodes) {
-        const Name t = node.type;
+        const Name t = tree_.kinds[node.kind].type;
         if (t == n.Shape) {
             ++shapes;
             continue;

@@ -133,7 +133,7 @@ class Builder {
     sg::Origin origin(NodeId node) const;
     sg::Index hints(
         NodeId node);  // the node's `metadata` hints, stored in Scene::hints if there are any
-    Name type(NodeId node) const { return tree_.nodes[node].type; }
+    Name type(NodeId node) const { return tree_.type(node); }
     // A warning about `node` ("Type 'DEF': message"); `cause` is merged across nodes.
     void warn(NodeId node, std::string_view cause, const std::string& message);
     std::filesystem::path file_of(NodeId node) const;

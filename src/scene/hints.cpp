@@ -72,7 +72,7 @@ class HintReader {
 
     // Finds the "vrmlray" MetadataSet at or below `node` (bounded depth: metadata may nest).
     NodeId find_set(NodeId node, int depth) {
-        if (node == kNullNode || depth > 8 || tree_.nodes[node].type != names().metadata_set)
+        if (node == kNullNode || depth > 8 || tree_.type(node) != names().metadata_set)
             return kNullNode;
         const FieldView name = tree_.get(node, names().name);
         if (!name.strings.empty() && name.strings[0] == "vrmlray") return node;

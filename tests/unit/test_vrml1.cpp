@@ -39,7 +39,7 @@ void expect_same_node(const vr::NodeTree& ta, vr::NodeId a, const vr::NodeTree& 
     ASSERT_NE(a, vr::kNullNode);
     ASSERT_NE(b, vr::kNullNode);
     ASSERT_EQ(ta.type_name(a), tb.type_name(b));
-    for (const vr::FieldDecl& f : ta.nodes[a].decl->fields) {
+    for (const vr::FieldDecl& f : ta.decl(a)->fields) {
         if (!vr::has_value(f.access)) continue;
         const std::string name(vr::name_text(f.name));
         vr::FieldView va = ta.get(a, f.name), vb = tb.get(b, f.name);
@@ -79,8 +79,8 @@ TEST(Vrml1, EveryCorpusFileLoads) {
         EXPECT_FALSE(scene.tree.roots.empty()) << entry.path();
         // The upgraded tree holds VRML97 nodes only.
         for (const vr::Node& n : scene.tree.nodes)
-            EXPECT_NE(n.decl->spec, vr::Spec::Vrml1)
-                << entry.path() << ": " << vr::name_text(n.type);
+            EXPECT_NE(scene.tree.kinds[n.kind].decl->spec, vr::Spec::Vrml1)
+                << entry.path() << ": " << vr::name_text(scene.tree.kinds[n.kind].type);
     }
     EXPECT_GE(files, 9u);
 }
