@@ -11,6 +11,22 @@ double half_area(const BvhNode& n) {
     return dx * dy + dy * dz + dz * dx;
 }
 
+// A node over the n binary nodes `kids` (leaves keep their primitive range; interior children's indices
+// are set by the caller); unused lanes get the empty box.
+Bvh4Node make_node(const BvhNode* const* kids, int n) {
+    Bvh4Node node;
+    for (int c = 0; c < 4; ++c) {
+        for (int k = 0; k < 3; ++k) {
+            node.lo[k][c] = c < n ? kids[c]->lo[k] : INFINITY;
+            node.hi[k][c] = c < n ? kids[c]->hi[k] : -INFINITY;
+        }
+        node.child[c] = c < n && kids[c]->count > 0 ? kids[c]->offset : 0;
+        node.count[c] = c < n ? kids[c]->count : 0;
+    }
+    node.lanes = uint8_t(n);
+    return node;
+}
+
 // Fills node `at` of `out` from the binary interior node `b`: its children, with the interior child of
 // largest area opened while fewer than four (the usual greedy collapse: big boxes are the ones rays meet).
 void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
@@ -29,22 +45,9 @@ void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
         kids[open] = &binary.nodes[opened->offset];
         kids[n++] = &binary.nodes[opened->offset + 1];
     }
-    Bvh4Node node;
-    for (int c = 0; c < 4; ++c) {
-        for (int k = 0; k < 3; ++k) {
-            node.lo[k][c] = c < n ? kids[c]->lo[k] : INFINITY;
-            node.hi[k][c] = c < n ? kids[c]->hi[k] : -INFINITY;
-        }
-        node.child[c] = 0;
-        node.count[c] = c < n ? kids[c]->count : 0;
-    }
-    node.lanes = uint8_t(n);
-    out.nodes[at] = node;
+    out.nodes[at] = make_node(kids, n);
     for (int c = 0; c < n; ++c) {
-        if (kids[c]->count > 0) {
-            out.nodes[at].child[c] = kids[c]->offset;
-            continue;
-        }
+        if (kids[c]->count > 0) continue;
         const uint32_t index = uint32_t(out.nodes.size());
         out.nodes.emplace_back();
         out.nodes[at].child[c] = index;
@@ -63,17 +66,8 @@ Bvh4 collapse_bvh(const Bvh& binary) {
     out.nodes.emplace_back();
     const BvhNode& root = binary.nodes[0];
     if (root.count > 0) {  // a single leaf: one lane
-        Bvh4Node node;
-        for (int c = 0; c < 4; ++c) {
-            for (int k = 0; k < 3; ++k) {
-                node.lo[k][c] = c == 0 ? root.lo[k] : INFINITY;
-                node.hi[k][c] = c == 0 ? root.hi[k] : -INFINITY;
-            }
-            node.child[c] = c == 0 ? root.offset : 0;
-            node.count[c] = c == 0 ? root.count : 0;
-        }
-        node.lanes = 1;
-        out.nodes[0] = node;
+        const BvhNode* only = &root;
+        out.nodes[0] = make_node(&only, 1);
         return out;
     }
     collapse(binary, root, 0, out);
