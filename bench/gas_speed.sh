@@ -21,10 +21,7 @@ ref_bin=${bins[${#bins[@]} - 1]}
 harness=$root/../shared/bench
 work=${TMPDIR:-/tmp}/vrmlray_gas_speed
 mkdir -p "$work"
-/usr/bin/python3 -c "import numpy" 2>/dev/null || {
-    sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo
-    $sudo apt-get install -y -qq python3-numpy >&2
-}
+"$root/tools/setup.sh" python3-numpy
 [ -s "$work/mol60k.wrl" ] || python3 "$root/tools/gen_molecule.py" 60000 "$work/mol60k.wrl" --no-bonds
 [ -s "$work/S4_gas_1k.wrl" ] || /usr/bin/python3 "$harness/gen_scene.py" "$harness/specs/s4_gas_1k.json" \
     --out "$work" --formats wrl >/dev/null

@@ -32,13 +32,7 @@ harness=$root/../shared/bench
 work=${TMPDIR:-/tmp}/vrmlray_gas_vs_povray
 mkdir -p "$work"
 cd "$work"
-need=()
-command -v povray >/dev/null || need+=(povray)
-/usr/bin/python3 -c "import numpy" 2>/dev/null || need+=(python3-numpy)
-if [ ${#need[@]} -gt 0 ]; then
-    sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo
-    $sudo apt-get install -y -qq "${need[@]}" >&2
-fi
+"$root/tools/setup.sh" povray python3-numpy
 [ -s S4_gas_1k.wrl ] && [ -s S4_gas_1k.pov ] ||
     /usr/bin/python3 "$harness/gen_scene.py" "$harness/specs/s4_gas_1k.json" --out "$work" --formats wrl,pov >/dev/null
 

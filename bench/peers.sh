@@ -13,13 +13,7 @@ scenes=("$@")
 harness=$root/../shared/bench
 work=${TMPDIR:-/tmp}/vrmlray_peers
 mkdir -p "$work"
-need=()
-command -v tachyon >/dev/null || need+=(tachyon)
-/usr/bin/python3 -c "import numpy" 2>/dev/null || need+=(python3-numpy)
-if [ ${#need[@]} -gt 0 ]; then
-    sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo
-    $sudo apt-get install -y -qq "${need[@]}" >&2
-fi
+"$root/tools/setup.sh" tachyon python3-numpy
 declare -A spec=([S1_single]=s1_single [S2_molecule_10k]=s2_molecule_10k [S3_spheres_1M]=s3_spheres_1M [S4_gas_1k]=s4_gas_1k)
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 wall() {  # wall seconds of one command

@@ -6,8 +6,8 @@
 //
 // The test is the binary tree's, lane by lane: single-precision planes rounded outwards at build, the
 // slab distances in double, the exit distance widened by pbrt's 1 + 2 gamma(3), NaN (a ray lying in a
-// slab plane) never shrinking the interval. An unused lane has the empty box (lo = +inf, hi = -inf),
-// which no ray enters.
+// slab plane) never shrinking the interval. Lanes past `lanes` are masked out of the test; their boxes
+// are also empty (lo = +inf, hi = -inf), so that code reading the boxes alone finds nothing there.
 #pragma once
 #include <cstdint>
 #include <vector>
