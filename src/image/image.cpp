@@ -95,9 +95,13 @@ uint32_t quantize(float value, bool srgb, double max_code) {
 
 // quantize(value, true, 255) without a pow per sample: code i + 1 starts at the smallest float whose
 // code is at least i + 1, found once by bisection over the bit patterns of [0, 1] (ordered like their
-// values) with quantize itself, so the two agree on every float.
+// values) with quantize itself, so the two agree on every float. A sample's code is then its bucket's
+// first code (the bucket: the top 16 bits of the float, 2^-7 of its value wide), stepped past the code
+// starts in the bucket: none or one, as a code spans at least 0.9% of its linear value.
 struct Srgb8 {
-    float first[255];  // first[i]: where code i + 1 starts
+    static constexpr uint32_t kOneBits = 0x3F800000u;  // 1.0f
+    float first[255];                               // first[i]: where code i + 1 starts
+    uint8_t bucket[(kOneBits >> 16) + 1];           // code of the smallest float of each bucket
     Srgb8() {
         for (uint32_t code = 1; code <= 255; ++code) {
             uint32_t lo = 0, hi = 0x3F800000u;  // 0.0f, 1.0f: quantize(1) = 255
@@ -110,11 +114,25 @@ struct Srgb8 {
             }
             std::memcpy(&first[code - 1], &lo, sizeof(float));
         }
+        for (uint32_t b = 0; b <= (kOneBits >> 16); ++b) {
+            const uint32_t bits = b << 16;
+            float f;
+            std::memcpy(&f, &bits, sizeof f);
+            // Codes are monotone in the value: count the starts at or below it.
+            bucket[b] = uint8_t(std::upper_bound(first, first + 255, f) - first);
+        }
     }
     uint8_t operator()(float value) const {
-        const float v = finite_or_zero(value);
-        // Codes are monotone in the value: count the starts at or below it (NaN was made 0).
-        return uint8_t(std::upper_bound(first, first + 255, v) - first);
+        uint32_t bits;
+        std::memcpy(&bits, &value, sizeof bits);
+        if (bits >= kOneBits) {
+            // [1, +inf] (+inf counts as the largest float) is 255; negatives (the sign bit), -0 and
+            // NaN are 0.
+            return bits <= 0x7F800000u ? 255 : 0;
+        }
+        uint32_t code = bucket[bits >> 16];
+        while (code < 255 && value >= first[code]) ++code;
+        return uint8_t(code);
     }
 };
 
@@ -125,27 +143,34 @@ std::string format_name(const std::string& ext) {
     return name.empty() ? std::string("the image") : name;
 }
 
-// Converts `image` to the interleaved samples stored in the file (nchannels per pixel).
+// Converts `count` RGBA pixels at `in` to the interleaved samples stored in the file (nchannels per
+// pixel) at `out`.
 template <typename T>
-std::vector<T> to_integer_samples(const Image& image, int nchannels, bool srgb, double max_code) {
-    const size_t npix = size_t(image.width) * size_t(image.height);
-    std::vector<T> out(npix * size_t(nchannels));
+void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
     if (srgb && max_code == 255.0) {
         static const Srgb8 encode;
-        for (size_t p = 0; p < npix; ++p) {
-            const float* px = image.rgba.data() + p * 4;
+        for (size_t p = 0; p < count; ++p) {
+            const float* px = in + p * 4;
             for (int c = 0; c < nchannels; ++c)
                 out[p * nchannels + c] = T(c == 3 ? quantize(px[c], false, max_code) : encode(px[c]));
         }
-        return out;
+        return;
     }
-    for (size_t p = 0; p < npix; ++p) {
-        const float* px = image.rgba.data() + p * 4;
+    for (size_t p = 0; p < count; ++p) {
+        const float* px = in + p * 4;
         for (int c = 0; c < nchannels; ++c) {
             const bool is_alpha = c == 3;
             out[p * nchannels + c] = T(quantize(px[c], srgb && !is_alpha, max_code));
         }
     }
+}
+
+template <typename T>
+std::vector<T> to_integer_samples(const Image& image, int nchannels, bool srgb, double max_code) {
+    const size_t npix = size_t(image.width) * size_t(image.height);
+    std::vector<T> out;
+    resize_huge(out, npix * size_t(nchannels));
+    to_integer_samples(image.rgba.data(), npix, nchannels, srgb, max_code, out.data());
     return out;
 }
 
@@ -163,16 +188,22 @@ std::vector<float> to_float_samples(const Image& image, int nchannels, bool clam
     return out;
 }
 
-// Binary PPM (P6), byte for byte what OpenImageIO's writer produced.
-bool write_ppm(const std::string& path, const Image& image, bool srgb, std::string& error) {
-    const std::vector<uint8_t> samples = to_integer_samples<uint8_t>(image, 3, srgb, 255.0);
+// Binary PPM (P6), byte for byte what OpenImageIO's writer produced, written a block of rows at a time:
+// `rows(first, count)` returns the 3-byte pixels of rows [first, first + count), valid until the next call.
+template <class RowsFn>
+bool write_ppm(const std::string& path, int width, int height, RowsFn&& rows, std::string& error) {
     FILE* f = std::fopen(path.c_str(), "wb");
     if (!f) {
         error = std::strerror(errno);
         return false;
     }
-    const bool written = std::fprintf(f, "P6\n%d %d\n255\n", image.width, image.height) > 0 &&
-                         std::fwrite(samples.data(), 1, samples.size(), f) == samples.size();
+    const size_t row_bytes = size_t(width) * 3;
+    const size_t block = std::max<size_t>(1, (size_t(64) << 10) / row_bytes);  // rows in ~64 KiB
+    bool written = std::fprintf(f, "P6\n%d %d\n255\n", width, height) > 0;
+    for (size_t y = 0; written && y < size_t(height); y += block) {
+        const size_t n = std::min(block, size_t(height) - y);
+        written = std::fwrite(rows(y, n), 1, n * row_bytes, f) == n * row_bytes;
+    }
     const bool closed = std::fclose(f) == 0;
     if (!written || !closed) {
         error = std::string("write error: ") + std::strerror(errno);
@@ -180,6 +211,22 @@ bool write_ppm(const std::string& path, const Image& image, bool srgb, std::stri
         return false;
     }
     return true;
+}
+
+// From float pixels, converted a block at a time: the block's buffer stays in cache, and no file-sized
+// buffer is faulted in.
+bool write_ppm(const std::string& path, const Image& image, bool srgb, std::string& error) {
+    std::vector<uint8_t> block;
+    const size_t width = size_t(image.width);
+    return write_ppm(
+        path, image.width, image.height,
+        [&](size_t first, size_t count) {
+            block.resize(count * width * 3);
+            to_integer_samples<uint8_t>(image.rgba.data() + first * width * 4, count * width, 3, srgb, 255.0,
+                                        block.data());
+            return block.data();
+        },
+        error);
 }
 
 // Interleaved samples (nch a pixel) -> RGBA. The colour channels are the non-alpha ones in file
@@ -206,6 +253,35 @@ Image to_rgba(int width, int height, int nch, int alpha, const std::vector<float
 }
 
 }  // namespace
+
+int native_8bit_channels(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    return ext == "png" ? 4 : ext == "ppm" ? 3 : 0;
+}
+
+void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8_t* out) {
+    to_integer_samples<uint8_t>(rgba, count, channels, srgb, 255.0, out);
+}
+
+bool write_image8(const std::string& path, const Image8& image, bool srgb, std::string& error) {
+    const int channels = native_8bit_channels(path);
+    if (image.width <= 0 || image.height <= 0 || channels == 0 || image.channels != channels ||
+        image.samples.size() != size_t(image.width) * size_t(image.height) * size_t(channels)) {
+        error = "cannot write '" + path + "': the image is empty or malformed";
+        return false;
+    }
+    std::string why;
+    const bool ok = channels == 4
+                        ? write_png(path, image.width, image.height, 4, 8, image.samples.data(), srgb, why)
+                        : write_ppm(
+                              path, image.width, image.height,
+                              [&](size_t first, size_t) {
+                                  return image.samples.data() + first * size_t(image.width) * 3;
+                              },
+                              why);
+    if (!ok) error = "cannot write '" + path + "': " + why;
+    return ok;
+}
 
 bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error) {
     if (image.width <= 0 || image.height <= 0 ||

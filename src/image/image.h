@@ -1,23 +1,72 @@
 // A float RGBA image in memory, and reading/writing it: PNG and PPM natively, other formats through
 // OpenImageIO, loaded as a module on first need (image/oiio_module.h).
 #pragma once
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
+
 namespace vr {
+
+// std::allocator, except that resize() leaves new elements unset (default-initialised).
+template <class T>
+struct NoFillAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = NoFillAllocator<U>;
+    };
+    NoFillAllocator() = default;
+    template <class U>
+    NoFillAllocator(const NoFillAllocator<U>&) {}
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        if constexpr (sizeof...(Args) == 0)
+            ::new (static_cast<void*>(p)) U;
+        else
+            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
 
 struct Image {
     int width = 0;
     int height = 0;
-    std::vector<float> rgba;  // 4 floats a pixel, rows from the top, linear values
+    std::vector<float, NoFillAllocator<float>> rgba;  // 4 floats a pixel, rows from the top, linear values
 
     Image() = default;
-    Image(int w, int h) : width(w), height(h), rgba(size_t(w) * size_t(h) * 4, 0.0f) {}
+    // All pixels 0.
+    Image(int w, int h) : width(w), height(h) {
+        resize_huge(rgba, size_t(w) * size_t(h) * 4);
+        std::fill(rgba.begin(), rgba.end(), 0.0f);
+    }
+    // Pixels unset, for a producer that writes every one (the tracer): a 1920x1080 image is 33 MB, and
+    // zero-filling it first would fault all its pages in on one thread before the first ray; unfilled,
+    // each tracing thread faults in the pages of the tiles it writes.
+    static Image unfilled(int w, int h) {
+        Image image;
+        image.width = w;
+        image.height = h;
+        resize_huge(image.rgba, size_t(w) * size_t(h) * 4);
+        return image;
+    }
     float* pixel(int x, int y) { return rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4; }
     const float* pixel(int x, int y) const {
         return rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4;
     }
+};
+
+// 8-bit samples as PNG and PPM files store them: `channels` (3: RGB, 4: RGBA) a pixel, rows from the top.
+// What vrmlray render keeps for those formats instead of an Image: a quarter of the memory.
+struct Image8 {
+    int width = 0;
+    int height = 0;
+    int channels = 4;
+    std::vector<uint8_t, NoFillAllocator<uint8_t>> samples;
 };
 
 // Images read for comparison larger than this are refused before any pixel memory exists
@@ -30,6 +79,16 @@ inline constexpr size_t kMaxImagePixels = size_t(16384) * 16384;
 // "cannot write FORMAT 'FILE': the OpenImageIO module PATH could not be loaded: WHY" when the
 // format needs the module and it cannot be loaded).
 bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error);
+
+// The channels an 8-bit file of OUT's format holds when written natively (png: 4, ppm: 3), else 0 (the
+// format needs write_image).
+int native_8bit_channels(const std::string& path);
+// Encodes `count` RGBA pixels as write_image does for an 8-bit file: `channels` (3 or 4) bytes a pixel,
+// clamped to [0,1], colour sRGB-encoded when `srgb`, NaN as 0.
+void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8_t* out);
+// Writes `image` (whose channels are native_8bit_channels(path)) byte for byte as write_image writes the
+// Image it was encoded from.
+bool write_image8(const std::string& path, const Image8& image, bool srgb, std::string& error);
 // Reads any format OpenImageIO reads into linear-as-stored RGBA floats (missing alpha = 1); PNG
 // without the module.
 bool read_image(const std::string& path, Image& image, std::string& error);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "core/huge_pages.h"
 #include "core/parallel.h"
 
 namespace vr {
@@ -61,7 +62,7 @@ void Accel::build(const FlatScene& scene, int threads) {
     const uint32_t first_triangle = n_spheres + n_quadrics;
 
     std::vector<std::pair<uint32_t, uint32_t>> triangle_refs;  // (mesh, triangle)
-    triangle_refs.reserve(scene.triangle_count());
+    reserve_huge(triangle_refs, scene.triangle_count());
     for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
         const Mesh& m = scene.meshes[mi];
         const size_t nt = m.triangle_count();
@@ -69,7 +70,8 @@ void Accel::build(const FlatScene& scene, int threads) {
     }
 
     // One box per candidate, made in parallel; the skipped ones are removed afterwards.
-    std::vector<BuildBox> boxes(size_t(first_triangle) + triangle_refs.size());
+    std::vector<BuildBox> boxes;
+    resize_huge(boxes, size_t(first_triangle) + triangle_refs.size());
     parallel_chunks(
         boxes.size(), chunks_for(boxes.size(), threads), [&](size_t begin, size_t end, int) {
             for (size_t i = begin; i < end; ++i) {
@@ -132,15 +134,15 @@ void Accel::build(const FlatScene& scene, int threads) {
         for (int k = 0; k < 3; ++k) chunk_start[c][size_t(k)] += chunk_start[c - 1][size_t(k)];
     const std::array<uint32_t, 3>& totals = chunk_start[size_t(chunks)];
 
-    prims_.assign(n, 0);
-    prim_transparency_.assign(n, 0.0f);
-    spheres_.resize(totals[0]);
-    sphere_source_.resize(totals[0]);
-    quadrics_.resize(totals[1]);
-    quadric_source_.resize(totals[1]);
-    triangles_.resize(totals[2]);
-    triangle_mesh_.resize(totals[2]);
-    triangle_index_.resize(totals[2]);
+    resize_huge(prims_, n);
+    resize_huge(prim_transparency_, n);
+    resize_huge(spheres_, totals[0]);
+    resize_huge(sphere_shading_, totals[0]);
+    resize_huge(quadrics_, totals[1]);
+    resize_huge(quadric_source_, totals[1]);
+    resize_huge(triangles_, totals[2]);
+    resize_huge(triangle_mesh_, totals[2]);
+    resize_huge(triangle_index_, totals[2]);
     parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
         std::array<uint32_t, 3> next = chunk_start[size_t(c)];
         for (size_t i = begin; i < end; ++i) {
@@ -153,7 +155,7 @@ void Accel::build(const FlatScene& scene, int threads) {
                 const uint32_t k = next[0]++;
                 prims_[i] = pack_prim(PrimKind::Sphere, k);
                 spheres_[k] = {sp.center, sp.radius};
-                sphere_source_[k] = id;
+                sphere_shading_[k] = sp.shading;
                 shading = sp.shading;
             } else if (id < first_triangle) {
                 const Quadric& q = scene.quadrics[id - n_spheres];
@@ -181,6 +183,14 @@ void Accel::build(const FlatScene& scene, int threads) {
                                    [](float t) { return t > 0.0f; });
     // Held for the whole render: keep only what traversal reads.
     if (!any_transparent_) prim_transparency_ = {};
+}
+
+size_t Accel::held_bytes() const {
+    // size, not capacity: the BVH's reserved tail is never touched, so it is address space, not memory.
+    auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    return bytes(bvh_.nodes) + bytes(prims_) + bytes(prim_transparency_) + bytes(spheres_) + bytes(sphere_shading_) +
+           bytes(quadrics_) + bytes(quadric_source_) + bytes(triangles_) + bytes(triangle_mesh_) +
+           bytes(triangle_index_);
 }
 
 inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
@@ -297,7 +307,7 @@ uint32_t Accel::shading_of(const Hit& hit) const {
     const uint32_t index = prim_index(hit.prim);
     switch (prim_kind(hit.prim)) {
         case PrimKind::Sphere:
-            return scene_->spheres[sphere_source_[index]].shading;
+            return sphere_shading_[index];
         case PrimKind::Quadric:
             return scene_->quadrics[quadric_source_[index]].shading;
         case PrimKind::Triangle:
@@ -309,8 +319,11 @@ uint32_t Accel::shading_of(const Hit& hit) const {
 SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
     const uint32_t index = prim_index(hit.prim);
     switch (prim_kind(hit.prim)) {
-        case PrimKind::Sphere:
-            return sphere_surface(scene_->spheres[sphere_source_[index]], ray, hit.t, want_uv);
+        case PrimKind::Sphere: {
+            const SphereGeom& g = spheres_[index];
+            return sphere_surface(Sphere{g.center, g.radius, sphere_shading_[index], false}, ray, hit.t,
+                                  want_uv);
+        }
         case PrimKind::Quadric:
             return quadric_surface(scene_->quadrics[quadric_source_[index]], quadrics_[index], ray,
                                    hit.t, hit.part, want_uv);

@@ -41,6 +41,8 @@ class Accel {
 
     size_t node_count() const { return bvh_.nodes.size(); }
     size_t primitive_count() const { return prims_.size(); }
+    // Bytes of the arrays held for rendering, BVH included.
+    size_t held_bytes() const;
     const Bvh4& bvh() const { return bvh_; }
 
     // Brute force over every primitive, for tests.
@@ -58,7 +60,7 @@ class Accel {
     bool any_transparent_ = false;
 
     std::vector<SphereGeom> spheres_;
-    std::vector<uint32_t> sphere_source_;  // index into scene.spheres
+    std::vector<uint32_t> sphere_shading_;  // the sphere's Shading index: scene.spheres is not read after build
     std::vector<QuadricGeom> quadrics_;
     std::vector<uint32_t> quadric_source_;
     std::vector<TriangleGeom> triangles_;

@@ -13,6 +13,8 @@
 #include <cstring>
 #include <thread>
 
+#include "core/huge_pages.h"
+
 namespace vr {
 namespace {
 
@@ -136,10 +138,10 @@ class Builder {
             BvhNodeArray left_nodes, right_nodes;
             BvhNode left_root, right_root;
             std::thread worker([&, give] {
-                left_nodes.reserve(2 * size_t(left.end - left.begin));
+                reserve_huge(left_nodes, 2 * size_t(left.end - left.begin));
                 left_root = build(left, depth + 1, give, left_nodes);
             });
-            right_nodes.reserve(2 * size_t(right.end - right.begin));
+            reserve_huge(right_nodes, 2 * size_t(right.end - right.begin));
             right_root = build(right, depth + 1, keep, right_nodes);
             worker.join();
             out[pair] = append(out, left_nodes, left_root);
@@ -329,12 +331,12 @@ Bvh build_bvh(std::vector<BuildBox> boxes, const BvhBuildOptions& options) {
     if (boxes.empty()) return bvh;
     Builder builder(boxes, options);
     const int spare = std::max(options.threads, 1) - 1;
-    bvh.nodes.reserve(2 * boxes.size() + 2);
+    reserve_huge(bvh.nodes, 2 * boxes.size() + 2);
     // Slot 0 is the root, slot 1 padding, so that the pairs start at index 2.
     bvh.nodes.resize(2);
     bvh.nodes[0] = builder.build(builder.root(), 0, spare, bvh.nodes);
     bvh.nodes[1] = BvhNode{};
-    bvh.order.resize(boxes.size());
+    resize_huge(bvh.order, boxes.size());
     for (size_t i = 0; i < boxes.size(); ++i) bvh.order[i] = boxes[i].id;
     return bvh;
 }

@@ -14,7 +14,7 @@
 #include "geometry/mesh_nodes.h"
 #include "parser/load.h"
 #include "scene/image_file.h"
-#include "scene/memory.h"
+#include "core/huge_pages.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 

@@ -121,7 +121,13 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
 
 SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
                               RayCounters& counters) const {
-    if (!gas_) return trace_surfaces(ray, depth, weight, counters);
+    if (!gas_) {
+        // Misses (most camera rays of a small scene) return here, without entering the large frame
+        // of trace_surfaces: on a one-sphere scene at 1920x1080 that is a tenth of the render.
+        std::optional<Hit> hit(std::in_place);
+        if (!accel_.intersect(ray, *hit)) return background_sample(ray);
+        return trace_surfaces(ray, depth, weight, counters, &hit);
+    }
     // Gas along the ray up to the first surface (SPEC section 6): L = gas + T * L_end.
     std::optional<Hit> surface;
     if (Hit hit; accel_.intersect(ray, hit)) surface = hit;
@@ -149,11 +155,7 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
     Hit hit;
     const bool found = known_hit ? known_hit->has_value() : accel_.intersect(ray, hit);
     if (known_hit && found) hit = **known_hit;
-    if (!found) {
-        out.color = background_.radiance(ray.d);
-        out.background = 1.0;
-        return out;
-    }
+    if (!found) return background_sample(ray);
     const uint32_t shading = accel_.shading_of(hit);
     const SurfaceHit s = accel_.surface(ray, hit, shading < textured_.size() && textured_[shading]);
     const SurfaceLook look = look_up_surface(scene_, s);

@@ -52,6 +52,13 @@ class Integrator {
     // `known_hit`: the closest hit if the caller has already looked for it (null: look here).
     SampleValue trace_surfaces(const Ray& ray, int depth, double weight, RayCounters& counters,
                                const std::optional<Hit>* known_hit = nullptr) const;
+    // A ray that meets nothing: the background, reaching the pixel with full weight.
+    SampleValue background_sample(const Ray& ray) const {
+        SampleValue out;
+        out.color = background_.radiance(ray.d);
+        out.background = 1.0;
+        return out;
+    }
 
     // The local VRML97 colour at a hit: emissive + sum over lights of on * att * spot * colour *
     // (ambient + visibility * (diffuse + specular)). `ng`/`ns` face the viewer, `to_viewer` is

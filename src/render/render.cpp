@@ -57,21 +57,14 @@ double RenderStats::rays_per_second() const {
     return render_seconds > 0.0 ? rays / render_seconds : 0.0;
 }
 
-Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
-                   const ProgressFn& progress, RenderStats& stats) {
+void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
+                  const ProgressFn& progress, RenderStats& stats, const TileSink& sink,
+                  std::vector<Sphere>* spheres_to_free) {
     stats = RenderStats();
     const auto start = Clock::now();
     const int width = std::max(options.width, 0), height = std::max(options.height, 0);
     int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
     threads = std::max(threads, 1);
-
-    // The image's zero fill and page faults take tens of milliseconds at HD sizes: overlap them
-    // with the BVH build when there is a build worth overlapping.
-    Image image;
-    const bool overlap =
-        scene.spheres.size() + scene.quadrics.size() + scene.triangle_count() > 1000;
-    std::thread allocate;
-    if (overlap) allocate = std::thread([&] { image = Image(width, height); });
 
     const auto build_start = Clock::now();
     Accel accel;
@@ -79,19 +72,17 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
     stats.build_seconds = seconds_since(build_start);
     stats.bvh_nodes = accel.node_count();
     stats.primitives = accel.primitive_count();
+    stats.tracer_bytes = accel.held_bytes();
 
-    if (overlap)
-        allocate.join();
-    else
-        image = Image(width, height);
     if (width == 0 || height == 0) {
         if (progress) progress(1.0, 0);
-        return image;
+        return;
     }
 
     const auto render_start = Clock::now();
     GasVolume gas;
     gas.build(scene, options);
+    if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const Integrator integrator(scene, accel, camera, options, &gas);
     const CameraRays camera_rays(camera, width, height);
     const int tiles_x = (width + kTileSize - 1) / kTileSize,
@@ -111,6 +102,7 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
         RayCounters rays;
         uint64_t nonfinite = 0;
         SamplerScratch scratch;
+        std::vector<float> tile;  // kTileSize^2 RGBA pixels, row by row
     };
     std::vector<PerThread> per_thread(static_cast<size_t>(threads));
     std::mutex mutex;
@@ -126,14 +118,18 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
             const uint64_t before = c.total();
             if (has_deadline && !stop.load(std::memory_order_relaxed) && Clock::now() > deadline)
                 stop.store(true, std::memory_order_relaxed);
-            if (!stop.load(std::memory_order_relaxed)) {
-                const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
-                const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+            const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
+            const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+            std::vector<float>& pixels = mine.tile;
+            pixels.resize(size_t(x1 - x0) * size_t(y1 - y0) * 4);
+            if (stop.load(std::memory_order_relaxed)) {
+                std::fill(pixels.begin(), pixels.end(), 0.0f);  // skipped: the sink still gets every tile
+            } else {
                 sample_tile(
                     camera.sampler, x0, y0, x1, y1, mine.scratch,
                     [&](double px, double py) { return integrator.trace_camera_ray(camera_rays(px, py), c); },
                     [&](int x, int y, const SampleValue& v) {
-                        float* out = image.pixel(x, y);
+                        float* out = &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
                         out[0] = to_output(v.color.x, bad);
                         out[1] = to_output(v.color.y, bad);
                         out[2] = to_output(v.color.z, bad);
@@ -141,6 +137,7 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
                         out[3] = std::isfinite(alpha) ? float(std::clamp(alpha, 0.0, 1.0)) : 1.0f;
                     });
             }
+            sink(x0, y0, x1, y1, pixels.data());
             rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);
             if (tiles_done.fetch_add(1, std::memory_order_acq_rel) + 1 == tile_count) {
                 std::lock_guard<std::mutex> lock(mutex);
@@ -180,6 +177,18 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
     stats.render_seconds = seconds_since(render_start);
     stats.timed_out = stop.load();
     if (progress) progress(1.0, total.total());
+}
+
+Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
+                   const ProgressFn& progress, RenderStats& stats, std::vector<Sphere>* spheres_to_free) {
+    // Every pixel comes from a tile, so the image is not zero-filled first: its pages are first
+    // touched by the threads that trace them, in parallel.
+    Image image = Image::unfilled(std::max(options.width, 0), std::max(options.height, 0));
+    auto sink = [&](int x0, int y0, int x1, int y1, const float* rgba) {
+        const size_t row = size_t(x1 - x0) * 4;
+        for (int y = y0; y < y1; ++y, rgba += row) std::copy(rgba, rgba + row, image.pixel(x0, y));
+    };
+    render_tiles(scene, camera, options, progress, stats, sink, spheres_to_free);
     return image;
 }
 

@@ -21,6 +21,7 @@ struct RenderStats {
     uint64_t primary_rays = 0, shadow_rays = 0, secondary_rays = 0;
     size_t bvh_nodes = 0;
     size_t primitives = 0;
+    size_t tracer_bytes = 0;  // held by the opaque tracer's primitive copies and BVH while rendering
     bool timed_out = false;         // options.timeout passed; the image is incomplete
     uint64_t nonfinite_values = 0;  // NaN/inf channel values replaced before output (should stay 0)
     double rays_per_second() const;
@@ -41,7 +42,20 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
 // hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC
 // section 9); no NaN or infinity ever reaches the image. With options.timeout > 0, tiles not begun
 // when that many seconds (counted from this call) have passed are skipped and stats.timed_out is set.
+// `spheres_to_free`: as for render_tiles below.
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
-                   const ProgressFn& progress, RenderStats& stats);
+                   const ProgressFn& progress, RenderStats& stats, std::vector<Sphere>* spheres_to_free = nullptr);
+// A finished tile: pixels [x0, x1) x [y0, y1), `rgba` row by row (4 floats a pixel, as in Image). Called
+// once a tile from the tracing threads, concurrently for different tiles.
+using TileSink = std::function<void(int x0, int y0, int x1, int y1, const float* rgba)>;
+
+// render_image without the float image: each tile goes to `sink` (vrmlray render keeps the 8-bit pixels
+// of a PNG or PPM, a quarter of the memory, encoded on the tracing threads). `spheres_to_free`
+// (normally &scene.spheres, for a caller that needs them no more) is emptied and its memory returned
+// once the tracer holds its own copies, before the first ray: 1M spheres are then held in 60 bytes
+// each, BVH included, instead of 100.
+void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
+                  const ProgressFn& progress, RenderStats& stats, const TileSink& sink,
+                  std::vector<Sphere>* spheres_to_free = nullptr);
 
 }  // namespace vr

@@ -8,7 +8,7 @@
 
 #include "scene/build_internal.h"
 #include "scene/hints.h"
-#include "scene/memory.h"
+#include "core/huge_pages.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 

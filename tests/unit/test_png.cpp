@@ -297,7 +297,7 @@ TEST_F(PngTest, NativeRenderOutputMatchesOpenImageIO) {
         ASSERT_TRUE(oiio_read_pixels(name, INT_MAX, kMaxImagePixels, oiio, error)) << error;
         ASSERT_EQ(oiio.channels, 4);
         EXPECT_EQ(oiio.alpha_channel, 3);
-        EXPECT_EQ(oiio.samples, native.rgba);
+        EXPECT_TRUE(std::equal(oiio.samples.begin(), oiio.samples.end(), native.rgba.begin(), native.rgba.end()));
         // OpenImageIO writes these chunks for an sRGB image; the native writer does too.
         const std::vector<uint8_t> bytes = read_file(name);
         const std::string text(bytes.begin(), bytes.end());
@@ -363,6 +363,44 @@ TEST_F(PngTest, EightBitSrgbCodesEqualTheFormula) {
         for (int c = 0; c < 3; ++c)
             if (bytes[header.size() + 3 * i + c] != expected(im.rgba[4 * i + c])) ++mismatches;
     EXPECT_EQ(mismatches, 0u) << "of " << values.size() << " values";
+}
+
+// vrmlray render encodes PNG and PPM tiles to 8 bits as they are traced (Image8) instead of keeping a
+// float image: the files must be byte for byte those of write_image, over odd sizes (a PPM block of rows
+// that does not divide the height) and every kind of value (out of range, NaN, infinities).
+TEST_F(PngTest, EightBitImagesWriteAsTheFloatImage) {
+    const int width = 53, height = 1301;  // 1301 rows: blocks of 412 rows leave 65
+    Image im(width, height);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-0.3f, 1.3f);
+    const float specials[] = {NAN, INFINITY, -INFINITY, -0.0f, 1e-30f, 1.0f};
+    for (size_t i = 0; i < im.rgba.size(); ++i) im.rgba[i] = i % 97 < 6 ? specials[i % 97] : u(rng);
+    for (const char* ext : {"png", "ppm"})
+        for (bool srgb : {false, true}) {
+            const std::string from_float = path(std::string("float.") + ext),
+                              from_bytes = path(std::string("bytes.") + ext);
+            Image8 bytes;
+            bytes.width = width;
+            bytes.height = height;
+            bytes.channels = native_8bit_channels(from_bytes);
+            ASSERT_EQ(bytes.channels, std::string(ext) == "png" ? 4 : 3);
+            bytes.samples.resize(size_t(width) * height * size_t(bytes.channels));
+            for (int y = 0; y < height; ++y)  // row by row, as tiles arrive
+                encode_8bit(im.pixel(0, y), size_t(width), bytes.channels, srgb,
+                            &bytes.samples[size_t(y) * width * size_t(bytes.channels)]);
+            std::string error;
+            ASSERT_TRUE(write_image(from_float, im, srgb, error)) << error;
+            ASSERT_TRUE(write_image8(from_bytes, bytes, srgb, error)) << error;
+            EXPECT_EQ(read_file(from_float), read_file(from_bytes)) << ext << " srgb " << srgb;
+        }
+    EXPECT_EQ(native_8bit_channels("x.exr"), 0);
+    Image8 wrong;  // channels that the format does not store
+    wrong.width = wrong.height = 1;
+    wrong.channels = 4;
+    wrong.samples.assign(4, uint8_t(0));
+    std::string error;
+    EXPECT_FALSE(write_image8(path("wrong.ppm"), wrong, false, error));
+    EXPECT_NE(error.find("malformed"), std::string::npos) << error;
 }
 
 TEST_F(PngTest, OpenImageIOWrittenFilesReadNatively) {

@@ -1,4 +1,4 @@
-#include "scene/memory.h"
+#include "core/huge_pages.h"
 
 #include <cstdint>
 
