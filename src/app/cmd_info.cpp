@@ -49,12 +49,17 @@ int run_info(const std::string& path, const CommonOptions& common) {
     print_diagnostics(diagnostics, loaded.sources, common.quiet);
     std::printf("tracer      %zu spheres, %zu quadrics (box/cylinder/cone/ellipsoid), %zu meshes with %zu triangles\n",
                 flat.spheres.size(), flat.quadrics.size(), flat.meshes.size(), flat.triangle_count());
+    if (!flat.instances.empty())
+        std::printf("            %zu instances of %zu meshes (DEF/USE), placing %zu triangles stored once\n",
+                    flat.instances.size(), flat.prototypes.size(), flat.instanced_triangle_count());
     std::printf("            %zu materials, %zu textures, %zu shapes skipped\n", flat.materials.size(),
                 flat.textures.size(), fs.skipped_shapes);
     const Bounds3 b = flat.bounds();
     flat.spheres = {};
     flat.quadrics = {};
     flat.meshes = {};
+    flat.prototypes = {};
+    flat.instances = {};
     {
         // Tessellated spheres (Jmol atoms) that gas mode or --recover-spheres renders as exact spheres.
         FlattenOptions recover = fo;

@@ -111,7 +111,7 @@ int run_render(const RenderCommand& cmd) {
                      "%s: %dx%d, %zu spheres, %zu quadrics, %zu triangles; parse %.3fs, scene %.3fs, build %.3fs, "
                      "render %.3fs (%.2f Mrays/s), total %.3fs -> %s\n",
                      cmd.scene.c_str(), cmd.options.width, cmd.options.height, sphere_count,
-                     flat.quadrics.size(), flat.triangle_count(), parse_seconds, scene_seconds, stats.build_seconds,
+                     flat.quadrics.size(), flat.triangle_count() + flat.instanced_triangle_count(), parse_seconds, scene_seconds, stats.build_seconds,
                      stats.render_seconds, stats.rays_per_second() * 1e-6, total, output.c_str());
     }
     if (!cmd.stats_path.empty()) {
@@ -124,6 +124,8 @@ int run_render(const RenderCommand& cmd) {
             << ", \"write\": " << write_seconds << ", \"total\": " << total << "},\n"
             << "  \"primitives\": {\"spheres\": " << sphere_count << ", \"quadrics\": " << flat.quadrics.size()
             << ", \"meshes\": " << flat.meshes.size() << ", \"triangles\": " << flat.triangle_count()
+            << ", \"instances\": " << flat.instances.size()
+            << ", \"instanced_triangles\": " << flat.instanced_triangle_count()
             << ", \"materials\": " << flat.materials.size() << ", \"lights\": " << flat.lights.size()
             << ", \"bvh_nodes\": " << stats.bvh_nodes << "},\n"
             << "  \"rays\": {\"primary\": " << stats.primary_rays << ", \"shadow\": " << stats.shadow_rays

@@ -51,15 +51,79 @@ bool quadric_box(const Quadric& q, uint32_t id, BuildBox& box) {
     return true;
 }
 
+// The box of triangle t of m, or false when no ray can hit it (an index out of range, a non-finite
+// corner, zero area: rounding in the edge tests could report a hit on a degenerate triangle).
+bool triangle_box(const Mesh& m, uint32_t t, uint32_t id, BuildBox& box) {
+    const uint32_t a = m.triangles[3 * t], b = m.triangles[3 * t + 1], c = m.triangles[3 * t + 2];
+    if (a >= m.positions.size() || b >= m.positions.size() || c >= m.positions.size()) return false;
+    const Vec3 &p0 = m.positions[a], &p1 = m.positions[b], &p2 = m.positions[c];
+    if (!finite3(p0) || !finite3(p1) || !finite3(p2)) return false;
+    const Vec3 area = glm::cross(p1 - p0, p2 - p0);
+    if (area.x == 0.0 && area.y == 0.0 && area.z == 0.0) return false;
+    box = padded_box(glm::min(p0, glm::min(p1, p2)), glm::max(p0, glm::max(p1, p2)), id);
+    return true;
+}
+
 }  // namespace
 
-// Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs.
+void Accel::build_prototypes(const FlatScene& scene, int threads) {
+    prototypes_.assign(scene.prototypes.size(), Prototype());
+    for (size_t pi = 0; pi < scene.prototypes.size(); ++pi) {
+        const Mesh& m = scene.prototypes[pi];
+        std::vector<BuildBox> boxes;
+        for (uint32_t t = 0; t < m.triangle_count(); ++t) {
+            BuildBox box;
+            if (triangle_box(m, t, t, box)) boxes.push_back(box);
+        }
+        BvhBuildOptions options;
+        options.threads = threads;
+        options.traversal_cost = 4.0;  // as for the scene's BVH: collapsed to four wide
+        const Bvh binary = build_bvh(std::move(boxes), options);
+        Prototype& p = prototypes_[pi];
+        p.bvh = collapse_bvh(binary);
+        p.triangles.resize(binary.order.size());
+        p.triangle_index = binary.order;
+        for (size_t i = 0; i < binary.order.size(); ++i) {
+            const uint32_t* corner = &m.triangles[3 * size_t(binary.order[i])];
+            p.triangles[i] = {m.positions[corner[0]], m.positions[corner[1]], m.positions[corner[2]]};
+        }
+    }
+}
+
+// The world box of the prototype's BVH root (its lanes' union, rounded outwards) under the instance's
+// transform.
+bool Accel::instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) const {
+    if (in.prototype >= prototypes_.size() || prototypes_[in.prototype].bvh.empty()) return false;
+    const Bvh4Node& root = prototypes_[in.prototype].bvh.nodes[0];
+    Vec3 lo(kInf), hi(-kInf);
+    for (int c = 0; c < root.lanes; ++c)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], double(root.lo[k][c]));
+            hi[k] = std::max(hi[k], double(root.hi[k][c]));
+        }
+    Vec3 wlo(kInf), whi(-kInf);
+    for (int c = 0; c < 8; ++c) {
+        const Vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+        const Vec3 w = Vec3(in.world_from_object * Vec4(corner, 1.0));
+        wlo = glm::min(wlo, w);
+        whi = glm::max(whi, w);
+    }
+    if (!finite3(wlo) || !finite3(whi)) return false;
+    for (int col = 0; col < 4; ++col)
+        if (!finite3(Vec3(in.object_from_world[col]))) return false;  // a singular transform
+    box = padded_box(wlo, whi, id);
+    return true;
+}
+
+// Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs, then
+// mesh instances.
 void Accel::build(const FlatScene& scene, int threads) {
     scene_ = &scene;
     threads = std::max(threads, 1);
     const uint32_t n_spheres = uint32_t(scene.spheres.size());
     const uint32_t n_quadrics = uint32_t(scene.quadrics.size());
     const uint32_t first_triangle = n_spheres + n_quadrics;
+    build_prototypes(scene, threads);
 
     std::vector<std::pair<uint32_t, uint32_t>> triangle_refs;  // (mesh, triangle)
     reserve_huge(triangle_refs, scene.triangle_count());
@@ -70,8 +134,9 @@ void Accel::build(const FlatScene& scene, int threads) {
     }
 
     // One box per candidate, made in parallel; the skipped ones are removed afterwards.
+    const uint32_t first_instance = first_triangle + uint32_t(triangle_refs.size());
     std::vector<BuildBox> boxes;
-    resize_huge(boxes, size_t(first_triangle) + triangle_refs.size());
+    resize_huge(boxes, size_t(first_instance) + scene.instances.size());
     parallel_chunks(
         boxes.size(), chunks_for(boxes.size(), threads), [&](size_t begin, size_t end, int) {
             for (size_t i = begin; i < end; ++i) {
@@ -86,22 +151,11 @@ void Accel::build(const FlatScene& scene, int threads) {
                     box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
                 } else if (i < first_triangle) {
                     if (!quadric_box(scene.quadrics[i - n_spheres], id, box)) continue;
+                } else if (i >= first_instance) {
+                    if (!instance_box(scene.instances[i - first_instance], id, box)) continue;
                 } else {
                     const auto [mi, t] = triangle_refs[i - first_triangle];
-                    const Mesh& m = scene.meshes[mi];
-                    const uint32_t a = m.triangles[3 * t], b = m.triangles[3 * t + 1],
-                                   c = m.triangles[3 * t + 2];
-                    if (a >= m.positions.size() || b >= m.positions.size() ||
-                        c >= m.positions.size())
-                        continue;
-                    const Vec3 &p0 = m.positions[a], &p1 = m.positions[b], &p2 = m.positions[c];
-                    if (!finite3(p0) || !finite3(p1) || !finite3(p2)) continue;
-                    // Zero area: no ray can hit it, but rounding in the edge tests could report
-                    // one.
-                    const Vec3 area = glm::cross(p1 - p0, p2 - p0);
-                    if (area.x == 0.0 && area.y == 0.0 && area.z == 0.0) continue;
-                    box = padded_box(glm::min(p0, glm::min(p1, p2)), glm::max(p0, glm::max(p1, p2)),
-                                     id);
+                    if (!triangle_box(scene.meshes[mi], t, id, box)) continue;
                 }
             }
         });
@@ -123,16 +177,18 @@ void Accel::build(const FlatScene& scene, int threads) {
     // Compact copies in leaf order. Each chunk first counts its kinds, so that every primitive's
     // place in its kind's array is known before the parallel fill.
     const int chunks = chunks_for(n, threads);
-    std::vector<std::array<uint32_t, 3>> chunk_start(size_t(chunks) + 1, {0, 0, 0});
-    auto kind_of = [&](uint32_t id) { return id < n_spheres ? 0 : id < first_triangle ? 1 : 2; };
+    std::vector<std::array<uint32_t, 4>> chunk_start(size_t(chunks) + 1, {0, 0, 0, 0});
+    auto kind_of = [&](uint32_t id) {
+        return id < n_spheres ? 0 : id < first_triangle ? 1 : id < first_instance ? 2 : 3;
+    };
     parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
-        std::array<uint32_t, 3> count = {0, 0, 0};
+        std::array<uint32_t, 4> count = {0, 0, 0, 0};
         for (size_t i = begin; i < end; ++i) ++count[size_t(kind_of(order[i]))];
         chunk_start[size_t(c) + 1] = count;
     });
     for (size_t c = 1; c <= size_t(chunks); ++c)
-        for (int k = 0; k < 3; ++k) chunk_start[c][size_t(k)] += chunk_start[c - 1][size_t(k)];
-    const std::array<uint32_t, 3>& totals = chunk_start[size_t(chunks)];
+        for (int k = 0; k < 4; ++k) chunk_start[c][size_t(k)] += chunk_start[c - 1][size_t(k)];
+    const std::array<uint32_t, 4>& totals = chunk_start[size_t(chunks)];
 
     resize_huge(prims_, n);
     resize_huge(prim_transparency_, n);
@@ -143,8 +199,9 @@ void Accel::build(const FlatScene& scene, int threads) {
     resize_huge(triangles_, totals[2]);
     resize_huge(triangle_mesh_, totals[2]);
     resize_huge(triangle_index_, totals[2]);
+    instances_.resize(totals[3]);
     parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
-        std::array<uint32_t, 3> next = chunk_start[size_t(c)];
+        std::array<uint32_t, 4> next = chunk_start[size_t(c)];
         for (size_t i = begin; i < end; ++i) {
             const uint32_t id = order[i];
             // Leaf order is a random walk through the scene's arrays: fetch ahead.
@@ -164,6 +221,16 @@ void Accel::build(const FlatScene& scene, int threads) {
                 quadrics_[k] = make_quadric_geom(q);
                 quadric_source_[k] = id - n_spheres;
                 shading = q.shading;
+            } else if (id >= first_instance) {
+                const MeshInstance& in = scene.instances[id - first_instance];
+                const uint32_t k = next[3]++;
+                prims_[i] = pack_prim(PrimKind::Instance, k);
+                InstanceGeom& g = instances_[k];
+                for (int r = 0; r < 3; ++r)
+                    for (int col = 0; col < 4; ++col) g.object_from_world[r][col] = in.object_from_world[col][r];
+                g.prototype = in.prototype;
+                g.source = id - first_instance;
+                shading = in.shading;
             } else {
                 const auto [mi, t] = triangle_refs[id - first_triangle];
                 const Mesh& m = scene.meshes[mi];
@@ -188,9 +255,12 @@ void Accel::build(const FlatScene& scene, int threads) {
 size_t Accel::held_bytes() const {
     // size, not capacity: the BVH's reserved tail is never touched, so it is address space, not memory.
     auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    size_t prototypes = 0;
+    for (const Prototype& p : prototypes_)
+        prototypes += bytes(p.bvh.nodes) + bytes(p.triangles) + bytes(p.triangle_index);
     return bytes(bvh_.nodes) + bytes(prims_) + bytes(prim_transparency_) + bytes(spheres_) + bytes(sphere_shading_) +
            bytes(quadrics_) + bytes(quadric_source_) + bytes(triangles_) + bytes(triangle_mesh_) +
-           bytes(triangle_index_);
+           bytes(triangle_index_) + bytes(instances_) + prototypes;
 }
 
 inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
@@ -230,8 +300,63 @@ inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
             hit.b2 = b2;
             return true;
         }
+        case PrimKind::Instance:
+            return test_instance(index, ray, t_max, hit);
     }
     return false;
+}
+
+// The ray goes to the prototype's object space as for quadrics (its origin advanced by the map's rounding
+// error, dt added back to t), where the affine map keeps t: the object-space t of a point is its world t.
+bool Accel::test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit, bool brute_force) const {
+    const InstanceGeom& g = instances_[index];
+    const Prototype& p = prototypes_[g.prototype];
+    const ObjectRay r = to_object_space(g.object_from_world, ray);
+    double tm = t_max - r.dt;
+    if (!(tm > 0.0)) return false;
+    const Ray object_ray{r.o, r.d, tm};
+    const TriangleRay tri_ray(object_ray);
+    bool found = false;
+    auto test = [&](uint32_t first, uint32_t count, double& limit) {
+        for (uint32_t i = first; i < first + count; ++i) {
+            double t, b1, b2;
+            if (!triangle_hit(tri_ray, p.triangles[i], limit, t, b1, b2)) continue;
+            limit = t;
+            hit.b1 = b1;
+            hit.b2 = b2;
+            hit.triangle = p.triangle_index[i];
+            found = true;
+        }
+        return false;
+    };
+    if (brute_force)
+        test(0, uint32_t(p.triangles.size()), tm);
+    else
+        traverse_bvh4(p.bvh, object_ray, tm, test);
+    if (!found) return false;
+    t_max = tm + r.dt;
+    hit.t = t_max;
+    hit.prim = pack_prim(PrimKind::Instance, index);
+    return true;
+}
+
+int Accel::instance_crossings(uint32_t index, const Ray& ray) const {
+    const InstanceGeom& g = instances_[index];
+    const Prototype& p = prototypes_[g.prototype];
+    const ObjectRay r = to_object_space(g.object_from_world, ray);
+    double tm = ray.t_max - r.dt;
+    if (!(tm > 0.0)) return 0;
+    const Ray object_ray{r.o, r.d, tm};
+    const TriangleRay tri_ray(object_ray);
+    int n = 0;
+    traverse_bvh4(p.bvh, object_ray, tm, [&](uint32_t first, uint32_t count, double&) {
+        for (uint32_t i = first; i < first + count; ++i) {
+            double t, b1, b2;
+            n += triangle_hit(tri_ray, p.triangles[i], ray.t_max - r.dt, t, b1, b2) ? 1 : 0;
+        }
+        return false;
+    });
+    return n;
 }
 
 int Accel::crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray) const {
@@ -251,6 +376,8 @@ int Accel::crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleR
             double t, b1, b2;
             return triangle_hit(tri_ray, triangles_[index], ray.t_max, t, b1, b2) ? 1 : 0;
         }
+        case PrimKind::Instance:
+            return instance_crossings(index, ray);
     }
     return 0;
 }
@@ -312,6 +439,8 @@ uint32_t Accel::shading_of(const Hit& hit) const {
             return scene_->quadrics[quadric_source_[index]].shading;
         case PrimKind::Triangle:
             return scene_->meshes[triangle_mesh_[index]].shading;
+        case PrimKind::Instance:
+            return scene_->instances[instances_[index].source].shading;
     }
     return 0;
 }
@@ -330,6 +459,38 @@ SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
         case PrimKind::Triangle:
             return triangle_surface(scene_->meshes[triangle_mesh_[index]], triangle_index_[index],
                                     ray, hit.t, hit.b1, hit.b2);
+        case PrimKind::Instance: {
+            // The prototype's surface in object space, then to world: the point with its error bound
+            // grown by the map, the geometric normal by the inverse transpose (which keeps the front side
+            // under a mirror, where world-space copies swap two corners instead), and the shading normal
+            // as for a world-space copy: the corners' normals mapped and made unit, then interpolated.
+            const InstanceGeom& g = instances_[index];
+            const MeshInstance& in = scene_->instances[g.source];
+            const Mesh& m = scene_->prototypes[g.prototype];
+            const ObjectRay r = to_object_space(g.object_from_world, ray);
+            const Ray object_ray{r.o, r.d, kInf};
+            SurfaceHit s = triangle_surface(m, hit.triangle, object_ray, hit.t - r.dt, hit.b1, hit.b2);
+            const Vec3 p = s.p, p_error = s.p_error;
+            to_world_space(in.world_from_object, p, p_error, s.p, s.p_error);
+            const Mat3 normal_from_object = glm::transpose(Mat3(in.object_from_world));
+            s.ng = safe_normalize(normal_from_object * s.ng, -glm::normalize(ray.d));
+            s.ns = s.ng;
+            const size_t c0 = 3 * size_t(hit.triangle);
+            if (m.normals.size() >= c0 + 3) {
+                const double b[3] = {1.0 - hit.b1 - hit.b2, hit.b1, hit.b2};
+                Vec3 ns(0.0);
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3 n = normal_from_object * m.normals[c0 + size_t(k)];
+                    const double length = glm::length(n);
+                    ns += b[k] * (length > 0.0 ? n / length : n);
+                }
+                s.ns = safe_normalize(ns, s.ng);
+                if (glm::dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;  // the given normals say which side is the front
+            }
+            s.t = hit.t;
+            s.shading = in.shading;
+            return s;
+        }
     }
     return SurfaceHit();
 }
@@ -339,8 +500,12 @@ bool Accel::intersect_brute_force(const Ray& ray, Hit& hit) const {
     const TriangleRay tri_ray(ray);
     double t_max = ray.t_max;
     bool found = false;
-    for (uint32_t ref : prims_)
-        if (test_primitive(ref, ray, inv_a, tri_ray, t_max, hit)) found = true;
+    for (uint32_t ref : prims_) {
+        const bool hit_here = prim_kind(ref) == PrimKind::Instance
+                                  ? test_instance(prim_index(ref), ray, t_max, hit, /*brute_force=*/true)
+                                  : test_primitive(ref, ray, inv_a, tri_ray, t_max, hit);
+        if (hit_here) found = true;
+    }
     return found;
 }
 

@@ -18,6 +18,7 @@ struct Hit {
     uint32_t prim = 0;          // packed reference (intersect.h)
     uint8_t part = 0;           // quadric part
     double b1 = 0.0, b2 = 0.0;  // triangle barycentrics
+    uint32_t triangle = 0;      // mesh instance: the triangle of its prototype
 };
 
 class Accel {
@@ -49,9 +50,15 @@ class Accel {
     bool intersect_brute_force(const Ray& ray, Hit& hit) const;
 
   private:
+    void build_prototypes(const FlatScene& scene, int threads);
+    bool instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) const;
     bool test_primitive(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray,
                         double& t_max, Hit& hit) const;
     int crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray) const;
+    // The closest hit in instance `index`'s prototype with world t in (0, t_max); brute force: every
+    // triangle, not the prototype's BVH (for tests).
+    bool test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit, bool brute_force = false) const;
+    int instance_crossings(uint32_t index, const Ray& ray) const;
 
     const FlatScene* scene_ = nullptr;
     Bvh4 bvh_;  // collapsed from the binary build, which is not kept
@@ -65,6 +72,21 @@ class Accel {
     std::vector<uint32_t> quadric_source_;
     std::vector<TriangleGeom> triangles_;
     std::vector<uint32_t> triangle_mesh_, triangle_index_;
+
+    // Mesh instances (FlatScene::instances): each prototype's triangles once, in object space, under a
+    // BVH of its own; each instance one entry of the scene's BVH.
+    struct Prototype {
+        Bvh4 bvh;
+        std::vector<TriangleGeom> triangles;   // object space, in the prototype BVH's leaf order
+        std::vector<uint32_t> triangle_index;  // the mesh's triangle of each
+    };
+    struct InstanceGeom {
+        double object_from_world[3][4];  // rows of the affine map
+        uint32_t prototype;
+        uint32_t source;  // index in scene.instances
+    };
+    std::vector<Prototype> prototypes_;
+    std::vector<InstanceGeom> instances_;
 };
 
 }  // namespace vr

@@ -35,12 +35,28 @@ Bounds3 FlatScene::bounds() const {
                 b.extend(m.positions[index]);
         }
     }
+    for (const MeshInstance& in : instances) {
+        if (in.prototype >= prototypes.size()) continue;
+        const Mesh& m = prototypes[in.prototype];
+        for (uint32_t index : m.triangles) {
+            if (index >= m.positions.size()) continue;
+            const Vec3 w = Vec3(in.world_from_object * Vec4(m.positions[index], 1.0));
+            if (finite3(w)) b.extend(w);
+        }
+    }
     return b;
 }
 
 size_t FlatScene::triangle_count() const {
     size_t n = 0;
     for (const Mesh& m : meshes) n += m.triangle_count();
+    return n;
+}
+
+size_t FlatScene::instanced_triangle_count() const {
+    size_t n = 0;
+    for (const MeshInstance& in : instances)
+        if (in.prototype < prototypes.size()) n += prototypes[in.prototype].triangle_count();
     return n;
 }
 

@@ -76,6 +76,17 @@ struct Mesh {
     size_t triangle_count() const { return triangles.size() / 3; }
 };
 
+// A mesh that the file places more than once (DEF/USE): its triangles are stored once, in object space
+// (FlatScene::prototypes, whose own `shading` is unused), and each placement is an instance with its
+// own transform and shading. The tracer gives each prototype a BVH of its own and each instance one
+// entry in the scene's BVH.
+struct MeshInstance {
+    uint32_t prototype = 0;
+    Mat4 world_from_object{1.0};
+    Mat4 object_from_world{1.0};
+    uint32_t shading = 0;
+};
+
 enum class LightKind : uint8_t { Directional, Point, Spot };
 struct Light {
     LightKind kind = LightKind::Directional;
@@ -130,7 +141,9 @@ struct Bounds3 {
 struct FlatScene {
     std::vector<Sphere> spheres;
     std::vector<Quadric> quadrics;
-    std::vector<Mesh> meshes;
+    std::vector<Mesh> meshes;  // world space
+    std::vector<Mesh> prototypes;  // object space, placed by instances
+    std::vector<MeshInstance> instances;
     std::vector<Material> materials;
     std::vector<Shading> shadings;
     std::vector<Texture> textures;
@@ -141,7 +154,8 @@ struct FlatScene {
     Background background;
     Fog fog;
     Bounds3 bounds() const;                         // of all renderable primitives
-    size_t triangle_count() const;
+    size_t triangle_count() const;            // in meshes (each stored once)
+    size_t instanced_triangle_count() const;  // placed by instances, counted once a placement
 };
 
 }  // namespace vr

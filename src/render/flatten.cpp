@@ -111,6 +111,8 @@ class Flattener {
         sphere_fits_.resize(scene_.geometries.size());
         recover_spheres_ = options_.recover_spheres.value_or(options_.spheres == SpheresOption::Gas);
         mesh_cache_[1].resize(scene_.geometries.size());
+        mesh_uses_[0].resize(scene_.geometries.size());
+        mesh_uses_[1].resize(scene_.geometries.size());
         reserve_primitives();
         appearance_material_.assign(scene_.appearances.size() + 1, -1);
 
@@ -120,6 +122,8 @@ class Flattener {
         visit(Scene::kRoot, Mat4(1.0), 0, 0);
         for (auto& set : out_.light_sets)
             set.insert(set.end(), global_lights_.begin(), global_lights_.end());
+        // World meshes whose geometry became a prototype on its second use were left empty.
+        std::erase_if(out_.meshes, [](const Mesh& m) { return m.triangles.empty(); });
 
         stats_.materials = out_.materials.size();
         stats_.lights = out_.lights.size();
@@ -437,7 +441,7 @@ class Flattener {
             ++stats_.skipped_shapes;
             return;
         }
-        if (stats_.spheres + stats_.quadrics + stats_.meshes >= options_.max_primitives)
+        if (stats_.spheres + stats_.quadrics + stats_.meshes + stats_.instances >= options_.max_primitives)
             return stop("primitives");
         const uint32_t material = material_of(shape, g);
         const uint32_t shading = shading_of(material, light_set);
@@ -500,9 +504,49 @@ class Flattener {
         }
         if (stats_.triangles + cached->triangle_count() > options_.max_triangles)
             return stop("triangles");
+        stats_.triangles += cached->triangle_count();
+        if (cached->triangle_count() >= kInstanceMinTriangles) {
+            MeshUse& use = mesh_uses_[want_uvs ? 1 : 0][shape.geometry];
+            if (use.prototype == kNone && use.first_mesh != kNone) {
+                // The second placement: the geometry becomes a prototype, and its first placement, a world
+                // mesh until now, an instance (the mesh is emptied here and dropped at the end).
+                use.prototype = uint32_t(out_.prototypes.size());
+                out_.prototypes.push_back(object_mesh(*cached));
+                out_.meshes[use.first_mesh] = Mesh{};
+                --stats_.meshes;
+                add_instance(use.prototype, use.first_transform, use.first_shading);
+            }
+            if (use.prototype != kNone) {
+                add_instance(use.prototype, m, shading);
+                return;
+            }
+            use.first_mesh = uint32_t(out_.meshes.size());
+            use.first_transform = m;
+            use.first_shading = shading;
+        }
         out_.meshes.push_back(world_mesh(*cached, m, shading));
         ++stats_.meshes;
-        stats_.triangles += cached->triangle_count();
+    }
+
+    void add_instance(uint32_t prototype, const Mat4& m, uint32_t shading) {
+        MeshInstance in;
+        in.prototype = prototype;
+        in.world_from_object = m;
+        in.object_from_world = glm::inverse(m);
+        in.shading = shading;
+        out_.instances.push_back(in);
+        ++stats_.instances;
+    }
+
+    static Mesh object_mesh(const TriMesh& t) {
+        Mesh mesh;
+        mesh.solid = t.solid;
+        mesh.positions = t.positions;
+        mesh.triangles = t.triangles;
+        mesh.normals = t.normals;
+        mesh.uvs = t.uvs;
+        mesh.colors = t.colors;
+        return mesh;
     }
 
     Quadric& add_quadric(QuadricKind kind, const Mat4& m, const Vec3& size, uint32_t shading) {
@@ -739,6 +783,18 @@ class Flattener {
     std::unordered_map<std::string, int32_t> image_index_;
     std::vector<std::unique_ptr<TriMesh>>
         mesh_cache_[2];  // per geometry, without / with texture coordinates
+    // A mesh placed twice or more is instanced from then on when it has at least this many triangles:
+    // an instance costs about 300 bytes (two matrices, a BVH entry) and a change of coordinates per ray
+    // that reaches it, a world copy 84 bytes a triangle in the flat scene and 72 more in the tracer.
+    static constexpr size_t kInstanceMinTriangles = 16;
+    static constexpr uint32_t kNone = UINT32_MAX;
+    struct MeshUse {
+        uint32_t first_mesh = kNone;  // index in out_.meshes of the first placement, while it is a world mesh
+        uint32_t prototype = kNone;   // set from the second placement on
+        Mat4 first_transform{1.0};
+        uint32_t first_shading = 0;
+    };
+    std::vector<MeshUse> mesh_uses_[2];  // per geometry, like mesh_cache_
     // Per geometry: unset until tried, then the sphere its mesh lies on (or nothing).
     std::vector<std::optional<std::optional<SphereFit>>> sphere_fits_;
     bool recover_spheres_ = false;

@@ -3,8 +3,9 @@
 //
 // What it does and how it reads the specifications:
 // * Transforms compose down the graph; a node USEd n times is emitted n times (each with its own
-//   world transform). Meshes are triangulated once per geometry node and copied per use (instancing
-//   in the tracer is future work). A subtree under a singular Transform is skipped (build_scene
+//   world transform). Meshes are triangulated once per geometry node; a mesh of 16 triangles or
+//   more placed a second time becomes a prototype in object space, and every placement an instance
+//   (MeshInstance), so its triangles are stored once; smaller ones are copied to world space per use. A subtree under a singular Transform is skipped (build_scene
 //   warned).
 // * Sphere: under a rotation and uniform scale it stays a Sphere (world centre and radius); under
 //   any other scale it becomes an Ellipsoid quadric. Its `gas` flag: the sphereMode hint (Sphere
@@ -79,6 +80,7 @@ struct FlattenOptions {
 struct FlattenStats {
     size_t spheres = 0, quadrics = 0, meshes = 0, triangles = 0, materials = 0, lights = 0,
            textures = 0;
+    size_t instances = 0;  // placements of instanced meshes (not in `meshes`; their triangles are in `triangles`)
     size_t skipped_shapes = 0;  // shapes with no renderable geometry
     size_t recovered_spheres = 0;  // tessellated spheres rendered as exact spheres
 };

@@ -14,12 +14,6 @@ constexpr double kTwoPi = 2.0 * kPi;
 // Longitude around +y, 0 at the -z seam and increasing counterclockwise seen from +y (VRML's wrap).
 inline double wrap_s(double x, double z) { return std::atan2(x, z) / kTwoPi + 0.5; }
 
-inline Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
-    double len2 = glm::dot(v, v);
-    if (!(len2 > 0.0) || !std::isfinite(len2)) return fallback;
-    return v / std::sqrt(len2);
-}
-
 }  // namespace
 
 QuadricGeom make_quadric_geom(const Quadric& q) {
@@ -178,6 +172,17 @@ SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t, bool want_u
     return hit;
 }
 
+void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p, Vec3& world_error) {
+    for (int i = 0; i < 3; ++i) {
+        double x = w[0][i] * p.x, y = w[1][i] * p.y, z = w[2][i] * p.z;
+        world_p[i] = x + y + z + w[3][i];
+        world_error[i] = gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(w[3][i])) +
+                         (1.0 + gamma_bound(3)) * (std::fabs(w[0][i]) * p_error.x + std::fabs(w[1][i]) * p_error.y +
+                                                   std::fabs(w[2][i]) * p_error.z) +
+                         gamma_bound(32) * (std::fabs(world_p[i]) + std::fabs(w[3][i]));
+    }
+}
+
 SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ray, double t,
                            uint8_t part, bool want_uv) {
     SurfaceHit hit;
@@ -266,22 +271,7 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
             break;
         }
     }
-    const Vec3 p_obj_error = gamma_bound(4) * glm::abs(p);
-    // To world space with the error of the affine map (pbrt's Transform error propagation).
-    const Mat4& w = q.world_from_object;
-    for (int i = 0; i < 3; ++i) {
-        double x = w[0][i] * p.x, y = w[1][i] * p.y, z = w[2][i] * p.z;
-        hit.p[i] = x + y + z + w[3][i];
-        // The last term covers object_from_world being a computed inverse, a few ulps off the exact one
-        // relative to the numbers in play: a point mapped back to object space lands that far off the
-        // surface (seen on ellipsoids translated by 1e5).
-        hit.p_error[i] =
-            gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(w[3][i])) +
-            (1.0 + gamma_bound(3)) *
-                (std::fabs(w[0][i]) * p_obj_error.x + std::fabs(w[1][i]) * p_obj_error.y +
-                 std::fabs(w[2][i]) * p_obj_error.z) +
-            gamma_bound(32) * (std::fabs(hit.p[i]) + std::fabs(w[3][i]));
-    }
+    to_world_space(q.world_from_object, p, gamma_bound(4) * glm::abs(p), hit.p, hit.p_error);
     const Mat3 normal_from_object = glm::transpose(Mat3(q.object_from_world));
     hit.ng = safe_normalize(normal_from_object * n, -glm::normalize(ray.d));
     hit.ns = hit.ng;

@@ -15,7 +15,7 @@
 
 namespace vr {
 
-enum class PrimKind : uint8_t { Sphere = 0, Quadric = 1, Triangle = 2 };
+enum class PrimKind : uint8_t { Sphere = 0, Quadric = 1, Triangle = 2, Instance = 3 };
 
 // A primitive reference: kind in the top two bits, index into that kind's compact array below.
 inline constexpr uint32_t kPrimIndexBits = 30;
@@ -92,11 +92,12 @@ struct ObjectRay {
     Vec3 o, d;
     double dt;
 };
-inline ObjectRay to_object_space(const QuadricGeom& q, const Ray& r) {
+// object_from_world: the rows of the affine map (a quadric's or a mesh instance's).
+inline ObjectRay to_object_space(const double (&object_from_world)[3][4], const Ray& r) {
     ObjectRay out;
     Vec3 err;
     for (int i = 0; i < 3; ++i) {
-        const double* m = q.object_from_world[i];
+        const double* m = object_from_world[i];
         double x = m[0] * r.o.x, y = m[1] * r.o.y, z = m[2] * r.o.z;
         out.o[i] = x + y + z + m[3];
         err[i] = gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(m[3]));
@@ -107,6 +108,13 @@ inline ObjectRay to_object_space(const QuadricGeom& q, const Ray& r) {
     out.o += out.dt * out.d;
     return out;
 }
+inline ObjectRay to_object_space(const QuadricGeom& q, const Ray& r) { return to_object_space(q.object_from_world, r); }
+
+// An object-space surface point p (error bound p_error) mapped to world space by the affine map w, with
+// the bound grown by the map's rounding (pbrt's Transform error propagation) and by object_from_world
+// being a computed inverse of w (a point mapped back lands a few ulps of the numbers in play off the
+// surface: seen on ellipsoids translated by 1e5).
+void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p, Vec3& world_error);
 
 // All surface crossings of the quadric in (0, t_max) (world t), unsorted; returns how many (0..4).
 int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t, uint8_t* part);
@@ -172,6 +180,14 @@ inline bool triangle_hit(const TriangleRay& r, const TriangleGeom& tri, double t
 
 // ---------------------------------------------------------------------------------------------
 // What the integrator needs to know about a hit.
+
+// v / |v|, or `fallback` when v has no direction (zero, or not finite).
+inline Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
+    double len2 = glm::dot(v, v);
+    if (!(len2 > 0.0) || !std::isfinite(len2)) return fallback;
+    return v / std::sqrt(len2);
+}
+
 
 struct SurfaceHit {
     double t = 0.0;

@@ -48,8 +48,12 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
                          double(scene.spheres.size()) * (sizeof(SphereGeom) + kPerPrimitive) +
                          double(gas_spheres) * (sizeof(Sphere) + kPerPrimitive) +
                          double(scene.quadrics.size()) * (sizeof(QuadricGeom) + kPerPrimitive) +
-                         double(scene.triangle_count()) * (sizeof(TriangleGeom) + kPerPrimitive);
-    return bytes >= double(std::numeric_limits<size_t>::max()) ? std::numeric_limits<size_t>::max() : size_t(bytes);
+                         double(scene.triangle_count()) * (sizeof(TriangleGeom) + kPerPrimitive) +
+                         double(scene.instances.size()) * (sizeof(MeshInstance) + kPerPrimitive);
+    size_t prototype_triangles = 0;
+    for (const Mesh& m : scene.prototypes) prototype_triangles += m.triangle_count();
+    const double all = bytes + double(prototype_triangles) * (sizeof(TriangleGeom) + kPerPrimitive);
+    return all >= double(std::numeric_limits<size_t>::max()) ? std::numeric_limits<size_t>::max() : size_t(all);
 }
 
 double RenderStats::rays_per_second() const {

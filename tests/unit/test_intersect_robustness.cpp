@@ -30,7 +30,8 @@ Mat4 random_rotation(Rng& rng) {
 }
 
 // One random primitive of the given kind (0 sphere, 1 box, 2 cylinder, 3 cone, 4 ellipsoid,
-// 5 triangle) at scale `s` around `centre`.
+// 5 triangle, 6 triangle of a mesh instance under a random rotation and non-uniform scale) at scale `s`
+// around `centre`.
 FlatScene random_primitive(int kind, double s, const Vec3& centre, Rng& rng) {
     FlatScene scene = testing::empty_scene();
     testing::add_shading(scene, Material());
@@ -53,27 +54,38 @@ FlatScene random_primitive(int kind, double s, const Vec3& centre, Rng& rng) {
         q.top = coin(rng);
         q.bottom = coin(rng);
         scene.quadrics.push_back(q);
-    } else {
+    } else if (kind == 5) {
         Mesh m;
         m.positions = {centre + s * random_unit(rng), centre + s * random_unit(rng),
                        centre + s * random_unit(rng)};
         m.triangles = {0, 1, 2};
         scene.meshes.push_back(m);
+    } else {
+        Mesh m;
+        m.positions = {random_unit(rng), random_unit(rng), random_unit(rng)};
+        m.triangles = {0, 1, 2};
+        scene.prototypes.push_back(m);
+        MeshInstance in;
+        Mat4 scale = glm::scale(Mat4(1.0), Vec3(stretch(rng), stretch(rng), stretch(rng)) * s);
+        in.world_from_object = glm::translate(Mat4(1.0), centre) * random_rotation(rng) * scale;
+        in.object_from_world = glm::inverse(in.world_from_object);
+        scene.instances.push_back(in);
     }
     return scene;
 }
 
-const char* kKindNames[] = {"sphere", "box", "cylinder", "cone", "ellipsoid", "triangle"};
+constexpr int kKinds = 7;
+const char* kKindNames[kKinds] = {"sphere", "box", "cylinder", "cone", "ellipsoid", "triangle", "instance"};
 
 // pbrt-v4's shapes_test idea: rays leaving a surface point on the side they arrived from never hit
-// that surface again. 10,000 random transformed primitives at scales 1e-3 .. 1e5, some translated
+// that surface again. 14,000 random transformed primitives at scales 1e-3 .. 1e5, some translated
 // far from the origin, 10 rays each.
 TEST(IntersectRobustness, SpawnedRaysNeverReHitTheirSurface) {
     Rng rng(1234);
     std::uniform_real_distribution<double> log_scale(-3.0, 5.0), u01(0.0, 1.0);
-    int tested = 0, failures[6] = {0, 0, 0, 0, 0, 0}, tested_kind[6] = {0, 0, 0, 0, 0, 0};
-    for (int trial = 0; trial < 10000; ++trial) {
-        const int kind = trial % 6;
+    int tested = 0, failures[kKinds] = {}, tested_kind[kKinds] = {};
+    for (int trial = 0; trial < 14000; ++trial) {
+        const int kind = trial % kKinds;
         const double s = std::pow(10.0, log_scale(rng));
         Vec3 centre = s * 3.0 * (Vec3(u01(rng), u01(rng), u01(rng)) - 0.5);
         if (trial % 4 == 0)
@@ -112,8 +124,8 @@ TEST(IntersectRobustness, SpawnedRaysNeverReHitTheirSurface) {
             if (accel.transmittance(shadow) != 1.0) ++failures[kind];
         }
     }
-    EXPECT_GT(tested, 50000);
-    for (int k = 0; k < 6; ++k) {
+    EXPECT_GT(tested, 70000);
+    for (int k = 0; k < kKinds; ++k) {
         EXPECT_EQ(failures[k], 0) << kKindNames[k];
         EXPECT_GT(tested_kind[k], 3000) << kKindNames[k];  // triangles are missed most often
     }
