@@ -37,6 +37,7 @@ run() {
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {if (a == "-" || b == "-" || b == 0) print "-"; else printf "%.2fx", a / b}'; }
 json() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
+verdicts=()
 printf '%-16s | %-22s | %-22s | %-22s | %-14s | %-24s | %-24s | %s\n' scene "vrmlray s (RSS MB)" "Tachyon s (ratio)" \
     "Embree s (ratio)" "POV-Ray s" "render: vrmlray/Embree" "BVH build: vrmlray/Embree" "tracer B/prim"
 for s in "${scenes[@]}"; do
@@ -76,4 +77,13 @@ for s in "${scenes[@]}"; do
     printf '%-16s | %-22s | %-22s | %-22s | %-14s | %-24s | %-24s | %s\n' "$s" "$v ($v_rss)" "$t ($(ratio "$v" "$t"))" \
         "$e ($(ratio "$v" "$e"))" "$p" "$v_render / $e_render ($(ratio "$v_render" "$e_render"))" \
         "$v_build / $e_build ($(ratio "$v_build" "$e_build"))" "$(printf '%.1f' "$v_bytes")"
+    # The opaque tracer's targets: faster than Tachyon (whole process), render within 1.5x of Embree's; for
+    # the 1M-sphere scene a BVH build under 0.5 s and under 100 bytes a sphere held.
+    verdict=$(awk -v v="$v" -v t="$t" -v vr="$v_render" -v er="$e_render" -v vb="$v_build" -v bytes="$v_bytes" \
+        -v big="$([ "$s" = S3_spheres_1M ] && echo 1 || echo 0)" 'BEGIN {
+            out = (v < t ? "" : " slower-than-Tachyon") (vr <= 1.5 * er ? "" : " render-over-1.5x-Embree")
+            if (big) out = out (vb < 0.5 ? "" : " build-over-0.5s") (bytes < 100 ? "" : " over-100-bytes")
+            print out == "" ? "met" : "MISSED:" out }')
+    verdicts+=("$s targets: $verdict")
 done
+printf '%s\n' "${verdicts[@]}"
