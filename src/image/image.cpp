@@ -147,13 +147,25 @@ std::string format_name(const std::string& ext) {
 // pixel) at `out`.
 template <typename T>
 void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
+    // quantize(x, false, 255) without branches, so that the loops vectorise (vrmlray render encodes every
+    // tile so): NaN and everything below 0 give 0, everything from 1 up (+inf too) 255, and the rounding
+    // is quantize's floor(v * 255 + 0.5), truncation being floor for v >= 0.
+    auto linear8 = [](float x) {
+        const double v = x > 0.0f ? (x < 1.0f ? double(x) : 1.0) : 0.0;
+        return uint8_t(v * 255.0 + 0.5);
+    };
     if (srgb && max_code == 255.0) {
         static const Srgb8 encode;
         for (size_t p = 0; p < count; ++p) {
             const float* px = in + p * 4;
             for (int c = 0; c < nchannels; ++c)
-                out[p * nchannels + c] = T(c == 3 ? quantize(px[c], false, max_code) : encode(px[c]));
+                out[p * nchannels + c] = T(c == 3 ? linear8(px[c]) : encode(px[c]));
         }
+        return;
+    }
+    if (max_code == 255.0) {
+        for (size_t p = 0; p < count; ++p)
+            for (int c = 0; c < nchannels; ++c) out[p * nchannels + c] = T(linear8(in[p * 4 + c]));
         return;
     }
     for (size_t p = 0; p < count; ++p) {

@@ -365,6 +365,29 @@ TEST_F(PngTest, EightBitSrgbCodesEqualTheFormula) {
     EXPECT_EQ(mismatches, 0u) << "of " << values.size() << " values";
 }
 
+// Without --srgb, 8-bit codes are round(255 * clamp(v)), NaN 0, computed without branches: they must
+// equal the formula on floats a few ulps either side of every rounding boundary, and on the specials.
+TEST_F(PngTest, EightBitLinearCodesEqualTheFormula) {
+    auto expected = [](float value) {
+        const double v = std::isnan(value) ? 0.0 : std::clamp(double(value), 0.0, 1.0);
+        return uint8_t(std::floor(v * 255.0 + 0.5));
+    };
+    std::vector<float> values = {0.0f, -0.0f, -1.0f, 1.0f, 2.0f, 1e-45f, NAN, -NAN, INFINITY, -INFINITY};
+    for (int code = 0; code < 255; ++code) {
+        float f = float((code + 0.5) / 255.0);
+        for (int k = 0; k < 8; ++k) f = std::nextafter(f, 0.0f);
+        for (int k = 0; k < 17; ++k, f = std::nextafter(f, 2.0f)) values.push_back(f);
+    }
+    Image im(int(values.size()), 1);
+    for (size_t i = 0; i < values.size(); ++i)
+        for (int c = 0; c < 4; ++c) im.rgba[4 * i + c] = values[(i + size_t(c) * 13) % values.size()];
+    std::vector<uint8_t> codes(values.size() * 4);
+    encode_8bit(im.rgba.data(), values.size(), 4, false, codes.data());
+    size_t mismatches = 0;
+    for (size_t i = 0; i < codes.size(); ++i) mismatches += codes[i] != expected(im.rgba[i]);
+    EXPECT_EQ(mismatches, 0u) << "of " << codes.size() << " samples";
+}
+
 // vrmlray render encodes PNG and PPM tiles to 8 bits as they are traced (Image8) instead of keeping a
 // float image: the files must be byte for byte those of write_image, over odd sizes (a PPM block of rows
 // that does not divide the height) and every kind of value (out of range, NaN, infinities).
