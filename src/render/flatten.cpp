@@ -562,23 +562,16 @@ class Flattener {
     }
 
     static Mesh world_mesh(const TriMesh& t, const Mat4& m, uint32_t shading) {
-        Mesh mesh;
-        mesh.solid = t.solid;
+        Mesh mesh = object_mesh(t);
         mesh.shading = shading;
-        mesh.positions.resize(t.positions.size());
-        for (size_t i = 0; i < t.positions.size(); ++i)
-            mesh.positions[i] = transform_point(m, t.positions[i]);
-        mesh.triangles = t.triangles;
-        mesh.uvs = t.uvs;
-        mesh.colors = t.colors;
+        for (Vec3& p : mesh.positions) p = transform_point(m, p);
         const Mat3 linear = linear_part(m);
-        if (!t.normals.empty()) {
+        if (!mesh.normals.empty()) {
             const Mat3 normal_from_object = glm::transpose(glm::inverse(linear));
-            mesh.normals.resize(t.normals.size());
-            for (size_t i = 0; i < t.normals.size(); ++i) {
-                const Vec3 n = normal_from_object * t.normals[i];
+            for (Vec3& normal : mesh.normals) {
+                const Vec3 n = normal_from_object * normal;
                 const double length = glm::length(n);
-                mesh.normals[i] = length > 0.0 ? n / length : n;
+                normal = length > 0.0 ? n / length : n;
             }
         }
         if (glm::determinant(linear) < 0.0) {
