@@ -7,7 +7,7 @@
 //
 // Not built by default (it needs the harness's scenes); build it against the library with e.g.
 //   g++ -std=c++20 -O3 -march=native -I. -Isrc -DGLM_FORCE_XYZW_ONLY -DGLM_ENABLE_EXPERIMENTAL \
-//       bench/bench_tracer.cpp BUILD/libvrmlray_lib.a BUILD/libvrml_parser.a -lOpenImageIO -lxml2
+//       bench/bench_tracer.cpp BUILD/libvrmlray_lib.a BUILD/libvrml_parser.a \
 //       -lz -pthread
 #include <algorithm>
 #include <chrono>

@@ -2,7 +2,7 @@
 // prints the reading time, the node count and the process's peak memory; with --dump, a canonical
 // listing of the whole node tree and the diagnostics, for checking that two builds read every file
 // the same way. Build (from a build folder): g++ -std=c++20 -O2 -I SRC SRC/bench/parse_only.cpp
-// libvrml_parser.a -lz -lxml2 Usage: parse_only FILE [--dump]
+// libvrml_parser.a -lz Usage: parse_only FILE [--dump]
 #include <sys/resource.h>
 
 #include <chrono>

@@ -20,7 +20,7 @@ fi
 [ -s "$x3d" ] || "$bin" convert "$wrl" "$x3d" -q
 lib=$(dirname "$bin")/libvrml_parser.a
 reader=""
-if [ -f "$lib" ] && g++ -std=c++20 -O2 -I "$root" "$root/bench/parse_only.cpp" "$lib" -lz -lxml2 -lpthread \
+if [ -f "$lib" ] && g++ -std=c++20 -O2 -I "$root" "$root/bench/parse_only.cpp" "$lib" -lz -lpthread \
         -o "$work/parse_only" 2>/dev/null; then
     reader=$work/parse_only
 fi

@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <climits>
 #include <cstring>
-#include <mutex>
 #include <optional>
 
 #include "parser/field_value.h"
@@ -112,20 +111,19 @@ namespace x3d_xml_detail {
 
 // ---- libxml2 glue -------------------------------------------------------------------------------
 
-static xmlParserInputPtr refuse_external_entity(const char*, const char*, xmlParserCtxtPtr) {
-    return nullptr;
-}
 static void silent_generic_error(void*, const char*, ...) {}
 
 ClassicResult XmlReader::read(uint32_t file) {
-    static std::once_flag once;
-    std::call_once(once, [] {
-        xmlInitParser();
-        xmlSetExternalEntityLoader(refuse_external_entity);
-    });
-    xmlSetGenericErrorFunc(nullptr, silent_generic_error);  // per thread: the library never prints
-
     ClassicResult result;
+    std::string why;
+    xml_ = libxml(why);  // loaded on first use; external entities refused from the start
+    if (!xml_) {
+        scene_.diagnostics.error({file, 0}, "cannot read X3D XML: " + why);
+        result.ok = false;
+        return result;
+    }
+    xml_->SetGenericErrorFunc(nullptr, silent_generic_error);  // per thread: the library never prints
+
     main_file_ = file;
     text_ = scene_.sources.file(file).text;
     auto top = std::make_unique<Frame>();
@@ -151,13 +149,13 @@ ClassicResult XmlReader::read(uint32_t file) {
     // The push parser holds only the part of the text it has not consumed yet; the text itself
     // stays in the SourceManager, where the attribute values are read. The user data is `this`,
     // not the context, so libxml2 never falls back to looking entities up itself.
-    ctxt_ = xmlCreatePushParserCtxt(&sax, this, nullptr, 0, nullptr);
+    ctxt_ = xml_->CreatePushParserCtxt(&sax, this, nullptr, 0, nullptr);
     if (!ctxt_) {
         scene_.diagnostics.error({file, 0}, "cannot start the XML parser (out of memory)");
         result.ok = false;
         return result;
     }
-    xmlCtxtUseOptions(ctxt_, XML_PARSE_NONET | XML_PARSE_HUGE | XML_PARSE_RECOVER);
+    xml_->CtxtUseOptions(ctxt_, XML_PARSE_NONET | XML_PARSE_HUGE | XML_PARSE_RECOVER);
     // 1 MB pieces; while a piece completes no element (one huge start tag, e.g. a mesh's
     // coordIndex), the next is twice as large: libxml2 rescans the pending start tag on every piece
     // it is given.
@@ -167,7 +165,7 @@ ClassicResult XmlReader::read(uint32_t file) {
         const size_t n = std::min({chunk, text_.size() - pos, static_cast<size_t>(1) << 30});
         const bool last = pos + n >= text_.size();
         const uint64_t events = events_;
-        xmlParseChunk(ctxt_, text_.data() + pos, static_cast<int>(n), last ? 1 : 0);
+        xml_->ParseChunk(ctxt_, text_.data() + pos, static_cast<int>(n), last ? 1 : 0);
         // libxml2 copied what it still needs; attribute values before this piece are read again only
         // for PROTO bodies, which a mapped file brings back from the page cache.
         scene_.sources.release_before(file, static_cast<uint32_t>(pos));
@@ -177,8 +175,8 @@ ClassicResult XmlReader::read(uint32_t file) {
     }
     scene_.sources.release_all(file);  // the last piece too: the scene build comes next
     // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to free.
-    if (ctxt_->myDoc) xmlFreeDoc(ctxt_->myDoc);
-    xmlFreeParserCtxt(ctxt_);
+    if (ctxt_->myDoc) xml_->FreeDoc(ctxt_->myDoc);
+    xml_->FreeParserCtxt(ctxt_);
     ctxt_ = nullptr;
     result.ok = !failed_;
     result.roots = std::move(roots_);
@@ -230,7 +228,7 @@ void XmlReader::on_xml_error(xmlErrorPtr error) {
 
 Name XmlReader::cached_name(const xmlChar* text) {
     // Names libxml2 keeps in its dictionary live as long as the parser: cache them by address.
-    const bool stable = ctxt_->dict && xmlDictOwns(ctxt_->dict, text) == 1;
+    const bool stable = ctxt_->dict && xml_->DictOwns(ctxt_->dict, text) == 1;
     if (stable) {
         auto it = name_cache_.find(text);
         if (it != name_cache_.end()) return it->second;

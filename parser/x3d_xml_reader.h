@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "parser/classic.h"
+#include "parser/libxml.h"
 #include "parser/load.h"
 #include "parser/proto.h"
 
@@ -241,7 +242,7 @@ class XmlReader {
         if (!stopped_) scene_.diagnostics.error({file, offset}, message);
         stopped_ = true;
         failed_ = true;
-        xmlStopParser(ctxt_);
+        xml_->StopParser(ctxt_);
     }
 
     void on_start(const xmlChar* local, int nb_attrs, int nb_defaulted, const xmlChar** attrs);
@@ -330,6 +331,7 @@ class XmlReader {
     const LoadLimits& limits_;
     const ExternProtoResolver& resolver_;
     const Names n_;
+    const LibXml* xml_ = nullptr;  // set by read()
     xmlParserCtxtPtr ctxt_ = nullptr;
     uint32_t main_file_ = 0;
     std::string_view text_;  // the main file's text
