@@ -309,9 +309,8 @@ inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
 // The ray goes to the prototype's object space as for quadrics (its origin advanced by the map's rounding
 // error, dt added back to t), where the affine map keeps t: the object-space t of a point is its world t.
 bool Accel::test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit, bool brute_force) const {
-    const InstanceGeom& g = instances_[index];
-    const Prototype& p = prototypes_[g.prototype];
-    const ObjectRay r = to_object_space(g.object_from_world, ray);
+    const Prototype& p = prototypes_[instances_[index].prototype];
+    const ObjectRay r = to_object_space(instances_[index].object_from_world, ray);
     double tm = t_max - r.dt;
     if (!(tm > 0.0)) return false;
     const Ray object_ray{r.o, r.d, tm};
@@ -341,18 +340,17 @@ bool Accel::test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hi
 }
 
 int Accel::instance_crossings(uint32_t index, const Ray& ray) const {
-    const InstanceGeom& g = instances_[index];
-    const Prototype& p = prototypes_[g.prototype];
-    const ObjectRay r = to_object_space(g.object_from_world, ray);
-    double tm = ray.t_max - r.dt;
+    const Prototype& p = prototypes_[instances_[index].prototype];
+    const ObjectRay r = to_object_space(instances_[index].object_from_world, ray);
+    double tm = ray.t_max - r.dt;  // fixed: every crossing before the segment's end counts
     if (!(tm > 0.0)) return 0;
     const Ray object_ray{r.o, r.d, tm};
     const TriangleRay tri_ray(object_ray);
     int n = 0;
-    traverse_bvh4(p.bvh, object_ray, tm, [&](uint32_t first, uint32_t count, double&) {
+    traverse_bvh4(p.bvh, object_ray, tm, [&](uint32_t first, uint32_t count, double& limit) {
         for (uint32_t i = first; i < first + count; ++i) {
             double t, b1, b2;
-            n += triangle_hit(tri_ray, p.triangles[i], ray.t_max - r.dt, t, b1, b2) ? 1 : 0;
+            n += triangle_hit(tri_ray, p.triangles[i], limit, t, b1, b2) ? 1 : 0;
         }
         return false;
     });
@@ -479,11 +477,7 @@ SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
             if (m.normals.size() >= c0 + 3) {
                 const double b[3] = {1.0 - hit.b1 - hit.b2, hit.b1, hit.b2};
                 Vec3 ns(0.0);
-                for (int k = 0; k < 3; ++k) {
-                    const Vec3 n = normal_from_object * m.normals[c0 + size_t(k)];
-                    const double length = glm::length(n);
-                    ns += b[k] * (length > 0.0 ? n / length : n);
-                }
+                for (int k = 0; k < 3; ++k) ns += b[k] * map_normal(normal_from_object, m.normals[c0 + size_t(k)]);
                 s.ns = safe_normalize(ns, s.ng);
                 if (glm::dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;  // the given normals say which side is the front
             }

@@ -568,11 +568,7 @@ class Flattener {
         const Mat3 linear = linear_part(m);
         if (!mesh.normals.empty()) {
             const Mat3 normal_from_object = glm::transpose(glm::inverse(linear));
-            for (Vec3& normal : mesh.normals) {
-                const Vec3 n = normal_from_object * normal;
-                const double length = glm::length(n);
-                normal = length > 0.0 ? n / length : n;
-            }
+            for (Vec3& normal : mesh.normals) normal = map_normal(normal_from_object, normal);
         }
         if (glm::determinant(linear) < 0.0) {
             // A mirror turns counter-clockwise into clockwise: swap two corners to keep the front
