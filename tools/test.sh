@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs the packages vrmlray needs (if missing), configures, builds and runs every test with CTest.
-# VRMLRAY_BUILD picks the build folder (default build/); VRMLRAY_CMAKE_ARGS adds configure options.
+# Installs the packages vrmlray needs (if missing), configures, builds and runs every test with CTest, then
+# says in one line what ran and what was skipped, and why.
+# VRMLRAY_BUILD picks the build folder (default build/); VRMLRAY_CMAKE_ARGS adds configure options;
+# VRMLRAY_CORPUS=DIR points the corpus tests at a folder of real files (default ../shared/corpus, when it exists).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/tools/setup.sh"
@@ -9,4 +11,21 @@ build=${VRMLRAY_BUILD:-$root/build}
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release ${VRMLRAY_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build" -j"$(nproc)"
 cd "$build"
-ctest --output-on-failure -j"$(nproc)" "$@"
+log=$build/ctest-last.log
+status=0
+ctest --output-on-failure -j"$(nproc)" "$@" 2>&1 | tee "$log" || status=$?
+
+# The summary: counts from CTest's own lines, and the reason for the skips.
+total=$(grep -Eo 'tests failed out of [0-9]+' "$log" | grep -Eo '[0-9]+$' || echo 0)
+failed=$(grep -Eo '[0-9]+ tests failed out of' "$log" | grep -Eo '^[0-9]+' || echo 0)
+skipped=$(grep -Ec '^ *[0-9]+ - .* \(Skipped\)$' "$log" || true)
+passed=$((total - failed - skipped))
+corpus=${VRMLRAY_CORPUS:-$(cd "$root/.." && pwd)/shared/corpus}
+why=""
+if [ "$skipped" -gt 0 ]; then
+    if [ "$corpus" = none ]; then why=" (VRMLRAY_CORPUS=none: the corpus tests were skipped)"
+    elif [ ! -d "$corpus" ]; then why=" (no corpus of real files at $corpus: its tests were skipped; set VRMLRAY_CORPUS=DIR)"
+    else why=" (see 'The following tests did not run' above)"; fi
+fi
+echo "tests: $passed passed, $failed failed, $skipped skipped$why"
+exit "$status"

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "corpus.h"
 #include "parser/load.h"
 #include "parser/tree_compare.h"
 #include "parser/writer.h"
@@ -14,10 +15,11 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(ConvertCorpus, ClassicWritersRoundTripEveryFile) {
+    VR_CORPUS_FOLDER(corpus, "");
     size_t files = 0;
-    for (const char* folder : {"vrml97", "x3dv", "x3d", "vrml1"}) {
-        const fs::path dir = fs::path(VRMLRAY_CORPUS_DIR) / folder;
-        if (!fs::exists(dir)) continue;
+    for (const char* folder : {"vrml97", "x3dv", "x3d", "vrml1", "molecular"}) {
+        const fs::path dir = corpus / folder;
+        ASSERT_TRUE(fs::is_directory(dir)) << dir;
         for (const auto& entry : fs::recursive_directory_iterator(dir)) {
             const std::string name = entry.path().filename().string();
             if (!entry.is_regular_file() || !(name.ends_with(".wrl") || name.ends_with(".gz") ||
@@ -36,7 +38,7 @@ TEST(ConvertCorpus, ClassicWritersRoundTripEveryFile) {
             ++files;
         }
     }
-    EXPECT_GE(files, 140u);  // the corpus holds about 150 loadable scene files
+    EXPECT_GE(files, 155u);  // the corpus holds about 150 loadable scene files and 19 molecular exports
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "corpus.h"
 #include "parser/load.h"
 #include "render/flatten.h"
 #include "scene/build.h"
@@ -32,8 +33,9 @@ std::vector<fs::path> corpus_files(const fs::path& folder) {
 }
 
 void flatten_all(const std::string& subfolder) {
-    const std::vector<fs::path> files = corpus_files(fs::path(VRMLRAY_CORPUS_DIR) / subfolder);
-    if (files.empty()) GTEST_SKIP() << "no corpus at " << VRMLRAY_CORPUS_DIR << "/" << subfolder;
+    VR_CORPUS_FOLDER(folder, subfolder);
+    const std::vector<fs::path> files = corpus_files(folder);
+    ASSERT_FALSE(files.empty()) << "no scene files in " << folder;
     size_t primitives = 0;
     for (const fs::path& file : files) {
         SCOPED_TRACE(file.string());
@@ -63,6 +65,7 @@ TEST(FlattenCorpus, Vrml97) { flatten_all("vrml97"); }
 TEST(FlattenCorpus, X3dClassic) { flatten_all("x3dv"); }
 TEST(FlattenCorpus, X3dXml) { flatten_all("x3d"); }
 TEST(FlattenCorpus, Vrml1) { flatten_all("vrml1"); }
+TEST(FlattenCorpus, Molecular) { flatten_all("molecular"); }
 
 }  // namespace
 }  // namespace vr

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "corpus.h"
 #include "parser/load.h"
 #include "parser/tree_compare.h"
 
@@ -52,8 +53,9 @@ bool in_skipped_folder(const fs::path& p) {
 }
 
 TEST(X3dXml, EveryCorpusFileLoads) {
+    VR_CORPUS_FOLDER(corpus, "");
     size_t count = 0;
-    for (const auto& entry : fs::recursive_directory_iterator(VRMLRAY_CORPUS_DIR)) {
+    for (const auto& entry : fs::recursive_directory_iterator(corpus)) {
         const std::string ext = entry.path().extension().string();
         if (!entry.is_regular_file() || (ext != ".x3d" && ext != ".x3dz")) continue;
         LoadedScene s = load_scene(entry.path());
@@ -201,8 +203,8 @@ TEST(X3dXml, PrototypesWithIsAndNodeFields) {
 TEST(X3dXml, ProtoInstanceGoesWhereItsFirstNodeBelongs) {
     // The corpus file proto_of_material.x3d: an instance whose body is a Material lands in
     // Appearance.material.
-    LoadedScene s = load_scene(fs::path(VRMLRAY_CORPUS_DIR) /
-                               "x3d/castle-engine-demo-models/x3d/proto_of_material.x3d");
+    VR_CORPUS_FOLDER(corpus, "x3d/castle-engine-demo-models/x3d");
+    LoadedScene s = load_scene(corpus / "proto_of_material.x3d");
     ASSERT_TRUE(s.ok()) << messages(s);
     const NodeTree& t = s.tree;
     NodeId material = t.get_node(t.get_node(t.roots[0], intern("appearance")), intern("material"));

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "corpus.h"
 #include "parser/load.h"
 #include "parser/tree_compare.h"
 #include "parser/xml_writer.h"
@@ -33,8 +34,8 @@ LoadedScene round_trip(const NodeTree& tree, const fs::path& path, std::string* 
 bool xmllint_available() { return std::system("xmllint --version > /dev/null 2>&1") == 0; }
 
 TEST(X3dXmlWriter, Vrml97CorpusRoundTripsToEqualTrees) {
+    VR_CORPUS_FOLDER(dir, "vrml97");
     size_t count = 0;
-    const fs::path dir = fs::path(VRMLRAY_CORPUS_DIR) / "vrml97";
     for (const auto& entry : fs::recursive_directory_iterator(dir)) {
         const std::string name = entry.path().filename().string();
         if (!entry.is_regular_file() ||
@@ -53,9 +54,9 @@ TEST(X3dXmlWriter, Vrml97CorpusRoundTripsToEqualTrees) {
 }
 
 TEST(X3dXmlWriter, ClassicX3dAndXmlCorpusRoundTrips) {
-    for (const char* folder : {"x3dv", "x3d"}) {
-        for (const auto& entry :
-             fs::recursive_directory_iterator(fs::path(VRMLRAY_CORPUS_DIR) / folder)) {
+    VR_CORPUS_FOLDER(corpus, "");
+    for (const char* folder : {"x3dv", "x3d", "molecular"}) {
+        for (const auto& entry : fs::recursive_directory_iterator(corpus / folder)) {
             if (!entry.is_regular_file()) continue;
             LoadedScene original = load_scene(entry.path());
             if (!original.ok()) continue;
@@ -70,12 +71,12 @@ TEST(X3dXmlWriter, ClassicX3dAndXmlCorpusRoundTrips) {
 TEST(X3dXmlWriter, OutputValidatesWithXmllint) {
     if (!xmllint_available())
         GTEST_SKIP() << "xmllint not installed (apt-get install libxml2-utils)";
+    VR_CORPUS_FOLDER(corpus, "");
     const fs::path out = fs::temp_directory_path() / "vrmlray_xmllint";
     fs::create_directories(out);
     size_t written = 0;
     for (const char* folder : {"vrml97", "x3dv", "x3d"}) {
-        for (const auto& entry :
-             fs::recursive_directory_iterator(fs::path(VRMLRAY_CORPUS_DIR) / folder)) {
+        for (const auto& entry : fs::recursive_directory_iterator(corpus / folder)) {
             if (!entry.is_regular_file()) continue;
             LoadedScene s = load_scene(entry.path());
             if (!s.ok()) continue;

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The command line on every file of the outside corpus of real files (../shared/corpus, or VRMLRAY_CORPUS):
+# broken files fail cleanly, every other file loads and renders with no non-finite value.
+# Usage: run_cli_corpus.sh VRMLRAY_BINARY SOURCE_DIR WORK_DIR. Exit 77 (skipped) when there is no corpus.
+set -u
+bin=$1
+src=$2
+work=$3
+# shellcheck source=tests/cli/corpus_lookup.sh
+. "$src/tests/cli/corpus_lookup.sh"
+rm -rf "$work"
+mkdir -p "$work"
+passed=0
+failed=0
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+pass() { passed=$((passed + 1)); }
+
+# A broken corpus file lives under a folder named bad, warnings or errors.
+is_broken() { case "$1" in */bad/*|*/warnings/*|*/errors/*) return 0;; *) return 1;; esac; }
+scene_files() {
+    find "$corpus" -type f \( -name '*.wrl' -o -name '*.wrl.gz' -o -name '*.wrz' -o -name '*.x3dv' -o -name '*.x3d' \
+        -o -name '*.x3dz' -o -name '*.x3dvz' \) -print0 | sort -z
+}
+
+# --- info: broken files fail cleanly (exit 3 with FILE:LINE:COL: error, or exit 0 with a warning) ---
+while IFS= read -r -d '' f; do
+    "$bin" info "$f" >"$work/out.txt" 2>"$work/err.txt"
+    code=$?
+    if is_broken "$f"; then
+        if { [ $code -eq 3 ] && grep -Eq '^[^ ]+:[0-9]+:[0-9]+: error: ' "$work/err.txt"; } ||
+           { [ $code -eq 0 ] && grep -q ': warning: ' "$work/err.txt"; }; then pass; else
+            fail "info $f: exit $code with no located error or warning"; head -3 "$work/err.txt"
+        fi
+    else
+        [ $code -eq 0 ] && pass || { fail "info $f: exit $code"; head -3 "$work/err.txt"; }
+    fi
+done < <(scene_files)
+
+# --- render: every good file renders, with no non-finite value anywhere in the image ---
+rendered=0
+while IFS= read -r -d '' f; do
+    is_broken "$f" && continue
+    rm -f "$work/corpus.exr" "$work/stats.json"
+    "$bin" render "$f" -W 48 -H 36 -o "$work/corpus.exr" -q --stats "$work/stats.json" >"$work/out.txt" 2>"$work/err.txt"
+    code=$?
+    if [ $code -ne 0 ]; then fail "render $f: exit $code"; head -3 "$work/err.txt"; continue; fi
+    rendered=$((rendered + 1))
+    # The renderer writes 0 where a value was not finite and counts each one in --stats: every count must be 0.
+    python3 - "$work/stats.json" <<'PY' && pass || fail "render $f: non-finite values ($(tr -d '\n ' <"$work/stats.json" | grep -o '"nonfinite":{[^}]*}'))"
+import json, sys
+counts = json.load(open(sys.argv[1]))["nonfinite"]
+sys.exit(0 if all(v == 0 for v in counts.values()) else 1)
+PY
+done < <(scene_files)
+# The corpus holds about 150 scenes and 19 molecular exports; far fewer means the find above broke.
+[ "$rendered" -ge 150 ] && pass || fail "only $rendered corpus scenes rendered"
+
+echo "cli corpus ($corpus): $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

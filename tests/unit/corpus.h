@@ -1,0 +1,70 @@
+// Where the tests find the outside corpus of real files (../shared/corpus/: exports nobody here wrote).
+// One setting, read at run time so that a user points the tests at a corpus without rebuilding:
+//   VRMLRAY_CORPUS=DIR    that folder (it must exist: a named corpus that is missing is a failure)
+//   VRMLRAY_CORPUS=none   no corpus: its tests are skipped
+//   unset                 ../shared/corpus beside the source tree, when it exists; else skipped
+// VRMLRAY_REQUIRE_CORPUS=1 (set by CI, where the folder is laid beside the clone) turns a skip into a failure,
+// so that the tests the project's claims rest on cannot quietly stop running.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace vr::test {
+
+struct CorpusLookup {
+    std::filesystem::path folder;  // the corpus (sub)folder, when found
+    std::string why_not;           // empty when found
+    bool must_fail = false;        // a missing corpus that was asked for is a failure, not a skip
+};
+
+inline CorpusLookup lookup_corpus(const std::string& subfolder = "") {
+    namespace fs = std::filesystem;
+    const char* setting = std::getenv("VRMLRAY_CORPUS");
+    const char* required = std::getenv("VRMLRAY_REQUIRE_CORPUS");
+    CorpusLookup out;
+    out.must_fail = required && std::string(required) == "1";
+    fs::path root;
+    if (setting && std::string(setting) == "none") {
+        out.why_not = "corpus skipped: VRMLRAY_CORPUS=none";
+        return out;
+    }
+    if (setting && *setting) {
+        root = setting;
+        if (!fs::is_directory(root)) {
+            out.why_not = "VRMLRAY_CORPUS=" + root.string() + " is not a folder";
+            out.must_fail = true;
+            return out;
+        }
+    } else {
+        root = VRMLRAY_CORPUS_DIR;
+        if (!fs::is_directory(root)) {
+            out.why_not = "corpus not found at " + root.lexically_normal().string() +
+                          "; set VRMLRAY_CORPUS=DIR to run this test";
+            return out;
+        }
+    }
+    out.folder = subfolder.empty() ? root : root / subfolder;
+    if (!fs::is_directory(out.folder)) {
+        // The corpus is there but lacks a folder the test reads: an incomplete corpus, not an absent one.
+        out.why_not = "the corpus at " + root.string() + " has no folder " + subfolder;
+        out.must_fail = true;
+        out.folder.clear();
+        return out;
+    }
+    return out;
+}
+
+}  // namespace vr::test
+
+// Declares `std::filesystem::path VAR` as the corpus folder SUBFOLDER, or ends the test: skipped with one
+// line saying where it looked and how to give it, or failed when the corpus was required or asked for.
+#define VR_CORPUS_FOLDER(VAR, SUBFOLDER)                                   \
+    const ::vr::test::CorpusLookup VAR##_lookup = ::vr::test::lookup_corpus(SUBFOLDER); \
+    if (!VAR##_lookup.why_not.empty()) {                                    \
+        if (VAR##_lookup.must_fail) FAIL() << VAR##_lookup.why_not;         \
+        GTEST_SKIP() << VAR##_lookup.why_not;                               \
+    }                                                                       \
+    const std::filesystem::path VAR = VAR##_lookup.folder
