@@ -92,6 +92,23 @@ private:
         scene_.diagnostics.warning({f.file, offset}, std::move(message), cause);
     }
 
+    // COMPONENT name:level. The statement only declares what the file uses (the nodes are read whatever it
+    // says), but a level no X3D component has (1 to 5 in X3D 3.0-4.0) means the file is not what it claims.
+    void component_level(Frame& f, const Token& name, std::string_view text) {
+        const size_t colon = text.rfind(':');
+        if (colon == std::string_view::npos) return;  // no level: level 1
+        const std::string_view digits = text.substr(colon + 1);
+        int level = 0;
+        const bool number = !digits.empty() && digits.size() <= 3 &&
+                            std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+        if (number) level = std::stoi(std::string(digits));
+        if (!number || level < 1 || level > 5)
+            warn(f, name.offset,
+                 "COMPONENT " + std::string(f.lexer.text(name)) +
+                     ": no X3D component has that level (levels run from 1 to 5); the nodes are read anyway",
+                 "component level");
+    }
+
     // Skips a balanced { ... } or [ ... ] group whose opening token is next.
     void skip_group(Frame& f) {
         Token open = f.lexer.next();
@@ -140,13 +157,16 @@ private:
             }
             if (w == "COMPONENT" || w == "UNIT") {
                 f.lexer.next();
-                expect_word(f, "a component name");
+                const Token name = expect(f, TokenKind::Word, "a component name");
                 if (w == "UNIT") {
                     expect_word(f, "a unit name");
                     expect_word(f, "a conversion factor");
-                } else if (f.lexer.peek().kind == TokenKind::Word && f.lexer.text(f.lexer.peek()).front() == ':') {
-                    f.lexer.next();  // "name :level" written with a space
+                    return kNullNode;
                 }
+                std::string_view level = f.lexer.text(name);
+                if (f.lexer.peek().kind == TokenKind::Word && f.lexer.text(f.lexer.peek()).front() == ':')
+                    level = f.lexer.text(f.lexer.next());  // "name :level" written with a space
+                component_level(f, name, level);
                 return kNullNode;
             }
             if (w == "META") {
