@@ -44,6 +44,7 @@ expect_stderr "^    +\^$" "caret under the column"
 expect 4 "unwritable output" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 -o "$work/no/such/dir/x.png"
 expect 0 "info on the seed scene" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
 expect 2 "unknown sampler" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler bogus -W 8 -H 8 -o "$work/x.png"
+expect_stderr "bogus not in \{center,grid,rgss,rooks8,quincunx,jitter,adaptive,statistical\}" "unknown sampler names the choices"
 expect 2 "grid needs a square spp" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler grid --spp 5 -W 8 -H 8 -o "$work/x.png"
 expect_stderr "sampler 'grid' needs a square number" "sampler message"
 for s in center grid rgss rooks8 quincunx jitter adaptive statistical; do
@@ -52,6 +53,7 @@ done
 expect 3 "a render that cannot fit in memory is refused before allocating" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 65536 -H 65536 -o "$work/x.png"
 expect_stderr "001_sphere.wrl: error: rendering 65536x65536 .* needs about 103 GB, more than" "memory estimate message"
 expect 3 "--max-memory lowers the limit" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 640 -H 480 --max-memory 0.001 -o "$work/x.png"
+expect_stderr "001_sphere.wrl: error: rendering 640x480 .* needs about 0.007.* GB, more than 0.001 GB \(--max-memory\)" "lowered memory limit message"
 expect 0 "--max-memory raises nothing that fits" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 64 -H 48 --max-memory 0.01 -o "$work/x.png"
 # --limit: a limit lowered below what a scene needs stops it with exit 3; an unknown name is a usage error.
 printf '#VRML V2.0 utf8\nGroup { children Group { children Group { children Shape { geometry Sphere {} } } } }\n' >"$work/nested.wrl"
@@ -59,6 +61,7 @@ expect 0 "three levels pass the default nesting limit" -- "$bin" info "$work/nes
 expect 3 "--limit nesting-depth=2 refuses three levels" -- "$bin" info "$work/nested.wrl" --limit nesting-depth=2
 expect_stderr "nested.wrl:2:.*: error: nodes nested deeper than 2" "lowered nesting limit message"
 expect 3 "--limit primitives=1 refuses a scene of 17 quadrics" -- "$bin" render "$src/scenes/seeds/000_scene5_table_chairs.wrl" --limit primitives=1 -W 8 -H 8 -o "$work/x.png"
+expect_stderr "error: the scene expands to more primitives than the limit allows" "primitive limit message"
 mkdir -p "$work/tex"
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 4 -H 4 -q -o "$work/tex/t.png"
 printf '#VRML V2.0 utf8\nShape { appearance Appearance { texture ImageTexture { url "t.png" } } geometry Box {} }\n' >"$work/tex/textured.wrl"
@@ -69,6 +72,7 @@ expect_stderr "warning: .*t.png: the image is too large \(4 x 4 = 16 pixels; the
 expect 2 "unknown --limit name" -- "$bin" info "$work/nested.wrl" --limit bogus=1
 expect_stderr "--limit wants NAME=VALUE with NAME one of nesting-depth" "unknown limit message"
 expect 2 "--limit needs a positive number" -- "$bin" info "$work/nested.wrl" --limit nodes=0
+expect_stderr "error: --limit nodes wants a positive whole number, optionally with k, M or G \(got '0'\)" "limit value message"
 # Determinism: the same floats for 1 and 2 threads and on a second run (opaque with a random sampler, and gas).
 for scene in 000_scene2_metal_glass 003_particles_gas; do
     "$bin" render "$src/scenes/seeds/$scene.wrl" -W 48 -H 36 --sampler jitter --spp 4 --seed 3 --threads 1 -q -o "$work/det1.exr"
@@ -82,6 +86,17 @@ expect 3 "--timeout stops a long render" -- "$bin" render "$src/scenes/seeds/000
 expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"
 [ ! -e "$work/timeout.png" ] && pass || fail "no image is written after a timeout"
 expect 2 "unknown viewpoint" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --viewpoint Nowhere -W 8 -H 8 -o "$work/x.png"
+expect_stderr "error: no viewpoint named 'Nowhere' \\(the scene has: 'Camera'\\)" "unknown viewpoint lists the scene's viewpoints"
+
+# --- info: the figures a user reads (SPEC section 1) ---------------------------------------------------
+expect 0 "info on the table-and-chairs seed" -- "$bin" info "$src/scenes/seeds/000_scene5_table_chairs.wrl"
+for line in '^encoding +VRML97 \(classic\)$' '^nodes +100 read \(PROTO bodies expanded\), 13 top-level$' '^  Box +17$' \
+    '^tracer +0 spheres, 17 quadrics .*, 1 meshes with 2 triangles$' '^ +3 materials, 1 textures, 0 shapes skipped$' \
+    '^bounds +\(-15 0 -15\) \.\. \(15 1.325 15\)$' '^lights +2, headlight off$' \
+    '^  PointLight +colour \(1 1 1\) intensity 0.9 ambient 0.3 at \(2 6 3\) radius 100$' \
+    '^   "corner" position \(4.5 4 6.5\) fieldOfView 0.75$'; do
+    grep -Eq -- "$line" "$work/out.txt" && pass || fail "info output lacks /$line/"
+done
 
 # --- compare (SPEC section 10) -----------------------------------------------------------------------
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 -o "$work/a.png" -q
