@@ -18,7 +18,7 @@ ctest --output-on-failure -j"$(nproc)" "$@" 2>&1 | tee "$log" || status=$?
 # The summary: counts from CTest's own lines, and the reason for the skips.
 total=$(grep -Eo 'tests failed out of [0-9]+' "$log" | grep -Eo '[0-9]+$' || echo 0)
 failed=$(grep -Eo '[0-9]+ tests failed out of' "$log" | grep -Eo '^[0-9]+' || echo 0)
-skipped=$(grep -Ec '^ *[0-9]+ - .* \(Skipped\)$' "$log" || true)
+skipped=$(grep -Ec '^[[:space:]]*[0-9]+ - .*\(Skipped\)$' "$log" || true)
 passed=$((total - failed - skipped))
 corpus=${VRMLRAY_CORPUS:-$(cd "$root/.." && pwd)/shared/corpus}
 why=""
