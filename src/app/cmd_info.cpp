@@ -13,16 +13,22 @@ namespace vr {
 
 namespace {
 
-// What --recover-spheres (on in gas mode) makes of the scene's IndexedFaceSets, placement by placement.
+// What --recover-spheres (on in gas mode) makes of the scene's IndexedFaceSets, placement by
+// placement.
 void print_recovery(const FlattenStats& rs) {
     if (rs.recovery_candidates == 0) return;
-    const size_t recovered = rs.recovered_spheres + rs.recovered_ellipsoids + rs.recovered_cylinders;
-    std::printf("recovery    %zu of %zu IndexedFaceSet placements are exact shapes (gas mode or --recover-spheres): "
-                "%zu spheres, %zu ellipsoids, %zu cylinders\n",
-                recovered, rs.recovery_candidates, rs.recovered_spheres, rs.recovered_ellipsoids,
-                rs.recovered_cylinders);
+    const size_t recovered =
+        rs.recovered_spheres + rs.recovered_ellipsoids + rs.recovered_cylinders;
+    std::printf(
+        "recovery    %zu of %zu IndexedFaceSet placements are exact shapes (gas mode or "
+        "--recover-spheres): "
+        "%zu spheres, %zu ellipsoids, %zu cylinders\n",
+        recovered, rs.recovery_candidates, rs.recovered_spheres, rs.recovered_ellipsoids,
+        rs.recovered_cylinders);
     if (rs.recovered_ellipsoids > 0)
-        std::printf("            the ellipsoids (spheres under a non-uniform scale) stay meshes in gas mode\n");
+        std::printf(
+            "            the ellipsoids (spheres under a non-uniform scale) stay meshes in gas "
+            "mode\n");
     for (size_t m = 0; m < rs.recovery_misses.size(); ++m)
         if (rs.recovery_misses[m] > 0)
             std::printf("            %zu not recovered: %s\n", rs.recovery_misses[m],

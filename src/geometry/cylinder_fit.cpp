@@ -13,7 +13,7 @@ namespace {
 constexpr size_t kMinRimVertices = 12;
 
 struct Ends {
-    double lo = 0.0, hi = 0.0;            // the end planes' written values, along the axis
+    double lo = 0.0, hi = 0.0;          // the end planes' written values, along the axis
     std::vector<uint8_t> at_lo, at_hi;  // per point: lies in that end's plane (to the precision)
 };
 
@@ -45,8 +45,9 @@ struct Circle {
 
 // The roundest circle about which the rim points agree with one radius and the others (cap
 // points) lie inside it; the last candidate centre is the least-squares one.
-std::optional<Circle> roundest_circle(const std::vector<double>& cross, const std::vector<uint8_t>& rim,
-                                      const Circle& fitted, double half_unit, int decimals) {
+std::optional<Circle> roundest_circle(const std::vector<double>& cross,
+                                      const std::vector<uint8_t>& rim, const Circle& fitted,
+                                      double half_unit, int decimals) {
     for (int d = 0; d <= decimals + 1; ++d) {
         Circle c = fitted;
         if (d <= decimals)
@@ -57,8 +58,7 @@ std::optional<Circle> roundest_circle(const std::vector<double>& cross, const st
             radii.lo = std::max(radii.lo, b.nearest);
             if (rim[k]) radii.hi = std::min(radii.hi, b.farthest);
         }
-        const double slack =
-            1e-9 * (fitted.radius + std::abs(c.center[0]) + std::abs(c.center[1]));
+        const double slack = 1e-9 * (fitted.radius + std::abs(c.center[0]) + std::abs(c.center[1]));
         if (radii.lo > radii.hi + slack) continue;
         c.radius = roundest_in(radii.lo - slack, radii.hi + slack, decimals);
         if (c.radius > 0.0) return c;
@@ -100,7 +100,8 @@ std::optional<CylinderFit> fit_along(const std::vector<Vec3>& points,
         lo[0] = std::min(lo[0], p[i]), hi[0] = std::max(hi[0], p[i]);
         lo[1] = std::min(lo[1], p[j]), hi[1] = std::max(hi[1], p[j]);
     }
-    // The rim is what lies out at the side: a first guess from the box's middle, refined by the fit.
+    // The rim is what lies out at the side: a first guess from the box's middle, refined by the
+    // fit.
     const double middle[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])};
     const double reach = 0.5 * std::max(hi[0] - lo[0], hi[1] - lo[1]);
     std::vector<double> outer;
@@ -134,9 +135,12 @@ std::optional<CylinderFit> fit_along(const std::vector<Vec3>& points,
         const uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
         const double area =
             0.5 * glm::length(glm::cross(points[b] - points[a], points[c] - points[a]));
-        if (ends.at_lo[a] && ends.at_lo[b] && ends.at_lo[c]) disc[0] += area;
-        else if (ends.at_hi[a] && ends.at_hi[b] && ends.at_hi[c]) disc[1] += area;
-        else side += area;
+        if (ends.at_lo[a] && ends.at_lo[b] && ends.at_lo[c])
+            disc[0] += area;
+        else if (ends.at_hi[a] && ends.at_hi[b] && ends.at_hi[c])
+            disc[1] += area;
+        else
+            side += area;
     }
     // A 12-gon prism keeps 98.9% of the side's area; less means a gap in the side.
     if (side < 0.95 * 2.0 * kPi * r * height) return std::nullopt;

@@ -38,8 +38,8 @@ inline Vec3 round_to(const Vec3& v, int decimals) {
 }
 
 // Least-squares circle (dims 2) or sphere (dims 3) through points stored dims coordinates each:
-// |p|^2 = 2 p.c + k with k = r^2 - |c|^2, solved about the centroid for conditioning. False when the
-// points are degenerate (collinear, coplanar for a sphere) or the fit is not finite.
+// |p|^2 = 2 p.c + k with k = r^2 - |c|^2, solved about the centroid for conditioning. False when
+// the points are degenerate (collinear, coplanar for a sphere) or the fit is not finite.
 bool least_squares_sphere(const std::vector<double>& coords, int dims, double* center,
                           double& radius);
 

@@ -62,8 +62,8 @@ double triangles_area(const std::vector<Vec3>& points, const std::vector<uint32_
     double area = 0.0;
     for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
         const Vec3& a = points[triangles[t]];
-        area += 0.5 * glm::length(glm::cross(points[triangles[t + 1]] - a,
-                                             points[triangles[t + 2]] - a));
+        area += 0.5 *
+                glm::length(glm::cross(points[triangles[t + 1]] - a, points[triangles[t + 2]] - a));
     }
     return area;
 }
@@ -95,7 +95,8 @@ std::optional<SphereFit> fit_tessellated_sphere(const std::vector<Vec3>& points,
     coords.reserve(points.size() * 3);
     for (const Vec3& p : points) coords.insert(coords.end(), {p.x, p.y, p.z});
     double lsq_center[3], lsq_radius = 0.0;
-    if (!least_squares_sphere(coords, 3, lsq_center, lsq_radius)) return fail(FitFailure::OffSurface);
+    if (!least_squares_sphere(coords, 3, lsq_center, lsq_radius))
+        return fail(FitFailure::OffSurface);
     const int decimals = written_decimals(points);
     const double half_unit = written_half_unit(points);
     if (half_unit > 1e-3 * lsq_radius) return fail(FitFailure::CoarselyWritten);

@@ -482,7 +482,8 @@ class Flattener {
         std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
         if (!cached)
             cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
-        if (recover_spheres_ && std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) &&
+        if (recover_spheres_ &&
+            std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) &&
             recover_exact(shape.geometry, *cached, m, shading, out_.materials[material], want_uvs))
             return;
         if (cached->triangles.empty()) {
@@ -573,11 +574,13 @@ class Flattener {
     }
 
     void add_recovered_cylinder(const CylinderFit& c, const Mat4& m, uint32_t shading) {
-        // The Cylinder quadric runs along object y: turn y onto the fitted axis (+y to +axis, so that
-        // `top` stays the +axis end) and move it to the fitted centre.
+        // The Cylinder quadric runs along object y: turn y onto the fitted axis (+y to +axis, so
+        // that `top` stays the +axis end) and move it to the fitted centre.
         Mat4 local(1.0);
-        if (c.axis == 0) local = Mat4(Vec4(0, -1, 0, 0), Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, 0, 0, 1));
-        if (c.axis == 2) local = Mat4(Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, -1, 0, 0), Vec4(0, 0, 0, 1));
+        if (c.axis == 0)
+            local = Mat4(Vec4(0, -1, 0, 0), Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, 0, 0, 1));
+        if (c.axis == 2)
+            local = Mat4(Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, -1, 0, 0), Vec4(0, 0, 0, 1));
         local[3] = Vec4(c.center, 1.0);
         Quadric& q = add_quadric(QuadricKind::Cylinder, m * local,
                                  Vec3(2.0 * c.radius, c.height, 2.0 * c.radius), shading);
