@@ -11,6 +11,32 @@
 
 namespace vr {
 
+namespace {
+
+// What --recover-spheres (on in gas mode) makes of the scene's IndexedFaceSets, placement by
+// placement.
+void print_recovery(const FlattenStats& rs) {
+    if (rs.recovery_candidates == 0) return;
+    const size_t recovered =
+        rs.recovered_spheres + rs.recovered_ellipsoids + rs.recovered_cylinders;
+    std::printf(
+        "recovery    %zu of %zu IndexedFaceSet placements are exact shapes (gas mode or "
+        "--recover-spheres): "
+        "%zu spheres, %zu ellipsoids, %zu cylinders\n",
+        recovered, rs.recovery_candidates, rs.recovered_spheres, rs.recovered_ellipsoids,
+        rs.recovered_cylinders);
+    if (rs.recovered_ellipsoids > 0)
+        std::printf(
+            "            the ellipsoids (spheres under a non-uniform scale) stay meshes in gas "
+            "mode\n");
+    for (size_t m = 0; m < rs.recovery_misses.size(); ++m)
+        if (rs.recovery_misses[m] > 0)
+            std::printf("            %zu not recovered: %s\n", rs.recovery_misses[m],
+                        recovery_miss_label(RecoveryMiss(m)));
+}
+
+}  // namespace
+
 int run_info(const std::string& path, const CommonOptions& common) {
     LoadedScene loaded;
     bool ok = load_and_report(path, common, loaded);
@@ -61,16 +87,14 @@ int run_info(const std::string& path, const CommonOptions& common) {
     flat.prototypes = {};
     flat.instances = {};
     {
-        // Tessellated spheres (Jmol atoms) that gas mode or --recover-spheres renders as exact spheres.
+        // Meshes (Jmol atoms and bonds) that gas mode or --recover-spheres renders as exact shapes.
         FlattenOptions recover = fo;
         recover.recover_spheres = true;
         Diagnostics quiet;
         FlattenStats rs;
         (void)flatten_scene(scene, recover, quiet, rs);
         scene = Scene{};
-        std::printf("            %zu tessellated spheres recognised (rendered as spheres in gas mode or with "
-                    "--recover-spheres)\n",
-                    rs.recovered_spheres);
+        print_recovery(rs);
     }
     if (b.empty()) {
         std::printf("bounds      empty (nothing to render)\n");

@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
     r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file");
     bool recover = false, no_recover = false;
     r->add_flag("--recover-spheres", recover,
-                "Render meshes whose vertices all lie on one sphere (Jmol atoms) as exact spheres (default in gas mode)");
+                "Render meshes whose vertices all lie on one sphere or cylinder to their written precision (Jmol atoms, bonds) as exact shapes (default in gas mode)");
     r->add_flag("--no-recover-spheres", no_recover, "Keep such meshes as triangles, also in gas mode");
     add_common(r);
 

@@ -1,7 +1,5 @@
 #include "render/flatten.h"
 
-#include "geometry/sphere_fit.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,7 +9,9 @@
 #include <optional>
 #include <unordered_map>
 
+#include "geometry/cylinder_fit.h"
 #include "geometry/mesh_nodes.h"
+#include "geometry/sphere_fit.h"
 #include "parser/load.h"
 #include "scene/image_file.h"
 #include "core/huge_pages.h"
@@ -108,7 +108,7 @@ class Flattener {
         if (scene_.groups.empty()) return std::move(out_);
         texture_index_.assign(scene_.textures.size(), kUnloaded);
         mesh_cache_[0].resize(scene_.geometries.size());
-        sphere_fits_.resize(scene_.geometries.size());
+        recoveries_.resize(scene_.geometries.size());
         recover_spheres_ = options_.recover_spheres.value_or(options_.spheres == SpheresOption::Gas);
         mesh_cache_[1].resize(scene_.geometries.size());
         mesh_uses_[0].resize(scene_.geometries.size());
@@ -482,22 +482,10 @@ class Flattener {
         std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
         if (!cached)
             cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
-        if (recover_spheres_ && !want_uvs && std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape)) {
-            auto& fit = sphere_fits_[shape.geometry];
-            if (!fit) fit = fit_tessellated_sphere(cached->positions);
-            const double scale = uniform_scale(linear_part(m));
-            if (*fit && scale > 0.0) {
-                Sphere sphere;
-                sphere.center = transform_point(m, (**fit).center);
-                sphere.radius = (**fit).radius * scale;
-                sphere.shading = shading;
-                sphere.gas = gas_of(out_.materials[material]);
-                out_.spheres.push_back(sphere);
-                ++stats_.spheres;
-                ++stats_.recovered_spheres;
-                return;
-            }
-        }
+        if (recover_spheres_ &&
+            std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) &&
+            recover_exact(shape.geometry, *cached, m, shading, out_.materials[material], want_uvs))
+            return;
         if (cached->triangles.empty()) {
             ++stats_.skipped_shapes;
             return;
@@ -526,6 +514,84 @@ class Flattener {
         }
         out_.meshes.push_back(world_mesh(*cached, m, shading));
         ++stats_.meshes;
+    }
+
+    // ---- recovery of exact shapes from meshes (FlattenOptions::recover_spheres)
+
+    struct Recovery {
+        std::optional<SphereFit> sphere;
+        std::optional<CylinderFit> cylinder;
+        RecoveryMiss why = RecoveryMiss::OffSurface;
+    };
+
+    static Recovery recognise(const TriMesh& mesh) {
+        Recovery r;
+        if (!mesh.colors.empty()) {
+            r.why = RecoveryMiss::Colored;
+            return r;
+        }
+        FitFailure as_sphere = FitFailure::OffSurface, as_cylinder = FitFailure::OffSurface;
+        r.sphere = fit_tessellated_sphere(mesh.positions, &mesh.triangles, &as_sphere);
+        if (!r.sphere)
+            r.cylinder = fit_tessellated_cylinder(mesh.positions, mesh.triangles, &as_cylinder);
+        r.why = RecoveryMiss(std::max(as_sphere, as_cylinder));  // the more specific reason
+        return r;
+    }
+
+    // Emits the exact shape the mesh of `geometry` stands for at this placement, or counts why not.
+    bool recover_exact(sg::Index geometry, const TriMesh& mesh, const Mat4& m, uint32_t shading,
+                       const Material& material, bool want_uvs) {
+        ++stats_.recovery_candidates;
+        auto miss = [&](RecoveryMiss why) {
+            ++stats_.recovery_misses[size_t(why)];
+            return false;
+        };
+        if (want_uvs) return miss(RecoveryMiss::Textured);
+        std::optional<Recovery>& r = recoveries_[geometry];
+        if (!r) r = recognise(mesh);
+        if (r->cylinder) {
+            add_recovered_cylinder(*r->cylinder, m, shading);
+            return true;
+        }
+        if (!r->sphere) return miss(r->why);
+        const double scale = uniform_scale(linear_part(m));
+        const Mat4 at_center = m * translation_matrix(r->sphere->center);
+        if (scale > 0.0) {
+            Sphere sphere;
+            sphere.center = transform_point(at_center, Vec3(0.0));
+            sphere.radius = r->sphere->radius * scale;
+            sphere.shading = shading;
+            sphere.gas = gas_of(material);
+            out_.spheres.push_back(sphere);
+            ++stats_.spheres;
+            ++stats_.recovered_spheres;
+            return true;
+        }
+        if (gas_of(material)) return miss(RecoveryMiss::NonUniformGas);
+        add_quadric(QuadricKind::Ellipsoid, at_center, Vec3(2.0 * r->sphere->radius), shading);
+        ++stats_.recovered_ellipsoids;
+        return true;
+    }
+
+    void add_recovered_cylinder(const CylinderFit& c, const Mat4& m, uint32_t shading) {
+        // The Cylinder quadric runs along object y: turn y onto the fitted axis (+y to +axis, so
+        // that `top` stays the +axis end) and move it to the fitted centre.
+        Mat4 local(1.0);
+        if (c.axis == 0)
+            local = Mat4(Vec4(0, -1, 0, 0), Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, 0, 0, 1));
+        if (c.axis == 2)
+            local = Mat4(Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, -1, 0, 0), Vec4(0, 0, 0, 1));
+        local[3] = Vec4(c.center, 1.0);
+        Quadric& q = add_quadric(QuadricKind::Cylinder, m * local,
+                                 Vec3(2.0 * c.radius, c.height, 2.0 * c.radius), shading);
+        q.top = c.top, q.bottom = c.bottom;
+        ++stats_.recovered_cylinders;
+    }
+
+    static Mat4 translation_matrix(const Vec3& t) {
+        Mat4 out(1.0);
+        out[3] = Vec4(t, 1.0);
+        return out;
     }
 
     void add_instance(uint32_t prototype, const Mat4& m, uint32_t shading) {
@@ -784,8 +850,8 @@ class Flattener {
         uint32_t first_shading = 0;
     };
     std::vector<MeshUse> mesh_uses_[2];  // per geometry, like mesh_cache_
-    // Per geometry: unset until tried, then the sphere its mesh lies on (or nothing).
-    std::vector<std::optional<std::optional<SphereFit>>> sphere_fits_;
+    // Per geometry: unset until tried, then the exact shape its mesh stands for (or why none).
+    std::vector<std::optional<Recovery>> recoveries_;
     bool recover_spheres_ = false;
     bool stopped_ = false;
     bool depth_warned_ = false;
@@ -793,6 +859,22 @@ class Flattener {
 };
 
 }  // namespace
+
+const char* recovery_miss_label(RecoveryMiss m) {
+    switch (m) {
+        case RecoveryMiss::Textured:
+            return "textured";
+        case RecoveryMiss::Colored:
+            return "per-vertex colours";
+        case RecoveryMiss::NonUniformGas:
+            return "a sphere under a non-uniform scale in gas mode";
+        case RecoveryMiss::kCount:
+            break;
+        default:
+            return fit_failure_label(FitFailure(m));
+    }
+    return "?";
+}
 
 FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
                         FlattenStats& stats) {

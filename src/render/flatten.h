@@ -40,6 +40,7 @@
 //   repeat mode. A texture that cannot be found or read, or has more than max_texture_pixels
 //   texels, is one warning; the shape renders untextured.
 #pragma once
+#include <array>
 #include <optional>
 #include <filesystem>
 #include <string>
@@ -56,8 +57,10 @@ namespace vr {
 struct FlattenOptions {
     SpheresOption spheres = SpheresOption::FromHints;
     double density = 1.0;
-    // Render a mesh whose vertices all lie on one sphere as that sphere (Jmol's atoms); unset: on in gas
-    // mode, off otherwise.
+    // Render an IndexedFaceSet whose vertices all lie on one sphere or axis-aligned cylinder, to the
+    // precision they were written with, as that exact shape (Jmol's atoms and bonds); unset: on in gas
+    // mode, off otherwise. A sphere under a non-uniform scale becomes an ellipsoid quadric, except in
+    // gas mode (gas needs true spheres: the mesh stays).
     std::optional<bool> recover_spheres;
     std::optional<Vec3> albedo;    // --albedo: gas albedo where no hint says (default: diffuseColor)
     std::optional<Vec3> emission;  // --emission: gas emission where no hint says (default: emissiveColor)
@@ -77,12 +80,31 @@ struct FlattenOptions {
     size_t max_texture_pixels = kDefaultMaxTexturePixels;
 };
 
+// Why a mesh tried for recovery (FlattenOptions::recover_spheres) stayed a mesh. The first five are
+// FitFailure's (geometry/sphere_fit.h), in its order.
+enum class RecoveryMiss : uint8_t {
+    OffSurface,
+    TooFewPoints,
+    CoarselyWritten,
+    NotAllAround,
+    PartialCap,
+    Textured,       // has a texture: the exact shape would map it differently
+    Colored,        // per-vertex colours, which the exact shape cannot carry
+    NonUniformGas,  // a sphere under a non-uniform scale, in gas mode
+    kCount
+};
+const char* recovery_miss_label(RecoveryMiss m);
+
 struct FlattenStats {
     size_t spheres = 0, quadrics = 0, meshes = 0, triangles = 0, materials = 0, lights = 0,
            textures = 0;
     size_t instances = 0;  // placements of instanced meshes (not in `meshes`; their triangles are in `triangles`)
     size_t skipped_shapes = 0;  // shapes with no renderable geometry
-    size_t recovered_spheres = 0;  // tessellated spheres rendered as exact spheres
+    // Recovery (FlattenOptions::recover_spheres), counted per placement: IndexedFaceSets tried, those
+    // rendered as exact spheres, ellipsoids and cylinders, and why the others were not.
+    size_t recovery_candidates = 0;
+    size_t recovered_spheres = 0, recovered_ellipsoids = 0, recovered_cylinders = 0;
+    std::array<size_t, size_t(RecoveryMiss::kCount)> recovery_misses{};
 };
 
 FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
