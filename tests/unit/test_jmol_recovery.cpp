@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "corpus.h"
 #include "geometry/cylinder_fit.h"
 #include "geometry/sphere_fit.h"
 #include "parser/load.h"
@@ -19,8 +20,6 @@ namespace vr {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kJmol = fs::path(VRMLRAY_CORPUS_DIR) / "molecular" / "jmol";
 
 std::string read_text(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -68,10 +67,10 @@ Placements count_placements(const std::string& text) {
     return out;
 }
 
-std::vector<fs::path> jmol_files() {
+std::vector<fs::path> jmol_files(const fs::path& jmol_dir) {
     std::vector<fs::path> files;
-    if (!fs::is_directory(kJmol)) return files;
-    for (const auto& e : fs::directory_iterator(kJmol))
+    if (!fs::is_directory(jmol_dir)) return files;
+    for (const auto& e : fs::directory_iterator(jmol_dir))
         if (e.path().extension() == ".wrl" || e.path().extension() == ".x3d")
             files.push_back(e.path());
     std::sort(files.begin(), files.end());
@@ -103,12 +102,10 @@ FlatScene flatten_text(const std::string& text, const std::string& name, Spheres
     return flatten_file(loaded, spheres, recover, stats);
 }
 
-#define SKIP_WITHOUT_JMOL_CORPUS(files) \
-    if ((files).empty()) GTEST_SKIP() << "no Jmol exports in " << kJmol.string()
-
 TEST(JmolRecovery, EveryAtomAndBondOfEveryFileInBothEncodings) {
-    const std::vector<fs::path> files = jmol_files();
-    SKIP_WITHOUT_JMOL_CORPUS(files);
+    VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
+    const std::vector<fs::path> files = jmol_files(jmol_dir);
+    ASSERT_EQ(files.size(), 10u) << jmol_dir;  // 5 exports, each as .wrl and .x3d
     size_t atoms = 0, bonds = 0;
     for (const fs::path& file : files) {
         SCOPED_TRACE(file.filename().string());
@@ -141,8 +138,8 @@ TEST(JmolRecovery, EveryAtomAndBondOfEveryFileInBothEncodings) {
 // Jmol's cylinder is capped at both ends (fans about 0 +-.5 0): so is the recovered one, with the
 // radius and length of the unit cylinder exactly, placed by the bond's own Transform.
 TEST(JmolRecovery, BondsAreCappedUnitCylindersUnderTheirTransforms) {
-    const fs::path file = kJmol / "pept_ballstick.wrl";
-    if (!fs::exists(file)) GTEST_SKIP() << "no Jmol exports in " << kJmol.string();
+    VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
+    const fs::path file = jmol_dir / "pept_ballstick.wrl";
     FlattenStats stats;
     const FlatScene flat = flatten_file(file, SpheresOption::Opaque, true, stats);
     ASSERT_FALSE(flat.quadrics.empty());
@@ -199,8 +196,8 @@ Image render(const FlatScene& scene, SpheresOption spheres) {
 TEST(JmolRecovery, GasRenderEqualsTheAtomsWrittenAsSphereNodes) {
     for (const char* name : {"c551_spacefill.wrl", "pept_ballstick.wrl"}) {
         SCOPED_TRACE(name);
-        const fs::path file = kJmol / name;
-        if (!fs::exists(file)) GTEST_SKIP() << "no Jmol exports in " << kJmol.string();
+        VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
+        const fs::path file = jmol_dir / name;
         const std::string text = read_text(file);
         const Placements placed = count_placements(text);
         FlattenStats recovered_stats, nodes_stats;
@@ -231,8 +228,8 @@ TEST(JmolRecovery, GasRenderEqualsTheAtomsWrittenAsSphereNodes) {
 // whose centre lies that close to an outline change coverage: a ring of 0.1 pixel round a 4-pixel disc
 // is 5% of its area, overlaps hide most of it; 2% of the covered pixels is the bound (1.1% measured).
 TEST(JmolRecovery, OpaqueRecoveryKeepsTheMeshSilhouette) {
-    const fs::path file = kJmol / "pept_ballstick.wrl";
-    if (!fs::exists(file)) GTEST_SKIP() << "no Jmol exports in " << kJmol.string();
+    VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
+    const fs::path file = jmol_dir / "pept_ballstick.wrl";
     FlattenStats exact_stats, mesh_stats;
     const FlatScene exact = flatten_file(file, SpheresOption::Opaque, true, exact_stats);
     const FlatScene mesh = flatten_file(file, SpheresOption::Opaque, std::nullopt, mesh_stats);
@@ -260,8 +257,8 @@ TEST(JmolRecovery, OpaqueRecoveryKeepsTheMeshSilhouette) {
 // Jmol's file with one vertex moved from .894 0 .447 to .899 0 .447 (5e-3 off, ten times the half
 // unit of its three decimals). Likewise a bond mesh with one vertex moved by 1e-2.
 TEST(JmolRecovery, MeshOffByMoreThanItsPrecisionIsNotRecovered) {
-    const fs::path file = kJmol / "pept_ballstick.wrl";
-    if (!fs::exists(file)) GTEST_SKIP() << "no Jmol exports in " << kJmol.string();
+    VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
+    const fs::path file = jmol_dir / "pept_ballstick.wrl";
     std::string text = read_text(file);
     const Placements placed = count_placements(text);
     const size_t vertex = text.find("\n.894 0 .447\n");
@@ -289,10 +286,10 @@ TEST(JmolRecovery, MeshOffByMoreThanItsPrecisionIsNotRecovered) {
 // PyMOL and RasMol write Sphere (and Cylinder) nodes: recovery finds nothing in their meshes
 // (cartoons, surfaces), and the gas scene is the same with it on and off.
 TEST(JmolRecovery, PymolAndRasmolFilesAreUnaffected) {
+    VR_CORPUS_FOLDER(molecular, "molecular");
     size_t files = 0;
     for (const char* exporter : {"pymol", "rasmol"}) {
-        const fs::path folder = fs::path(VRMLRAY_CORPUS_DIR) / "molecular" / exporter;
-        if (!fs::is_directory(folder)) continue;
+        const fs::path folder = molecular / exporter;
         for (const auto& e : fs::directory_iterator(folder)) {
             SCOPED_TRACE(e.path().string());
             ++files;
@@ -306,8 +303,7 @@ TEST(JmolRecovery, PymolAndRasmolFilesAreUnaffected) {
                       b.triangle_count() + b.instanced_triangle_count());
         }
     }
-    if (files == 0)
-        GTEST_SKIP() << "no PyMOL/RasMol exports in " << VRMLRAY_CORPUS_DIR << "/molecular";
+    EXPECT_EQ(files, 9u);  // 7 PyMOL and 2 RasMol exports
 }
 
 // ---- generated meshes, for what no real file has: open tubes, partial caps, squashed atoms
@@ -394,8 +390,8 @@ TEST(JmolRecovery, CylindersAlongOtherAxesKeepTheirEnds) {
 // A sphere mesh squashed by a non-uniform scale: an ellipsoid quadric in opaque mode, a mesh (with
 // its reason) in gas mode, where only true spheres are gas.
 TEST(JmolRecovery, SquashedAtomsAreEllipsoidsWhenOpaqueAndMeshesInGas) {
-    const fs::path file = kJmol / "pept_spacefill.wrl";
-    if (!fs::exists(file)) GTEST_SKIP() << "no Jmol exports in " << kJmol.string();
+    VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
+    const fs::path file = jmol_dir / "pept_spacefill.wrl";
     std::string text = read_text(file);
     const size_t first = text.find("scale 1.7 1.7 1.7");  // an oxygen
     ASSERT_NE(first, std::string::npos);
