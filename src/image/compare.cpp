@@ -7,9 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <thread>
-
 #include <nlohmann/json.hpp>
+#include <thread>
 
 namespace vr {
 namespace {
@@ -173,7 +172,8 @@ namespace {
 
 // "3 channels (no alpha)"
 std::string describe_channels(const Image& image) {
-    return std::to_string(image.file_channels) + (image.file_channels == 1 ? " channel" : " channels") +
+    return std::to_string(image.file_channels) +
+           (image.file_channels == 1 ? " channel" : " channels") +
            (image.has_alpha ? " (with alpha)" : " (no alpha)");
 }
 
@@ -305,12 +305,11 @@ std::vector<std::string> failed_thresholds(const CompareMetrics& m, const Compar
     const bool idiff_set = t.fail || t.failpercent || t.hardfail;
     const bool any_set =
         idiff_set || t.max_rmse || t.min_psnr || t.min_ssim || t.max_abs || t.max_fail_percent;
-    if (idiff_set)
+    if (idiff_set || !any_set)
         idiff_test(m, m.idiff_fail, m.idiff_fail_percent, t.failpercent, t.hardfail, "fail",
-                   "--fail, --failpercent", failures);
-    else if (!any_set)
-        idiff_test(m, m.idiff_fail, m.idiff_fail_percent, t.failpercent, t.hardfail, "fail",
-                   "no threshold given: idiff's default --fail 1e-06 --failpercent 0", failures);
+                   idiff_set ? "--fail, --failpercent"
+                             : "no threshold given: idiff's default --fail 1e-06 --failpercent 0",
+                   failures);
     return failures;
 }
 

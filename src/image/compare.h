@@ -102,8 +102,8 @@ std::string format_metrics_json(const CompareMetrics& metrics,
                                 const std::vector<std::string>& failures,
                                 const std::vector<std::string>& warnings = {});
 
-// Heat-map scale: the per-pixel difference d (largest channel absolute difference, alpha included) is
-// placed on a logarithmic ramp, t = log10(d / kHeatmapMinDiff) / log10(kHeatmapMaxDiff /
+// Heat-map scale: the per-pixel difference d (largest channel absolute difference, alpha included)
+// is placed on a logarithmic ramp, t = log10(d / kHeatmapMinDiff) / log10(kHeatmapMaxDiff /
 // kHeatmapMinDiff) clamped to [0,1], so each decade has its own colour:
 //   d <= 1e-4 black, 1e-3 blue, 1e-2 red, 1e-1 yellow, >= 1 white (and non-finite d white),
 // linearly interpolated in RGB in between. d = 0 is black. 8-bit rounding (1/255 ~ 3.9e-3) lands

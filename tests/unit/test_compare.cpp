@@ -3,11 +3,10 @@
 
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "image/compare.h"
 
@@ -412,8 +411,7 @@ TEST(CompareTest, JsonReportIsValidAtFullPrecision) {
     m.rmse = 0.1234567890123456789;  // more digits than the old %g-style 6
     m.max_abs = 1.0 / 3.0;
     m.psnr = std::numeric_limits<double>::infinity();
-    const std::string text =
-        format_metrics_json(m, {"a \"quoted\" \\ line\n"}, {"ctrl \x01"});
+    const std::string text = format_metrics_json(m, {"a \"quoted\" \\ line\n"}, {"ctrl \x01"});
     const nlohmann::json j = nlohmann::json::parse(text);
     EXPECT_EQ(j["rmse"].get<double>(), m.rmse);  // exact: a double round-trips
     EXPECT_EQ(j["max_abs"].get<double>(), 1.0 / 3.0);
