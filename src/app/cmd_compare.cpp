@@ -1,4 +1,5 @@
-// vrmlray compare A B: golden-image comparison with optional pass/fail thresholds.
+// vrmlray compare A B: golden-image comparison with pass/fail thresholds (idiff's 1e-6 when none is
+// given). Warnings are printed and exit 0, as idiff's are a pass with a remark; failures exit 1.
 #include <iostream>
 
 #include "app/commands.h"
@@ -18,23 +19,31 @@ int run_compare(const CompareCommand& cmd) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitBadInput;
     }
-    CompareMetrics metrics;
-    if (!compare_images(a, b, cmd.pixel_threshold, metrics, error)) {
-        std::cerr << "vrmlray: error: " << error << "\n";
-        return kExitBadInput;
-    }
     CompareThresholds thresholds;
     thresholds.max_rmse = cmd.max_rmse;
     thresholds.min_psnr = cmd.min_psnr;
     thresholds.min_ssim = cmd.min_ssim;
     thresholds.max_abs = cmd.max_abs;
     thresholds.max_fail_percent = cmd.max_fail_percent;
+    thresholds.fail = cmd.fail;
+    thresholds.failpercent = cmd.failpercent;
+    thresholds.hardfail = cmd.hardfail;
+    thresholds.warn = cmd.warn;
+    thresholds.warnpercent = cmd.warnpercent;
+    thresholds.hardwarn = cmd.hardwarn;
     thresholds.pixel_threshold = cmd.pixel_threshold;
-    std::vector<std::string> failures = failed_thresholds(metrics, thresholds);
+    CompareMetrics metrics;
+    if (!compare_images(a, b, thresholds, metrics, error)) {
+        std::cerr << "vrmlray: error: " << error << "\n";
+        return kExitBadInput;
+    }
+    const std::vector<std::string> failures = failed_thresholds(metrics, thresholds);
+    const std::vector<std::string> warnings = warned_thresholds(metrics, thresholds);
     if (cmd.json) {
-        std::cout << format_metrics_json(metrics, failures);
+        std::cout << format_metrics_json(metrics, failures, warnings);
     } else {
         std::cout << format_metrics_text(metrics);
+        for (const std::string& w : warnings) std::cout << "WARNING: " << w << "\n";
         for (const std::string& f : failures) std::cout << "FAIL: " << f << "\n";
     }
     if (!cmd.diff_path.empty()) {

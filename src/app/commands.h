@@ -31,6 +31,7 @@ struct RenderCommand {
 struct CompareCommand {
     std::string a, b;
     std::optional<double> max_rmse, min_psnr, min_ssim, max_abs, max_fail_percent;
+    std::optional<double> fail, failpercent, hardfail, warn, warnpercent, hardwarn;  // idiff's
     double pixel_threshold = 1.0 / 255.0;
     std::string diff_path;
     bool json = false;

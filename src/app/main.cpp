@@ -1,7 +1,9 @@
 // vrmlray: command line. Reads like the pipeline: parse options, run one subcommand, return its exit code.
 #include <CLI/CLI.hpp>
 
+#include <cctype>
 #include <iostream>
+#include <memory>
 #include <tuple>
 
 #include "app/commands.h"
@@ -16,10 +18,38 @@ std::optional<vr::Vec3> parse_rgb(const std::string& text) {
     return c;
 }
 
+// --help starts with the usage line, as git's and pbrt's do; the description follows it.
+struct UsageFirstFormatter : CLI::Formatter {
+    std::string make_description(const CLI::App*) const override { return ""; }
+    std::string make_usage(const CLI::App* app, std::string name) const override {
+        return CLI::Formatter::make_usage(app, name) + CLI::Formatter::make_description(app);
+    }
+};
+
+// CLI11's own parse errors in the house style, "vrmlray: error: MESSAGE", and where to read more: the
+// help of the subcommand named on the command line, else the program's.
+int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
+    std::string help = "vrmlray --help";
+    for (int k = 1; k < argc; ++k) {
+        if (argv[k][0] == '-') continue;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+            if (sub->get_name() == argv[k]) help = "vrmlray " + sub->get_name() + " --help";
+        break;
+    }
+    std::string message = e.what();
+    // "The following argument ..." reads as the rest of our sentence.
+    if (message.size() > 1 && std::isupper((unsigned char)message[0]) && !std::isupper((unsigned char)message[1]))
+        message[0] = char(std::tolower((unsigned char)message[0]));
+    std::cerr << "vrmlray: error: " << message << "\nvrmlray: see '" << help << "'\n";
+    return vr::kExitUsage;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"vrmlray: a ray tracer for VRML97 and X3D scene files"};
+    // Named here, so that usage lines say "vrmlray", not the path the binary was started by.
+    CLI::App app{"vrmlray: a ray tracer for VRML97 and X3D scene files", "vrmlray"};
+    app.formatter(std::make_shared<UsageFirstFormatter>());  // before add_subcommand: they inherit it
     app.require_subcommand(1);
     app.set_version_flag("--version", "vrmlray 0.1.0");
 
@@ -113,6 +143,16 @@ int main(int argc, char** argv) {
     cmp->add_option("--max-fail-percent", compare.max_fail_percent,
                     "Fail if more than this percentage of pixels differ by more than --pixel-threshold");
     cmp->add_option("--pixel-threshold", compare.pixel_threshold, "A pixel fails when a channel differs by more (default 1/255)");
+    // OpenImageIO idiff's flags, with its meanings and defaults.
+    cmp->add_option("--fail", compare.fail, "idiff: a pixel fails when a channel differs by more (default 1e-6)");
+    cmp->add_option("--failpercent", compare.failpercent, "idiff: fail if more than this % of pixels fail (default 0)");
+    cmp->add_option("--hardfail", compare.hardfail, "idiff: fail if any channel differs by more (default: inf)");
+    cmp->add_option("--warn", compare.warn, "idiff: a pixel warns when a channel differs by more (default 1e-6)");
+    cmp->add_option("--warnpercent", compare.warnpercent, "idiff: warn if more than this % of pixels warn (default 0)");
+    cmp->add_option("--hardwarn", compare.hardwarn, "idiff: warn if any channel differs by more (default: inf)");
+    cmp->footer(
+        "With no threshold it fails unless every value agrees to 1e-6 (idiff's default test). Every figure but\n"
+        "SSIM (luminance) covers alpha too. Exit: 0 pass (warnings included), 1 fail, 3 unreadable or size mismatch.");
     cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference");
     cmp->add_flag("--json", compare.json, "Print the figures as JSON");
 
@@ -155,8 +195,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        int code = app.exit(e);
-        return code == 0 ? vr::kExitOk : vr::kExitUsage;
+        // --help and --version are "errors" with exit code 0; CLI11 prints them to stdout.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        return usage_error(app, e, argc, argv);
     }
 
     for (const std::string& text : limit_texts) {

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 namespace vr {
@@ -125,47 +125,6 @@ double ssim_rows(const std::vector<double>& x, const std::vector<double>& y, int
 
 // ---- formatting --------------------------------------------------------------------------------
 
-// Shortest text that reads back as the same double.
-std::string json_number(double v) {
-    if (std::isnan(v)) return "\"nan\"";
-    if (std::isinf(v)) return v > 0 ? "\"inf\"" : "\"-inf\"";
-    char buf[64];
-    auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
-std::string json_string(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char c : s) {
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            case '\r':
-                out += "\\r";
-                break;
-            default:
-                if (c < 0x20) {
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "\\u%04x", c);
-                    out += buf;
-                } else {
-                    out += char(c);
-                }
-        }
-    }
-    return out + "\"";
-}
-
 // Six significant digits, "inf"/"-inf"/"nan" for non-finite values.
 std::string short_number(double v) {
     if (std::isnan(v)) return "nan";
@@ -209,7 +168,33 @@ double ssim_luminance(const std::vector<double>& x, const std::vector<double>& y
     return total / (double(wx.count) * double(wy.count));
 }
 
+namespace {
+
+// "3 channels (no alpha)"
+std::string describe_channels(const Image& image) {
+    return std::to_string(image.file_channels) +
+           (image.file_channels == 1 ? " channel" : " channels") +
+           (image.has_alpha ? " (with alpha)" : " (no alpha)");
+}
+
+// Non-empty when both images come from files whose channels differ (idiff fails those too).
+std::string channel_mismatch(const Image& a, const Image& b) {
+    if (a.file_channels == 0 || b.file_channels == 0) return "";
+    if (a.file_channels == b.file_channels && a.has_alpha == b.has_alpha) return "";
+    return "channel counts differ: the first image has " + describe_channels(a) + ", the second " +
+           describe_channels(b) + " (RGB compared)";
+}
+
+}  // namespace
+
 bool compare_images(const Image& a, const Image& b, double pixel_threshold, CompareMetrics& out,
+                    std::string& error) {
+    CompareThresholds t;
+    t.pixel_threshold = pixel_threshold;
+    return compare_images(a, b, t, out, error);
+}
+
+bool compare_images(const Image& a, const Image& b, const CompareThresholds& t, CompareMetrics& out,
                     std::string& error) {
     if (a.width != b.width || a.height != b.height) {
         error = "image sizes differ: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
@@ -222,10 +207,14 @@ bool compare_images(const Image& a, const Image& b, double pixel_threshold, Comp
     }
     const int w = a.width, h = a.height;
     const size_t npix = size_t(w) * size_t(h);
+    // A filler alpha of 1 in an image without one is no value to compare.
+    const int nch = a.has_alpha && b.has_alpha ? 4 : 3;
+    const double fail = t.fail.value_or(kIdiffDefaultFail);
+    const double warn = t.warn.value_or(kIdiffDefaultWarn);
     std::vector<double> lum_a(npix), lum_b(npix);
 
     double sum_sq = 0, sum_abs = 0, max_abs = 0;
-    size_t failed = 0;
+    size_t over_pixel = 0, over_fail = 0, over_warn = 0;
     for (int row = 0; row < h; ++row) {
         double row_sq = 0, row_abs = 0;
         for (int col = 0; col < w; ++col) {
@@ -233,7 +222,7 @@ bool compare_images(const Image& a, const Image& b, double pixel_threshold, Comp
             const float* pa = a.rgba.data() + p * 4;
             const float* pb = b.rgba.data() + p * 4;
             double pixel_max = 0;
-            for (int c = 0; c < 3; ++c) {
+            for (int c = 0; c < nch; ++c) {
                 double d = std::fabs(double(pa[c]) - double(pb[c]));
                 if (!std::isfinite(d)) d = kInf;
                 row_sq += d * d;
@@ -241,32 +230,59 @@ bool compare_images(const Image& a, const Image& b, double pixel_threshold, Comp
                 pixel_max = std::max(pixel_max, d);
             }
             max_abs = std::max(max_abs, pixel_max);
-            if (pixel_max > pixel_threshold) ++failed;
+            over_pixel += pixel_max > t.pixel_threshold;
+            over_fail += pixel_max > fail;
+            over_warn += pixel_max > warn;
             lum_a[p] = 0.2126 * pa[0] + 0.7152 * pa[1] + 0.0722 * pa[2];
             lum_b[p] = 0.2126 * pb[0] + 0.7152 * pb[1] + 0.0722 * pb[2];
         }
         sum_sq += row_sq;
         sum_abs += row_abs;
     }
-    const double nsamples = 3.0 * double(npix);
+    const double nsamples = double(nch) * double(npix);
     const double mse = sum_sq / nsamples;
+    auto percent = [&](size_t count) { return 100.0 * double(count) / double(npix); };
 
     CompareMetrics m;
     m.width = w;
     m.height = h;
-    m.pixel_threshold = pixel_threshold;
+    m.channels = nch;
+    m.channel_mismatch = channel_mismatch(a, b);
+    m.pixel_threshold = t.pixel_threshold;
     m.rmse = std::sqrt(mse);
     m.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : kInf;
     m.mean_abs = sum_abs / nsamples;
     m.max_abs = max_abs;
-    m.fail_percent = 100.0 * double(failed) / double(npix);
+    m.fail_percent = percent(over_pixel);
+    m.idiff_fail = fail;
+    m.idiff_fail_percent = percent(over_fail);
+    m.idiff_warn = warn;
+    m.idiff_warn_percent = percent(over_warn);
     m.ssim = ssim_luminance(lum_a, lum_b, w, h);
-    out = m;
+    out = std::move(m);
     return true;
 }
 
+namespace {
+
+// idiff's test on the pixels over `limit` and the largest difference; `what` is "fail" or "warn".
+void idiff_test(const CompareMetrics& m, double limit, double over_percent,
+                const std::optional<double>& percent, const std::optional<double>& hard,
+                const std::string& what, const std::string& note, std::vector<std::string>& out) {
+    const double allowed = percent.value_or(0.0);
+    if (!(over_percent <= allowed))
+        out.push_back(short_number(over_percent) + "% of pixels differ by more than " +
+                      short_number(limit) + " > " + short_number(allowed) + "% (" + note + ")");
+    if (hard && !(m.max_abs <= *hard))
+        out.push_back("max abs diff " + short_number(m.max_abs) + " > " + short_number(*hard) +
+                      " (--hard" + what + ")");
+}
+
+}  // namespace
+
 std::vector<std::string> failed_thresholds(const CompareMetrics& m, const CompareThresholds& t) {
     std::vector<std::string> failures;
+    if (!m.channel_mismatch.empty()) failures.push_back(m.channel_mismatch);
     // Written as !(ok) so that a NaN metric fails.
     auto above = [&](const char* what, double value, const std::optional<double>& limit,
                      const char* option, const char* unit) {
@@ -285,7 +301,24 @@ std::vector<std::string> failed_thresholds(const CompareMetrics& m, const Compar
     below("SSIM", m.ssim, t.min_ssim, "--min-ssim", "");
     above("max abs diff", m.max_abs, t.max_abs, "--max-abs", "");
     above("failed pixels", m.fail_percent, t.max_fail_percent, "--max-fail-percent", "%");
+
+    const bool idiff_set = t.fail || t.failpercent || t.hardfail;
+    const bool any_set =
+        idiff_set || t.max_rmse || t.min_psnr || t.min_ssim || t.max_abs || t.max_fail_percent;
+    if (idiff_set || !any_set)
+        idiff_test(m, m.idiff_fail, m.idiff_fail_percent, t.failpercent, t.hardfail, "fail",
+                   idiff_set ? "--fail, --failpercent"
+                             : "no threshold given: idiff's default --fail 1e-06 --failpercent 0",
+                   failures);
     return failures;
+}
+
+std::vector<std::string> warned_thresholds(const CompareMetrics& m, const CompareThresholds& t) {
+    std::vector<std::string> warnings;
+    if (t.warn || t.warnpercent || t.hardwarn)
+        idiff_test(m, m.idiff_warn, m.idiff_warn_percent, t.warnpercent, t.hardwarn, "warn",
+                   "--warn, --warnpercent", warnings);
+    return warnings;
 }
 
 std::string format_metrics_text(const CompareMetrics& m) {
@@ -296,6 +329,7 @@ std::string format_metrics_text(const CompareMetrics& m) {
         s += buf + value + "\n";
     };
     line("size", std::to_string(m.width) + " x " + std::to_string(m.height));
+    line("channels", m.channels == 4 ? "4 (RGBA)" : "3 (RGB)");
     line("RMSE", short_number(m.rmse));
     line("PSNR", short_number(m.psnr) + " dB");
     line("mean abs diff", short_number(m.mean_abs));
@@ -306,22 +340,33 @@ std::string format_metrics_text(const CompareMetrics& m) {
     return s;
 }
 
-std::string format_metrics_json(const CompareMetrics& m, const std::vector<std::string>& failures) {
-    std::string s = "{";
-    s += "\"width\": " + std::to_string(m.width);
-    s += ", \"height\": " + std::to_string(m.height);
-    s += ", \"rmse\": " + json_number(m.rmse);
-    s += ", \"psnr\": " + json_number(m.psnr);
-    s += ", \"mean_abs\": " + json_number(m.mean_abs);
-    s += ", \"max_abs\": " + json_number(m.max_abs);
-    s += ", \"ssim\": " + json_number(m.ssim);
-    s += ", \"fail_percent\": " + json_number(m.fail_percent);
-    s += ", \"pixel_threshold\": " + json_number(m.pixel_threshold);
-    s += ", \"pass\": " + std::string(failures.empty() ? "true" : "false");
-    s += ", \"failures\": [";
-    for (size_t i = 0; i < failures.size(); ++i) s += (i ? ", " : "") + json_string(failures[i]);
-    s += "]}\n";
-    return s;
+std::string format_metrics_json(const CompareMetrics& m, const std::vector<std::string>& failures,
+                                const std::vector<std::string>& warnings) {
+    // JSON has no infinity or NaN; a string says which it was.
+    auto number = [](double v) -> nlohmann::ordered_json {
+        if (std::isfinite(v)) return v;
+        return std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
+    };
+    nlohmann::ordered_json j;
+    j["width"] = m.width;
+    j["height"] = m.height;
+    j["channels"] = m.channels;
+    j["rmse"] = number(m.rmse);
+    j["psnr"] = number(m.psnr);
+    j["mean_abs"] = number(m.mean_abs);
+    j["max_abs"] = number(m.max_abs);
+    j["ssim"] = number(m.ssim);
+    j["fail_percent"] = number(m.fail_percent);
+    j["pixel_threshold"] = number(m.pixel_threshold);
+    j["idiff_fail"] = number(m.idiff_fail);
+    j["idiff_fail_percent"] = number(m.idiff_fail_percent);
+    j["idiff_warn"] = number(m.idiff_warn);
+    j["idiff_warn_percent"] = number(m.idiff_warn_percent);
+    j["pass"] = failures.empty();
+    j["failures"] = failures;
+    j["warnings"] = warnings;
+    // Invalid UTF-8 in a message (a file name) is replaced, not thrown on.
+    return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 void heatmap_color(double d, float rgb[3]) {
@@ -344,12 +389,13 @@ void heatmap_color(double d, float rgb[3]) {
 Image difference_heatmap(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height) return Image();
     Image out(a.width, a.height);
+    const int nch = a.has_alpha && b.has_alpha ? 4 : 3;
     const size_t npix = size_t(a.width) * size_t(a.height);
     for (size_t p = 0; p < npix; ++p) {
         const float* pa = a.rgba.data() + p * 4;
         const float* pb = b.rgba.data() + p * 4;
         double d = 0;
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < nch; ++c) {
             double dc = std::fabs(double(pa[c]) - double(pb[c]));
             if (!std::isfinite(dc)) dc = kInf;
             d = std::max(d, dc);

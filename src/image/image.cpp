@@ -261,6 +261,8 @@ Image to_rgba(int width, int height, int nch, int alpha, const std::vector<float
         }
         dst[3] = alpha >= 0 ? src[alpha] : 1.0f;
     }
+    result.file_channels = nch;
+    result.has_alpha = alpha >= 0;
     return result;
 }
 

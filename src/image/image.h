@@ -37,6 +37,11 @@ struct Image {
     int width = 0;
     int height = 0;
     std::vector<float, NoFillAllocator<float>> rgba;  // 4 floats a pixel, rows from the top, linear values
+    // What read_image found in the file: its channel count (0: the image was made in memory) and
+    // whether one was alpha (else rgba[3] is a filler 1). compare uses them: alpha is compared only
+    // where both images have one, and different channel counts fail.
+    int file_channels = 0;
+    bool has_alpha = true;
 
     Image() = default;
     // All pixels 0.

@@ -33,7 +33,37 @@ is_broken() { case "$1" in */bad/*|*/warnings/*|*/errors/*) return 0;; *) return
 
 # --- exit codes and messages (SPEC section 1) ---------------------------------------------------------
 expect 2 "no subcommand" -- "$bin"
-expect 2 "unknown option" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --no-such-option
+# Command-line errors in the house style, with where to read more; usage lines name vrmlray, not a path.
+# expect_usage_error DESCRIPTION MESSAGE HELP -- COMMAND...: exit 2 and exactly these two stderr lines.
+expect_usage_error() {
+    local what=$1 want
+    want=$(printf 'vrmlray: error: %s\nvrmlray: see '"'"'%s'"'"'' "$2" "$3")
+    shift 3
+    expect 2 "$what" "$@"
+    [ "$(cat "$work/err.txt")" = "$want" ] && pass || { fail "$what: stderr is not '$want'"; sed 's/^/    /' "$work/err.txt" | head -3; }
+}
+expect_usage_error "unknown option" "the following argument was not expected: --nosuch" "vrmlray render --help" \
+    -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --nosuch
+expect_usage_error "out-of-range value" "--width: Value 0 not in range 1 to 65536" "vrmlray render --help" \
+    -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --width 0
+expect_usage_error "missing value" "--width: 1 required INT:INT in [1 - 65536] missing" "vrmlray render --help" \
+    -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --width
+expect_usage_error "missing image" "b is required" "vrmlray compare --help" -- "$bin" compare "$work/a.png"
+expect_usage_error "no subcommand" "a subcommand is required" "vrmlray --help" -- "$bin"
+"$bin" --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray [OPTIONS] SUBCOMMAND" ] && pass || fail "--help starts with the usage naming vrmlray"
+"$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] scene" ] && pass || fail "render --help starts with its usage"
+# --stats is valid JSON whatever the scene's name, with figures at full precision: per_pixel must be
+# exactly primary / pixels as Python's double division gives it (the statistical sampler's ray count
+# is not a multiple of the 35 pixels, so six digits would not do).
+weird="$work/we\"ird\\name.wrl"
+cp "$src/scenes/seeds/001_sphere.wrl" "$weird"
+expect 0 "render a scene named we\"ird\\name.wrl with --stats" -- "$bin" render "$weird" -W 7 -H 5 --sampler statistical -q -o "$work/weird.png" --stats "$work/weird.json"
+python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+r = d["rays"]
+ok = d["scene"] == sys.argv[2] and r["primary"] % 35 != 0 and r["per_pixel"] == r["primary"] / 35
+sys.exit(not ok)' "$work/weird.json" "$weird" && pass || fail "--stats JSON parses, names the scene, and holds full-precision figures"
 expect 2 "bad --background" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --background 1,2 -o "$work/x.png"
 expect 3 "missing scene file" -- "$bin" render "$work/does_not_exist.wrl" -o "$work/x.png"
 expect_stderr "does_not_exist.wrl: error: cannot open file" "missing file message"
@@ -105,9 +135,44 @@ done
 expect 0 "identical images pass" -- "$bin" compare "$work/a.png" "$work/a.png" --max-rmse 0 --min-ssim 1
 expect 1 "different images fail a threshold" -- "$bin" compare "$work/a.png" "$work/b.png" --max-rmse 0.01
 expect 3 "size mismatch is an error" -- "$bin" compare "$work/a.png" "$work/c.png"
-expect 0 "compare --json and --diff" -- "$bin" compare "$work/a.png" "$work/b.png" --json --diff "$work/diff.png"
-grep -q '"rmse"' "$work/out.txt" && pass || fail "compare --json prints rmse"
+# With no threshold the images must agree to 1e-6 (idiff's default): a and b differ in the background.
+expect 1 "unrelated images fail with no threshold" -- "$bin" compare "$work/a.png" "$work/b.png"
+grep -q "FAIL: .*no threshold given: idiff's default --fail 1e-06 --failpercent 0" "$work/out.txt" && pass || fail "the default test names itself"
+expect 0 "identical images pass with no threshold" -- "$bin" compare "$work/a.png" "$work/a.png"
+expect 1 "compare --json and --diff (different images fail)" -- "$bin" compare "$work/a.png" "$work/b.png" --json --diff "$work/diff.png"
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); sys.exit(not (d["pass"] is False and d["rmse"] > 0))' "$work/out.txt" \
+    && pass || fail "compare --json prints valid JSON with rmse and pass"
 [ -s "$work/diff.png" ] && pass || fail "compare --diff writes the heat-map"
+# Images no render gives: 10x10 grey 128/255, one with alpha 0 at one pixel, one without alpha, and one
+# whose first row (10% of the pixels) is 51/255 = 0.2 brighter in red.
+mkpng() { python3 "$src/tests/cli/make_png.py" "$@"; }
+mkpng "$work/grey.png" 10 10 4 128
+mkpng "$work/grey_alpha.png" 10 10 4 128 3,4,3=0
+mkpng "$work/grey_rgb.png" 10 10 3 128
+mkpng "$work/grey_row.png" 10 10 4 128 0,0,0=179 1,0,0=179 2,0,0=179 3,0,0=179 4,0,0=179 5,0,0=179 6,0,0=179 7,0,0=179 8,0,0=179 9,0,0=179
+expect 1 "an alpha-only change fails --max-abs 0" -- "$bin" compare "$work/grey.png" "$work/grey_alpha.png" --max-abs 0
+grep -Eq '^max abs diff +0.501961$' "$work/out.txt" && pass || fail "alpha enters max abs diff (128/255)"
+expect 1 "RGB against RGBA fails" -- "$bin" compare "$work/grey_rgb.png" "$work/grey.png" --max-rmse 1
+grep -q "FAIL: channel counts differ: the first image has 3 channels (no alpha), the second 4 channels (with alpha)" "$work/out.txt" \
+    && pass || fail "channel mismatch message"
+# idiff's flags, each on both sides of its threshold (the row differs by 0.2; 10% of the pixels).
+cmp_row() { "$bin" compare "$work/grey.png" "$work/grey_row.png" "$@"; }
+expect 0 "--fail 0.25 passes a 0.2 difference" -- cmp_row --fail 0.25
+expect 1 "--fail 0.15 fails it" -- cmp_row --fail 0.15
+expect 0 "--failpercent 10 passes 10% failed pixels" -- cmp_row --failpercent 10
+expect 1 "--failpercent 9 fails them" -- cmp_row --failpercent 9
+expect 0 "--hardfail 0.25 passes" -- cmp_row --failpercent 100 --hardfail 0.25
+expect 1 "--hardfail 0.15 fails" -- cmp_row --failpercent 100 --hardfail 0.15
+for w in "--warn 0.15" "--warnpercent 9" "--hardwarn 0.15 --warnpercent 100"; do
+    # shellcheck disable=SC2086
+    expect 0 "$w warns and passes" -- cmp_row --failpercent 100 $w
+    grep -q "^WARNING: " "$work/out.txt" && pass || fail "$w prints a warning"
+done
+for w in "--warn 0.25" "--warnpercent 10" "--hardwarn 0.25 --warnpercent 100"; do
+    # shellcheck disable=SC2086
+    expect 0 "$w passes" -- cmp_row --failpercent 100 $w
+    grep -q "WARNING" "$work/out.txt" && fail "$w prints no warning" || pass
+done
 
 # --- bench (SPEC section 11) ------------------------------------------------------------------------
 (cd "$work" && "$bin" bench "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --runs 1 -q >"$work/out.txt" 2>"$work/err.txt")

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -117,7 +118,7 @@ TEST(CompareTest, IdenticalImages) {
     EXPECT_EQ(m.width, 37);
     EXPECT_EQ(m.height, 23);
     EXPECT_NE(format_metrics_text(m).find("inf dB"), std::string::npos);
-    EXPECT_NE(format_metrics_json(m, {}).find("\"psnr\": \"inf\""), std::string::npos);
+    EXPECT_EQ(nlohmann::json::parse(format_metrics_json(m, {}))["psnr"], "inf");
 }
 
 TEST(CompareTest, ConstantOffset) {
@@ -126,8 +127,8 @@ TEST(CompareTest, ConstantOffset) {
     for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] = float(i % 64) / 128.0f;
     for (double d : {0.125, 0.0078125, 0.5}) {
         Image b = a;
-        for (size_t i = 0; i < b.rgba.size(); ++i)
-            if (i % 4 != 3) b.rgba[i] += float(d);
+        // Every channel, alpha included, so that every sample differs by d.
+        for (size_t i = 0; i < b.rgba.size(); ++i) b.rgba[i] += float(d);
         const CompareMetrics m = compare_ok(a, b);
         EXPECT_DOUBLE_EQ(m.rmse, d);
         EXPECT_DOUBLE_EQ(m.mean_abs, d);
@@ -203,16 +204,148 @@ TEST(CompareTest, FailPercentCountsPixelsOverTheThreshold) {
     b.pixel(9, 9)[2] += 0.5f;
     b.pixel(1, 0)[0] += 0.003f;  // two under
     b.pixel(2, 0)[2] -= 0.003f;
-    b.pixel(4, 4)[3] = 0.0f;  // alpha is ignored
+    b.pixel(4, 4)[3] = 0.0f;  // and one over in alpha alone
     const CompareMetrics m = compare_ok(a, b);
-    EXPECT_DOUBLE_EQ(m.fail_percent, 3.0);
+    EXPECT_DOUBLE_EQ(m.fail_percent, 4.0);
     EXPECT_NEAR(m.max_abs, 0.5, 1e-7);
-    EXPECT_DOUBLE_EQ(compare_ok(a, b, 0.1).fail_percent, 1.0);
-    EXPECT_DOUBLE_EQ(compare_ok(a, b, 0.001).fail_percent, 5.0);
-    // The alpha-only pixel changes nothing.
-    Image c = a;
-    c.pixel(4, 4)[3] = 0.0f;
-    EXPECT_EQ(compare_ok(a, c).rmse, 0.0);
+    EXPECT_DOUBLE_EQ(compare_ok(a, b, 0.1).fail_percent, 2.0);
+    EXPECT_DOUBLE_EQ(compare_ok(a, b, 0.001).fail_percent, 6.0);
+}
+
+// Regression: an image whose alpha alone changed passed --max-abs 0 (alpha was ignored).
+TEST(CompareTest, AlphaIsComparedInEveryFigureButSsim) {
+    const Image a = test_image(20, 10, 3);
+    Image b = a;
+    for (int x = 0; x < 20; ++x) b.pixel(x, 0)[3] = 0.0f;  // 20 of 200 pixels: alpha 1 -> 0
+    const CompareMetrics m = compare_ok(a, b);
+    EXPECT_EQ(m.channels, 4);
+    EXPECT_EQ(m.max_abs, 1.0);
+    EXPECT_DOUBLE_EQ(m.fail_percent, 10.0);
+    // 20 samples of 800 differ by 1.
+    EXPECT_DOUBLE_EQ(m.mean_abs, 20.0 / 800.0);
+    EXPECT_DOUBLE_EQ(m.rmse, std::sqrt(20.0 / 800.0));
+    EXPECT_DOUBLE_EQ(m.ssim, 1.0);  // luminance only, as SPEC 10 defines it
+    CompareThresholds t;
+    t.max_abs = 0;
+    EXPECT_EQ(failed_thresholds(m, t).size(), 1u);
+}
+
+TEST(CompareTest, ImagesWithoutAlphaCompareRgbAndChannelCountsMustAgree) {
+    Image a = test_image(8, 8, 4);
+    a.file_channels = 3;
+    a.has_alpha = false;
+    Image b = a;
+    b.pixel(2, 2)[0] += 0.25f;
+    CompareMetrics m = compare_ok(a, b);
+    EXPECT_EQ(m.channels, 3);
+    // One sample of 3 * 64 differs by 0.25 (the filler alpha counts nowhere).
+    EXPECT_NEAR(m.mean_abs, 0.25 / 192.0, 1e-9);
+    EXPECT_TRUE(m.channel_mismatch.empty());
+
+    Image rgba = a;
+    rgba.file_channels = 4;
+    rgba.has_alpha = true;
+    m = compare_ok(a, rgba);
+    EXPECT_EQ(m.rmse, 0.0);
+    EXPECT_NE(m.channel_mismatch.find("3"), std::string::npos) << m.channel_mismatch;
+    EXPECT_NE(m.channel_mismatch.find("4"), std::string::npos) << m.channel_mismatch;
+    // A failure whatever the thresholds, even generous ones.
+    CompareThresholds t;
+    t.max_rmse = 1;
+    const auto failures = failed_thresholds(m, t);
+    ASSERT_EQ(failures.size(), 1u);
+    EXPECT_NE(failures[0].find("channel"), std::string::npos) << failures[0];
+}
+
+CompareMetrics compare_with(const Image& a, const Image& b, const CompareThresholds& t) {
+    CompareMetrics m;
+    std::string error;
+    EXPECT_TRUE(compare_images(a, b, t, m, error)) << error;
+    return m;
+}
+
+// A 10x10 grey image and a copy whose first 10 pixels (10%) are 0.2 brighter in red.
+struct TenPercentPair {
+    Image a{10, 10}, b;
+    TenPercentPair() {
+        for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] = 0.5f;
+        b = a;
+        for (int x = 0; x < 10; ++x) b.pixel(x, 0)[0] = 0.7f;
+    }
+};
+
+TEST(CompareTest, NoThresholdFailsUnlessEveryValueAgreesTo1e6) {
+    // Regression: unrelated images (RMSE ~0.2) passed when no threshold was given.
+    const Image a = test_image(30, 20, 1), unrelated = test_image(30, 20, 2);
+    const CompareThresholds none;
+    EXPECT_FALSE(failed_thresholds(compare_with(a, unrelated, none), none).empty());
+    EXPECT_TRUE(failed_thresholds(compare_with(a, a, none), none).empty());
+    // 2^-21 ~ 4.8e-7 is within idiff's 1e-6; 2^-19 ~ 1.9e-6 is not (values near 0.5, where
+    // float steps are 6e-8, so both offsets are exact).
+    Image close = a, far = a;
+    close.pixel(7, 7)[1] += std::ldexp(1.0f, -21);
+    far.pixel(7, 7)[1] += std::ldexp(1.0f, -19);
+    EXPECT_TRUE(failed_thresholds(compare_with(a, close, none), none).empty());
+    EXPECT_EQ(failed_thresholds(compare_with(a, far, none), none).size(), 1u);
+    // Any threshold of the user's replaces the default test.
+    CompareThresholds rmse;
+    rmse.max_rmse = 1;
+    EXPECT_TRUE(failed_thresholds(compare_with(a, unrelated, rmse), rmse).empty());
+}
+
+TEST(CompareTest, IdiffFailFlags) {
+    const TenPercentPair p;
+    auto fails = [&](CompareThresholds t) {
+        return !failed_thresholds(compare_with(p.a, p.b, t), t).empty();
+    };
+    CompareThresholds t;
+    // float(0.7) - float(0.5) = 0.19999999 within float rounding; thresholds sit 0.05 either side.
+    t.fail = 0.25;
+    EXPECT_FALSE(fails(t));
+    t.fail = 0.15;
+    EXPECT_TRUE(fails(t));
+    t = {};
+    t.failpercent = 10;  // 10 of 100 pixels over the default 1e-6: not more than 10%
+    EXPECT_FALSE(fails(t));
+    t.failpercent = 9;
+    EXPECT_TRUE(fails(t));
+    t = {};
+    t.failpercent = 100;
+    t.hardfail = 0.25;
+    EXPECT_FALSE(fails(t));
+    t.hardfail = 0.15;
+    EXPECT_TRUE(fails(t));
+    // --hardfail alone keeps idiff's --fail 1e-6 --failpercent 0.
+    t = {};
+    t.hardfail = 1;
+    EXPECT_TRUE(fails(t));
+}
+
+TEST(CompareTest, IdiffWarnFlagsWarnAndNeverFail) {
+    const TenPercentPair p;
+    auto warns = [&](CompareThresholds t) {
+        t.failpercent = 100;  // the fail test passes, so only the warning test speaks
+        const CompareMetrics m = compare_with(p.a, p.b, t);
+        EXPECT_TRUE(failed_thresholds(m, t).empty());
+        return !warned_thresholds(m, t).empty();
+    };
+    CompareThresholds t;
+    EXPECT_FALSE(warns(t));  // no warning flag, no warning test
+    t.warn = 0.25;
+    EXPECT_FALSE(warns(t));
+    t.warn = 0.15;
+    EXPECT_TRUE(warns(t));
+    t = {};
+    t.warnpercent = 10;
+    EXPECT_FALSE(warns(t));
+    t.warnpercent = 9;
+    EXPECT_TRUE(warns(t));
+    t = {};
+    t.warnpercent = 100;
+    t.hardwarn = 0.25;
+    EXPECT_FALSE(warns(t));
+    t.hardwarn = 0.15;
+    EXPECT_TRUE(warns(t));
 }
 
 TEST(CompareTest, NonFiniteValuesFailEverything) {
@@ -236,9 +369,13 @@ TEST(CompareTest, ThresholdsPassAndFail) {
     m.max_abs = 0.3;
     m.ssim = 0.97;
     m.fail_percent = 2.5;
+    m.idiff_fail_percent = 4;
 
+    // No threshold: idiff's default test (no pixel over 1e-6) fails alone.
     CompareThresholds none;
-    EXPECT_TRUE(failed_thresholds(m, none).empty());
+    const auto by_default = failed_thresholds(m, none);
+    ASSERT_EQ(by_default.size(), 1u);
+    EXPECT_NE(by_default[0].find("no threshold given"), std::string::npos) << by_default[0];
 
     CompareThresholds pass;
     pass.max_rmse = 0.02;  // equality passes
@@ -269,6 +406,22 @@ TEST(CompareTest, ThresholdsPassAndFail) {
     EXPECT_TRUE(failed_thresholds(m, only_psnr).empty());
 }
 
+TEST(CompareTest, JsonReportIsValidAtFullPrecision) {
+    CompareMetrics m;
+    m.rmse = 0.1234567890123456789;  // more digits than the old %g-style 6
+    m.max_abs = 1.0 / 3.0;
+    m.psnr = std::numeric_limits<double>::infinity();
+    const std::string text = format_metrics_json(m, {"a \"quoted\" \\ line\n"}, {"ctrl \x01"});
+    const nlohmann::json j = nlohmann::json::parse(text);
+    EXPECT_EQ(j["rmse"].get<double>(), m.rmse);  // exact: a double round-trips
+    EXPECT_EQ(j["max_abs"].get<double>(), 1.0 / 3.0);
+    EXPECT_EQ(j["psnr"], "inf");
+    EXPECT_EQ(j["failures"][0], "a \"quoted\" \\ line\n");
+    EXPECT_EQ(j["warnings"][0], "ctrl \x01");
+    EXPECT_EQ(j["pass"], false);
+    EXPECT_EQ(j["channels"], 4);
+}
+
 TEST(CompareTest, JsonReport) {
     CompareMetrics m;
     m.width = 4;
@@ -276,13 +429,16 @@ TEST(CompareTest, JsonReport) {
     m.rmse = 0.1;
     m.psnr = 20;
     m.ssim = 0.5;
-    const std::string pass = format_metrics_json(m, {});
-    EXPECT_NE(pass.find("\"pass\": true"), std::string::npos) << pass;
-    EXPECT_NE(pass.find("\"rmse\": 0.1,"), std::string::npos) << pass;
-    EXPECT_NE(pass.find("\"width\": 4"), std::string::npos) << pass;
-    const std::string fail = format_metrics_json(m, {"say \"no\""});
-    EXPECT_NE(fail.find("\"pass\": false"), std::string::npos) << fail;
-    EXPECT_NE(fail.find("[\"say \\\"no\\\"\"]"), std::string::npos) << fail;
+    const nlohmann::json pass = nlohmann::json::parse(format_metrics_json(m, {}));
+    EXPECT_EQ(pass["pass"], true);
+    EXPECT_EQ(pass["rmse"].get<double>(), 0.1);
+    EXPECT_EQ(pass["width"], 4);
+    EXPECT_TRUE(pass["failures"].empty());
+    const nlohmann::json fail = nlohmann::json::parse(format_metrics_json(m, {"say \"no\""}));
+    EXPECT_EQ(fail["pass"], false);
+    EXPECT_EQ(fail["failures"], nlohmann::json::array({"say \"no\""}));
+    // The bench scripts read figures with grep '"rmse": NUMBER'.
+    EXPECT_NE(format_metrics_json(m, {}).find("\"rmse\": 0.1"), std::string::npos);
 }
 
 TEST(CompareTest, TextReportIsAligned) {
@@ -306,7 +462,7 @@ TEST(CompareTest, TextReportIsAligned) {
         start = end + 1;
         ++lines;
     }
-    EXPECT_EQ(lines, 7);
+    EXPECT_EQ(lines, 8);
 }
 
 TEST(CompareTest, HeatmapRampAndSize) {
