@@ -50,9 +50,9 @@ int run_render(const RenderCommand& cmd) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitUsage;
     }
-    if (camera.framed_default && !cmd.common.quiet)
-        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(), describe_camera(flat, cmd.options, camera).c_str());
     const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
+    if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
+        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(), describe_camera(flat, cmd.options, camera).c_str());
     if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
 
     // --timeout counts from the start of the command; loading is bounded by the reader's limits
@@ -110,7 +110,7 @@ int run_render(const RenderCommand& cmd) {
     }
 
     if (empty_scene.empty() && covered.load() == 0) {
-        const Vec3 at = camera.position, fwd = camera.forward();
+        const Vec3 at = camera.position + Vec3(0.0), fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
         char where[160];
         std::snprintf(where, sizeof where, "camera at (%g %g %g) looking along (%g %g %g)", at.x, at.y, at.z, fwd.x,
                       fwd.y, fwd.z);

@@ -183,7 +183,7 @@ namespace {
 
 std::string point_text(const Vec3& p) {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "(%g %g %g)", p.x, p.y, p.z);
+    std::snprintf(buf, sizeof buf, "(%g %g %g)", p.x + 0.0, p.y + 0.0, p.z + 0.0);  // + 0: no "-0"
     return buf;
 }
 
