@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
                             "Untrusted input: URLs (Inline, EXTERNPROTO, textures) may read only under DIR "
                             "(default: the scene's folder)")
                 ->expected(0, 1)
+                ->check(CLI::ExistingDirectory)  // also catches "--sandbox scene.wrl" taking the scene as DIR
                 ->type_name("[DIR]"));
         sub->add_option("--allow-path", common.allow_paths,
                         "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)");

@@ -89,6 +89,8 @@ expect 0 "a ../ texture URL loads without --sandbox" -- "$bin" render "$work/url
 expect 0 "--sandbox refuses it with a warning" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --sandbox -o "$work/x.png"
 expect_stderr "warning: .*'../textures/t.png' lies outside the --sandbox folder .*/urls/scene \(--allow-path DIR" "sandbox message"
 expect 0 "--sandbox DIR with the parent folder allows it" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --sandbox "$work/urls" --strict -o "$work/x.png"
+expect 2 "--sandbox before the scene would take it as DIR: a usage error" -- "$bin" render --sandbox "$work/urls/scene/up.wrl" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "--sandbox: Directory is actually a file" "--sandbox DIR must be a folder"
 expect 0 "--allow-path adds a folder to the sandbox" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --sandbox --allow-path "$work/urls/textures" --strict -o "$work/x.png"
 printf '#VRML V2.0 utf8\nInline { url "missing.wrl" }\n' >"$work/urls/only_missing.wrl"
 expect 0 "a scene whose only Inline is missing renders" -- "$bin" render "$work/urls/only_missing.wrl" -W 8 -H 8 -o "$work/x.png"
