@@ -1,5 +1,6 @@
-// URLs load like a browser loads them (relative, absolute and file: URLs anywhere the user can read;
-// network URLs never fetched), and --sandbox confines every read to one folder for untrusted input.
+// URLs load like a browser loads them (relative, absolute and file: URLs anywhere the user can
+// read; network URLs never fetched), and --sandbox confines every read to one folder for untrusted
+// input.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -27,7 +28,8 @@ size_t count_of(const std::string& text, const std::string& what) {
 
 struct TempDir {
     fs::path path;
-    explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("vrmlray_urls_" + name)) {
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() / ("vrmlray_urls_" + name)) {
         fs::remove_all(path);
         fs::create_directories(path);
         path = fs::canonical(path);
@@ -57,10 +59,15 @@ TEST(Urls, RelativeAbsoluteAndFileUrlsReachParentFoldersLikeABrowser) {
     const fs::path part = dir.write("models/part.wrl", kBoxFile);
     dir.write("lib/protos.wrl", "#VRML V2.0 utf8\nPROTO Ball [] { Sphere { radius 2 } }\n");
     const fs::path main = dir.write(
-        "scenes/main.wrl", "#VRML V2.0 utf8\nEXTERNPROTO Ball [] \"../lib/protos.wrl\"\nShape { geometry Ball {} }\n"
-                           "Inline { url \"../models/part.wrl\" }\nInline { url \"" + part.string() + "\" }\n"
-                           "Inline { url \"file://" + part.string() + "\" }\nInline { url \"file:../models/part.wrl\" }\n"
-                           "Inline { url \"%2e%2e/models/part.wrl\" }\n");
+        "scenes/main.wrl",
+        "#VRML V2.0 utf8\nEXTERNPROTO Ball [] \"../lib/protos.wrl\"\nShape { geometry Ball {} }\n"
+        "Inline { url \"../models/part.wrl\" }\nInline { url \"" +
+            part.string() +
+            "\" }\n"
+            "Inline { url \"file://" +
+            part.string() +
+            "\" }\nInline { url \"file:../models/part.wrl\" }\n"
+            "Inline { url \"%2e%2e/models/part.wrl\" }\n");
     LoadedScene s = load_scene(main);
     ASSERT_TRUE(s.ok()) << errors(s);
     EXPECT_EQ(s.diagnostics.warning_count(), 0u) << errors(s);
@@ -72,11 +79,13 @@ TEST(Urls, RelativeAbsoluteAndFileUrlsReachParentFoldersLikeABrowser) {
 TEST(Urls, NetworkUrlsAreNeverFetchedAndTheNextUrlIsTried) {
     TempDir dir("network");
     dir.write("part.wrl", kBoxFile);
-    const fs::path main = dir.write(
-        "main.wrl", "#VRML V2.0 utf8\n"
-                    "Inline { url [ \"http://example.com/a.wrl\" \"https://example.com/b.wrl\" \"ftp://example.com/c.wrl\" "
-                    "\"urn:example:d\" \"file://otherhost/e.wrl\" \"part.wrl\" ] }\n"
-                    "Inline { url [ \"http://example.com/only.wrl\" \"urn:x:y\" ] }\n");
+    const fs::path main =
+        dir.write("main.wrl",
+                  "#VRML V2.0 utf8\n"
+                  "Inline { url [ \"http://example.com/a.wrl\" \"https://example.com/b.wrl\" "
+                  "\"ftp://example.com/c.wrl\" "
+                  "\"urn:example:d\" \"file://otherhost/e.wrl\" \"part.wrl\" ] }\n"
+                  "Inline { url [ \"http://example.com/only.wrl\" \"urn:x:y\" ] }\n");
     LoadedScene s = load_scene(main);
     ASSERT_TRUE(s.ok()) << errors(s);
     EXPECT_EQ(s.tree.inline_roots.size(), 1u);  // the first Inline, from part.wrl
@@ -101,11 +110,14 @@ struct Escapes {
         dir.write("scene/sub/keep.txt", "");
         fs::create_symlink(secret, dir.path / "scene/link.wrl");
         fs::create_directory_symlink(dir.path / "outside", dir.path / "scene/linkdir");
-        std::string text = "#VRML V2.0 utf8\nEXTERNPROTO Ball [] \"../outside/protos.wrl\"\nShape { geometry Ball {} }\n";
+        std::string text =
+            "#VRML V2.0 utf8\nEXTERNPROTO Ball [] \"../outside/protos.wrl\"\nShape { geometry Ball "
+            "{} }\n";
         for (const std::string& url :
-             {std::string("../outside/secret.wrl"), secret.string(), "file://" + secret.string(), "file:" + secret.string(),
-              std::string("%2e%2e/outside/secret.wrl"), std::string("%2E%2E%2Foutside%2Fsecret.wrl"),
-              std::string("link.wrl"), std::string("linkdir/secret.wrl"), std::string("sub/../../outside/secret.wrl")})
+             {std::string("../outside/secret.wrl"), secret.string(), "file://" + secret.string(),
+              "file:" + secret.string(), std::string("%2e%2e/outside/secret.wrl"),
+              std::string("%2E%2E%2Foutside%2Fsecret.wrl"), std::string("link.wrl"),
+              std::string("linkdir/secret.wrl"), std::string("sub/../../outside/secret.wrl")})
             text += "Inline { url \"" + url + "\" }\n";
         text += "Inline { url \"inside.wrl\" }\n";
         main = dir.write("scene/main.wrl", text);
@@ -119,9 +131,12 @@ TEST(Urls, SandboxRefusesEveryPathOutOfTheScenesFolder) {
     ASSERT_TRUE(s.ok()) << errors(s);
     const std::string e = errors(s);
     EXPECT_EQ(s.tree.inline_roots.size(), 1u) << e;  // inside.wrl only
-    EXPECT_EQ(count_of(e, "lies outside the --sandbox folder " + (t.dir.path / "scene").string()), kEscapes + 1) << e;
+    EXPECT_EQ(count_of(e, "lies outside the --sandbox folder " + (t.dir.path / "scene").string()),
+              kEscapes + 1)
+        << e;
     EXPECT_NE(e.find("EXTERNPROTO Ball not resolved"), std::string::npos) << e;
-    EXPECT_NE(e.find("--allow-path DIR"), std::string::npos) << e;  // the way out, for a trusted folder
+    EXPECT_NE(e.find("--allow-path DIR"), std::string::npos)
+        << e;  // the way out, for a trusted folder
 
     // The same file without --sandbox: every URL loads.
     LoadedScene open = load_scene(t.main);
@@ -176,12 +191,14 @@ TEST(Urls, TextureAndBackgroundUrlsOutsideTheFolderLoadUnlessSandboxed) {
     fs::create_directories(dir.path / "textures");
     write_png(dir.path / "textures/red.png", Vec3(1.0, 0.0, 0.0));
     const fs::path main = dir.write(
-        "scene/main.wrl", "#VRML V2.0 utf8\nBackground { frontUrl \"../textures/red.png\" }\n"
-                          "Shape { appearance Appearance { texture ImageTexture { url \"../textures/red.png\" } } "
-                          "geometry Box {} }\n");
+        "scene/main.wrl",
+        "#VRML V2.0 utf8\nBackground { frontUrl \"../textures/red.png\" }\n"
+        "Shape { appearance Appearance { texture ImageTexture { url \"../textures/red.png\" } } "
+        "geometry Box {} }\n");
     std::string messages;
     const FlatScene open = flatten_file(main, {}, messages);
-    EXPECT_EQ(open.textures.size(), 2u) << messages;  // one per repeat mode: the box's and the panorama's
+    EXPECT_EQ(open.textures.size(), 2u)
+        << messages;  // one per repeat mode: the box's and the panorama's
     EXPECT_EQ(messages.find("warning"), std::string::npos) << messages;
     const FlatScene boxed = flatten_file(main, sandboxed(), messages);
     EXPECT_EQ(boxed.textures.size(), 0u);
