@@ -198,6 +198,7 @@ std::string describe_camera(const FlatScene& scene, const RenderOptions& options
         return "no Viewpoint: framed from +Z at " + point_text(camera.position) +
                (camera.ortho ? std::string(", orthographic") : ", fieldOfView " + std::string(fov));
     }
+    if (scene.viewpoints.empty()) return "the default camera at " + point_text(camera.position);
     const Viewpoint* vp = &scene.viewpoints.front();
     for (const Viewpoint& v : scene.viewpoints)
         if (!options.viewpoint.empty() && (v.def_name == options.viewpoint || v.description == options.viewpoint)) {
