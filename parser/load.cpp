@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -172,6 +173,18 @@ static std::string percent_decode(const std::string& s) {
     return out;
 }
 
+// "file:///a/b", "file://localhost/a/b", "file:/a/b", "file:a/b" -> the path; "file://host/a" names
+// another machine and gives nothing.
+static std::optional<std::string> file_url_path(const std::string& url, const std::string& lower) {
+    if (lower.rfind("file://", 0) != 0) return url.substr(5);
+    const std::string rest = url.substr(7);
+    const size_t slash = rest.find('/');
+    const std::string host = lower.substr(7, slash);
+    if (host.empty() || slash == std::string::npos) return rest;  // "file://x.jpg": a sloppy relative URL
+    if (host == "localhost") return rest.substr(slash);
+    return std::nullopt;
+}
+
 fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const std::vector<fs::path>& allowed_roots,
                      std::string& why) {
     std::string url = url_in;
@@ -183,10 +196,13 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
     }
     std::string lower = url;
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (lower.rfind("file://", 0) == 0) {
-        url = url.substr(7);
-    } else if (lower.rfind("file:", 0) == 0) {
-        url = url.substr(5);
+    if (lower.rfind("file:", 0) == 0) {
+        std::optional<std::string> local = file_url_path(url, lower);
+        if (!local) {
+            why = "'" + url_in + "' names a file on another machine; it is never fetched";
+            return {};
+        }
+        url = *local;
     } else {
         size_t colon = url.find(':');
         size_t slash = url.find('/');
@@ -202,15 +218,12 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
     candidate = fs::absolute(candidate, ec);  // a relative main file name must not make this relative
     fs::path canonical = fs::weakly_canonical(candidate, ec);
     if (ec) canonical = candidate.lexically_normal();
-    bool allowed = false;
-    for (const fs::path& root : allowed_roots) {
-        if (is_under(canonical, root)) {
-            allowed = true;
-            break;
-        }
-    }
+    const bool allowed = allowed_roots.empty() ||
+                         std::any_of(allowed_roots.begin(), allowed_roots.end(),
+                                     [&](const fs::path& root) { return is_under(canonical, root); });
     if (!allowed) {
-        why = "'" + url_in + "' lies outside the scene's folder (use --allow-path to permit it)";
+        why = "'" + url_in + "' lies outside the --sandbox folder " + allowed_roots.front().string() +
+              " (--allow-path DIR lets URLs reach DIR too)";
         return {};
     }
     if (!fs::is_regular_file(canonical, ec)) {
@@ -469,14 +482,15 @@ private:
 };
 
 void set_roots(LoadedScene& scene, const fs::path& main, const LoadOptions& options) {
+    scene.main_file = main;
+    if (!options.sandbox) return;
     std::error_code ec;
-    fs::path folder = fs::weakly_canonical(fs::absolute(main, ec).parent_path(), ec);
-    scene.allowed_roots.push_back(folder);
+    const fs::path dir = options.sandbox_dir.empty() ? fs::absolute(main, ec).parent_path() : options.sandbox_dir;
+    scene.allowed_roots.push_back(fs::weakly_canonical(fs::absolute(dir, ec), ec));
     for (const fs::path& p : options.allowed_roots) {
         fs::path c = fs::weakly_canonical(fs::absolute(p, ec), ec);
         scene.allowed_roots.push_back(c);
     }
-    scene.main_file = main;
 }
 
 }  // namespace

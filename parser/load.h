@@ -27,7 +27,12 @@ struct LoadLimits {
 struct LoadOptions {
     LoadLimits limits;
     bool resolve_inlines = true;
-    // Folders besides the main file's own that Inline/EXTERNPROTO/texture URLs may reach.
+    // --sandbox: confine every URL (Inline, EXTERNPROTO, textures, Background) to sandbox_dir (empty: the
+    // main file's folder) and allowed_roots. Without it, URLs reach any file the user can read, as in a
+    // browser.
+    bool sandbox = false;
+    std::filesystem::path sandbox_dir;
+    // Folders besides the sandbox's that URLs may reach (--allow-path); used only with `sandbox`.
     std::vector<std::filesystem::path> allowed_roots;
 };
 
@@ -38,7 +43,8 @@ struct LoadedScene {
     ReadStats stats;
     Encoding encoding = Encoding::Unknown;
     std::filesystem::path main_file;
-    std::vector<std::filesystem::path> allowed_roots;  // main file's folder + LoadOptions::allowed_roots
+    // Folders URLs are confined to: the sandbox folder + LoadOptions::allowed_roots; empty: not confined.
+    std::vector<std::filesystem::path> allowed_roots;
     bool ok() const { return !diagnostics.has_errors(); }
 };
 
@@ -47,8 +53,10 @@ LoadedScene load_scene(const std::filesystem::path& path, const LoadOptions& opt
 // Reads scene text held in memory (tests, fuzzers). `path` names it in messages and anchors relative URLs.
 LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options = {});
 
-// Resolves a URL found in `from_file` to a local path that lies under one of `allowed_roots`.
-// Returns an empty path and sets `why` when the URL is remote, missing, or outside the allowed folders.
+// Resolves a URL found in `from_file` (relative, absolute or file:) to a local path. An empty
+// `allowed_roots` allows any path; otherwise the path, symbolic links and `..` resolved, must lie under
+// one of them (the first is the sandbox folder). Returns an empty path and sets `why` when the URL is
+// remote (never fetched), missing, or outside the allowed folders.
 std::filesystem::path resolve_url(const std::string& url, const std::filesystem::path& from_file,
                                   const std::vector<std::filesystem::path>& allowed_roots,
                                   std::string& why);

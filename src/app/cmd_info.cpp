@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "render/camera.h"
 #include "render/flatten.h"
 #include "scene/build.h"
 
@@ -81,6 +82,15 @@ int run_info(const std::string& path, const CommonOptions& common) {
     std::printf("            %zu materials, %zu textures, %zu shapes skipped\n", flat.materials.size(),
                 flat.textures.size(), fs.skipped_shapes);
     const Bounds3 b = flat.bounds();
+    const std::string empty_scene = nothing_to_render(loaded, flat, fs);
+    if (!empty_scene.empty()) report_warning(path, empty_scene, common.quiet);
+    // The camera a render with default options gets (640x480; --fit and --viewpoint are render's).
+    Camera camera;
+    std::string camera_error;
+    const RenderOptions defaults;
+    const std::string camera_text = make_camera(flat, defaults, camera, camera_error)
+                                        ? describe_camera(flat, defaults, camera)
+                                        : "none: " + camera_error;
     flat.spheres = {};
     flat.quadrics = {};
     flat.meshes = {};
@@ -117,7 +127,8 @@ int run_info(const std::string& path, const CommonOptions& common) {
                     v.def_name.c_str(), v.description.empty() ? "" : " \"", (v.description + (v.description.empty() ? "" : "\"")).c_str(),
                     v.position.x, v.position.y, v.position.z, v.field_of_view, v.ortho ? " (ortho)" : "");
     }
-    std::printf("warnings    %zu\n", loaded.diagnostics.warning_count() + diagnostics.warning_count());
+    std::printf("camera      %s\n", camera_text.c_str());
+    std::printf("warnings    %zu\n", warnings_reported());
     return diagnostics.has_errors() ? kExitBadInput : kExitOk;
 }
 

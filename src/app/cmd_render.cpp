@@ -1,6 +1,7 @@
 // vrmlray render: load -> build scene -> flatten -> camera -> render -> write image.
 #include <sys/resource.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -51,6 +52,10 @@ int run_render(const RenderCommand& cmd) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitUsage;
     }
+    const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
+    if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
+        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(), describe_camera(flat, cmd.options, camera).c_str());
+    if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
 
     // --timeout counts from the start of the command; loading is bounded by the reader's limits
     // instead, so what is left of it goes to the tracer, which stops at its next tile.
@@ -77,12 +82,19 @@ int run_render(const RenderCommand& cmd) {
     Image8 image8;
     image8.channels = native_8bit_channels(output);
     auto progress = [&](double fraction, uint64_t rays) { bar.update(fraction, rays); };
+    std::atomic<size_t> covered{0};  // pixels where the scene, not only the background, is seen
+    auto count_covered = [&](size_t n, const float* rgba) {
+        size_t hit = 0;
+        for (size_t k = 0; k < n; ++k) hit += rgba[4 * k + 3] > 0.0f;
+        covered.fetch_add(hit, std::memory_order_relaxed);
+    };
     if (image8.channels > 0) {
         image8.width = cmd.options.width;
         image8.height = cmd.options.height;
         resize_huge(image8.samples, size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
         auto encode = [&](int x0, int y0, int x1, int y1, const float* rgba) {
             const size_t n = size_t(x1 - x0), channels = size_t(image8.channels);
+            count_covered(n * size_t(y1 - y0), rgba);
             for (int y = y0; y < y1; ++y, rgba += 4 * n)
                 encode_8bit(rgba, n, image8.channels, cmd.options.srgb,
                             &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
@@ -90,12 +102,25 @@ int run_render(const RenderCommand& cmd) {
         render_tiles(flat, camera, options, progress, stats, encode, &flat.spheres);
     } else {
         image = render_image(flat, camera, options, progress, stats, &flat.spheres);
+        count_covered(size_t(image.width) * size_t(image.height), image.rgba.data());
     }
     bar.finish();
     if (stats.timed_out) {
         std::fprintf(stderr, "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
                      cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
         return kExitBadInput;
+    }
+
+    if (empty_scene.empty() && covered.load() == 0) {
+        const Vec3 at = camera.position + Vec3(0.0), fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
+        char where[160];
+        std::snprintf(where, sizeof where, "camera at (%g %g %g) looking along (%g %g %g)", at.x, at.y, at.z, fwd.x,
+                      fwd.y, fwd.z);
+        report_warning(cmd.scene,
+                       std::string("nothing of the scene is in view, the image shows only the background: every "
+                                   "primary ray missed (") +
+                           where + "; --fit frames the scene)",
+                       cmd.common.quiet);
     }
 
     auto t3 = std::chrono::steady_clock::now();

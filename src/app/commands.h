@@ -14,7 +14,10 @@ enum ExitCode : int { kExitOk = 0, kExitCompareFailed = 1, kExitUsage = 2, kExit
 
 struct CommonOptions {
     bool quiet = false;
-    std::vector<std::filesystem::path> allow_paths;  // --allow-path: folders URLs may reach besides the scene's
+    bool sandbox = false;                 // --sandbox [DIR]: URLs may read only under DIR and allow_paths
+    std::filesystem::path sandbox_dir;    // empty: the main scene's folder
+    std::vector<std::filesystem::path> allow_paths;  // --allow-path: folders URLs may reach besides the sandbox
+    bool strict = false;                  // --strict: any warning makes the command exit 3
     Limits limits;               // --limit NAME=VALUE
     double max_memory_gb = 0.0;  // --max-memory: a render that would need more is refused; 0: physical memory
 };
@@ -47,6 +50,11 @@ struct BenchCommand {
     int runs = 3;           // renders per setting; the median time is reported
     CommonOptions common;
 };
+
+// The warnings print_diagnostics and report_warning have printed (or, with --quiet, would have) so far.
+size_t warnings_reported();
+// With --strict and a warning reported, says so on stderr and gives kExitBadInput; else `code`.
+int strict_exit(int code, const CommonOptions& common);
 
 int run_render(const RenderCommand& cmd);
 int run_bench(const BenchCommand& cmd);

@@ -58,14 +58,23 @@ int main(int argc, char** argv) {
     std::string limit_help = "Raise or lower a limit (repeatable; VALUE may end in k, M, G). Limits and defaults:";
     for (const vr::LimitInfo& l : vr::limit_table())
         limit_help += std::string("\n  ") + l.name + "=" + std::to_string(l.value) + "  " + l.meaning;
+    std::vector<CLI::Option*> sandbox_options;
     auto add_common = [&](CLI::App* sub) {
         sub->add_flag("-q,--quiet", common.quiet, "Print errors only");
         sub->add_option("--limit", limit_texts, limit_help)->type_name("NAME=VALUE");
         sub->add_option("--max-memory", common.max_memory_gb,
                         "Refuse a render estimated to need more than this many GB (default: physical memory)")
             ->check(CLI::PositiveNumber);
+        sandbox_options.push_back(
+            sub->add_option("--sandbox", common.sandbox_dir,
+                            "Untrusted input: URLs (Inline, EXTERNPROTO, textures) may read only under DIR "
+                            "(default: the scene's folder)")
+                ->expected(0, 1)
+                ->check(CLI::ExistingDirectory)  // also catches "--sandbox scene.wrl" taking the scene as DIR
+                ->type_name("[DIR]"));
         sub->add_option("--allow-path", common.allow_paths,
-                        "Folder that Inline/EXTERNPROTO/texture URLs may reach besides the scene's own (repeatable)");
+                        "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)");
+        sub->add_flag("--strict", common.strict, "Exit 3 when there is any warning (for CI)");
     };
 
     // render
@@ -200,6 +209,7 @@ int main(int argc, char** argv) {
         return usage_error(app, e, argc, argv);
     }
 
+    for (const CLI::Option* o : sandbox_options) common.sandbox = common.sandbox || o->count() > 0;
     for (const std::string& text : limit_texts) {
         std::string error;
         if (!vr::parse_limit(text, common.limits, error)) {
@@ -234,7 +244,7 @@ int main(int argc, char** argv) {
                 return vr::kExitUsage;
             }
         }
-        return vr::run_render(render);
+        return vr::strict_exit(vr::run_render(render), common);
     }
     if (b->parsed()) {
         bench.common = common;
@@ -243,8 +253,8 @@ int main(int argc, char** argv) {
                                                           : vr::SpheresOption::FromHints;
         return vr::run_bench(bench);
     }
-    if (i->parsed()) return vr::run_info(info_scene, common);
-    if (c->parsed()) return vr::run_convert(convert_in, convert_out, common);
+    if (i->parsed()) return vr::strict_exit(vr::run_info(info_scene, common), common);
+    if (c->parsed()) return vr::strict_exit(vr::run_convert(convert_in, convert_out, common), common);
     if (cmp->parsed()) return vr::run_compare(compare);
     return vr::kExitUsage;
 }

@@ -10,8 +10,27 @@
 
 namespace vr {
 
+namespace {
+size_t g_warnings = 0;  // one command per process: the count --strict looks at
+}  // namespace
+
+size_t warnings_reported() { return g_warnings; }
+
+int strict_exit(int code, const CommonOptions& common) {
+    if (!common.strict || code != kExitOk || g_warnings == 0) return code;
+    std::fprintf(stderr, "vrmlray: error: --strict: %zu warning%s, exit %d\n", g_warnings, g_warnings == 1 ? "" : "s",
+                 int(kExitBadInput));
+    return kExitBadInput;
+}
+
+void report_warning(const std::string& file, const std::string& message, bool quiet) {
+    ++g_warnings;
+    if (!quiet) std::fprintf(stderr, "%s: warning: %s\n", file.c_str(), message.c_str());
+}
+
 void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet) {
     for (const Diagnostic& d : diagnostics.all()) {
+        if (d.severity == Severity::Warning) ++g_warnings;
         if (quiet && d.severity == Severity::Warning) continue;
         std::cerr << Diagnostics::format_one(d, sources);
     }
@@ -19,6 +38,8 @@ void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sour
 
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene) {
     LoadOptions options;
+    options.sandbox = common.sandbox;
+    options.sandbox_dir = common.sandbox_dir;
     options.allowed_roots = common.allow_paths;
     options.limits = common.limits.load;
     scene = load_scene(path, options);
@@ -48,6 +69,21 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::o
     scene = Scene{};  // before the diagnostics are printed and the caller builds its BVH
     print_diagnostics(diagnostics, loaded.sources, quiet);
     return !diagnostics.has_errors();
+}
+
+std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat, const FlattenStats& stats) {
+    if (!flat.bounds().empty()) return "";
+    size_t failed_inlines = 0;
+    for (const Diagnostic& d : loaded.diagnostics.all())
+        if (d.message.rfind("Inline not loaded", 0) == 0 || d.message.rfind("Inline file not used", 0) == 0)
+            failed_inlines += d.count;
+    std::string why = "nothing to render, the image shows only the background: ";
+    if (failed_inlines > 0)
+        return why + std::to_string(failed_inlines) + " Inline" + (failed_inlines == 1 ? " was" : "s were") +
+               " not loaded (see above) and the rest holds no geometry";
+    if (stats.skipped_shapes > 0)
+        return why + "all " + std::to_string(stats.skipped_shapes) + " shapes were skipped (see above)";
+    return why + "the scene holds no geometry";
 }
 
 bool check_render_memory(const std::string& scene_path, const FlatScene& flat, const RenderOptions& options,

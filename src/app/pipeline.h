@@ -12,6 +12,8 @@ namespace vr {
 
 // Prints diagnostics to stderr (warnings only when not quiet).
 void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet);
+// Prints "FILE: warning: MESSAGE" for a warning with no source position, and counts it.
+void report_warning(const std::string& file, const std::string& message, bool quiet);
 // Loads `path`, prints its diagnostics; false when it has errors.
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
 // Gives the node tree's memory back (build_scene has copied what it needs).
@@ -22,6 +24,10 @@ void release_tree(LoadedScene& loaded);
 // sources, diagnostics and statistics).
 bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
                        const CommonOptions& common, FlatScene& flat, FlattenStats& stats);
+
+// Why the flattened scene has nothing to render ("" when it has something): every Inline failed,
+// every shape was skipped, or the file holds no geometry. For the one warning of an empty image.
+std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat, const FlattenStats& stats);
 
 // Refuses (prints an error naming the scene, returns false) a render whose estimated memory
 // (estimate_render_bytes) exceeds --max-memory, or the machine's physical memory when that is not set.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace vr {
 namespace {
@@ -101,6 +102,8 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         }
     } else if (!scene.viewpoints.empty()) {
         vp = scene.viewpoints.front();
+    } else {
+        camera.framed_default = true;
     }
 
     if (!finite3(vp.position)) {
@@ -148,7 +151,7 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.field_of_view = 2.0 * std::atan(0.5 * camera.ortho_size / centre_depth);
     }
 
-    if (options.fit && have_bounds) {
+    if ((options.fit || camera.framed_default) && have_bounds) {
         const Vec3 fwd = camera.forward();
         const double radius = 0.5 * glm::length(bounds.hi - bounds.lo);
         if (camera.ortho) {
@@ -174,6 +177,41 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         }
     }
     return true;
+}
+
+namespace {
+
+std::string point_text(const Vec3& p) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%g %g %g)", p.x + 0.0, p.y + 0.0, p.z + 0.0);  // + 0: no "-0"
+    return buf;
+}
+
+}  // namespace
+
+std::string describe_camera(const FlatScene& scene, const RenderOptions& options, const Camera& camera) {
+    if (camera.framed_default) {
+        if (scene.bounds().empty())
+            return "no Viewpoint and nothing to frame: the default camera at " + point_text(camera.position);
+        char fov[48];
+        std::snprintf(fov, sizeof fov, "%g", camera.field_of_view);
+        return "no Viewpoint: framed from +Z at " + point_text(camera.position) +
+               (camera.ortho ? std::string(", orthographic") : ", fieldOfView " + std::string(fov));
+    }
+    if (scene.viewpoints.empty()) return "the default camera at " + point_text(camera.position);
+    const Viewpoint* vp = &scene.viewpoints.front();
+    for (const Viewpoint& v : scene.viewpoints)
+        if (!options.viewpoint.empty() && (v.def_name == options.viewpoint || v.description == options.viewpoint)) {
+            vp = &v;
+            break;
+        }
+    std::string text = vp->ortho ? "OrthoViewpoint" : "Viewpoint";
+    if (!vp->def_name.empty()) text += " DEF " + vp->def_name;
+    if (!vp->description.empty()) text += " \"" + vp->description + "\"";
+    if (vp->def_name.empty() && vp->description.empty()) text += " (unnamed, the first in the file)";
+    text += " at " + point_text(camera.position);
+    if (options.fit) text += " (moved by --fit)";
+    return text;
 }
 
 }  // namespace vr

@@ -20,6 +20,9 @@ struct Camera {
     double ortho_size = 2.0;           // ortho: world extent across the smaller image dimension
     Vec2 ortho_center{0.0};            // ortho: window centre in camera (x, y)
     PixelSampler sampler;
+    // The scene has no Viewpoint: the camera looks along -Z from the VRML default orientation and
+    // fieldOfView, moved back to frame the scene's bounds as --fit does (SPEC section 4).
+    bool framed_default = false;
 
     Vec3 forward() const { return glm::normalize(-world_from_camera[2]); }
 
@@ -53,12 +56,16 @@ class CameraRays {
 };
 
 // Chooses the camera: options.viewpoint (DEF name or description; error if not found), else the
-// first viewpoint, else the VRML default (position 0 0 10, fov pi/4). options.fit moves the camera
+// first viewpoint, else the VRML default (orientation, fov pi/4) framing the scene as with --fit
+// (position 0 0 10 when there is nothing to frame). options.fit moves the camera
 // along its view direction so the bounds of the scene fill the view; options.camera forces
 // perspective or ortho (for ortho from a perspective viewpoint: extent = the view's size at the
 // distance of the scene centre). Also validates the sampler options. Returns false and sets `error`
 // on failure.
 bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera,
                  std::string& error);
+// Which camera make_camera chose, for info and the render's note: "Viewpoint DEF Cam \"Front\" at
+// (0 1 5)" or "no Viewpoint: framed from +Z at (0 0 12.3), fieldOfView 0.785398".
+std::string describe_camera(const FlatScene& scene, const RenderOptions& options, const Camera& camera);
 
 }  // namespace vr

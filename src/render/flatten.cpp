@@ -782,7 +782,6 @@ class Flattener {
         std::filesystem::path from = from_file;
         if (from.empty())
             from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
-        if (roots.empty() && !from.empty()) roots.push_back(from.parent_path());
         std::string reasons;
         for (const std::string& url : urls) {
             std::string why;

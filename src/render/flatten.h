@@ -36,7 +36,8 @@
 //   0 is screen-aligned: local +Z along the camera's backward axis and +Y along its up axis. (--fit
 //   moves the camera after flattening; billboards keep facing the viewpoint.)
 // * Textures: URLs resolved with resolve_url from the file the node stands in, limited to
-//   FlattenOptions::allowed_roots (or Scene::allowed_roots when empty); loaded once per file and
+//   FlattenOptions::allowed_roots (or Scene::allowed_roots when empty; both empty: anywhere, as
+//   without --sandbox); loaded once per file and
 //   repeat mode. A texture that cannot be found or read, or has more than max_texture_pixels
 //   texels, is one warning; the shape renders untextured.
 #pragma once

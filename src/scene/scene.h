@@ -326,7 +326,7 @@ struct Scene {
     }
 
     std::filesystem::path main_file;
-    std::vector<std::filesystem::path> allowed_roots;  // folders texture URLs may reach
+    std::vector<std::filesystem::path> allowed_roots;  // --sandbox: folders texture URLs may reach; empty: any
 };
 
 }  // namespace vr

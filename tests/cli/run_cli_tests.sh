@@ -128,6 +128,46 @@ for line in '^encoding +VRML97 \(classic\)$' '^nodes +100 read \(PROTO bodies ex
     grep -Eq -- "$line" "$work/out.txt" && pass || fail "info output lacks /$line/"
 done
 
+# --- URLs, --sandbox, --strict, empty images, the camera without a Viewpoint (SPEC sections 1, 2, 4) ---
+mkdir -p "$work/urls/scene" "$work/urls/textures"
+"$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 4 -H 4 -q -o "$work/urls/textures/t.png"
+printf '#VRML V2.0 utf8\nViewpoint { position 0 0 4 }\nShape { appearance Appearance { texture ImageTexture { url "../textures/t.png" } } geometry Box {} }\n' >"$work/urls/scene/up.wrl"
+expect 0 "a ../ texture URL loads without --sandbox" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --strict -o "$work/x.png"
+expect 0 "--sandbox refuses it with a warning" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --sandbox -o "$work/x.png"
+expect_stderr "warning: .*'../textures/t.png' lies outside the --sandbox folder .*/urls/scene \(--allow-path DIR" "sandbox message"
+expect 0 "--sandbox DIR with the parent folder allows it" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --sandbox "$work/urls" --strict -o "$work/x.png"
+expect 2 "--sandbox before the scene would take it as DIR: a usage error" -- "$bin" render --sandbox "$work/urls/scene/up.wrl" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "--sandbox: Directory is actually a file" "--sandbox DIR must be a folder"
+expect 0 "--allow-path adds a folder to the sandbox" -- "$bin" render "$work/urls/scene/up.wrl" -W 8 -H 8 --sandbox --allow-path "$work/urls/textures" --strict -o "$work/x.png"
+printf '#VRML V2.0 utf8\nInline { url "missing.wrl" }\n' >"$work/urls/only_missing.wrl"
+expect 0 "a scene whose only Inline is missing renders" -- "$bin" render "$work/urls/only_missing.wrl" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "only_missing.wrl: warning: nothing to render, the image shows only the background: 1 Inline was not loaded" "empty-image warning names the Inline"
+expect 3 "--strict turns the warnings into exit 3" -- "$bin" render "$work/urls/only_missing.wrl" -W 8 -H 8 --strict -o "$work/x.png"
+expect_stderr "error: --strict: 2 warnings" "--strict message"
+expect 3 "--strict on info" -- "$bin" info "$work/urls/only_missing.wrl" --strict
+expect 3 "--strict on convert" -- "$bin" convert "$work/urls/only_missing.wrl" "$work/urls/x.x3dv" --strict
+expect 0 "a clean scene passes --strict" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 --strict -o "$work/x.png"
+printf '#VRML V2.0 utf8\nViewpoint { position 0 0 10 }\nTransform { translation 100 0 0 children Shape { geometry Sphere {} } }\n' >"$work/urls/away.wrl"
+expect 3 "geometry outside the view is a warning (--strict: exit 3)" -- "$bin" render "$work/urls/away.wrl" -W 8 -H 8 --strict -o "$work/x.png"
+expect_stderr "warning: nothing of the scene is in view, .*every primary ray missed \(camera at \(0 0 10\) looking along \(0 0 -1\)" "out-of-view warning"
+printf '#VRML V2.0 utf8\nTransform { translation 100 0 0 children Shape { geometry Sphere {} } }\n' >"$work/urls/no_viewpoint.wrl"
+expect 0 "a scene without Viewpoint is framed, so nothing is out of view" -- "$bin" render "$work/urls/no_viewpoint.wrl" -W 8 -H 8 --strict -o "$work/x.png"
+expect_stderr "no_viewpoint.wrl: note: no Viewpoint: framed from \+Z at \(100 0 " "framing note"
+expect 0 "info names the bound Viewpoint" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
+grep -q '^camera      Viewpoint DEF Camera "seed camera" at (-1 0 1)$' "$work/out.txt" && pass || fail "info camera line for a Viewpoint"
+if [ -d "$corpus" ]; then
+    cev=$corpus/vrml97/castle-engine-demo-models
+    expect 0 "castle: textures in ../textures load" -- "$bin" render "$cev/castle/old/vrml_2/castle_with_lights_and_camera.wrl" -W 80 -H 60 --strict -o "$work/castle.png"
+    expect 0 "castle: the same under --sandbox is untextured" -- "$bin" render "$cev/castle/old/vrml_2/castle_with_lights_and_camera.wrl" -W 80 -H 60 --sandbox -q -o "$work/castle_sandbox.png"
+    expect 1 "castle: the textured image differs from the untextured one" -- "$bin" compare "$work/castle.png" "$work/castle_sandbox.png" --max-rmse 0.02
+    for f in fog/fog_linear.wrl background/background_texture1.wrl; do
+        expect 0 "$f renders" -- "$bin" render "$cev/$f" -W 48 -H 36 -o "$work/x.png"
+        grep -q "nothing" "$work/err.txt" && fail "$f: the inlined castle is in view" || pass
+    done
+    expect 0 "info on car.x3d" -- "$bin" info "$corpus/x3d/castle-engine-demo-models/x3d/car/car.x3d"
+    grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fieldOfView 0.785398$' "$work/out.txt" && pass || fail "info names the framing camera of car.x3d"
+fi
+
 # --- compare (SPEC section 10) -----------------------------------------------------------------------
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 -o "$work/a.png" -q
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --background 1,1,1 -o "$work/b.png" -q
