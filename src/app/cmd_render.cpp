@@ -30,13 +30,35 @@ double peak_memory_mb() {
     return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
 }
 
+// OUT, or SCENE's stem + ".png" in the current folder ("scene.wrl.gz" -> "scene.png").
+std::string output_path(const RenderCommand& cmd) {
+    if (!cmd.output.empty()) return cmd.output;
+    std::filesystem::path p = std::filesystem::path(cmd.scene).filename();
+    while (p.has_extension()) p = p.stem();
+    return p.string() + ".png";
+}
+
 }  // namespace
 
 int run_render(const RenderCommand& cmd) {
     auto t0 = std::chrono::steady_clock::now();
+    // Before anything is read or traced: a render whose file cannot be written is lost time.
+    const std::string output = output_path(cmd);
+    std::string error;
+    switch (check_output(output, cmd.options.alpha, error)) {
+        case OutputCheck::kOk:
+            break;
+        case OutputCheck::kNoAlpha:
+            std::cerr << "vrmlray: error: --alpha: " << error << "\n";
+            return kExitUsage;
+        case OutputCheck::kNotWritable:
+            std::cerr << "vrmlray: error: " << error << "\n";
+            return kExitOutput;
+    }
+    const auto t_load = std::chrono::steady_clock::now();
     LoadedScene loaded;
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
-    const double parse_seconds = seconds_since(t0);
+    const double parse_seconds = seconds_since(t_load);
 
     auto t1 = std::chrono::steady_clock::now();
     FlatScene flat;
@@ -47,7 +69,6 @@ int run_render(const RenderCommand& cmd) {
 
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
     Camera camera;
-    std::string error;
     if (!make_camera(flat, cmd.options, camera, error)) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitUsage;
@@ -64,14 +85,6 @@ int run_render(const RenderCommand& cmd) {
         options.timeout -= seconds_since(t0);
         if (options.timeout <= 0.0) options.timeout = 1e-9;
     }
-    std::string output = cmd.output;
-    if (output.empty()) output = std::filesystem::path(cmd.scene).filename().string();
-    if (cmd.output.empty()) {
-        // "scene.wrl.gz" -> "scene.png"
-        std::filesystem::path p(output);
-        while (p.has_extension()) p = p.stem();
-        output = p.string() + ".png";
-    }
 
     // PNG and PPM files are 8-bit: the tracing threads encode their tiles straight into those bytes,
     // and no float image (16 bytes a pixel, 33 MB at 1920x1080) is made.
@@ -80,7 +93,7 @@ int run_render(const RenderCommand& cmd) {
     const size_t sphere_count = flat.spheres.size();  // freed by the render
     Image image;
     Image8 image8;
-    image8.channels = native_8bit_channels(output);
+    image8.channels = native_8bit_channels(output, cmd.options.alpha);
     auto progress = [&](double fraction, uint64_t rays) { bar.update(fraction, rays); };
     std::atomic<size_t> covered{0};  // pixels where the scene, not only the background, is seen
     auto count_covered = [&](size_t n, const float* rgba) {
@@ -125,7 +138,7 @@ int run_render(const RenderCommand& cmd) {
 
     auto t3 = std::chrono::steady_clock::now();
     const bool written = image8.channels > 0 ? write_image8(output, image8, cmd.options.srgb, error)
-                                             : write_image(output, image, cmd.options.srgb, error);
+                                             : write_image(output, image, {cmd.options.srgb, cmd.options.alpha}, error);
     if (!written) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitOutput;

@@ -119,6 +119,8 @@ int main(int argc, char** argv) {
     r->add_option("--emission", emission, "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
     r->add_option("--background", background, "Background colour R,G,B (overrides the scene's Background)");
     r->add_flag("--srgb", render.options.srgb, "sRGB-encode integer image formats");
+    r->add_flag("--alpha", render.options.alpha,
+                "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then leaves the background out");
     r->add_option("--seed", render.options.seed, "Seed of the jitter and statistical samplers (default 0)");
     r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file");
     bool recover = false, no_recover = false;

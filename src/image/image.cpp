@@ -13,13 +13,15 @@
 //     double. Alpha is never sRGB-encoded.
 //   - Float formats store linear, unclamped values (`srgb` is ignored). RGBE cannot hold negative
 //     numbers, so hdr clamps them to 0.
-//   - RGBA where the format has alpha (png, exr, tif, tga, ...), RGB otherwise (jpg, ppm, hdr).
+//   - RGB by default, whatever the format. With WriteOptions::alpha, RGBA (an error for a format
+//     without alpha: jpg, ppm, hdr, ...): the Image's colour is premultiplied; float formats (exr)
+//     store it so, marked associated (EXR's convention); integer formats store colour / alpha
+//     (straight; 0 where alpha is 0), marked unassociated (PNG's and TIFF's convention).
 //   - No NaN or infinity is ever written: NaN becomes 0, +-infinity the largest finite float of
 //     its sign (then clamped like any other value).
-//   - Colour is stored exactly as computed, not divided or multiplied by alpha: the files are
-//     marked (and read back) as unassociated alpha so that OpenImageIO does not premultiply or
-//     un-premultiply.
-//   - The native writers store what OpenImageIO stored before them: PNG 8-bit RGBA (tEXt
+//   - Files are read back as stored: alpha is never multiplied or divided in by OpenImageIO.
+//   - No timestamps: the same pixels give the same bytes.
+//   - The native writers store what OpenImageIO stored before them: PNG 8-bit RGB or RGBA (tEXt
 //     Software, and the sRGB/gAMA/cHRM chunks with `srgb`), PPM "P6 W H 255" with 8-bit RGB.
 // Reading returns the stored values as floats (8/16-bit code k as the float nearest k/255 or
 // k/65535), no transfer curve undone. PNG files are recognised by their signature, not their
@@ -37,6 +39,8 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+
+#include <unistd.h>
 
 #include "image/oiio_module.h"
 #include "image/png.h"
@@ -144,9 +148,9 @@ std::string format_name(const std::string& ext) {
 }
 
 // Converts `count` RGBA pixels at `in` to the interleaved samples stored in the file (nchannels per
-// pixel) at `out`.
+// pixel) at `out`, colour as given.
 template <typename T>
-void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
+void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
     // quantize(x, false, 255) without branches, so that the loops vectorise (vrmlray render encodes every
     // tile so): NaN and everything below 0 give 0, everything from 1 up (+inf too) 255, and the rounding
     // is quantize's floor(v * 255 + 0.5), truncation being floor for v >= 0.
@@ -174,6 +178,29 @@ void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb,
             const bool is_alpha = c == 3;
             out[p * nchannels + c] = T(quantize(px[c], srgb && !is_alpha, max_code));
         }
+    }
+}
+
+// Premultiplied colour -> straight (colour / alpha, 0 where alpha is 0 or less), in double.
+void unpremultiply(const float* in, size_t count, float* out) {
+    for (size_t p = 0; p < count; ++p, in += 4, out += 4) {
+        const double a = finite_or_zero(in[3]);
+        for (int c = 0; c < 3; ++c) out[c] = a > 0.0 ? float(double(finite_or_zero(in[c])) / a) : 0.0f;
+        out[3] = in[3];
+    }
+}
+
+// to_stored_samples, except that with 4 channels the colour of `in` is premultiplied and the file
+// gets it straight (the convention of integer formats: PNG, TIFF, ...).
+template <typename T>
+void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
+    if (nchannels != 4) return to_stored_samples(in, count, nchannels, srgb, max_code, out);
+    constexpr size_t kBlock = 256;  // pixels converted at a time, on the stack
+    float straight[kBlock * 4];
+    for (size_t first = 0; first < count; first += kBlock) {
+        const size_t n = std::min(kBlock, count - first);
+        unpremultiply(in + first * 4, n, straight);
+        to_stored_samples(straight, n, 4, srgb, max_code, out + first * 4);
     }
 }
 
@@ -266,11 +293,73 @@ Image to_rgba(int width, int height, int nch, int alpha, const std::vector<float
     return result;
 }
 
+// The extensions of OpenImageIO 2.4's image writers (its "extension_list" for the formats of
+// "output_format_list", less null and term). check_output refuses any other extension without loading
+// the module (0.4 s, over a second on a loaded machine); the module still has the last word on these.
+bool oiio_may_write(const std::string& ext) {
+    static constexpr const char* kKnown[] = {
+        "exr", "sxr", "mxr", "tif", "tiff", "tx", "env", "sm", "vsm", "jpg", "jpe", "jpeg", "jif", "jfif",
+        "jfi", "bmp", "dib", "dpx", "fits", "gif", "heic", "heif", "heics", "avif", "hdr", "rgbe", "ico",
+        "iff", "z", "jp2", "j2k", "j2c", "png", "ppm", "pgm", "pbm", "pnm", "pfm", "rla", "sgi", "rgb",
+        "rgba", "bw", "int", "inta", "tga", "tpic", "webp", "zfile"};
+    return std::find(std::begin(kKnown), std::end(kKnown), ext) != std::end(kKnown);
+}
+
 }  // namespace
 
-int native_8bit_channels(const std::string& path) {
+int native_8bit_channels(const std::string& path, bool alpha) {
     const std::string ext = lower_extension(path);
-    return ext == "png" ? 4 : ext == "ppm" ? 3 : 0;
+    return ext == "png" ? (alpha ? 4 : 3) : ext == "ppm" ? 3 : 0;
+}
+
+OutputCheck check_output(const std::string& path, bool alpha, std::string& error) {
+    namespace fs = std::filesystem;
+    const std::string ext = lower_extension(path);
+    if (ext.empty()) {
+        error = "cannot write '" + path + "': no file extension to choose an image format by";
+        return OutputCheck::kNotWritable;
+    }
+    // The folder first: it needs no OpenImageIO module to be loaded.
+    fs::path folder = fs::path(path).parent_path();
+    if (folder.empty()) folder = ".";
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) {
+        error = "cannot write '" + path + "': the folder '" + folder.string() + "' does not exist";
+        return OutputCheck::kNotWritable;
+    }
+    if (fs::is_directory(path, ec)) {
+        error = "cannot write '" + path + "': it is a folder";
+        return OutputCheck::kNotWritable;
+    }
+    const bool exists = fs::exists(path, ec);
+    if (access(exists ? path.c_str() : folder.c_str(), W_OK) != 0) {
+        error = "cannot write '" + path + "': " + (exists ? "the file" : "the folder '" + folder.string() + "'") +
+                " is not writable (" + std::strerror(errno) + ")";
+        return OutputCheck::kNotWritable;
+    }
+    int channels = native_8bit_channels(path, true);
+    if (channels == 0) {
+        if (!oiio_may_write(ext)) {
+            error = "cannot write '" + path + "': unknown image format '." + ext + "'";
+            return OutputCheck::kNotWritable;
+        }
+        std::string why;
+        channels = oiio_output_channels(path, why);
+        if (channels < 0) {
+            error = "cannot write " + format_name(ext) + " '" + path + "': " + why;
+            return OutputCheck::kNotWritable;
+        }
+        if (channels == 0) {
+            error = "cannot write '" + path + "': unknown image format '." + ext + "'";
+            return OutputCheck::kNotWritable;
+        }
+    }
+    if (alpha && channels < 4) {
+        error = "cannot write '" + path + "' with an alpha channel: " + format_name(ext) +
+                " files have none (png, tif and exr do)";
+        return OutputCheck::kNoAlpha;
+    }
+    return OutputCheck::kOk;
 }
 
 void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8_t* out) {
@@ -278,15 +367,15 @@ void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8
 }
 
 bool write_image8(const std::string& path, const Image8& image, bool srgb, std::string& error) {
-    const int channels = native_8bit_channels(path);
+    const int channels = native_8bit_channels(path, image.channels == 4);
     if (image.width <= 0 || image.height <= 0 || channels == 0 || image.channels != channels ||
         image.samples.size() != size_t(image.width) * size_t(image.height) * size_t(channels)) {
         error = "cannot write '" + path + "': the image is empty or malformed";
         return false;
     }
     std::string why;
-    const bool ok = channels == 4
-                        ? write_png(path, image.width, image.height, 4, 8, image.samples.data(), srgb, why)
+    const bool ok = lower_extension(path) == "png"
+                        ? write_png(path, image.width, image.height, channels, 8, image.samples.data(), srgb, why)
                         : write_ppm(
                               path, image.width, image.height,
                               [&](size_t first, size_t) {
@@ -297,7 +386,9 @@ bool write_image8(const std::string& path, const Image8& image, bool srgb, std::
     return ok;
 }
 
-bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error) {
+bool write_image(const std::string& path, const Image& image, const WriteOptions& options, std::string& error) {
+    const bool srgb = options.srgb;
+    const int want = options.alpha ? 4 : 3;
     if (image.width <= 0 || image.height <= 0 ||
         image.rgba.size() != size_t(image.width) * size_t(image.height) * 4) {
         error = "cannot write '" + path + "': the image is empty or malformed";
@@ -310,28 +401,37 @@ bool write_image(const std::string& path, const Image& image, bool srgb, std::st
     }
     std::string why;
     if (ext == "png") {
-        // RGBA, 8-bit: the common case never loads the module.
-        const std::vector<uint8_t> samples = to_integer_samples<uint8_t>(image, 4, srgb, 255.0);
-        if (write_png(path, image.width, image.height, 4, 8, samples.data(), srgb, why))
+        // 8-bit: the common case never loads the module.
+        const std::vector<uint8_t> samples = to_integer_samples<uint8_t>(image, want, srgb, 255.0);
+        if (write_png(path, image.width, image.height, want, 8, samples.data(), srgb, why))
             return true;
         error = "cannot write '" + path + "': " + why;
         return false;
     }
     if (ext == "ppm") {
+        if (options.alpha) {
+            error = "cannot write '" + path + "' with an alpha channel: PPM files have none";
+            return false;
+        }
         if (write_ppm(path, image, srgb, why)) return true;
         error = "cannot write '" + path + "': " + why;
         return false;
     }
 
-    const int nchannels = oiio_output_channels(path, why);
-    if (nchannels < 0) {
+    const int format_channels = oiio_output_channels(path, why);
+    if (format_channels < 0) {
         error = "cannot write " + format_name(ext) + " '" + path + "': " + why;
         return false;
     }
-    if (nchannels == 0) {
+    if (format_channels == 0) {
         error = "cannot write '" + path + "': unknown image format '." + ext + "'";
         return false;
     }
+    if (want > format_channels) {
+        error = "cannot write '" + path + "' with an alpha channel: " + format_name(ext) + " files have none";
+        return false;
+    }
+    const int nchannels = want;
     const FormatChoice format = choose_format(ext);
     bool ok = false;
     switch (format.kind) {

@@ -1,4 +1,5 @@
-// A float RGBA image in memory, and reading/writing it: PNG and PPM natively, other formats through
+// A float RGBA image in memory (colour premultiplied by alpha when rendered with --alpha), and
+// reading/writing it: PNG and PPM natively, other formats through
 // OpenImageIO, loaded as a module on first need (image/oiio_module.h).
 #pragma once
 #include <algorithm>
@@ -78,21 +79,41 @@ struct Image8 {
 // (16384 x 16384; 4 GiB as float RGBA).
 inline constexpr size_t kMaxImagePixels = size_t(16384) * 16384;
 
-// Writes by OUT's extension (png, exr, hdr, tif, jpg, ppm, ...). Integer formats get values clamped
-// to [0,1], or sRGB-encoded when `srgb` is set; float formats get linear unclamped values. Alpha is
-// written where the format has it. Returns false and sets `error` on failure (naming the file;
-// "cannot write FORMAT 'FILE': the OpenImageIO module PATH could not be loaded: WHY" when the
-// format needs the module and it cannot be loaded).
-bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error);
+struct WriteOptions {
+    bool srgb = false;   // integer formats: sRGB-encode the colour (never alpha)
+    // Write the alpha channel; the Image's colour is then premultiplied by it (what the tracer gives
+    // with RenderOptions::alpha). Float formats (EXR) store it so, marked associated; integer formats
+    // (PNG, TIFF, ...) store colour / alpha (straight, 0 where alpha is 0), marked unassociated.
+    bool alpha = false;
+};
 
-// The channels an 8-bit file of OUT's format holds when written natively (png: 4, ppm: 3), else 0 (the
-// format needs write_image).
-int native_8bit_channels(const std::string& path);
-// Encodes `count` RGBA pixels as write_image does for an 8-bit file: `channels` (3 or 4) bytes a pixel,
-// clamped to [0,1], colour sRGB-encoded when `srgb`, NaN as 0.
+// Writes by OUT's extension (png, exr, hdr, tif, jpg, ppm, ...). Integer formats get values clamped
+// to [0,1], or sRGB-encoded when `srgb` is set; float formats get linear unclamped values. RGB only
+// unless options.alpha (an error for a format without alpha). Returns false and sets `error` on
+// failure (naming the file; "cannot write FORMAT 'FILE': the OpenImageIO module PATH could not be
+// loaded: WHY" when the format needs the module and it cannot be loaded).
+bool write_image(const std::string& path, const Image& image, const WriteOptions& options, std::string& error);
+// RGB, no alpha.
+inline bool write_image(const std::string& path, const Image& image, bool srgb, std::string& error) {
+    return write_image(path, image, WriteOptions{srgb, false}, error);
+}
+
+// Whether OUT can be written, asked before any rendering (SPEC section 9): its extension names a
+// format a writer knows (png and ppm natively; others through the OpenImageIO module, loaded here),
+// that format holds alpha if `alpha`, its folder exists and is writable, and OUT is not a folder or a
+// read-only file. Nothing is created.
+enum class OutputCheck { kOk, kNotWritable, kNoAlpha };
+OutputCheck check_output(const std::string& path, bool alpha, std::string& error);
+
+// The channels an 8-bit file of OUT's format holds when written natively (png: 3, with alpha 4; ppm:
+// 3), else 0 (the format needs write_image).
+int native_8bit_channels(const std::string& path, bool alpha = false);
+// Encodes `count` RGBA pixels as write_image does for an 8-bit file: `channels` bytes a pixel (3: RGB;
+// 4: colour / alpha and alpha, the colour being premultiplied in `rgba`), clamped to [0,1], colour
+// sRGB-encoded when `srgb`, NaN as 0.
 void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8_t* out);
-// Writes `image` (whose channels are native_8bit_channels(path)) byte for byte as write_image writes the
-// Image it was encoded from.
+// Writes `image` (3 or, for png, 4 channels: native_8bit_channels(path, alpha)) byte for byte as
+// write_image writes the Image it was encoded from.
 bool write_image8(const std::string& path, const Image8& image, bool srgb, std::string& error);
 // Reads any format OpenImageIO reads into linear-as-stored RGBA floats (missing alpha = 1); PNG
 // without the module.

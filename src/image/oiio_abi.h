@@ -16,7 +16,7 @@ extern "C" {
 #endif
 
 // Bumped whenever a signature or a meaning below changes; the loader refuses other versions.
-#define VRMLRAY_OIIO_ABI_VERSION 1
+#define VRMLRAY_OIIO_ABI_VERSION 2  // 2: float alpha is associated, integer alpha unassociated
 
 enum VrOiioFormat { VR_OIIO_UINT8 = 0, VR_OIIO_UINT16 = 1, VR_OIIO_FLOAT = 2 };
 
@@ -46,8 +46,10 @@ typedef void (*VrOiioCloseFn)(VrOiioInput* input);
 // no writer knows PATH's extension.
 typedef int (*VrOiioOutputChannelsFn)(const char* path);
 // Writes samples (1 to 4 channels; with 2 or 4 the last is alpha) stored as `format`. The format's
-// own settings (exr zip compression, jpeg quality 95, binary pnm, unassociated alpha, the Software
-// tag, the sRGB colour-space tag when `srgb`) are chosen by the module from PATH's extension.
+// own settings (exr zip compression, jpeg quality 95, binary pnm, the Software tag, the sRGB
+// colour-space tag when `srgb`) are chosen by the module from PATH's extension. Alpha is marked
+// associated for VR_OIIO_FLOAT samples (premultiplied colour, EXR's convention) and unassociated for
+// integer ones (straight colour). No timestamp is written: the same samples give the same bytes.
 typedef int (*VrOiioWriteFn)(const char* path, int width, int height, int channels, int format,
                              const void* samples, int srgb, char* error, size_t error_size);
 

@@ -121,13 +121,17 @@ int vrmlray_oiio_write(const char* path, int width, int height, int channels, in
         OIIO::ImageSpec spec(width, height, channels, type_of(format));
         if (channels == 2 || channels == 4) {
             spec.alpha_channel = channels - 1;
-            spec.attribute("oiio:UnassociatedAlpha", 1);
+            // Float samples come premultiplied (EXR's convention); integer ones straight.
+            if (format != VR_OIIO_FLOAT) spec.attribute("oiio:UnassociatedAlpha", 1);
         }
         if (format != VR_OIIO_FLOAT && srgb) spec.attribute("oiio:ColorSpace", "sRGB");
         if (ext == "exr") spec.attribute("compression", "zip");
         if (ext == "jpg" || ext == "jpeg") spec.attribute("Compression", "jpeg:95");
         if (ext == "ppm" || ext == "pnm") spec.attribute("pnm:binary", 1);
         spec.attribute("Software", "vrmlray");
+        // OpenImageIO stamps the current time otherwise (EXR capDate, TIFF DateTime): the same render
+        // must write the same bytes (SPEC section 9).
+        spec.attribute("DateTime", "");
         if (!out->open(path, spec)) {
             set_error(error, error_size, oiio_error(out->geterror()));
             return 0;

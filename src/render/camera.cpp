@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/format.h"
+
 namespace vr {
 namespace {
 
@@ -126,7 +128,7 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
     } else {
         if (!(vp.field_of_view > 0.0 && vp.field_of_view < kPi)) {
             error = "viewpoint fieldOfView must lie in (0, pi), got " +
-                    std::to_string(vp.field_of_view);
+                    format_g(vp.field_of_view);
             return false;
         }
         camera.field_of_view = vp.field_of_view;

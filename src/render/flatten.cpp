@@ -9,12 +9,13 @@
 #include <optional>
 #include <unordered_map>
 
+#include "core/format.h"
+#include "core/huge_pages.h"
 #include "geometry/cylinder_fit.h"
 #include "geometry/mesh_nodes.h"
 #include "geometry/sphere_fit.h"
 #include "parser/load.h"
 #include "scene/image_file.h"
-#include "core/huge_pages.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 
@@ -242,16 +243,14 @@ class Flattener {
         out.position = transform_point(m, finite_or(v.position, Vec3(0.0, 0.0, 10.0)));
         out.world_from_camera = orthonormalize(linear) * rotation_matrix(v.orientation);
         out.field_of_view = v.field_of_view;
-        if (!(v.field_of_view > 0.01 && v.field_of_view < kPi - 0.01)) {
-            // Outside (0, pi) the camera is undefined; clamp into [0.01, pi - 0.01] as browsers do
-            // (NaN: default).
-            out.field_of_view = std::isnan(v.field_of_view)
-                                    ? 0.785398
-                                    : std::clamp(v.field_of_view, 0.01, kPi - 0.01);
+        if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
+            // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, a value
+            // of pi or more is taken as the widest sensible view; 0, negative or NaN as the default.
+            out.field_of_view = v.field_of_view >= kPi ? kPi - 0.01 : 0.785398;
             NodeReport(diagnostics_, v.origin)
-                .warn("field-of-view", "fieldOfView " + std::to_string(v.field_of_view) +
+                .warn("field-of-view", "fieldOfView " + format_g(v.field_of_view) +
                                            " lies outside (0, pi); using " +
-                                           std::to_string(out.field_of_view));
+                                           format_g(out.field_of_view));
         }
         const double s = mean_scale(linear);
         for (int i = 0; i < 4; ++i) out.ortho_extent[i] = v.ortho_extent[i] * s;

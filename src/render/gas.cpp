@@ -451,7 +451,7 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
     active.clear();
     pieces.clear();
     coef.clear();
-    double T = 1.0;
+    double T = 1.0, tau = 0.0;
     Vec3 L(0.0);
     double prev = 0.0;
     for (const Event& e : events) {
@@ -485,6 +485,7 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
             ++stats.pieces;
             pieces.push_back({a, b, T, sigma});
             T *= std::exp(-x);
+            tau += x;
         }
         if (e.enter) {
             active.push_back(e.sphere);
@@ -495,6 +496,7 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
         prev = std::max(prev, e.t);
     }
     result.transmittance = T;
+    result.optical_depth = tau;
     // The rest of each light's term varies along a piece (shadows, attenuation, spot): integrated over the
     // whole ray at once, so that the error goes where the light is, to tolerance * the light's total.
     struct Interval {
@@ -742,7 +744,7 @@ GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end, c
     collect_events(ray, t_end, events);
     std::vector<uint32_t> active;
     GasStats stats;
-    double T = 1.0;
+    double T = 1.0, tau = 0.0;
     Vec3 L(0.0);
     double prev = 0.0;
     for (const Event& e : events) {
@@ -773,6 +775,7 @@ GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end, c
                 }
             }
             T *= std::exp(-sigma * (b - a));
+            tau += sigma * (b - a);
         }
         if (e.enter) {
             active.push_back(e.sphere);
@@ -784,6 +787,7 @@ GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end, c
     }
     result.radiance = L;
     result.transmittance = T;
+    result.optical_depth = tau;
     return result;
 }
 

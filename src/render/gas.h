@@ -79,6 +79,7 @@ public:
     struct Result {
         Vec3 radiance{0.0};        // the integral term
         double transmittance = 1.0;  // T(0, t_end)
+        double optical_depth = 0.0;  // -log T, summed piece by piece: alpha = -expm1(-it) keeps thin gas's digits
     };
     // What lights the gas: the scene's lights (unit directions), which of them reach which sphere, and the
     // headlight (never shadowed; null when off).

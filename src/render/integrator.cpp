@@ -116,7 +116,12 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
 
 SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
-    return trace(ray, 0, 1.0, counters);
+    SampleValue v = trace(ray, 0, 1.0, counters);
+    // With --alpha the colour leaves out the background that reaches the pixel (SPEC section 9), so
+    // that colour + (1 - alpha) * background, the image composited over its background, is the
+    // opaque image again. A clean miss gives exactly 0.
+    if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
+    return v;
 }
 
 SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
@@ -140,12 +145,15 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
                                                 gas_lighting_, options_.tolerance, stats);
     counters.shadow += stats.visibility_rays;
     SampleValue out;
+    out.alpha = 1.0;  // gas that lets nothing through hides whatever is behind it
     if (g.transmittance > 0.0) {
         out = trace_surfaces(ray, depth, weight * g.transmittance, counters, &surface);
         out.color *= g.transmittance;
-        out.background *= g.transmittance;
     }
     out.color += g.radiance;
+    // 1 - T * (1 - alpha behind) as a sum of non-negative terms; the gas's own share from its optical
+    // depth, not as 1 - T.
+    out.alpha = -std::expm1(-g.optical_depth) + g.transmittance * out.alpha;
     return out;
 }
 
@@ -175,7 +183,7 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
     if (local_weight > 0.0)
         color += local_weight * shade_local(s, look, ng, ns, to_viewer, counters);
 
-    double background = 0.0;
+    double alpha = 1.0;  // an opaque hit, unless the transmitted ray below brings background through
     if (depth + 1 < options_.max_depth && (kr > 0.0 || kt > 0.0)) {
         double w_reflect = kr, w_transmit = kt;
         Vec3 t_dir = d;
@@ -214,17 +222,17 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
             SampleValue t = trace(spawn_ray(s.p, s.p_error, ng, t_dir), depth + 1,
                                   weight * w_transmit, counters);
             color += w_transmit * t.color;
-            background += w_transmit * t.background;
+            alpha = (1.0 - w_transmit) + w_transmit * t.alpha;
         }
     }
 
     if (scene_.fog.kind != FogKind::None) {
         const double f = fog_factor(scene_.fog, s.t * len);
         color = f * color + (1.0 - f) * scene_.fog.color;
-        background *= f;
+        alpha = (1.0 - f) + f * alpha;
     }
     out.color = color;
-    out.background = background;
+    out.alpha = alpha;
     return out;
 }
 

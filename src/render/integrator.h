@@ -42,7 +42,8 @@ class Integrator {
     Integrator(const FlatScene& scene, const Accel& accel, const Camera& camera,
                const RenderOptions& options, const GasVolume* gas = nullptr);
 
-    // A camera ray: colour and the weight with which the background reaches it (alpha = 1 - that).
+    // A camera ray: colour and alpha (1 - the weight with which the background reaches it); with
+    // options.alpha the colour leaves that background out (premultiplied by alpha).
     SampleValue trace_camera_ray(const Ray& ray, RayCounters& counters) const;
 
     // Any ray at recursion depth `depth` (camera rays: 0) whose contribution to the pixel is scaled
@@ -56,7 +57,7 @@ class Integrator {
     SampleValue background_sample(const Ray& ray) const {
         SampleValue out;
         out.color = background_.radiance(ray.d);
-        out.background = 1.0;
+        out.alpha = 0.0;
         return out;
     }
 

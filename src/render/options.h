@@ -32,6 +32,7 @@ struct RenderOptions {
     std::optional<Vec3> emission;   // gas emission where no hint says (default: emissiveColor)
     std::optional<Vec3> background; // overrides the scene's Background
     bool srgb = false;
+    bool alpha = false;             // an alpha channel; the colour then leaves the background out (SPEC 9)
     uint64_t seed = 0;
     double min_weight = 1e-3;       // a path whose weight drops below this stops (SPEC section 5)
 };

@@ -137,8 +137,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                         out[0] = to_output(v.color.x, bad);
                         out[1] = to_output(v.color.y, bad);
                         out[2] = to_output(v.color.z, bad);
-                        double alpha = 1.0 - v.background;
-                        out[3] = std::isfinite(alpha) ? float(std::clamp(alpha, 0.0, 1.0)) : 1.0f;
+                        out[3] = std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
                     });
             }
             sink(x0, y0, x1, y1, pixels.data());

@@ -40,7 +40,7 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
 // Builds the acceleration structure and renders the whole image (options.width x options.height) on
 // options.threads threads (0: all cores) in 16x16 tiles. Deterministic for any thread count. Pixels
 // hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC
-// section 9); no NaN or infinity ever reaches the image. With options.timeout > 0, tiles not begun
+// section 9); with options.alpha the colour leaves that background out (premultiplied); no NaN or infinity ever reaches the image. With options.timeout > 0, tiles not begun
 // when that many seconds (counted from this call) have passed are skipped and stats.timed_out is set.
 // `spheres_to_free`: as for render_tiles below.
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,

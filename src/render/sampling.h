@@ -17,10 +17,12 @@
 
 namespace vr {
 
-// What one camera ray brings back: colour, and the weight with which the background reaches it.
+// What one camera ray brings back: colour, and alpha = 1 - the weight with which the background
+// reaches it (SPEC section 9). Alpha is carried as itself, not as that weight, so that a tiny alpha
+// (thin gas: -expm1(-1e-14)) keeps its digits instead of being 1 - (1 - 1e-14).
 struct SampleValue {
     Vec3 color{0.0};
-    double background = 1.0;
+    double alpha = 0.0;
 };
 
 enum class SamplerKind : uint8_t { Center, Grid, Rgss, Rooks8, Quincunx, Jitter, Adaptive, Statistical };
@@ -77,13 +79,13 @@ namespace sampling_detail {
 
 inline void accumulate(SampleValue& sum, const SampleValue& s, double w) {
     sum.color += w * s.color;
-    sum.background += w * s.background;
+    sum.alpha += w * s.alpha;
 }
 
-// The largest difference between two samples over colour and background weight (which is alpha).
+// The largest difference between two samples over colour and alpha.
 inline double difference(const SampleValue& a, const SampleValue& b) {
     return std::max({std::abs(a.color.x - b.color.x), std::abs(a.color.y - b.color.y),
-                     std::abs(a.color.z - b.color.z), std::abs(a.background - b.background)});
+                     std::abs(a.color.z - b.color.z), std::abs(a.alpha - b.alpha)});
 }
 
 // Adaptive supersampling inside one pixel. Points live on the lattice of spacing 1/2^(depth+1)
@@ -95,7 +97,6 @@ template <class At>
 SampleValue adaptive_square(const PixelSampler& s, At& at, int ci, int cj, int h, int depth) {
     const SampleValue centre = at(ci, cj);
     SampleValue sum;
-    sum.background = 0.0;
     for (int q = 0; q < 4; ++q) {
         const int di = (q & 1) ? h : -h, dj = (q & 2) ? h : -h;
         const SampleValue corner = at(ci + di, cj + dj);
@@ -133,7 +134,7 @@ void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerS
                 if (s.kind == SamplerKind::Quincunx) {
                     SampleValue v = eval(x + 0.5, y + 0.5);
                     v.color *= 0.5;
-                    v.background *= 0.5;
+                    v.alpha *= 0.5;
                     for (const SampleValue& k : corner) accumulate(v, k, 0.125);
                     store(x, y, v);
                     continue;
@@ -165,8 +166,7 @@ void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerS
                 continue;
             }
             SampleValue sum;
-            sum.background = 0.0;
-            if (s.kind == SamplerKind::Statistical) {
+                    if (s.kind == SamplerKind::Statistical) {
                 // Welford's running mean and variance per channel; stop once the standard error of
                 // the mean, sqrt(variance / n), is below the threshold in every channel.
                 double mean[4] = {0, 0, 0, 0}, m2[4] = {0, 0, 0, 0};
@@ -185,7 +185,7 @@ void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerS
                         v = std::min(0.25 * ((n >> 2) + v), std::nextafter(1.0, 0.0));
                     }
                     const SampleValue r = eval(x + u, y + v);
-                    const double values[4] = {r.color.x, r.color.y, r.color.z, r.background};
+                    const double values[4] = {r.color.x, r.color.y, r.color.z, r.alpha};
                     ++n;
                     for (int c = 0; c < 4; ++c) {
                         const double d = values[c] - mean[c];
@@ -200,7 +200,7 @@ void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerS
                     }
                 }
                 sum.color = Vec3(mean[0], mean[1], mean[2]);
-                sum.background = mean[3];
+                sum.alpha = mean[3];
                 store(x, y, sum);
                 continue;
             }

@@ -111,6 +111,37 @@ for scene in 000_scene2_metal_glass 003_particles_gas; do
     expect 0 "$scene: 1 and 2 threads give the same image" -- "$bin" compare "$work/det1.exr" "$work/det2.exr" --max-abs 0
     expect 0 "$scene: a second run gives the same image" -- "$bin" compare "$work/det2.exr" "$work/det3.exr" --max-abs 0
 done
+# Deterministic bytes (SPEC section 9): the same render writes the same file for any thread count, with
+# no timestamp (the second run starts a second later, so a clock in the file would show).
+for ext in exr png tif; do
+    for alpha in "" --alpha; do
+        "$bin" render "$src/scenes/seeds/003_particles_gas.wrl" -W 40 -H 30 $alpha --threads 1 -q -o "$work/bytes1.$ext"
+        sleep 1
+        "$bin" render "$src/scenes/seeds/003_particles_gas.wrl" -W 40 -H 30 $alpha --threads 2 -q -o "$work/bytes2.$ext"
+        cmp -s "$work/bytes1.$ext" "$work/bytes2.$ext" && pass || fail "$ext $alpha: two renders wrote different bytes"
+    done
+done
+# The output is checked before the scene is read or a ray traced (a 4000x4000 render at 64 spp would take
+# minutes): a missing folder or an unknown format is exit 4 within a second, and nothing is written.
+for out in /no/such/dir/x.png "$work/x.bogus"; do
+    rm -f "$work/x.bogus"
+    start=$(date +%s%N)
+    expect 4 "unwritable $out is refused at once" -- "$bin" render "$src/scenes/seeds/000_scene1_glass_bubbles.wrl" -W 4000 -H 4000 --spp 64 -o "$out"
+    ms=$(( ($(date +%s%N) - start) / 1000000 ))
+    [ "$ms" -lt 1000 ] && pass || fail "unwritable $out: exit after $ms ms, not at once"
+    [ -e "$out" ] && fail "unwritable $out: a file was written" || pass
+done
+expect_stderr "^vrmlray: error: cannot write '.*x.bogus': unknown image format '.bogus'$" "unknown format message"
+expect 4 "missing folder" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -o /no/such/dir/x.png
+expect_stderr "^vrmlray: error: cannot write '/no/such/dir/x.png': the folder '/no/such/dir' does not exist$" "missing folder message"
+# --alpha with a format that has no alpha channel: a one-line usage error, before rendering.
+for ext in jpg ppm hdr; do
+    rm -f "$work/alpha.$ext"
+    expect 2 "--alpha with .$ext" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --alpha -W 8 -H 8 -o "$work/alpha.$ext"
+    expect_stderr "^vrmlray: error: --alpha: cannot write '.*alpha.$ext' with an alpha channel: ${ext^^} files have none" "--alpha .$ext message"
+    [ "$(wc -l <"$work/err.txt")" -eq 1 ] && pass || fail "--alpha .$ext: the error is not one line"
+    [ -e "$work/alpha.$ext" ] && fail "--alpha .$ext: a file was written" || pass
+done
 rm -f "$work/timeout.png"
 expect 3 "--timeout stops a long render" -- "$bin" render "$src/scenes/seeds/000_scene1_glass_bubbles.wrl" -W 2000 -H 2000 --spp 256 --timeout 0.5 -o "$work/timeout.png"
 expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -31,9 +32,9 @@ class ImageIoTest : public ::testing::Test {
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
     // Writes then reads back; fails the test on any error.
-    Image round_trip(const Image& image, const std::string& name, bool srgb = false) {
+    Image round_trip(const Image& image, const std::string& name, bool srgb = false, bool alpha = false) {
         std::string error;
-        EXPECT_TRUE(write_image(path(name), image, srgb, error)) << error;
+        EXPECT_TRUE(write_image(path(name), image, WriteOptions{srgb, alpha}, error)) << error;
         Image back;
         EXPECT_TRUE(read_image(path(name), back, error)) << error;
         EXPECT_EQ(back.width, image.width);
@@ -65,23 +66,23 @@ TEST_F(ImageIoTest, PngStoresExactEightBitCodes) {
         p[0] = float(i) / 255.0f;
         p[1] = float(255 - i) / 255.0f;
         p[2] = float((i * 7) % 256) / 255.0f;
-        // Alpha stays unassociated: colour is not scaled by it.
-        p[3] = float((i * 13) % 256) / 255.0f;
+        p[3] = float((i * 13) % 256) / 255.0f;  // no alpha channel by default: read back as 1
     }
     Image back = round_trip(im, "codes.png");
-    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], im.rgba[i]) << i;
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : im.rgba[i]) << i;
 }
 
 TEST_F(ImageIoTest, PngRoundsToNearestAndClamps) {
     Image im = ramp_image(-0.2f, 1.3f);
     im.rgba[5] = 0.5f;            // 127.5 rounds up to 128
     im.rgba[6] = 0.5f / 255.0f;   // 0.5 rounds up to 1
-    im.rgba[7] = 0.49f / 255.0f;  // 0.49 rounds down to 0
+    im.rgba[8] = 0.49f / 255.0f;  // 0.49 rounds down to 0
     Image back = round_trip(im, "ramp.png");
-    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], code8(im.rgba[i])) << i;
+    for (size_t i = 0; i < im.rgba.size(); ++i)
+        EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : code8(im.rgba[i])) << i;
     EXPECT_FLOAT_EQ(back.rgba[5] * 255.0f, 128.0f);
     EXPECT_FLOAT_EQ(back.rgba[6] * 255.0f, 1.0f);
-    EXPECT_FLOAT_EQ(back.rgba[7] * 255.0f, 0.0f);
+    EXPECT_FLOAT_EQ(back.rgba[8] * 255.0f, 0.0f);
     EXPECT_EQ(back.rgba[0], 0.0f);
     EXPECT_EQ(back.rgba.back(), 1.0f);
 }
@@ -91,10 +92,10 @@ TEST_F(ImageIoTest, PngSrgbEncodesColourNotAlpha) {
     const float values[4] = {0.5f, 0.0f, 1.0f, 0.001f};
     for (int x = 0; x < 4; ++x) {
         float* p = im.pixel(x, 0);
-        p[0] = p[1] = p[2] = values[x];
+        p[0] = p[1] = p[2] = 0.5f * values[x];  // premultiplied: the file gets values[x] exactly
         p[3] = 0.5f;
     }
-    Image back = round_trip(im, "srgb.png", /*srgb=*/true);
+    Image back = round_trip(im, "srgb.png", /*srgb=*/true, /*alpha=*/true);
     EXPECT_FLOAT_EQ(back.pixel(0, 0)[0] * 255.0f, 188.0f);  // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
     EXPECT_FLOAT_EQ(back.pixel(1, 0)[1] * 255.0f, 0.0f);
     EXPECT_FLOAT_EQ(back.pixel(2, 0)[2] * 255.0f, 255.0f);
@@ -109,8 +110,11 @@ TEST_F(ImageIoTest, ExrKeepsFloatsExactly) {
                             65504.0f, 1e30f,  0.5f, 0.25f,  2.0f,   -0.0f, 3.0f,        0.75f,
                             1.5f,     0.125f, 9.0f, 0.3f,   0.7f,   1.1f,  123.456f,    0.0078125f};
     for (size_t i = 0; i < im.rgba.size(); ++i) im.rgba[i] = values[i];
-    Image back = round_trip(im, "floats.exr");
+    // With alpha the premultiplied colour is stored as it is (EXR's convention).
+    Image back = round_trip(im, "floats.exr", false, /*alpha=*/true);
     for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], im.rgba[i]) << i;
+    Image rgb = round_trip(im, "rgb.exr");
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(rgb.rgba[i], i % 4 == 3 ? 1.0f : im.rgba[i]) << i;
 }
 
 TEST_F(ImageIoTest, NonFiniteValuesNeverReachTheFile) {
@@ -122,7 +126,7 @@ TEST_F(ImageIoTest, NonFiniteValuesNeverReachTheFile) {
     float* b = im.pixel(1, 0);
     b[0] = 0.25f, b[1] = 0.5f, b[2] = 0.75f, b[3] = 1.0f;
 
-    Image exr = round_trip(im, "nan.exr");
+    Image exr = round_trip(im, "nan.exr", false, /*alpha=*/true);
     EXPECT_EQ(exr.pixel(0, 0)[0], 0.0f);
     EXPECT_EQ(exr.pixel(0, 0)[1], std::numeric_limits<float>::max());
     EXPECT_EQ(exr.pixel(0, 0)[2], std::numeric_limits<float>::lowest());
@@ -132,16 +136,15 @@ TEST_F(ImageIoTest, NonFiniteValuesNeverReachTheFile) {
     EXPECT_EQ(png.pixel(0, 0)[0], 0.0f);
     EXPECT_EQ(png.pixel(0, 0)[1], 1.0f);
     EXPECT_EQ(png.pixel(0, 0)[2], 0.0f);
-    EXPECT_EQ(png.pixel(0, 0)[3], 0.0f);
+    EXPECT_EQ(png.pixel(0, 0)[3], 1.0f);  // RGB: no alpha stored
     for (float v : png.rgba) EXPECT_TRUE(std::isfinite(v));
 }
 
 TEST_F(ImageIoTest, TiffStoresSixteenBitCodes) {
     Image im = ramp_image(-0.1f, 1.1f);
-    im.rgba[3] = 0.25f;  // an alpha below 1
     Image back = round_trip(im, "ramp.tif");
     for (size_t i = 0; i < im.rgba.size(); ++i) {
-        const double v = std::clamp(double(im.rgba[i]), 0.0, 1.0);
+        const double v = i % 4 == 3 ? 1.0 : std::clamp(double(im.rgba[i]), 0.0, 1.0);
         EXPECT_EQ(back.rgba[i], float(std::floor(v * 65535.0 + 0.5)) / 65535.0f) << i;
     }
 }
@@ -207,7 +210,7 @@ TEST_F(ImageIoTest, ReadsGreyAndGreyAlphaFiles) {
 TEST_F(ImageIoTest, ExtensionIsCaseInsensitive) {
     Image im = ramp_image(0.0f, 1.0f);
     Image back = round_trip(im, "UPPER.PNG");
-    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], code8(im.rgba[i]));
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : code8(im.rgba[i]));
 }
 
 TEST_F(ImageIoTest, WriteErrorsNameTheFile) {
@@ -230,6 +233,69 @@ TEST_F(ImageIoTest, WriteErrorsNameTheFile) {
     error.clear();
     EXPECT_FALSE(write_image(path("empty.png"), Image(), false, error));
     EXPECT_NE(error.find("empty.png"), std::string::npos) << error;
+}
+
+// SPEC section 9: no alpha channel unless asked for, in any format.
+TEST_F(ImageIoTest, EveryFormatIsRgbByDefault) {
+    Image im = ramp_image(0.0f, 1.0f);
+    for (const char* name : {"rgb.png", "rgb.tif", "rgb.exr", "rgb.tga"}) {
+        std::string error;
+        ASSERT_TRUE(write_image(path(name), im, false, error)) << error;
+        OiioPixels pixels;
+        ASSERT_TRUE(oiio_read_pixels(path(name), INT_MAX, kMaxImagePixels, pixels, error)) << error;
+        EXPECT_EQ(pixels.channels, 3) << name;
+        EXPECT_EQ(pixels.alpha_channel, -1) << name;
+    }
+}
+
+// With alpha: straight colour in PNG and TIFF (colour / alpha), premultiplied in EXR, and formats
+// without alpha refuse.
+TEST_F(ImageIoTest, AlphaIsStraightInPngAndTiffPremultipliedInExr) {
+    Image im(3, 1);
+    const float alphas[3] = {0.5f, 0.25f, 0.0f};
+    for (int x = 0; x < 3; ++x) {
+        float* p = im.pixel(x, 0);
+        p[0] = 0.6f * alphas[x], p[1] = 0.2f * alphas[x], p[2] = alphas[x], p[3] = alphas[x];
+    }
+    for (const char* name : {"a.png", "a.tif"}) {
+        Image back = round_trip(im, name, false, true);
+        for (int x = 0; x < 2; ++x) {
+            // Half a code of 8 bits (PNG) bounds the rounding; TIFF's 16 bits are finer.
+            EXPECT_NEAR(back.pixel(x, 0)[0], 0.6f, 0.5 / 255 + 1e-6) << name << " " << x;
+            EXPECT_NEAR(back.pixel(x, 0)[1], 0.2f, 0.5 / 255 + 1e-6) << name << " " << x;
+            EXPECT_EQ(back.pixel(x, 0)[2], 1.0f) << name << " " << x;
+            EXPECT_NEAR(back.pixel(x, 0)[3], alphas[x], 0.5 / 255 + 1e-6) << name << " " << x;
+        }
+        for (int c = 0; c < 4; ++c) EXPECT_EQ(back.pixel(2, 0)[c], 0.0f) << name;  // alpha 0: colour 0
+    }
+    Image exr = round_trip(im, "a.exr", false, true);
+    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(exr.rgba[i], im.rgba[i]) << i;
+    for (const char* name : {"a.jpg", "a.ppm", "a.hdr"}) {
+        std::string error;
+        EXPECT_FALSE(write_image(path(name), im, WriteOptions{false, true}, error)) << name;
+        EXPECT_NE(error.find("alpha"), std::string::npos) << error;
+        EXPECT_FALSE(fs::exists(path(name))) << name;
+    }
+}
+
+// What vrmlray render asks before it reads the scene: nothing is created, and each failure says why.
+TEST_F(ImageIoTest, OutputIsCheckedBeforeWriting) {
+    std::string error;
+    EXPECT_EQ(check_output(path("ok.png"), false, error), OutputCheck::kOk) << error;
+    EXPECT_EQ(check_output(path("ok.exr"), true, error), OutputCheck::kOk) << error;
+    EXPECT_EQ(check_output(path("ok.tif"), true, error), OutputCheck::kOk) << error;
+    EXPECT_EQ(check_output(path("ok.jpg"), false, error), OutputCheck::kOk) << error;
+    EXPECT_EQ(check_output(path("x.bogus"), false, error), OutputCheck::kNotWritable);
+    EXPECT_NE(error.find("unknown image format '.bogus'"), std::string::npos) << error;
+    EXPECT_EQ(check_output(path("no/such/dir/x.png"), false, error), OutputCheck::kNotWritable);
+    EXPECT_NE(error.find("does not exist"), std::string::npos) << error;
+    EXPECT_EQ(check_output(path("noext"), false, error), OutputCheck::kNotWritable);
+    EXPECT_EQ(check_output(dir_.string() + "/", false, error), OutputCheck::kNotWritable);
+    for (const char* name : {"x.jpg", "x.ppm", "x.hdr"}) {
+        EXPECT_EQ(check_output(path(name), true, error), OutputCheck::kNoAlpha) << name;
+        EXPECT_NE(error.find("alpha"), std::string::npos) << error;
+    }
+    EXPECT_TRUE(fs::is_empty(dir_));
 }
 
 TEST_F(ImageIoTest, ReadErrorsNameTheFile) {

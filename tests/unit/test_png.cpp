@@ -282,22 +282,28 @@ TEST_F(PngTest, WriteReadRoundTripEightAndSixteenBit) {
 }
 
 TEST_F(PngTest, NativeRenderOutputMatchesOpenImageIO) {
-    // What `render -o x.png` writes: 8-bit RGBA, clamped, rounded, alpha unassociated.
+    // What `render -o x.png` writes: 8-bit RGB (RGBA with --alpha), clamped, rounded, alpha
+    // unassociated.
     Image im(41, 17);
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(-0.2f, 1.2f);
     for (float& v : im.rgba) v = u(rng);
-    for (bool srgb : {false, true}) {
-        const std::string name = path(srgb ? "srgb.png" : "linear.png");
+    for (bool srgb : {false, true})
+    for (bool alpha : {false, true}) {
+        const std::string name = path(std::string(srgb ? "srgb" : "linear") + (alpha ? "_a.png" : ".png"));
         std::string error;
-        ASSERT_TRUE(write_image(name, im, srgb, error)) << error;
+        ASSERT_TRUE(write_image(name, im, WriteOptions{srgb, alpha}, error)) << error;
         Image native;
         ASSERT_TRUE(read_image(name, native, error)) << error;
         OiioPixels oiio;
         ASSERT_TRUE(oiio_read_pixels(name, INT_MAX, kMaxImagePixels, oiio, error)) << error;
-        ASSERT_EQ(oiio.channels, 4);
-        EXPECT_EQ(oiio.alpha_channel, 3);
-        EXPECT_TRUE(std::equal(oiio.samples.begin(), oiio.samples.end(), native.rgba.begin(), native.rgba.end()));
+        ASSERT_EQ(oiio.channels, alpha ? 4 : 3);
+        EXPECT_EQ(oiio.alpha_channel, alpha ? 3 : -1);
+        size_t mismatches = 0;
+        for (size_t p = 0; p < size_t(im.width) * im.height; ++p)
+            for (int c = 0; c < oiio.channels; ++c)
+                mismatches += oiio.samples[p * oiio.channels + c] != native.rgba[p * 4 + c];
+        EXPECT_EQ(mismatches, 0u);
         // OpenImageIO writes these chunks for an sRGB image; the native writer does too.
         const std::vector<uint8_t> bytes = read_file(name);
         const std::string text(bytes.begin(), bytes.end());
@@ -381,10 +387,11 @@ TEST_F(PngTest, EightBitLinearCodesEqualTheFormula) {
     Image im(int(values.size()), 1);
     for (size_t i = 0; i < values.size(); ++i)
         for (int c = 0; c < 4; ++c) im.rgba[4 * i + c] = values[(i + size_t(c) * 13) % values.size()];
-    std::vector<uint8_t> codes(values.size() * 4);
-    encode_8bit(im.rgba.data(), values.size(), 4, false, codes.data());
+    std::vector<uint8_t> codes(values.size() * 3);
+    encode_8bit(im.rgba.data(), values.size(), 3, false, codes.data());
     size_t mismatches = 0;
-    for (size_t i = 0; i < codes.size(); ++i) mismatches += codes[i] != expected(im.rgba[i]);
+    for (size_t i = 0; i < values.size(); ++i)
+        for (int c = 0; c < 3; ++c) mismatches += codes[3 * i + c] != expected(im.rgba[4 * i + c]);
     EXPECT_EQ(mismatches, 0u) << "of " << codes.size() << " samples";
 }
 
@@ -399,22 +406,24 @@ TEST_F(PngTest, EightBitImagesWriteAsTheFloatImage) {
     const float specials[] = {NAN, INFINITY, -INFINITY, -0.0f, 1e-30f, 1.0f};
     for (size_t i = 0; i < im.rgba.size(); ++i) im.rgba[i] = i % 97 < 6 ? specials[i % 97] : u(rng);
     for (const char* ext : {"png", "ppm"})
-        for (bool srgb : {false, true}) {
+        for (bool srgb : {false, true})
+        for (bool alpha : {false, true}) {
+            if (alpha && std::string(ext) == "ppm") continue;  // PPM has no alpha
             const std::string from_float = path(std::string("float.") + ext),
                               from_bytes = path(std::string("bytes.") + ext);
             Image8 bytes;
             bytes.width = width;
             bytes.height = height;
-            bytes.channels = native_8bit_channels(from_bytes);
-            ASSERT_EQ(bytes.channels, std::string(ext) == "png" ? 4 : 3);
+            bytes.channels = native_8bit_channels(from_bytes, alpha);
+            ASSERT_EQ(bytes.channels, alpha ? 4 : 3);
             bytes.samples.resize(size_t(width) * height * size_t(bytes.channels));
             for (int y = 0; y < height; ++y)  // row by row, as tiles arrive
                 encode_8bit(im.pixel(0, y), size_t(width), bytes.channels, srgb,
                             &bytes.samples[size_t(y) * width * size_t(bytes.channels)]);
             std::string error;
-            ASSERT_TRUE(write_image(from_float, im, srgb, error)) << error;
+            ASSERT_TRUE(write_image(from_float, im, WriteOptions{srgb, alpha}, error)) << error;
             ASSERT_TRUE(write_image8(from_bytes, bytes, srgb, error)) << error;
-            EXPECT_EQ(read_file(from_float), read_file(from_bytes)) << ext << " srgb " << srgb;
+            EXPECT_EQ(read_file(from_float), read_file(from_bytes)) << ext << " srgb " << srgb << " alpha " << alpha;
         }
     EXPECT_EQ(native_8bit_channels("x.exr"), 0);
     Image8 wrong;  // channels that the format does not store

@@ -205,7 +205,7 @@ TEST(RenderFog, LinearAndExponential) {
     // A traced path in double precision: a few dozen roundings of order-1 numbers.
     EXPECT_NEAR(v.color.x, 0.5, 1e-12);
     EXPECT_NEAR(v.color.z, 1.0, 1e-12);
-    EXPECT_EQ(v.background, 0.0);
+    EXPECT_EQ(v.alpha, 1.0);
 }
 
 }  // namespace

@@ -365,7 +365,7 @@ TEST(RenderShading, GlassSlabShiftsTheRay) {
     double cos_t;
     const double f = fresnel_dielectric(std::cos(theta), 1.0 / n, cos_t);
     EXPECT_NEAR(v.color.y, (1.0 - f) * (1.0 - f), kDoubleTolerance);
-    EXPECT_EQ(v.background, 0.0);  // the wall is opaque
+    EXPECT_EQ(v.alpha, 1.0);  // the wall is opaque
 }
 
 TEST(RenderShading, AlphaFollowsTheBackgroundWeight) {

@@ -29,7 +29,7 @@ PixelSampler sampler_for(const std::string& name, int spp, uint64_t seed = 0) {
 SampleValue value(double v) {
     SampleValue s;
     s.color = Vec3(v);
-    s.background = 1.0 - v;
+    s.alpha = v;
     return s;
 }
 
