@@ -15,6 +15,15 @@ failed=0
 fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
 pass() { passed=$((passed + 1)); }
 
+# expect CODE DESCRIPTION -- COMMAND...: the command must exit with CODE.
+expect() {
+    local code=$1 what=$2
+    shift 3
+    "$@" >"$work/out.txt" 2>"$work/err.txt"
+    local got=$?
+    if [ "$got" -eq "$code" ]; then pass; else fail "$what: exit $got, expected $code"; sed 's/^/    /' "$work/err.txt" | head -5; fi
+}
+
 # A broken corpus file lives under a folder named bad, warnings or errors.
 is_broken() { case "$1" in */bad/*|*/warnings/*|*/errors/*) return 0;; *) return 1;; esac; }
 scene_files() {
@@ -54,6 +63,18 @@ PY
 done < <(scene_files)
 # The corpus holds about 150 scenes and 19 molecular exports; far fewer means the find above broke.
 [ "$rendered" -ge 150 ] && pass || fail "only $rendered corpus scenes rendered"
+
+# --- URLs as browsers resolve them, and the camera of a file without Viewpoint (real files) ---
+cev=$corpus/vrml97/castle-engine-demo-models
+expect 0 "castle: textures in ../textures load" -- "$bin" render "$cev/castle/old/vrml_2/castle_with_lights_and_camera.wrl" -W 80 -H 60 --strict -o "$work/castle.png"
+expect 0 "castle: the same under --sandbox is untextured" -- "$bin" render "$cev/castle/old/vrml_2/castle_with_lights_and_camera.wrl" -W 80 -H 60 --sandbox -q -o "$work/castle_sandbox.png"
+expect 1 "castle: the textured image differs from the untextured one" -- "$bin" compare "$work/castle.png" "$work/castle_sandbox.png" --max-rmse 0.02
+for f in fog/fog_linear.wrl background/background_texture1.wrl; do
+    expect 0 "$f renders" -- "$bin" render "$cev/$f" -W 48 -H 36 -o "$work/x.png"
+    grep -q "nothing" "$work/err.txt" && fail "$f: the inlined castle is in view" || pass
+done
+expect 0 "info on car.x3d" -- "$bin" info "$corpus/x3d/castle-engine-demo-models/x3d/car/car.x3d"
+grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fieldOfView 0.785398$' "$work/out.txt" && pass || fail "info names the framing camera of car.x3d"
 
 echo "cli corpus ($corpus): $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

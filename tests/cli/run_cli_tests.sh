@@ -186,18 +186,6 @@ expect 0 "a scene without Viewpoint is framed, so nothing is out of view" -- "$b
 expect_stderr "no_viewpoint.wrl: note: no Viewpoint: framed from \+Z at \(100 0 " "framing note"
 expect 0 "info names the bound Viewpoint" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
 grep -q '^camera      Viewpoint DEF Camera "seed camera" at (-1 0 1)$' "$work/out.txt" && pass || fail "info camera line for a Viewpoint"
-if [ -d "$corpus" ]; then
-    cev=$corpus/vrml97/castle-engine-demo-models
-    expect 0 "castle: textures in ../textures load" -- "$bin" render "$cev/castle/old/vrml_2/castle_with_lights_and_camera.wrl" -W 80 -H 60 --strict -o "$work/castle.png"
-    expect 0 "castle: the same under --sandbox is untextured" -- "$bin" render "$cev/castle/old/vrml_2/castle_with_lights_and_camera.wrl" -W 80 -H 60 --sandbox -q -o "$work/castle_sandbox.png"
-    expect 1 "castle: the textured image differs from the untextured one" -- "$bin" compare "$work/castle.png" "$work/castle_sandbox.png" --max-rmse 0.02
-    for f in fog/fog_linear.wrl background/background_texture1.wrl; do
-        expect 0 "$f renders" -- "$bin" render "$cev/$f" -W 48 -H 36 -o "$work/x.png"
-        grep -q "nothing" "$work/err.txt" && fail "$f: the inlined castle is in view" || pass
-    done
-    expect 0 "info on car.x3d" -- "$bin" info "$corpus/x3d/castle-engine-demo-models/x3d/car/car.x3d"
-    grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fieldOfView 0.785398$' "$work/out.txt" && pass || fail "info names the framing camera of car.x3d"
-fi
 
 # --- compare (SPEC section 10) -----------------------------------------------------------------------
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 -o "$work/a.png" -q
