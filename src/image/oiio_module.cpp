@@ -63,7 +63,11 @@ std::vector<std::string> oiio_module_candidates() {
     std::vector<std::string> out;
     std::error_code ec;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec && !exe.empty()) out.push_back((exe.parent_path() / kModuleName).string());
+    if (!ec && !exe.empty()) {
+        out.push_back((exe.parent_path() / kModuleName).string());
+        // Installed (cmake --install, the .deb): PREFIX/bin/vrmlray and PREFIX/lib/vrmlray/vrmlray_oiio.so.
+        out.push_back((exe.parent_path().parent_path() / "lib" / "vrmlray" / kModuleName).string());
+    }
 #ifdef VRMLRAY_OIIO_MODULE_PATH
     const std::string built = VRMLRAY_OIIO_MODULE_PATH;
     if (std::find(out.begin(), out.end(), built) == out.end()) out.push_back(built);
