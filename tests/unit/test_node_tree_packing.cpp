@@ -114,7 +114,9 @@ TEST(NodeTreePacking, FieldCountsAroundTheOneByteEdge) {
         EXPECT_EQ(tree.field_count(ids[i]), expected[i]);
         const auto set = tree.set_fields(ids[i]);
         ASSERT_EQ(set.size(), expected[i]);
-        if (!set.empty()) EXPECT_EQ(set.back().name, static_cast<Name>(1000 + expected[i] - 1));
+        if (!set.empty()) {
+            EXPECT_EQ(set.back().name, static_cast<Name>(1000 + expected[i] - 1));
+        }
     }
     EXPECT_EQ(tree.many_fields.size(), 3u);
 }
