@@ -6,6 +6,11 @@
 #include "render/lights.h"
 
 namespace vr {
+namespace {
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
 
 double fresnel_dielectric(double cos_i, double eta, double& cos_t) {
     cos_i = std::clamp(cos_i, 0.0, 1.0);
@@ -73,6 +78,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
 
     auto add_light = [&](const Light& light) {
         const LightIncidence inc = light_incidence(light, hit.p);
+        if (std::isnan(inc.factor)) ++counters.nonfinite.light;
         if (!(inc.factor > 0.0)) return;
         const Vec3 light_rgb = light.color * inc.factor;
         // The ambient term is never shadowed (SPEC section 5).
@@ -100,7 +106,12 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                 term += (visibility * light.intensity) * lit;
             }
         }
-        color += light_rgb * term;
+        const Vec3 add = light_rgb * term;
+        if (!finite(add)) {
+            ++counters.nonfinite.light;
+            return;
+        }
+        color += add;
     };
 
     if (hit.shading < scene_.shadings.size()) {
@@ -139,13 +150,20 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
     const GasVolume::Result g = gas_->integrate(unit, surface ? surface->t * len : kInf,
                                                 gas_lighting_, options_.tolerance, stats);
     counters.shadow += stats.visibility_rays;
-    SampleValue out;
-    if (g.transmittance > 0.0) {
-        out = trace_surfaces(ray, depth, weight * g.transmittance, counters, &surface);
-        out.color *= g.transmittance;
-        out.background *= g.transmittance;
+    double transmittance = g.transmittance;
+    Vec3 radiance = g.radiance;
+    if (!std::isfinite(transmittance) || !finite(radiance)) {
+        ++counters.nonfinite.gas;
+        if (!std::isfinite(transmittance)) transmittance = 1.0;  // as if the gas were not there
+        if (!finite(radiance)) radiance = Vec3(0.0);
     }
-    out.color += g.radiance;
+    SampleValue out;
+    if (transmittance > 0.0) {
+        out = trace_surfaces(ray, depth, weight * transmittance, counters, &surface);
+        out.color *= transmittance;
+        out.background *= transmittance;
+    }
+    out.color += radiance;
     return out;
 }
 
