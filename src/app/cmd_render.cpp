@@ -100,9 +100,11 @@ int run_render(const RenderCommand& cmd) {
     const NonFiniteCounts& bad = stats.nonfinite;
     if (bad.total() > 0)
         std::fprintf(stderr,
-                     "%s: warning: %llu non-finite values replaced by 0 (shading %llu, gas %llu, light terms %llu)\n",
-                     cmd.scene.c_str(), (unsigned long long)bad.total(), (unsigned long long)bad.shading,
-                     (unsigned long long)bad.gas, (unsigned long long)bad.light);
+                     "%s: warning: %llu non-finite values replaced by 0 (shading %llu, gas %llu, "
+                     "light terms %llu)\n",
+                     cmd.scene.c_str(), (unsigned long long)bad.total(),
+                     (unsigned long long)bad.shading, (unsigned long long)bad.gas,
+                     (unsigned long long)bad.light);
 
     auto t3 = std::chrono::steady_clock::now();
     const bool written = image8.channels > 0 ? write_image8(output, image8, cmd.options.srgb, error)

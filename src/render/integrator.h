@@ -18,9 +18,10 @@
 
 namespace vr {
 
-// Non-finite values met while tracing, by where they arose; each is replaced by 0 there (a NaN is a bug,
-// counted so that it is never hidden). `light`: one light's term at a hit; `gas`: a gas integral along a
-// ray; `shading`: a pixel's colour channel still not finite at output (material, texture, mirror...).
+// Non-finite values met while tracing, by where they arose; each is replaced by 0 there (a NaN is a
+// bug, counted so that it is never hidden). `light`: one light's term at a hit; `gas`: a gas
+// integral along a ray; `shading`: a pixel's colour channel still not finite at output (material,
+// texture, mirror...).
 struct NonFiniteCounts {
     uint64_t shading = 0, gas = 0, light = 0;
     void add(const NonFiniteCounts& o) {

@@ -24,7 +24,8 @@ struct RenderStats {
     size_t primitives = 0;
     size_t tracer_bytes = 0;  // held by the opaque tracer's primitive copies and BVH while rendering
     bool timed_out = false;         // options.timeout passed; the image is incomplete
-    NonFiniteCounts nonfinite;  // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
+    // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
+    NonFiniteCounts nonfinite;
     double rays_per_second() const;
 };
 

@@ -327,11 +327,11 @@ TEST(Gas, OpaqueShadowEdgeInsideTheGas) {
                              5e-5, wall);
 }
 
-// The same shadow edge at tolerance 1e-6. The midpoint reference is only O(h) across the jump, so it
-// is split there: the camera ray meets the wall's shadow edge where its x reaches 0.25, and each side
-// (smooth but for the spheres' boundaries, which the reference cuts at) is integrated on its own and
-// joined as L = L_front + T_front * L_behind. The split reference is good to about 1e-8, as in the
-// other brute-force tests.
+// The same shadow edge at tolerance 1e-6. The midpoint reference is only O(h) across the jump, so
+// it is split there: the camera ray meets the wall's shadow edge where its x reaches 0.25, and each
+// side (smooth but for the spheres' boundaries, which the reference cuts at) is integrated on its
+// own and joined as L = L_front + T_front * L_behind. The split reference is good to about 1e-8, as
+// in the other brute-force tests.
 TEST(Gas, OpaqueShadowEdgeInsideTheGasAtTolerance1e6) {
     GasScene s;
     s.add(Vec3(0.0), 1.5, 0.7, Vec3(0.8, 0.5, 0.3), Vec3(0.0));
@@ -381,8 +381,9 @@ TEST(Gas, TranslatingTheSceneBy1e5ChangesNothing) {
     GasScene a = make(Vec3(0.0)), b = make(Vec3(1e5, -1e5, 1e5));
     auto ra = a.run(ray_from(Vec3(0.1, 0.2, 5), Vec3(0, 0, -1)), 1e-8);
     auto rb = b.run(ray_from(Vec3(1e5 + 0.1, -1e5 + 0.2, 1e5 + 5), Vec3(0, 0, -1)), 1e-8);
-    // Positions near 1e5 carry 1e-11 absolute rounding; both results are within the asked 1e-8 of the
-    // truth, so within 2e-8 of each other whatever cuts each one's refinement chose (measured: 5e-12).
+    // Positions near 1e5 carry 1e-11 absolute rounding; both results are within the asked 1e-8 of
+    // the truth, so within 2e-8 of each other whatever cuts each one's refinement chose (measured:
+    // 5e-12).
     EXPECT_LT(rel(rb.radiance.x, ra.radiance.x), 2e-8);
     EXPECT_LT(rel(rb.transmittance, ra.transmittance), 1e-9);
 }
@@ -394,10 +395,11 @@ TEST(Gas, FarTinySphere) {
     s.finish();
     auto r = s.run(ray_from(Vec3(0.5e-4, 0, 1e4), Vec3(0, 0, -1)), 1e-6);
     const double c = 2.0 * std::sqrt(1e-8 - 0.25e-8);
-    // Not 1e-12 as for the spheres near the origin: the chord (1.7e-4) is the difference of the entry and
-    // exit distances near 1e4, each rounded to half an ulp of 1e4 (9.1e-13), so it is good to 1.8e-12 /
-    // 1.7e-4 = 1.05e-8 relative, and L = 1 - exp(-sigma c) (sigma c = 0.17) to 0.92 times that (measured:
-    // 1.4e-9). A textbook discriminant would be off by orders of magnitude more.
+    // Not 1e-12 as for the spheres near the origin: the chord (1.7e-4) is the difference of the
+    // entry and exit distances near 1e4, each rounded to half an ulp of 1e4 (9.1e-13), so it is
+    // good to 1.8e-12 / 1.7e-4 = 1.05e-8 relative, and L = 1 - exp(-sigma c) (sigma c = 0.17) to
+    // 0.92 times that (measured: 1.4e-9). A textbook discriminant would be off by orders of
+    // magnitude more.
     EXPECT_LT(rel(r.radiance.x, -std::expm1(-1e3 * c)), 1e-8);
 }
 

@@ -23,12 +23,13 @@ TEST(Grammar, AllVrml97NodesOfChapter6) {
         "SphereSensor", "SpotLight", "Switch", "Text", "TextureCoordinate", "TextureTransform", "TimeSensor",
         "TouchSensor", "Transform", "Viewpoint", "VisibilitySensor", "WorldInfo"};
     for (const char* n : names) EXPECT_NE(Registry::builtin().find(Spec::Vrml97, n), nullptr) << n;
-    // And nothing else: the VRML97 table is exactly chapter 6's 54 nodes (our hints and the browsers'
-    // extensions live in their own tables, so a node added here by mistake would change what .wrl files
-    // accept).
+    // And nothing else: the VRML97 table is exactly chapter 6's 54 nodes (our hints and the
+    // browsers' extensions live in their own tables, so a node added here by mistake would change
+    // what .wrl files accept).
     const std::set<std::string> expected(std::begin(names), std::end(names));
     std::set<std::string> table;
-    for (const NodeTypeDecl& d : Registry::builtin().nodes(Spec::Vrml97)) table.insert(std::string(name_text(d.name)));
+    for (const NodeTypeDecl& d : Registry::builtin().nodes(Spec::Vrml97))
+        table.insert(std::string(name_text(d.name)));
     EXPECT_EQ(table, expected);
 }
 

@@ -62,8 +62,9 @@ TEST(ImagePlotTest, LinearAxesAndPaletteColours) {
     opt.log_x = opt.log_y = false;
     const Image im = plot_series({a, b}, opt);
     ASSERT_EQ(im.width, opt.width);
-    // Unlabelled series without a colour take the palette's first and second colours (plot.cpp), and
-    // each is drawn as a line across the plot: an 800-pixel-wide plot gives hundreds of its pixels.
+    // Unlabelled series without a colour take the palette's first and second colours (plot.cpp),
+    // and each is drawn as a line across the plot: an 800-pixel-wide plot gives hundreds of its
+    // pixels.
     const std::array<float, 3> first{0.12f, 0.40f, 0.75f}, second{0.90f, 0.45f, 0.05f};
     EXPECT_GT(count_color(im, first), 200);
     EXPECT_GT(count_color(im, second), 200);
@@ -80,8 +81,8 @@ TEST(ImagePlotTest, LinearAxesAndPaletteColours) {
         }
     EXPECT_GT(top, im.height / 10);
     EXPECT_LT(bottom, im.height * 9 / 10);
-    // One horizontal line: anti-aliased over a few rows, with the point markers (about 10 pixels across)
-    // standing out of it.
+    // One horizontal line: anti-aliased over a few rows, with the point markers (about 10 pixels
+    // across) standing out of it.
     EXPECT_LE(bottom - top, 12);
 }
 

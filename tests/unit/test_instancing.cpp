@@ -187,12 +187,11 @@ TEST(Instancing, SeeThroughInstancesCountEveryCrossing) {
     EXPECT_DOUBLE_EQ(accel.transmittance(ray), 0.25);
 }
 
-
-// The corpus scenes that place textured meshes many times (the castle's towers and walls, the street
-// lights): rendered with instances and with each instance replaced by its world-space copy, made as
-// flatten makes the copies of meshes placed once (positions mapped, normals by the inverse transpose,
-// corners swapped under a mirror), the images must be bit-identical: the same intersection and shading
-// arithmetic, only organised in two BVH levels instead of one.
+// The corpus scenes that place textured meshes many times (the castle's towers and walls, the
+// street lights): rendered with instances and with each instance replaced by its world-space copy,
+// made as flatten makes the copies of meshes placed once (positions mapped, normals by the inverse
+// transpose, corners swapped under a mirror), the images must be bit-identical: the same
+// intersection and shading arithmetic, only organised in two BVH levels instead of one.
 Mesh world_copy(const Mesh& prototype, const MeshInstance& in) {
     Mesh m = prototype;
     m.shading = in.shading;
@@ -213,7 +212,8 @@ Mesh world_copy(const Mesh& prototype, const MeshInstance& in) {
 // `textured`: the scene's textures must load (they lie in ../textures, next to the scene's folder).
 void expect_instances_render_as_copies(const std::string& relative, bool textured) {
     const std::filesystem::path file = std::filesystem::path(VRMLRAY_CORPUS_DIR) / relative;
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << "corpus file absent: " << file.parent_path().string();
+    if (!std::filesystem::exists(file))
+        GTEST_SKIP() << "corpus file absent: " << file.parent_path().string();
     LoadOptions lo;
     lo.allowed_roots = {file.parent_path().parent_path()};
     LoadedScene loaded = load_scene(file, lo);
@@ -226,8 +226,8 @@ void expect_instances_render_as_copies(const std::string& relative, bool texture
     FlattenStats stats;
     FlatScene used = flatten_scene(scene, fo, diagnostics, stats);
     ASSERT_GT(used.instances.size(), 1u) << "the scene no longer instances: pick another";
-    // Only the instanced meshes, framed by the camera (from the default viewpoint they may be small or
-    // hidden): the lights, materials and textures stay the scene's.
+    // Only the instanced meshes, framed by the camera (from the default viewpoint they may be small
+    // or hidden): the lights, materials and textures stay the scene's.
     used.meshes.clear();
     used.spheres.clear();
     used.quadrics.clear();
@@ -235,7 +235,8 @@ void expect_instances_render_as_copies(const std::string& relative, bool texture
         ASSERT_GT(used.textures.size(), 0u) << "the scene's textures were not found";
         size_t textured_instances = 0;
         for (const MeshInstance& in : used.instances)
-            textured_instances += used.materials[used.shadings[in.shading].material].texture >= 0 ? 1 : 0;
+            textured_instances +=
+                used.materials[used.shadings[in.shading].material].texture >= 0 ? 1 : 0;
         ASSERT_GT(textured_instances, 0u);
     }
     // One instance at a time, framed by the camera, against its copy.
@@ -266,19 +267,20 @@ void expect_instances_render_as_copies(const std::string& relative, bool texture
     }
     const size_t pixels = used.instances.size() * size_t(o.width * o.height);
     EXPECT_EQ(differ, 0u) << "pixels that differ, of " << pixels;
-    // Lamp posts are thin and walls flat (framed, they cover 1.4% and 5% of their images): at least 1000
-    // pixels are compared.
+    // Lamp posts are thin and walls flat (framed, they cover 1.4% and 5% of their images): at least
+    // 1000 pixels are compared.
     EXPECT_GT(covered, 1000u) << "the instances cover too little of their images";
 }
 
 TEST(Instancing, CorpusCastleInstancesRenderAsCopies) {
-    expect_instances_render_as_copies("vrml97/castle-engine-demo-models/castle/old/vrml_2/castle.wrl", true);
+    expect_instances_render_as_copies(
+        "vrml97/castle-engine-demo-models/castle/old/vrml_2/castle.wrl", true);
 }
 
 TEST(Instancing, CorpusStreetLightsInstancesRenderAsCopies) {
     // No textures in this one: eight lights with radii over instanced lamp posts.
-    expect_instances_render_as_copies("x3d/castle-engine-demo-models/lights_materials/light_street_lights_radius.x3d",
-                                      false);
+    expect_instances_render_as_copies(
+        "x3d/castle-engine-demo-models/lights_materials/light_street_lights_radius.x3d", false);
 }
 
 }  // namespace

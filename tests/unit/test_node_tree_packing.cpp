@@ -33,7 +33,8 @@ TEST(NodeTreePacking, FieldTypeInOneByteKeepsEveryKind) {
             const FieldType t{static_cast<ValueKind>(k), multi};
             EXPECT_EQ(static_cast<int>(t.kind), k);
             EXPECT_EQ(t.multi, multi);
-            // The packed byte still names the type the readers and writers spell (SFVec3f, MFNode...).
+            // The packed byte still names the type the readers and writers spell (SFVec3f,
+            // MFNode...).
             const std::optional<FieldType> back = parse_type_name(type_name(t));
             ASSERT_TRUE(back.has_value()) << k << " " << multi;
             EXPECT_EQ(*back, t);

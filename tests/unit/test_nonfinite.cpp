@@ -41,7 +41,8 @@ Result render(const FlatScene& scene, const std::optional<Vec3>& background = st
 void expect_all_finite(const Image& img) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x)
-            for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(img.pixel(x, y)[c])) << x << "," << y;
+            for (int c = 0; c < 4; ++c)
+                ASSERT_TRUE(std::isfinite(img.pixel(x, y)[c])) << x << "," << y;
 }
 
 FlatScene lit_sphere(const Material& m, const Light& light) {
@@ -77,8 +78,8 @@ TEST(NonFinite, NaNLightColourIsCountedAsLightTerms) {
 }
 
 TEST(NonFinite, NaNBackgroundIsCountedAtThePixel) {
-    // Materials are clamped to [0,1] when looked up (NaN -> 0, warned of by the reader), so a value that
-    // reaches the pixel unchecked comes from elsewhere: here the background a mirror sees.
+    // Materials are clamped to [0,1] when looked up (NaN -> 0, warned of by the reader), so a value
+    // that reaches the pixel unchecked comes from elsewhere: here the background a mirror sees.
     Material mirror;
     mirror.reflectivity = 1.0;
     FlatScene scene = lit_sphere(mirror, white_directional());

@@ -33,8 +33,8 @@ Rendered render(const FlatScene& scene, const RenderOptions& options) {
     return r;
 }
 
-// Spheres (some mirror, some glass), a floor, a gas sphere lit through and shadowing the rest, a point
-// and a directional light, all shifted by `shift`, seen from `shift` + (0, 2, 9).
+// Spheres (some mirror, some glass), a floor, a gas sphere lit through and shadowing the rest, a
+// point and a directional light, all shifted by `shift`, seen from `shift` + (0, 2, 9).
 FlatScene mixed_scene(const Vec3& shift) {
     FlatScene scene = empty_scene();
     std::mt19937_64 rng(11);
@@ -46,7 +46,8 @@ FlatScene mixed_scene(const Vec3& shift) {
         m.reflectivity = i % 6 == 0 ? 0.4 : 0.0;
         m.transparency = i % 5 == 0 ? 0.6 : 0.0;
         m.ior = i % 10 == 0 ? 1.5 : 1.0;
-        add_sphere(scene, shift + Vec3(u(rng), u(rng) * 0.5, u(rng)), 0.2 + 0.5 * u01(rng), add_shading(scene, m));
+        add_sphere(scene, shift + Vec3(u(rng), u(rng) * 0.5, u(rng)), 0.2 + 0.5 * u01(rng),
+                   add_shading(scene, m));
     }
     Material gas;
     gas.density = 0.8;
@@ -108,11 +109,11 @@ TEST(RenderInvariance, RandomSamplersAndGasAreBitIdenticalForAnyThreadCount) {
     }
 }
 
-// Bound for the shift by 1e5: coordinates near 1e5 carry 1e5 * 2^-53 = 1.1e-11 absolute rounding, so
-// hit points, normals and light directions move by ~1e-11 relative to unit-size geometry, and a shaded
-// value by that much too, far below float output rounding (6e-8). A pixel may still differ where a
-// camera ray grazes a silhouette or a shadow edge within 1e-11 of it, so a handful of pixels (not
-// more than 0.5%) may differ by a whole step; every other channel must agree to 1e-6.
+// Bound for the shift by 1e5: coordinates near 1e5 carry 1e5 * 2^-53 = 1.1e-11 absolute rounding,
+// so hit points, normals and light directions move by ~1e-11 relative to unit-size geometry, and a
+// shaded value by that much too, far below float output rounding (6e-8). A pixel may still differ
+// where a camera ray grazes a silhouette or a shadow edge within 1e-11 of it, so a handful of
+// pixels (not more than 0.5%) may differ by a whole step; every other channel must agree to 1e-6.
 TEST(RenderInvariance, TranslatingCameraAndSceneBy1e5KeepsTheImage) {
     RenderOptions o = options("center", 2);
     o.spp = 1;
@@ -131,12 +132,14 @@ TEST(RenderInvariance, TranslatingCameraAndSceneBy1e5KeepsTheImage) {
     }
     EXPECT_LE(off, a.image.rgba.size() / 200) << "channels off by more than 1e-6";
     EXPECT_LE(worst_other, 1e-6);
-    EXPECT_GT(lit, a.image.rgba.size() / 4);  // the scene fills the image: the check means something
+    EXPECT_GT(lit,
+              a.image.rgba.size() / 4);  // the scene fills the image: the check means something
 }
 
-// An emissive wall through the middle of an absorbing, emitting gas sphere (albedo 0: no scattering,
-// so no lights are needed): the centre ray crosses gas of depth sigma * r in front of the wall, and the
-// half behind the wall must not count. Pixel = e_gas (1 - exp(-sigma r)) + exp(-sigma r) * E_wall.
+// An emissive wall through the middle of an absorbing, emitting gas sphere (albedo 0: no
+// scattering, so no lights are needed): the centre ray crosses gas of depth sigma * r in front of
+// the wall, and the half behind the wall must not count. Pixel = e_gas (1 - exp(-sigma r)) +
+// exp(-sigma r) * E_wall.
 TEST(RenderInvariance, GasInFrontOfAnOpaqueSurface) {
     FlatScene scene = empty_scene();
     Material gas;
@@ -148,7 +151,8 @@ TEST(RenderInvariance, GasInFrontOfAnOpaqueSurface) {
     Material wall;
     wall.diffuse = Vec3(0.0);
     wall.emissive = Vec3(0.9, 0.3, 0.6);
-    add_quad(scene, Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0), add_shading(scene, wall));
+    add_quad(scene, Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0),
+             add_shading(scene, wall));
     scene.viewpoints.push_back(testing::look_from(Vec3(0.0, 0.0, 10.0), 0.3));
     RenderOptions o;
     o.width = o.height = 11;  // odd: the centre ray is the axis
@@ -159,7 +163,8 @@ TEST(RenderInvariance, GasInFrontOfAnOpaqueSurface) {
     const double t = std::exp(-1.3), one_minus_t = -std::expm1(-1.3);
     // Closed form in double, then the float pixel: 1e-6 covers its rounding (6e-8 relative).
     for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(p[c], gas.emission[c] * one_minus_t + t * wall.emissive[c], 1e-6) << "channel " << c;
+        EXPECT_NEAR(p[c], gas.emission[c] * one_minus_t + t * wall.emissive[c], 1e-6)
+            << "channel " << c;
     EXPECT_EQ(p[3], 1.0f);  // the wall is opaque: no background behind the gas
     // A pixel beside the sphere sees the wall alone.
     const float* q = r.image.pixel(0, 0);

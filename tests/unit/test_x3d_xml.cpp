@@ -527,7 +527,8 @@ TEST(X3dXmlErrors, GarbageNeverCrashes) {
 <Transform DEF='T' translation='1 2 3'><Shape><Appearance><ProtoInstance name='P'/></Appearance><Box size='1 2 3'/></Shape></Transform>
 <Transform USE='T'/>)");
     ASSERT_TRUE(read_xml(good).ok()) << messages(read_xml(good));
-    // A cut before the root's closing '>' leaves the document unfinished: not well-formed XML, an error.
+    // A cut before the root's closing '>' leaves the document unfinished: not well-formed XML, an
+    // error.
     const size_t root_end = good.rfind("</X3D>") + 5;
     for (size_t cut = 0; cut < root_end; cut += 7) {
         LoadedScene s = read_xml(good.substr(0, cut));
