@@ -99,6 +99,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                 visibility = accel_.transmittance(shadow);
                 // Gas spheres on the way dim the light by their transmittance (SPEC section 5).
                 if (gas_ && visibility > 0.0) visibility *= std::exp(-gas_->optical_depth(shadow));
+                if (std::isnan(visibility)) ++counters.nonfinite.light;  // dropped below, not hidden
             }
             if (visibility > 0.0) {
                 Vec3 h = l + to_viewer;

@@ -137,6 +137,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                         out[1] = to_output(v.color.y, bad);
                         out[2] = to_output(v.color.z, bad);
                         double alpha = 1.0 - v.background;
+                        if (!std::isfinite(alpha)) ++bad;
                         out[3] = std::isfinite(alpha) ? float(std::clamp(alpha, 0.0, 1.0)) : 1.0f;
                     });
             }
