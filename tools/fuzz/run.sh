@@ -6,7 +6,7 @@
 # the input stays in build-fuzz/crashes/TARGET/ (named after its kind and hash; the path is printed).
 # Copy it into tests/corpus/bad/ with its expected message as a regression test, then fix the bug.
 # CI runs 60 s a target (.ci/run); long runs are manual: tools/fuzz/run.sh 3600.
-#   tools/fuzz/run.sh [SECONDS] [TARGET...]
+#   tools/fuzz/run.sh [SECONDS] [TARGET...]   (VRMLRAY_FUZZ_CMAKE_ARGS adds configure options)
 #   tools/fuzz/run.sh --merge TARGET...   fold build-fuzz/corpus/TARGET into tools/fuzz/corpus/TARGET,
 #                                         keeping the inputs that add coverage (and under 4 kB)
 set -euo pipefail
@@ -20,6 +20,7 @@ targets=("$@")
 # Debian 12: clang 14 and its runtime libraries (libFuzzer, the sanitizers).
 "$root/tools/setup.sh" clang libclang-rt-14-dev
 build=$root/build-fuzz
+# shellcheck disable=SC2086  # VRMLRAY_FUZZ_CMAKE_ARGS: more configure options, split on spaces
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DVRMLRAY_FUZZ=ON -DVRMLRAY_TESTS=OFF -DVRMLRAY_NATIVE=OFF ${VRMLRAY_FUZZ_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]}"
@@ -39,7 +40,7 @@ if [ $merge -eq 1 ]; then
         keep=$root/tools/fuzz/corpus/$t
         mkdir -p "$keep"
         "$build/$t" -merge=1 -max_len=4096 "$keep" "$build/corpus/$t" 2>&1 | grep -E 'MERGE-OUTER: [0-9]+ new files' || true
-        echo "== $t: $(ls "$keep" | wc -l) inputs kept in tools/fuzz/corpus/$t" >&2
+        echo "== $t: $(find "$keep" -type f | wc -l) inputs kept in tools/fuzz/corpus/$t" >&2
     done
     exit 0
 fi
