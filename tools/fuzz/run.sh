@@ -8,7 +8,7 @@
 # CI runs 60 s a target (.ci/run); long runs are manual: tools/fuzz/run.sh 3600.
 #   tools/fuzz/run.sh [SECONDS] [TARGET...]   (VRMLRAY_FUZZ_CMAKE_ARGS adds configure options)
 #   tools/fuzz/run.sh --merge TARGET...   fold build-fuzz/corpus/TARGET into tools/fuzz/corpus/TARGET,
-#                                         keeping the inputs that add coverage (and under 4 kB)
+#                                         keeping the inputs that add coverage (up to 1 kB)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 merge=0
@@ -39,7 +39,7 @@ if [ $merge -eq 1 ]; then
     for t in "${targets[@]}"; do
         keep=$root/tools/fuzz/corpus/$t
         mkdir -p "$keep"
-        "$build/$t" -merge=1 -max_len=4096 "$keep" "$build/corpus/$t" 2>&1 | grep -E 'MERGE-OUTER: [0-9]+ new files' || true
+        "$build/$t" -merge=1 -max_len=1024 "$keep" "$build/corpus/$t" 2>&1 | grep -E 'MERGE-OUTER: [0-9]+ new files' || true
         echo "== $t: $(find "$keep" -type f | wc -l) inputs kept in tools/fuzz/corpus/$t" >&2
     done
     exit 0
