@@ -136,6 +136,16 @@ int run_render(const RenderCommand& cmd) {
                        cmd.common.quiet);
     }
 
+    // The tracer replaced these by 0 so that no file holds NaN; each one is a bug to report.
+    const NonFiniteCounts& bad = stats.nonfinite;
+    if (bad.total() > 0)
+        std::fprintf(stderr,
+                     "%s: warning: %llu non-finite values replaced by 0 (shading %llu, gas %llu, "
+                     "light terms %llu)\n",
+                     cmd.scene.c_str(), (unsigned long long)bad.total(),
+                     (unsigned long long)bad.shading, (unsigned long long)bad.gas,
+                     (unsigned long long)bad.light);
+
     auto t3 = std::chrono::steady_clock::now();
     const bool written = image8.channels > 0 ? write_image8(output, image8, cmd.options.srgb, error)
                                              : write_image(output, image, {cmd.options.srgb, cmd.options.alpha}, error);
@@ -177,6 +187,7 @@ int run_render(const RenderCommand& cmd) {
                      {"per_pixel", static_cast<double>(stats.primary_rays) /
                                        (double(cmd.options.width) * cmd.options.height)},
                      {"per_second", stats.rays_per_second()}};
+        j["nonfinite"] = {{"shading", bad.shading}, {"gas", bad.gas}, {"light", bad.light}};
         j["tracer_bytes"] = stats.tracer_bytes;
         j["peak_memory_mb"] = peak_memory_mb();
         std::ofstream out(cmd.stats_path);

@@ -6,6 +6,13 @@
 #include "render/lights.h"
 
 namespace vr {
+namespace {
+
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
 
 double fresnel_dielectric(double cos_i, double eta, double& cos_t) {
     cos_i = std::clamp(cos_i, 0.0, 1.0);
@@ -73,6 +80,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
 
     auto add_light = [&](const Light& light) {
         const LightIncidence inc = light_incidence(light, hit.p);
+        if (std::isnan(inc.factor)) ++counters.nonfinite.light;
         if (!(inc.factor > 0.0)) return;
         const Vec3 light_rgb = light.color * inc.factor;
         // The ambient term is never shadowed (SPEC section 5).
@@ -91,6 +99,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                 visibility = accel_.transmittance(shadow);
                 // Gas spheres on the way dim the light by their transmittance (SPEC section 5).
                 if (gas_ && visibility > 0.0) visibility *= std::exp(-gas_->optical_depth(shadow));
+                if (std::isnan(visibility)) ++counters.nonfinite.light;  // dropped below, not hidden
             }
             if (visibility > 0.0) {
                 Vec3 h = l + to_viewer;
@@ -100,7 +109,12 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                 term += (visibility * light.intensity) * lit;
             }
         }
-        color += light_rgb * term;
+        const Vec3 add = light_rgb * term;
+        if (!finite(add)) {
+            ++counters.nonfinite.light;
+            return;
+        }
+        color += add;
     };
 
     if (hit.shading < scene_.shadings.size()) {
@@ -144,16 +158,27 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
     const GasVolume::Result g = gas_->integrate(unit, surface ? surface->t * len : kInf,
                                                 gas_lighting_, options_.tolerance, stats);
     counters.shadow += stats.visibility_rays;
+    double transmittance = g.transmittance;
+    double optical_depth = g.optical_depth;  // may be +inf (dense gas): alpha 1, not a fault
+    Vec3 radiance = g.radiance;
+    if (!std::isfinite(transmittance) || std::isnan(optical_depth) || !finite(radiance)) {
+        ++counters.nonfinite.gas;
+        if (!std::isfinite(transmittance) || std::isnan(optical_depth)) {
+            transmittance = 1.0;  // as if the gas were not there
+            optical_depth = 0.0;
+        }
+        if (!finite(radiance)) radiance = Vec3(0.0);
+    }
     SampleValue out;
     out.alpha = 1.0;  // gas that lets nothing through hides whatever is behind it
-    if (g.transmittance > 0.0) {
-        out = trace_surfaces(ray, depth, weight * g.transmittance, counters, &surface);
-        out.color *= g.transmittance;
+    if (transmittance > 0.0) {
+        out = trace_surfaces(ray, depth, weight * transmittance, counters, &surface);
+        out.color *= transmittance;
     }
-    out.color += g.radiance;
+    out.color += radiance;
     // 1 - T * (1 - alpha behind) as a sum of non-negative terms; the gas's own share from its optical
     // depth, not as 1 - T.
-    out.alpha = -std::expm1(-g.optical_depth) + g.transmittance * out.alpha;
+    out.alpha = -std::expm1(-optical_depth) + transmittance * out.alpha;
     return out;
 }
 

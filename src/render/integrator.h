@@ -18,12 +18,28 @@
 
 namespace vr {
 
+// Non-finite values met while tracing, by where they arose; each is replaced by 0 there (a NaN is a
+// bug, counted so that it is never hidden). `light`: one light's term at a hit; `gas`: a gas
+// integral along a ray; `shading`: a pixel's colour channel still not finite at output (material,
+// texture, mirror...).
+struct NonFiniteCounts {
+    uint64_t shading = 0, gas = 0, light = 0;
+    void add(const NonFiniteCounts& o) {
+        shading += o.shading;
+        gas += o.gas;
+        light += o.light;
+    }
+    uint64_t total() const { return shading + gas + light; }
+};
+
 struct RayCounters {
     uint64_t primary = 0, shadow = 0, secondary = 0;
+    NonFiniteCounts nonfinite;
     void add(const RayCounters& o) {
         primary += o.primary;
         shadow += o.shadow;
         secondary += o.secondary;
+        nonfinite.add(o.nonfinite);
     }
     uint64_t total() const { return primary + shadow + secondary; }
 };

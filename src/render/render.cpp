@@ -104,7 +104,6 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     // One cache line per thread: the counters change on every ray.
     struct alignas(64) PerThread {
         RayCounters rays;
-        uint64_t nonfinite = 0;
         SamplerScratch scratch;
         std::vector<float> tile;  // kTileSize^2 RGBA pixels, row by row
     };
@@ -115,7 +114,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     auto worker = [&](int id) {
         PerThread& mine = per_thread[size_t(id)];
         RayCounters& c = mine.rays;
-        uint64_t& bad = mine.nonfinite;
+        uint64_t& bad = c.nonfinite.shading;
         for (;;) {
             const int tile = next_tile.fetch_add(1, std::memory_order_relaxed);
             if (tile >= tile_count) break;
@@ -137,6 +136,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                         out[0] = to_output(v.color.x, bad);
                         out[1] = to_output(v.color.y, bad);
                         out[2] = to_output(v.color.z, bad);
+                        if (!std::isfinite(v.alpha)) ++bad;
                         out[3] = std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
                     });
             }
@@ -170,10 +170,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     for (std::thread& t : pool) t.join();
 
     RayCounters total;
-    for (const PerThread& p : per_thread) {
-        total.add(p.rays);
-        stats.nonfinite_values += p.nonfinite;
-    }
+    for (const PerThread& p : per_thread) total.add(p.rays);
+    stats.nonfinite = total.nonfinite;
     stats.primary_rays = total.primary;
     stats.shadow_rays = total.shadow;
     stats.secondary_rays = total.secondary;

@@ -12,6 +12,7 @@
 #include "image/image.h"
 #include "render/camera.h"
 #include "render/flat_scene.h"
+#include "render/integrator.h"
 #include "render/options.h"
 
 namespace vr {
@@ -23,7 +24,8 @@ struct RenderStats {
     size_t primitives = 0;
     size_t tracer_bytes = 0;  // held by the opaque tracer's primitive copies and BVH while rendering
     bool timed_out = false;         // options.timeout passed; the image is incomplete
-    uint64_t nonfinite_values = 0;  // NaN/inf channel values replaced before output (should stay 0)
+    // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
+    NonFiniteCounts nonfinite;
     double rays_per_second() const;
 };
 

@@ -276,16 +276,16 @@ TEST(Flatten, ThousandSpheresStats) {
 }
 
 TEST(Flatten, CyclesAndDeepUseChainsDoNotHang) {
-    // A DEF'd group USEd inside itself: the parser may refuse or keep it; either way no hang, no
-    // crash.
+    // A DEF'd group USEd inside itself: its name is bound only once the group is read, so the USE
+    // names no node yet and the file is refused there: a cycle can never reach the flattener.
     LoadedScene loaded = load_scene_text(
         "#VRML V2.0 utf8\nDEF A Group { children [ Shape { geometry Box {} } USE A ] }",
         "test.wrl");
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenStats stats;
-    const FlatScene flat = flatten_scene(scene, {}, diagnostics, stats);
-    EXPECT_LE(flat.quadrics.size(), 1u);
+    EXPECT_FALSE(loaded.ok());
+    const std::string message = loaded.diagnostics.format(loaded.sources);
+    EXPECT_NE(message.find("test.wrl:2:56: error: USE of 'A', which no DEF before it names"),
+              std::string::npos)
+        << message;
 
     // Doubling chains: 2^30 instances would be reached; the primitive limit stops it with one
     // error.

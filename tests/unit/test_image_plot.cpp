@@ -1,6 +1,7 @@
 // Plot images for bench: sizes, what gets drawn, and robustness against bad data.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -60,7 +61,29 @@ TEST(ImagePlotTest, LinearAxesAndPaletteColours) {
     PlotOptions opt;
     opt.log_x = opt.log_y = false;
     const Image im = plot_series({a, b}, opt);
-    EXPECT_EQ(im.width, opt.width);
+    ASSERT_EQ(im.width, opt.width);
+    // Unlabelled series without a colour take the palette's first and second colours (plot.cpp),
+    // and each is drawn as a line across the plot: an 800-pixel-wide plot gives hundreds of its
+    // pixels.
+    const std::array<float, 3> first{0.12f, 0.40f, 0.75f}, second{0.90f, 0.45f, 0.05f};
+    EXPECT_GT(count_color(im, first), 200);
+    EXPECT_GT(count_color(im, second), 200);
+    // The flat line's range is padded, so it lies inside the plot, not on its top or bottom frame.
+    int top = im.height, bottom = -1;
+    for (int y = 0; y < im.height; ++y)
+        for (int x = 0; x < im.width; ++x) {
+            const float* p = im.pixel(x, y);
+            if (std::fabs(p[0] - first[0]) < 0.02f && std::fabs(p[1] - first[1]) < 0.02f &&
+                std::fabs(p[2] - first[2]) < 0.02f) {
+                top = std::min(top, y);
+                bottom = std::max(bottom, y);
+            }
+        }
+    EXPECT_GT(top, im.height / 10);
+    EXPECT_LT(bottom, im.height * 9 / 10);
+    // One horizontal line: anti-aliased over a few rows, with the point markers (about 10 pixels
+    // across) standing out of it.
+    EXPECT_LE(bottom - top, 12);
 }
 
 TEST(ImagePlotTest, DegenerateInputsDoNotCrash) {

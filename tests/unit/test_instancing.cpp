@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <random>
 #include <sstream>
 
@@ -13,6 +15,7 @@
 #include "render/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene/transform.h"
 #include "test_render_util.h"
 
 namespace vr {
@@ -182,6 +185,102 @@ TEST(Instancing, SeeThroughInstancesCountEveryCrossing) {
     EXPECT_DOUBLE_EQ(accel.transmittance(ray), 0.0625);
     ray.t_max = 4.0;  // the first torus only
     EXPECT_DOUBLE_EQ(accel.transmittance(ray), 0.25);
+}
+
+// The corpus scenes that place textured meshes many times (the castle's towers and walls, the
+// street lights): rendered with instances and with each instance replaced by its world-space copy,
+// made as flatten makes the copies of meshes placed once (positions mapped, normals by the inverse
+// transpose, corners swapped under a mirror), the images must be bit-identical: the same
+// intersection and shading arithmetic, only organised in two BVH levels instead of one.
+Mesh world_copy(const Mesh& prototype, const MeshInstance& in) {
+    Mesh m = prototype;
+    m.shading = in.shading;
+    for (Vec3& p : m.positions) p = transform_point(in.world_from_object, p);
+    const Mat3 linear(in.world_from_object);
+    const Mat3 normal_from_object = glm::transpose(glm::inverse(linear));
+    for (Vec3& n : m.normals) n = map_normal(normal_from_object, n);
+    if (glm::determinant(linear) < 0.0)
+        for (size_t c = 0; c + 2 < m.triangles.size(); c += 3) {
+            std::swap(m.triangles[c + 1], m.triangles[c + 2]);
+            if (!m.normals.empty()) std::swap(m.normals[c + 1], m.normals[c + 2]);
+            if (!m.uvs.empty()) std::swap(m.uvs[c + 1], m.uvs[c + 2]);
+            if (!m.colors.empty()) std::swap(m.colors[c + 1], m.colors[c + 2]);
+        }
+    return m;
+}
+
+// `textured`: the scene's textures must load (they lie in ../textures, next to the scene's folder).
+void expect_instances_render_as_copies(const std::string& relative, bool textured) {
+    const std::filesystem::path file = std::filesystem::path(VRMLRAY_CORPUS_DIR) / relative;
+    if (!std::filesystem::exists(file))
+        GTEST_SKIP() << "corpus file absent: " << file.parent_path().string();
+    LoadOptions lo;
+    lo.allowed_roots = {file.parent_path().parent_path()};
+    LoadedScene loaded = load_scene(file, lo);
+    ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
+    Diagnostics diagnostics;
+    const Scene scene = build_scene(loaded, diagnostics);
+    FlattenOptions fo;
+    fo.scene_file = loaded.main_file;
+    fo.allowed_roots = loaded.allowed_roots;
+    FlattenStats stats;
+    FlatScene used = flatten_scene(scene, fo, diagnostics, stats);
+    ASSERT_GT(used.instances.size(), 1u) << "the scene no longer instances: pick another";
+    // Only the instanced meshes, framed by the camera (from the default viewpoint they may be small
+    // or hidden): the lights, materials and textures stay the scene's.
+    used.meshes.clear();
+    used.spheres.clear();
+    used.quadrics.clear();
+    if (textured) {
+        ASSERT_GT(used.textures.size(), 0u) << "the scene's textures were not found";
+        size_t textured_instances = 0;
+        for (const MeshInstance& in : used.instances)
+            textured_instances +=
+                used.materials[used.shadings[in.shading].material].texture >= 0 ? 1 : 0;
+        ASSERT_GT(textured_instances, 0u);
+    }
+    // One instance at a time, framed by the camera, against its copy.
+    RenderOptions o;
+    o.width = 120;
+    o.height = 80;
+    o.threads = 2;
+    o.fit = true;
+    size_t differ = 0, covered = 0;
+    for (const MeshInstance& in : std::vector<MeshInstance>(used.instances)) {
+        FlatScene one = used;
+        one.instances = {in};
+        FlatScene copy = used;
+        copy.instances.clear();
+        copy.prototypes.clear();
+        copy.meshes = {world_copy(used.prototypes[in.prototype], in)};
+        Camera camera;
+        std::string error;
+        ASSERT_TRUE(make_camera(one, o, camera, error)) << error;
+        RenderStats rs;
+        const Image a = render_image(one, camera, o, nullptr, rs);
+        const Image b = render_image(copy, camera, o, nullptr, rs);
+        ASSERT_EQ(a.rgba.size(), b.rgba.size());
+        for (size_t i = 0; i < a.rgba.size(); i += 4) {
+            differ += std::memcmp(&a.rgba[i], &b.rgba[i], 4 * sizeof(float)) != 0 ? 1 : 0;
+            covered += a.rgba[i + 3] > 0.0f ? 1 : 0;
+        }
+    }
+    const size_t pixels = used.instances.size() * size_t(o.width * o.height);
+    EXPECT_EQ(differ, 0u) << "pixels that differ, of " << pixels;
+    // Lamp posts are thin and walls flat (framed, they cover 1.4% and 5% of their images): at least
+    // 1000 pixels are compared.
+    EXPECT_GT(covered, 1000u) << "the instances cover too little of their images";
+}
+
+TEST(Instancing, CorpusCastleInstancesRenderAsCopies) {
+    expect_instances_render_as_copies(
+        "vrml97/castle-engine-demo-models/castle/old/vrml_2/castle.wrl", true);
+}
+
+TEST(Instancing, CorpusStreetLightsInstancesRenderAsCopies) {
+    // No textures in this one: eight lights with radii over instanced lamp posts.
+    expect_instances_render_as_copies(
+        "x3d/castle-engine-demo-models/lights_materials/light_street_lights_radius.x3d", false);
 }
 
 }  // namespace

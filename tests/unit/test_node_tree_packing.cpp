@@ -33,8 +33,17 @@ TEST(NodeTreePacking, FieldTypeInOneByteKeepsEveryKind) {
             const FieldType t{static_cast<ValueKind>(k), multi};
             EXPECT_EQ(static_cast<int>(t.kind), k);
             EXPECT_EQ(t.multi, multi);
+            // The packed byte still names the type the readers and writers spell (SFVec3f,
+            // MFNode...).
+            const std::optional<FieldType> back = parse_type_name(type_name(t));
+            ASSERT_TRUE(back.has_value()) << k << " " << multi;
+            EXPECT_EQ(*back, t);
+            // Filling the fields packed around it (all bits set) leaves the type alone.
             FieldEntry e;
             e.type = t;
+            e.name = Name(~0u);
+            e.loc = PackedLoc(SourceLoc{SourceManager::kMaxFiles - 1, 0xffffffffu});
+            e.begin = e.count = 0xffffffffu;
             EXPECT_EQ(e.type, t);
         }
     EXPECT_EQ(FieldType{}.kind, ValueKind::Float);  // the default stays SFFloat

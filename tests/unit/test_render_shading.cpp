@@ -490,7 +490,7 @@ TEST(RenderShading, DeterministicAcrossThreadCounts) {
     EXPECT_EQ(s1.shadow_rays, s2.shadow_rays);
     EXPECT_EQ(s1.secondary_rays, s2.secondary_rays);
     EXPECT_GT(s1.secondary_rays, 0u);
-    EXPECT_EQ(s1.nonfinite_values, 0u);
+    EXPECT_EQ(s1.nonfinite.total(), 0u);
     EXPECT_GE(progress_calls, 1);
     EXPECT_EQ(last, 1.0);
 }

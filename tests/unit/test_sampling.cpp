@@ -189,7 +189,12 @@ TEST(Sampling, AdaptiveSubdividesOnlyWhereTapsDiffer) {
     const SampleValue a = one_pixel(s, edge, &rays);
     EXPECT_GT(rays, 5);
     EXPECT_LT(std::abs(a.color.x - 0.3), std::abs(q.color.x - 0.3));
-    EXPECT_LT(std::abs(a.color.x - 0.3), 1.0 / 16.0);  // finest square 1/8 pixel: error below half of it
+    // Exactly: after three subdivisions only the column of squares 1/8 wide at [1/4, 3/8] straddles
+    // the edge; each of its squares sees its left corners (weight 1/8 each) inside and its right
+    // corners and centre (weight 1/2) outside, so it counts 1/4 of its area where 2/5 is covered.
+    // Everything left of it is covered, right of it not: 1/4 + (1/8) (1/4) = 9/32, an error of
+    // 0.01875 (all exact binary).
+    EXPECT_DOUBLE_EQ(a.color.x, 9.0 / 32.0);
 
     o.adaptive_threshold = 1e300;
     ASSERT_TRUE(make_sampler(o, s, error));
