@@ -23,7 +23,7 @@
 #include "parser/load.h"
 #include "render/flatten.h"
 #include "scene/build.h"
-#include "scene/image_file.h"
+#include "image/texture_file.h"
 
 namespace vr {
 namespace {
