@@ -9,6 +9,7 @@
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <memory>
 
 namespace vr {
@@ -19,30 +20,53 @@ struct Messages {
     char error[256] = "";
 };
 
+// libpng's words, with what they mean to a user where they are terse.
 [[noreturn]] void on_error(png_structp png, png_const_charp message) {
     auto* m = static_cast<Messages*>(png_get_error_ptr(png));
-    if (m && m->error[0] == '\0') std::snprintf(m->error, sizeof m->error, "%s", message);
+    if (m && m->error[0] == '\0') {
+        const char* format = "%s";
+        if (std::strcmp(message, "Not enough image data") == 0)
+            format = "the image data is truncated (%s)";
+        else if (std::strncmp(message, "IDAT: ", 6) == 0 && !std::strstr(message, "CRC"))
+            format = "bad compressed image data (%s)";
+        std::snprintf(m->error, sizeof m->error, format, message);
+    }
     png_longjmp(png, 1);
 }
 
 void on_warning(png_structp, png_const_charp) {}  // ancillary damage: libpng drops the chunk
 
-// An in-memory file.
-struct MemorySource {
-    const uint8_t* data = nullptr;
+// The file, in memory or open. `size` is its length in bytes (a bound on the image data).
+struct Source {
+    const uint8_t* data = nullptr;  // in memory, else `file`
+    FILE* file = nullptr;
     size_t size = 0, at = 0;
+    // After the image data: a file that ends before IEND is forgiven (as by OpenImageIO, which
+    // never reads past the image), once the last chunk before the cut was whole and its CRC checked.
+    bool after_image = false, saw_iend = false, ended_early = false;
 };
 
-void read_memory(png_structp png, png_bytep out, size_t count) {
-    auto* src = static_cast<MemorySource*>(png_get_io_ptr(png));
-    if (count > src->size - src->at) png_error(png, "the file is truncated");
-    std::memcpy(out, src->data + src->at, count);
-    src->at += count;
-}
-
-void read_stdio(png_structp png, png_bytep out, size_t count) {
-    if (std::fread(out, 1, count, static_cast<FILE*>(png_get_io_ptr(png))) != count)
-        png_error(png, "the file is truncated");
+void read_source(png_structp png, png_bytep out, size_t count) {
+    auto* src = static_cast<Source*>(png_get_io_ptr(png));
+    size_t got = 0;
+    if (src->data) {
+        got = std::min(count, src->size - src->at);
+        std::memcpy(out, src->data + src->at, got);
+    } else {
+        got = std::fread(out, 1, count, src->file);
+    }
+    src->at += got;
+    if (got == count) {
+        if (src->after_image && count == 8 && std::memcmp(out + 4, "IEND", 4) == 0)
+            src->saw_iend = true;
+        return;
+    }
+    // libpng reads a chunk header as 8 bytes: a cut there follows a whole, checked chunk.
+    if (src->after_image && (count == 8 || src->saw_iend)) {
+        src->ended_early = true;
+        png_longjmp(png, 1);
+    }
+    png_error(png, "the file is truncated");
 }
 
 struct Reader {
@@ -61,7 +85,26 @@ struct Layout {
 // Reads the header and asks libpng for the samples png.h promises: palette to RGB, tRNS to alpha,
 // 1/2/4-bit grey scaled to 8 bits (libpng replicates the bits: v * 255 / (2^d - 1)), 16 bits kept
 // (big-endian, as stored), Adam7 deinterlaced.
-bool read_header(Reader& r, size_t max_pixels, Layout& layout, std::string& error) {
+std::string too_large(unsigned long long w, unsigned long long h, size_t max_pixels) {
+    return "the image is too large (" + std::to_string(w) + " x " + std::to_string(h) + " = " +
+           std::to_string(w * h) + " pixels; the limit is " + std::to_string(max_pixels) + ")";
+}
+
+// The size IHDR claims, checked from the file's first 24 bytes before libpng reads on (it would
+// first read every chunk up to the image data).
+bool claimed_size_fits(const uint8_t* head, size_t size, size_t max_pixels, std::string& error) {
+    if (size < 24 || std::memcmp(head + 12, "IHDR", 4) != 0) return true;  // libpng will say why
+    auto be32 = [](const uint8_t* b) {
+        return (unsigned long long)b[0] << 24 | b[1] << 16 | b[2] << 8 | b[3];
+    };
+    const unsigned long long w = be32(head + 16), h = be32(head + 20);
+    if (w * h <= max_pixels) return true;
+    error = too_large(w, h, max_pixels);
+    return false;
+}
+
+bool read_header(Reader& r, const Source& src, size_t max_pixels, Layout& layout,
+                 std::string& error) {
     if (setjmp(png_jmpbuf(r.png))) {
         error = r.messages.error;
         return false;
@@ -70,11 +113,17 @@ bool read_header(Reader& r, size_t max_pixels, Layout& layout, std::string& erro
     png_uint_32 w = 0, h = 0;
     int depth = 0, colour = 0, interlace = 0;
     png_get_IHDR(r.png, r.info, &w, &h, &depth, &colour, &interlace, nullptr, nullptr);
-    const unsigned long long pixels = (unsigned long long)w * h;
-    if (pixels > max_pixels) {
+    if ((unsigned long long)w * h > max_pixels) {
+        error = too_large(w, h, max_pixels);
+        return false;
+    }
+    // Deflate expands at most ~1032:1: a claimed image its file could not hold is refused before
+    // its memory exists (else 60 bytes could ask for gigabytes). The file's rows, filter byte each.
+    const unsigned long long stored = (unsigned long long)h * (png_get_rowbytes(r.png, r.info) + 1);
+    if (stored / 1032 > src.size) {
         std::snprintf(r.messages.error, sizeof r.messages.error,
-                      "the image is too large (%u x %u = %llu pixels; the limit is %zu)", unsigned(w),
-                      unsigned(h), pixels, max_pixels);
+                      "the image data (%zu bytes) is too short for a %u x %u image", src.size,
+                      unsigned(w), unsigned(h));
         error = r.messages.error;
         return false;
     }
@@ -88,13 +137,15 @@ bool read_header(Reader& r, size_t max_pixels, Layout& layout, std::string& erro
     return true;
 }
 
-bool read_rows(Reader& r, png_bytep* rows, std::string& error) {
+bool read_rows(Reader& r, Source& src, png_bytep* rows, std::string& error) {
     if (setjmp(png_jmpbuf(r.png))) {
+        if (src.ended_early) return true;
         error = r.messages.error;
         return false;
     }
     png_read_image(r.png, rows);
-    png_read_end(r.png, nullptr);  // the CRCs and data up to IEND: a truncated file is an error
+    src.after_image = true;
+    png_read_end(r.png, nullptr);  // the image data's CRCs and Adler-32 checksum
     return true;
 }
 
@@ -112,14 +163,15 @@ void to_floats(const std::vector<uint8_t>& raw, const Layout& l, PngPixels& pixe
     }
 }
 
-PngStatus decode(Reader& r, size_t max_pixels, PngPixels& pixels, std::string& error) {
-    png_set_error_fn(r.png, &r.messages, on_error, on_warning);
+PngStatus decode(Reader& r, Source& src, size_t max_pixels, PngPixels& pixels,
+                 std::string& error) {
+    png_set_read_fn(r.png, &src, read_source);
     Layout layout;
-    if (!read_header(r, max_pixels, layout, error)) return PngStatus::kError;
+    if (!read_header(r, src, max_pixels, layout, error)) return PngStatus::kError;
     std::vector<uint8_t> raw(layout.row_bytes * layout.height);
     std::vector<png_bytep> rows(layout.height);
     for (png_uint_32 y = 0; y < layout.height; ++y) rows[y] = raw.data() + y * layout.row_bytes;
-    if (!read_rows(r, rows.data(), error)) return PngStatus::kError;
+    if (!read_rows(r, src, rows.data(), error)) return PngStatus::kError;
     to_floats(raw, layout, pixels);
     return PngStatus::kOk;
 }
@@ -141,11 +193,13 @@ using File = std::unique_ptr<FILE, FileCloser>;
 PngStatus decode_png(const uint8_t* data, size_t size, size_t max_pixels, PngPixels& pixels,
                      std::string& error) {
     if (size < 8 || png_sig_cmp(data, 0, 8) != 0) return PngStatus::kNotPng;
+    if (!claimed_size_fits(data, size, max_pixels, error)) return PngStatus::kError;
     Reader r;
     if (!start_reader(r, error)) return PngStatus::kError;
-    MemorySource src{data, size, 0};
-    png_set_read_fn(r.png, &src, read_memory);
-    return decode(r, max_pixels, pixels, error);
+    Source src;
+    src.data = data;
+    src.size = size;
+    return decode(r, src, max_pixels, pixels, error);
 }
 
 PngStatus read_png(const std::string& path, size_t max_pixels, PngPixels& pixels,
@@ -155,14 +209,21 @@ PngStatus read_png(const std::string& path, size_t max_pixels, PngPixels& pixels
         error = std::strerror(errno);
         return PngStatus::kError;
     }
-    uint8_t signature[8];
-    if (std::fread(signature, 1, 8, f.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
-        return PngStatus::kNotPng;
+    uint8_t head[24];
+    const size_t got = std::fread(head, 1, sizeof head, f.get());
+    if (got < 8 || png_sig_cmp(head, 0, 8) != 0) return PngStatus::kNotPng;
+    if (!claimed_size_fits(head, got, max_pixels, error)) return PngStatus::kError;
     Reader r;
     if (!start_reader(r, error)) return PngStatus::kError;
-    png_set_read_fn(r.png, f.get(), read_stdio);
-    png_set_sig_bytes(r.png, 8);
-    return decode(r, max_pixels, pixels, error);
+    Source src;
+    src.file = f.get();
+    if (std::fseek(f.get(), 0, SEEK_END) != 0 || std::ftell(f.get()) < 0) {
+        error = "cannot find the file's size";
+        return PngStatus::kError;
+    }
+    src.size = size_t(std::ftell(f.get()));
+    std::fseek(f.get(), 0, SEEK_SET);
+    return decode(r, src, max_pixels, pixels, error);
 }
 
 namespace {
