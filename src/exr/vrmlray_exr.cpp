@@ -52,9 +52,9 @@ __attribute__((visibility("default"))) int vrmlray_exr_header(const char* path, 
     }
 }
 
-__attribute__((visibility("default"))) int vrmlray_exr_read(const char* path,
-                                                            const VrExrSpec* spec, float* samples,
-                                                            char* error, size_t error_size) {
+__attribute__((visibility("default"))) int vrmlray_exr_read(const char* path, const VrExrSpec* spec,
+                                                            float* samples, char* error,
+                                                            size_t error_size) {
     try {
         Imf::InputFile file(path);
         const Imath::Box2i window = file.header().dataWindow();
@@ -62,13 +62,15 @@ __attribute__((visibility("default"))) int vrmlray_exr_read(const char* path,
         const size_t xstride = sizeof(float) * nch, ystride = xstride * size_t(spec->width);
         // The frame buffer is addressed by absolute pixel coordinates: shift the base so that the
         // data window's corner lands on samples[0].
-        char* base = reinterpret_cast<char*>(samples) - ptrdiff_t(window.min.x) * ptrdiff_t(xstride) -
+        char* base = reinterpret_cast<char*>(samples) -
+                     ptrdiff_t(window.min.x) * ptrdiff_t(xstride) -
                      ptrdiff_t(window.min.y) * ptrdiff_t(ystride);
         Imf::FrameBuffer frame;
         const char* const* names = channel_names(spec->channels);
         for (size_t c = 0; c < nch; ++c)
-            frame.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xstride, ystride,
-                                              1, 1, c == 3 || (nch == 2 && c == 1) ? 1.0 : 0.0));
+            frame.insert(names[c],
+                         Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xstride, ystride, 1, 1,
+                                    c == 3 || (nch == 2 && c == 1) ? 1.0 : 0.0));
         file.setFrameBuffer(frame);
         file.readPixels(window.min.y, window.max.y);
         return 1;

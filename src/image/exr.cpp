@@ -45,8 +45,10 @@ bool load(ExrModule& m, std::string& error) {
         if (handle) {
             VrExrAbiVersionFn version = nullptr;
             if (bind(handle, "vrmlray_exr_abi_version", version) &&
-                version() == VRMLRAY_EXR_ABI_VERSION && bind(handle, "vrmlray_exr_header", m.header) &&
-                bind(handle, "vrmlray_exr_read", m.read) && bind(handle, "vrmlray_exr_write", m.write))
+                version() == VRMLRAY_EXR_ABI_VERSION &&
+                bind(handle, "vrmlray_exr_header", m.header) &&
+                bind(handle, "vrmlray_exr_read", m.read) &&
+                bind(handle, "vrmlray_exr_write", m.write))
                 return true;
             reason = "it lacks vrmlray's OpenEXR interface version " +
                      std::to_string(VRMLRAY_EXR_ABI_VERSION);
@@ -55,7 +57,8 @@ bool load(ExrModule& m, std::string& error) {
             reason = e ? e : "unknown dlopen error";
         }
         const bool exists = std::filesystem::exists(path, ec);
-        if (head.empty() || (exists && !head_exists)) head = path, why = reason, head_exists = exists;
+        if (head.empty() || (exists && !head_exists))
+            head = path, why = reason, head_exists = exists;
     }
     error = "the OpenEXR module " + (head.empty() ? std::string(kModuleName) : head) +
             " could not be loaded: " + why;
@@ -119,7 +122,8 @@ bool write_exr(const std::string& path, int width, int height, int channels, con
     const ExrModule* m = exr_module(error);
     if (!m) return false;
     char message[1024] = "";
-    if (m->write(path.c_str(), width, height, channels, samples, message, sizeof message)) return true;
+    if (m->write(path.c_str(), width, height, channels, samples, message, sizeof message))
+        return true;
     error = message;
     std::remove(path.c_str());
     return false;

@@ -95,16 +95,16 @@ JpegStatus read_jpeg(const std::string& path, size_t max_pixels, JpegPixels& pix
         return JpegStatus::kError;
     }
     unsigned char signature[3] = {};
-    if (std::fread(signature, 1, 3, f.get()) != 3 || signature[0] != 0xFF ||
-        signature[1] != 0xD8 || signature[2] != 0xFF)
+    if (std::fread(signature, 1, 3, f.get()) != 3 || signature[0] != 0xFF || signature[1] != 0xD8 ||
+        signature[2] != 0xFF)
         return JpegStatus::kNotJpeg;
     std::rewind(f.get());
     Decoder d;
     const Step step = read_header(d, f.get(), max_pixels, error);
     if (step == Step::kUnsupported) return JpegStatus::kUnsupported;
     if (step == Step::kError) return JpegStatus::kError;
-    const size_t count = size_t(d.cinfo.output_width) * d.cinfo.output_height *
-                         size_t(d.cinfo.output_components);
+    const size_t count =
+        size_t(d.cinfo.output_width) * d.cinfo.output_height * size_t(d.cinfo.output_components);
     std::vector<uint8_t> raw(count);
     if (!read_rows(d, raw.data(), error)) return JpegStatus::kError;
     pixels.width = int(d.cinfo.output_width);

@@ -6,11 +6,11 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
-#include <algorithm>
 #include <memory>
 
 namespace vr {
@@ -43,7 +43,8 @@ struct Source {
     FILE* file = nullptr;
     size_t size = 0, at = 0;
     // After the image data: a file that ends before IEND is forgiven (as by OpenImageIO, which
-    // never reads past the image), once the last chunk before the cut was whole and its CRC checked.
+    // never reads past the image), once the last chunk before the cut was whole and its CRC
+    // checked.
     bool after_image = false, saw_iend = false, ended_early = false;
 };
 
@@ -164,8 +165,7 @@ void to_floats(const std::vector<uint8_t>& raw, const Layout& l, PngPixels& pixe
     }
 }
 
-PngStatus decode(Reader& r, Source& src, size_t max_pixels, PngPixels& pixels,
-                 std::string& error) {
+PngStatus decode(Reader& r, Source& src, size_t max_pixels, PngPixels& pixels, std::string& error) {
     png_set_read_fn(r.png, &src, read_source);
     Layout layout;
     if (!read_header(r, src, max_pixels, layout, error)) return PngStatus::kError;
@@ -291,7 +291,8 @@ bool write_png(const std::string& path, int width, int height, int channels, int
         Writer w;
         w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &w.messages, on_error, on_warning);
         if (w.png) w.info = png_create_info_struct(w.png);
-        if (!w.info) error = "out of memory";
+        if (!w.info)
+            error = "out of memory";
         else
             ok = write_rows(w, f.get(), width, height, channels, bit_depth,
                             static_cast<const uint8_t*>(samples), srgb, error);

@@ -18,7 +18,8 @@ void keep_channels(std::vector<float>& samples, int channels, int max_channels) 
     const size_t npix = samples.size() / size_t(channels);
     for (size_t p = 0; p < npix; ++p)
         for (int c = 0; c < max_channels; ++c)
-            samples[p * size_t(max_channels) + size_t(c)] = samples[p * size_t(channels) + size_t(c)];
+            samples[p * size_t(max_channels) + size_t(c)] =
+                samples[p * size_t(channels) + size_t(c)];
     samples.resize(npix * size_t(max_channels));
 }
 
@@ -70,7 +71,7 @@ bool read_file_pixels(const std::string& path, int max_channels, size_t max_pixe
         return true;
     }
     if (!oiio_module(error)) {
-        module_format = exr_status == ExrStatus::kOtherChannels ? std::string("EXR")
+        module_format = exr_status == ExrStatus::kOtherChannels   ? std::string("EXR")
                         : jpeg_status == JpegStatus::kUnsupported ? std::string("CMYK JPEG")
                                                                   : extension_name(path);
         return false;

@@ -23,9 +23,9 @@ struct FilePixels {
 };
 
 // Reads PATH, keeping the first `max_channels` channels. More than `max_pixels` pixels is refused
-// from the header, before any pixel memory exists. On failure `error` is the bare reason (the caller
-// names the file) and `module_format` names the format ("EXR", "interlaced PNG", ...) when the
-// failure was loading a module that format needs, else it is empty.
+// from the header, before any pixel memory exists. On failure `error` is the bare reason (the
+// caller names the file) and `module_format` names the format ("EXR", "TIF", ...) when
+// the failure was loading a module that format needs, else it is empty.
 bool read_file_pixels(const std::string& path, int max_channels, size_t max_pixels,
                       FilePixels& pixels, std::string& error, std::string& module_format);
 

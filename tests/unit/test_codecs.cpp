@@ -82,8 +82,8 @@ TEST_F(CodecsTest, GreyJpegIsOneChannel) {
     std::vector<uint8_t> grey(37 * 23);
     for (size_t i = 0; i < grey.size(); ++i) grey[i] = uint8_t(i * 7);
     std::string error;
-    ASSERT_TRUE(oiio_write_pixels(path("grey.jpg"), 37, 23, 1, VR_OIIO_UINT8, grey.data(), false,
-                                  error))
+    ASSERT_TRUE(
+        oiio_write_pixels(path("grey.jpg"), 37, 23, 1, VR_OIIO_UINT8, grey.data(), false, error))
         << error;
     JpegPixels mine;
     ASSERT_EQ(read_jpeg(path("grey.jpg"), kMaxImagePixels, mine, error), JpegStatus::kOk) << error;
