@@ -117,6 +117,8 @@ ExrStatus read_exr(const std::string& path, size_t max_pixels, ExrPixels& pixels
     return ExrStatus::kOk;
 }
 
+bool exr_available(std::string& error) { return exr_module(error) != nullptr; }
+
 bool write_exr(const std::string& path, int width, int height, int channels, const float* samples,
                std::string& error) {
     const ExrModule* m = exr_module(error);

@@ -341,7 +341,14 @@ OutputCheck check_output(const std::string& path, bool alpha, std::string& error
         return OutputCheck::kNotWritable;
     }
     int channels = native_8bit_channels(path, true);
-    if (ext == "exr") channels = 4;  // the OpenEXR module: no OpenImageIO needed
+    if (ext == "exr") {  // the OpenEXR module: no OpenImageIO needed
+        std::string why;
+        if (!exr_available(why)) {
+            error = "cannot write EXR '" + path + "': " + why;
+            return OutputCheck::kNotWritable;
+        }
+        channels = 4;
+    }
     if (channels == 0) {
         if (!oiio_may_write(ext)) {
             error = "cannot write '" + path + "': unknown image format '." + ext + "'";
