@@ -1,5 +1,6 @@
-// Reading and writing float RGBA images: PNG (png.h) and binary PPM natively, every other format
-// through the OpenImageIO module (oiio_module.h), which is loaded only then.
+// Reading and writing float RGBA images: PNG (libpng, png.h), binary PPM and EXR (the OpenEXR
+// module, exr.h) without OpenImageIO, every other format through the OpenImageIO module
+// (oiio_module.h), which is loaded only then. Reading goes through read_file_pixels (texture_file.h).
 //
 // What reaches a file (SPEC section 9):
 //   - The extension picks the format and the stored sample type:
@@ -24,8 +25,8 @@
 //   - The native writers store what OpenImageIO stored before them: PNG 8-bit RGB or RGBA (tEXt
 //     Software, and the sRGB/gAMA/cHRM chunks with `srgb`), PPM "P6 W H 255" with 8-bit RGB.
 // Reading returns the stored values as floats (8/16-bit code k as the float nearest k/255 or
-// k/65535), no transfer curve undone. PNG files are recognised by their signature, not their
-// name; interlaced PNGs and other formats go through the module.
+// k/65535), no transfer curve undone. PNG, JPEG and EXR files are recognised by their signature, not
+// their name; other formats go through the OpenImageIO module.
 #include "image/image.h"
 
 #include <algorithm>
@@ -43,7 +44,9 @@
 #include <unistd.h>
 
 #include "image/oiio_module.h"
+#include "image/exr.h"
 #include "image/png.h"
+#include "image/texture_file.h"
 
 namespace vr {
 namespace {
@@ -338,6 +341,14 @@ OutputCheck check_output(const std::string& path, bool alpha, std::string& error
         return OutputCheck::kNotWritable;
     }
     int channels = native_8bit_channels(path, true);
+    if (ext == "exr") {  // the OpenEXR module: no OpenImageIO needed
+        std::string why;
+        if (!exr_available(why)) {
+            error = "cannot write EXR '" + path + "': " + why;
+            return OutputCheck::kNotWritable;
+        }
+        channels = 4;
+    }
     if (channels == 0) {
         if (!oiio_may_write(ext)) {
             error = "cannot write '" + path + "': unknown image format '." + ext + "'";
@@ -418,6 +429,13 @@ bool write_image(const std::string& path, const Image& image, const WriteOptions
         return false;
     }
 
+    if (ext == "exr") {
+        // Float, unclamped; colour premultiplied with alpha, as EXR readers expect.
+        const std::vector<float> samples = to_float_samples(image, want, false);
+        if (write_exr(path, image.width, image.height, want, samples.data(), why)) return true;
+        error = "cannot write '" + path + "': " + why;
+        return false;
+    }
     const int format_channels = oiio_output_channels(path, why);
     if (format_channels < 0) {
         error = "cannot write " + format_name(ext) + " '" + path + "': " + why;
@@ -467,28 +485,11 @@ bool read_image(const std::string& path, Image& image, std::string& error) {
         error = "cannot read '" + path + "': no such file";
         return false;
     }
-    std::string why;
-    PngPixels png;
-    const PngStatus status = read_png(path, kMaxImagePixels, png, why);
-    if (status == PngStatus::kOk) {
-        const int alpha = png.channels == 2 ? 1 : png.channels == 4 ? 3 : -1;
-        image = to_rgba(png.width, png.height, png.channels, alpha, png.samples);
-        return true;
-    }
-    if (status == PngStatus::kError) {
-        error = "cannot read '" + path + "': " + why;
-        return false;
-    }
-    if (!oiio_module(why)) {
-        const std::string format = status == PngStatus::kInterlaced
-                                       ? "interlaced PNG"
-                                       : format_name(lower_extension(path));
-        error = "cannot read " + format + " '" + path + "': " + why;
-        return false;
-    }
-    OiioPixels pixels;
-    if (!oiio_read_pixels(path, INT_MAX, kMaxImagePixels, pixels, why)) {
-        error = "cannot read '" + path + "': " + why;
+    std::string why, format;
+    FilePixels pixels;
+    if (!read_file_pixels(path, INT_MAX, kMaxImagePixels, pixels, why, format)) {
+        error = "cannot read " + (format.empty() ? std::string() : format + " ") + "'" + path +
+                "': " + why;
         return false;
     }
     image =

@@ -1,6 +1,6 @@
 // A float RGBA image in memory (colour premultiplied by alpha when rendered with --alpha), and
-// reading/writing it: PNG and PPM natively, other formats through
-// OpenImageIO, loaded as a module on first need (image/oiio_module.h).
+// reading/writing it: PNG (libpng), PPM and EXR (the OpenEXR module, image/exr.h) without OpenImageIO,
+// other formats through OpenImageIO, loaded as a module on first need (image/oiio_module.h).
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -99,7 +99,7 @@ inline bool write_image(const std::string& path, const Image& image, bool srgb, 
 }
 
 // Whether OUT can be written, asked before any rendering (SPEC section 9): its extension names a
-// format a writer knows (png and ppm natively; others through the OpenImageIO module, loaded here),
+// format a writer knows (png, ppm and exr without OpenImageIO; others through its module, loaded here),
 // that format holds alpha if `alpha`, its folder exists and is writable, and OUT is not a folder or a
 // read-only file. Nothing is created.
 enum class OutputCheck { kOk, kNotWritable, kNoAlpha };

@@ -15,7 +15,7 @@
 #include "geometry/mesh_nodes.h"
 #include "geometry/sphere_fit.h"
 #include "parser/load.h"
-#include "scene/image_file.h"
+#include "image/texture_file.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 

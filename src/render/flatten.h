@@ -50,7 +50,7 @@
 #include "parser/diagnostics.h"
 #include "render/flat_scene.h"
 #include "render/options.h"
-#include "scene/image_file.h"
+#include "image/texture_file.h"
 #include "scene/scene.h"
 
 namespace vr {

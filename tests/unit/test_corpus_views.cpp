@@ -10,7 +10,7 @@
 #include "render/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
-#include "scene/image_file.h"
+#include "image/texture_file.h"
 #include "test_render_util.h"
 
 namespace vr {
