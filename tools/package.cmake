@@ -1,9 +1,9 @@
 # Installing vrmlray (cmake --install) and its Debian package (cpack -G DEB): the binary, the OpenImageIO
-# module beside it in lib/vrmlray/ (where src/image/oiio_module.cpp looks), the man page generated from
+# and OpenEXR modules in lib/vrmlray/ (where src/image/module_path.h looks), the man page generated from
 # docs/manual.md, and the bash completion.
 include(GNUInstallDirs)
 install(TARGETS vrmlray RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(TARGETS vrmlray_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/vrmlray)
+install(TARGETS vrmlray_oiio vrmlray_exr LIBRARY DESTINATION lib/vrmlray)
 install(FILES ${CMAKE_SOURCE_DIR}/tools/completion/vrmlray.bash
         DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions RENAME vrmlray)
 

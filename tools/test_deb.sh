@@ -19,7 +19,7 @@ status=0
 # The same bound as the golden tests (tests/cli/run_cli_tests.sh): one 8-bit code on 0.1% of the pixels.
 /usr/bin/vrmlray compare "$work/sphere.png" "$root/tests/render/golden/001_sphere.png" \
     --pixel-threshold 0 --max-fail-percent 0.1 --max-abs 0.004 >/dev/null || status=1
-for f in /usr/share/man/man1/vrmlray.1 /usr/share/bash-completion/completions/vrmlray /usr/lib/vrmlray/vrmlray_oiio.so; do
+for f in /usr/share/man/man1/vrmlray.1 /usr/share/bash-completion/completions/vrmlray /usr/lib/vrmlray/vrmlray_oiio.so /usr/lib/vrmlray/vrmlray_exr.so; do
     [ -s "$f" ] || { echo "deb: $f missing"; status=1; }
 done
 rm -rf "$work"

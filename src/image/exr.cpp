@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "image/exr_abi.h"
+#include "image/module_path.h"
 
 namespace vr {
 namespace {
@@ -27,15 +28,12 @@ bool bind(void* handle, const char* name, Fn& fn) {
     return fn != nullptr;
 }
 
-// Next to the running executable, then where CMake built it (for test binaries elsewhere).
-bool load(ExrModule& m, std::string& error) {
-    std::vector<std::string> candidates;
-    std::error_code ec;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec && !exe.empty()) candidates.push_back((exe.parent_path() / kModuleName).string());
-#ifdef VRMLRAY_EXR_MODULE_PATH
-    candidates.push_back(VRMLRAY_EXR_MODULE_PATH);
+#ifndef VRMLRAY_EXR_MODULE_PATH
+#define VRMLRAY_EXR_MODULE_PATH ""
 #endif
+
+bool load(ExrModule& m, std::string& error) {
+    const std::vector<std::string> candidates = module_candidates(kModuleName, VRMLRAY_EXR_MODULE_PATH);
     // The headline is the first candidate that exists (why it failed is the news), else the first.
     std::string head, why = "nowhere to look for it";
     bool head_exists = false;
@@ -56,6 +54,7 @@ bool load(ExrModule& m, std::string& error) {
             const char* e = dlerror();
             reason = e ? e : "unknown dlopen error";
         }
+        std::error_code ec;
         const bool exists = std::filesystem::exists(path, ec);
         if (head.empty() || (exists && !head_exists))
             head = path, why = reason, head_exists = exists;

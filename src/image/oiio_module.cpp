@@ -8,6 +8,8 @@
 #include <mutex>
 #include <system_error>
 
+#include "image/module_path.h"
+
 namespace vr {
 namespace {
 
@@ -59,21 +61,12 @@ bool try_load(const std::string& path, OiioModule& module, std::string& why) {
 
 }  // namespace
 
-std::vector<std::string> oiio_module_candidates() {
-    std::vector<std::string> out;
-    std::error_code ec;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec && !exe.empty()) {
-        out.push_back((exe.parent_path() / kModuleName).string());
-        // Installed (cmake --install, the .deb): PREFIX/bin/vrmlray and PREFIX/lib/vrmlray/vrmlray_oiio.so.
-        out.push_back((exe.parent_path().parent_path() / "lib" / "vrmlray" / kModuleName).string());
-    }
-#ifdef VRMLRAY_OIIO_MODULE_PATH
-    const std::string built = VRMLRAY_OIIO_MODULE_PATH;
-    if (std::find(out.begin(), out.end(), built) == out.end()) out.push_back(built);
+#ifndef VRMLRAY_OIIO_MODULE_PATH
+#define VRMLRAY_OIIO_MODULE_PATH ""
 #endif
-    if (out.empty()) out.push_back(kModuleName);  // the dynamic loader's own search
-    return out;
+
+std::vector<std::string> oiio_module_candidates() {
+    return module_candidates(kModuleName, VRMLRAY_OIIO_MODULE_PATH);
 }
 
 bool load_oiio_module(const std::vector<std::string>& candidates, OiioModule& module,

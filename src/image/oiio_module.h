@@ -1,10 +1,7 @@
 // The OpenImageIO module (vrmlray_oiio.so), loaded with dlopen the first time an image format
 // that is not handled natively is read or written (see oiio_abi.h for why).
 //
-// Where it is looked for, in order: next to the running executable (the directory of
-// /proc/self/exe), then the build folder it was built in (a path compiled in, so that test
-// binaries in other folders find it). CMake has no install rules yet; when it gets them, the
-// install location belongs in oiio_module_candidates().
+// Where it is looked for: image/module_path.h.
 #pragma once
 #include <cstddef>
 #include <string>
