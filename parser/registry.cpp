@@ -133,6 +133,13 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
             } else {
                 decl.range = std::string(rest);
             }
+            if (is_numeric(decl.type.kind) && decl.type.kind != ValueKind::Bool &&
+                decl.type.kind != ValueKind::Image) {
+                std::string error;
+                auto range = parse_numeric_range(decl.range, error);
+                if (!range) bad("field " + std::string(fname) + ": " + error);
+                decl.numeric_range = std::move(*range);
+            }
             current->fields.push_back(std::move(decl));
         }
         if (current) throw std::runtime_error(g.file + ": node " + std::string(name_text(current->name)) +

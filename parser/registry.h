@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "parser/field_range.h"
 #include "parser/field_type.h"
 #include "parser/name.h"
 
@@ -23,6 +24,7 @@ struct FieldDecl {
     Access access = Access::Field;
     uint32_t default_field = UINT32_MAX;  // index into Registry::defaults().fields; UINT32_MAX for events
     std::string range;                    // the table's range text, e.g. "(0,inf)" or "[X3DChildNode]"
+    NumericRange numeric_range;           // `range` parsed, for fields of numbers (empty: any value)
     bool extension = false;               // from extensions.nodes: a browser's addition, read and ignored
 };
 
