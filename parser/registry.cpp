@@ -82,10 +82,18 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
                 std::string_view rest = line.substr(0, line.size() - 1);
                 std::string_view name = next_word(rest);
                 if (name.empty()) bad("node without a name");
+                Name role = kNoName;  // "Name : Role {": what vrmlray does with the node
+                if (std::string_view colon = next_word(rest); colon == ":") {
+                    const std::string_view r = next_word(rest);
+                    if (r.empty()) bad("node " + std::string(name) + ": ':' without a role");
+                    role = intern(r);
+                } else if (!colon.empty()) {
+                    bad("expected 'NodeName {' or 'NodeName : Role {'");
+                }
                 Name n = intern(name);
                 if (index.count(n)) bad("node " + std::string(name) + " defined twice");
                 index.emplace(n, static_cast<uint32_t>(table.size()));
-                table.push_back({n, spec, {}});
+                table.push_back({n, spec, role, {}});
                 current = &table.back();
                 continue;
             }

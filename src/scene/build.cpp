@@ -37,43 +37,32 @@ enum class ChildKind : uint8_t {
     NotModelled,
 };
 
-ChildKind child_kind(Name type) {
-    static const std::unordered_map<Name, ChildKind> table = [] {
+// The node's role in the grammar ("Name : Role {" in grammar/*.nodes) as the builder's kind.
+ChildKind child_kind(const NodeTypeDecl* decl) {
+    static const std::unordered_map<Name, ChildKind> by_role = [] {
         std::unordered_map<Name, ChildKind> t;
-        for (const char* n : {"Group", "StaticGroup", "Collision", "Anchor", "CADAssembly",
-                              "CADLayer", "PickableGroup", "ViewpointGroup"})
-            t[intern(n)] = ChildKind::Group;
-        for (const char* n : {"Transform", "CADPart"}) t[intern(n)] = ChildKind::Transform;
-        t[intern("Billboard")] = ChildKind::Billboard;
-        t[intern("Switch")] = ChildKind::Switch;
-        t[intern("LOD")] = ChildKind::LOD;
-        t[intern("Inline")] = ChildKind::Inline;
-        t[intern("CADFace")] = ChildKind::CADFace;
-        t[intern("Shape")] = ChildKind::Shape;
-        for (const char* n : {"DirectionalLight", "PointLight", "SpotLight"})
-            t[intern(n)] = ChildKind::Light;
-        for (const char* n : {"Viewpoint", "OrthoViewpoint"}) t[intern(n)] = ChildKind::Viewpoint;
-        t[intern("Background")] = ChildKind::Background;
-        t[intern("Fog")] = ChildKind::Fog;
-        t[intern("NavigationInfo")] = ChildKind::NavigationInfo;
-        // Nodes that draw nothing at time 0 (SPEC section 2: parsed and ignored).
-        for (const char* n :
-             {"WorldInfo",       "Script",          "Sound",         "AudioClip",
-              "MetadataSet",     "MetadataString",  "MetadataFloat", "MetadataDouble",
-              "MetadataInteger", "MetadataBoolean", "BooleanToggle", "IntegerTrigger",
-              "TimeTrigger",     "BooleanTrigger",  "FontStyle",     "ScreenFontStyle",
-              "EspduTransform",  "SignalPdu",       "ReceiverPdu",   "TransmitterPdu"})
-            t[intern(n)] = ChildKind::Silent;
+        const std::pair<const char*, ChildKind> roles[] = {
+            {"Group", ChildKind::Group},
+            {"Transform", ChildKind::Transform},
+            {"Billboard", ChildKind::Billboard},
+            {"Switch", ChildKind::Switch},
+            {"LOD", ChildKind::LOD},
+            {"Inline", ChildKind::Inline},
+            {"CADFace", ChildKind::CADFace},
+            {"Shape", ChildKind::Shape},
+            {"Light", ChildKind::Light},
+            {"Viewpoint", ChildKind::Viewpoint},
+            {"Background", ChildKind::Background},
+            {"Fog", ChildKind::Fog},
+            {"NavigationInfo", ChildKind::NavigationInfo},
+            {"Silent", ChildKind::Silent},  // draws nothing at time 0 (SPEC section 2)
+        };
+        for (const auto& [role, kind] : roles) t[intern(role)] = kind;
         return t;
     }();
-    const auto it = table.find(type);
-    if (it != table.end()) return it->second;
-    const std::string_view text = name_text(type);
-    for (std::string_view suffix :
-         {"Sensor", "Interpolator", "Sequencer", "Trigger", "Filter", "Chaser", "Damper"})
-        if (text.size() > suffix.size() && text.substr(text.size() - suffix.size()) == suffix)
-            return ChildKind::Silent;
-    return ChildKind::NotModelled;
+    if (!decl) return ChildKind::NotModelled;
+    const auto it = by_role.find(decl->role);
+    return it == by_role.end() ? ChildKind::NotModelled : it->second;
 }
 
 }  // namespace
@@ -267,15 +256,11 @@ void Builder::reserve() {
     // arenas by doubling would move (and touch) every element several times. Appearances,
     // materials and geometries are mostly merged (see same_material_): they grow as needed.
     size_t groups = 1, shapes = 0, transforms = 0;
+    std::vector<ChildKind> kinds;  // by NodeTree::kinds: a few, for millions of nodes
+    for (const NodeKind& k : tree_.kinds) kinds.push_back(child_kind(k.decl));
     for (const Node& node : tree_.nodes) {
-        const Name t = tree_.kinds[node.kind].type;
-        if (t == "Shape"_n) {
-            ++shapes;
-            continue;
-        }
-        // The most common nodes besides groups, told apart without child_kind's suffix checks.
-        if (t == "Appearance"_n || t == "Material"_n || is_geometry_type(t)) continue;
-        const ChildKind kind = child_kind(t);
+        const ChildKind kind = kinds[node.kind];
+        if (kind == ChildKind::Shape) ++shapes;
         if (kind <= ChildKind::CADFace) ++groups;
         if (kind == ChildKind::Transform) ++transforms;
     }
@@ -333,7 +318,7 @@ std::optional<sg::ChildRef> Builder::child(NodeId id) {
 
 std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
     using sg::NodeKind;
-    switch (child_kind(type(id))) {
+    switch (child_kind(tree_.decl(id))) {
         case ChildKind::Group:
         case ChildKind::Transform:
         case ChildKind::Billboard:
@@ -373,7 +358,7 @@ sg::Index Builder::make_group(NodeId id) {
     group.origin = origin(id);
     std::span<const NodeId> children;
     std::vector<NodeId> chosen;  // Switch/LOD: the one active child
-    switch (child_kind(type(id))) {
+    switch (child_kind(tree_.decl(id))) {
         case ChildKind::Transform: {
             TransformFields f;
             f.translation = vec3(id, "translation"_n);

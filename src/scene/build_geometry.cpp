@@ -6,6 +6,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "parser/registry.h"
 #include "scene/build_internal.h"
 #include "scene/hints.h"
 
@@ -31,8 +32,9 @@ struct GeometryType {
     sg::ComposedKind composed = sg::ComposedKind::TriangleSet;
 };
 
-GeometryType geometry_type(Name type) {
-    static const std::unordered_map<Name, GeometryType> table = [] {
+// The node's role in the grammar ("Name : Role {" in grammar/*.nodes) as the builder's kind.
+GeometryType geometry_type(const NodeTypeDecl* decl) {
+    static const std::unordered_map<Name, GeometryType> by_role = [] {
         std::unordered_map<Name, GeometryType> t;
         t[intern("Sphere")] = {GeometryKind::Sphere};
         t[intern("Box")] = {GeometryKind::Box};
@@ -41,6 +43,7 @@ GeometryType geometry_type(Name type) {
         t[intern("IndexedFaceSet")] = {GeometryKind::IndexedFaceSet};
         t[intern("ElevationGrid")] = {GeometryKind::ElevationGrid};
         t[intern("Extrusion")] = {GeometryKind::Extrusion};
+        t[intern("NoArea")] = {GeometryKind::NoArea};
         using C = sg::ComposedKind;
         const std::pair<const char*, C> composed[] = {
             {"IndexedTriangleSet", C::IndexedTriangleSet},
@@ -51,21 +54,15 @@ GeometryType geometry_type(Name type) {
             {"TriangleStripSet", C::TriangleStripSet},
             {"IndexedQuadSet", C::IndexedQuadSet},
             {"QuadSet", C::QuadSet}};
-        for (const auto& [name, kind] : composed) t[intern(name)] = {GeometryKind::Composed, kind};
-        for (const char* n : {"PointSet", "IndexedLineSet", "LineSet", "Text", "Polyline2D",
-                              "Polypoint2D", "Arc2D", "Circle2D"})
-            t[intern(n)] = {GeometryKind::NoArea};
+        for (const auto& [role, kind] : composed) t[intern(role)] = {GeometryKind::Composed, kind};
         return t;
     }();
-    const auto it = table.find(type);
-    return it == table.end() ? GeometryType{} : it->second;
+    if (!decl) return GeometryType{};
+    const auto it = by_role.find(decl->role);
+    return it == by_role.end() ? GeometryType{} : it->second;
 }
 
 }  // namespace
-
-bool Builder::is_geometry_type(Name type) {
-    return geometry_type(type).kind != GeometryKind::Unsupported;
-}
 
 sg::Index Builder::geometry(NodeId id) {
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
@@ -82,7 +79,7 @@ sg::Index Builder::geometry(NodeId id) {
 sg::Geometry Builder::make_geometry(NodeId id) {
     sg::Geometry g;
     g.origin = origin(id);
-    const GeometryType gt = geometry_type(type(id));
+    const GeometryType gt = geometry_type(tree_.decl(id));
     switch (gt.kind) {
         case GeometryKind::Sphere: {
             sg::Sphere s;

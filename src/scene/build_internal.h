@@ -121,7 +121,6 @@ class Builder {
     FieldView read(NodeId node, Name field, Many many, std::initializer_list<ValueKind> kinds) const;
     mutable std::vector<std::string> misreads_;
     void reserve();
-    static bool is_geometry_type(Name type);  // build_geometry.cpp
     std::optional<sg::ChildRef> child(NodeId node);
     std::optional<sg::ChildRef> make_child(NodeId node);
     void add_children(sg::Index group, std::span<const NodeId> children);

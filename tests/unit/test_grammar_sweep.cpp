@@ -276,3 +276,37 @@ TEST(GrammarSweep, OutOfRangeSizesWarnAsBefore) {
 
 }  // namespace
 }  // namespace vr
+
+namespace vr {
+namespace {
+
+TEST(GrammarSweep, ANodeHasOneRoleInEveryTable) {
+    // The node-kind table of the scene build is the grammar's "Name : Role {": a node that both
+    // VRML97 and X3D define is built the same way from either file.
+    const Registry& r = Registry::builtin();
+    size_t shared = 0;
+    for (const NodeTypeDecl& v : r.nodes(Spec::Vrml97)) {
+        const NodeTypeDecl* x = r.find(Spec::X3d, v.name);
+        if (!x) continue;
+        ++shared;
+        EXPECT_EQ(name_text(v.role), name_text(x->role)) << name_text(v.name);
+    }
+    EXPECT_GT(shared, 40u);
+    EXPECT_EQ(name_text(r.find(Spec::X3d, "CADPart")->role), "Transform");
+    EXPECT_EQ(name_text(r.find(Spec::X3d, "TimeSensor")->role), "Silent");
+    EXPECT_EQ(name_text(r.find(Spec::Vrml1, "WWWInline")->role), "Inline");
+    EXPECT_EQ(r.find(Spec::X3d, "Material")->role, kNoName);  // not a child node
+}
+
+TEST(GrammarSweep, AMalformedRoleIsRejected) {
+    auto parse = [](const char* text) {
+        Registry r(std::vector<GrammarText>{GrammarText{"x3d.nodes", text}});
+        return r.find(Spec::X3d, "Box")->role;
+    };
+    EXPECT_THROW(parse("Box : {\n}\n"), std::runtime_error);
+    EXPECT_THROW(parse("Box Sphere {\n}\n"), std::runtime_error);
+    EXPECT_EQ(name_text(parse("Box : Sphere {\n}\n")), "Sphere");
+}
+
+}  // namespace
+}  // namespace vr
