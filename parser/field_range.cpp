@@ -47,7 +47,8 @@ std::optional<double> parse_bound(std::string_view s) {
     const size_t pi = s.find("pi");
     if (pi != std::string_view::npos) {
         std::string_view before = s.substr(0, pi), after = s.substr(pi + 2);
-        if (!before.empty() && !std::from_chars(before.data(), before.data() + before.size(), factor).ptr)
+        if (!before.empty() &&
+            !std::from_chars(before.data(), before.data() + before.size(), factor).ptr)
             return std::nullopt;
         if (!after.empty()) {
             if (after.front() != '/') return std::nullopt;

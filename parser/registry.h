@@ -31,8 +31,9 @@ struct FieldDecl {
 struct NodeTypeDecl {
     Name name;
     Spec spec = Spec::Vrml97;
-    // What vrmlray does with the node ("Group", "Sphere", "Silent", ...: the table's "Name : Role {");
-    // kNoName: not modelled. The one node-kind table of the scene build and the VRML 1.0 upgrade.
+    // What vrmlray does with the node ("Group", "Sphere", "Silent", ...; the table's
+    // "Name : Role {"); kNoName: not modelled. The one node-kind table of the scene build and the
+    // VRML 1.0 upgrade.
     Name role = kNoName;
     std::vector<FieldDecl> fields;
     const FieldDecl* find(Name field) const;

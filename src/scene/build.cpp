@@ -3,14 +3,14 @@
 #include "scene/build.h"
 
 #include <bit>
-#include <stdexcept>
 #include <cmath>
+#include <stdexcept>
 #include <unordered_map>
 
+#include "core/huge_pages.h"
 #include "parser/registry.h"
 #include "scene/build_internal.h"
 #include "scene/hints.h"
-#include "core/huge_pages.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 
@@ -99,13 +99,14 @@ FieldView Builder::default_of(Name node_type, Name f) const {
     const NodeTypeDecl* decl = registry.find(Spec::X3d, node_type);
     const FieldDecl* field = decl ? decl->find(f) : nullptr;
     if (!field || field->default_field == UINT32_MAX)
-        throw std::logic_error("the grammar has no default for " + std::string(name_text(node_type)) +
-                               "." + std::string(name_text(f)));
+        throw std::logic_error("the grammar has no default for " +
+                               std::string(name_text(node_type)) + "." + std::string(name_text(f)));
     return registry.defaults().view(registry.defaults().fields[field->default_field]);
 }
 
 double Builder::number(NodeId n, Name f) const {
-    const FieldView v = read(n, f, Many::SF, {ValueKind::Float, ValueKind::Double, ValueKind::Time});
+    const FieldView v =
+        read(n, f, Many::SF, {ValueKind::Float, ValueKind::Double, ValueKind::Time});
     return v.numbers.empty() ? 0.0 : v.numbers[0];
 }
 int32_t Builder::integer(NodeId n, Name f) const {
@@ -121,7 +122,8 @@ Vec2 Builder::vec2(NodeId n, Name f) const {
     return v.numbers.size() < 2 ? Vec2(0.0) : Vec2(v.numbers[0], v.numbers[1]);
 }
 Vec3 Builder::vec3(NodeId n, Name f) const {
-    const FieldView v = read(n, f, Many::SF, {ValueKind::Vec3f, ValueKind::Vec3d, ValueKind::Color});
+    const FieldView v =
+        read(n, f, Many::SF, {ValueKind::Vec3f, ValueKind::Vec3d, ValueKind::Color});
     return v.numbers.size() < 3 ? Vec3(0.0) : Vec3(v.numbers[0], v.numbers[1], v.numbers[2]);
 }
 Vec4 Builder::rotation(NodeId n, Name f) const {
@@ -150,9 +152,9 @@ std::vector<Vec2> Builder::vec2s(NodeId n, Name f) const {
     return out;
 }
 std::vector<Vec3> Builder::vec3s(NodeId n, Name f) const {
-    const FieldView v = read(n, f, Many::MF,
-                             {ValueKind::Vec3f, ValueKind::Vec3d, ValueKind::Color,
-                              ValueKind::ColorRGBA});
+    const FieldView v =
+        read(n, f, Many::MF,
+             {ValueKind::Vec3f, ValueKind::Vec3d, ValueKind::Color, ValueKind::ColorRGBA});
     const size_t stride = v.type.kind == ValueKind::ColorRGBA ? 4 : 3;
     std::vector<Vec3> out(v.numbers.size() / stride);
     for (size_t i = 0; i < out.size(); ++i)
@@ -170,7 +172,6 @@ NodeId Builder::node(NodeId n, Name f) const {
 std::span<const NodeId> Builder::nodes(NodeId n, Name f) const {
     return read(n, f, Many::MF, {ValueKind::Node}).nodes;
 }
-
 
 sg::Origin Builder::origin(NodeId n) const {
     const Node& node = tree_.nodes[n];
@@ -465,7 +466,7 @@ sg::Index Builder::appearance(NodeId id) {
         const NodeId m = node(id, "material"_n);
         const Name field = type(m) == "PhysicalMaterial"_n ? "baseTexture"_n
                            : type(m) == "UnlitMaterial"_n  ? "emissiveTexture"_n
-                                                         : "diffuseTexture"_n;
+                                                           : "diffuseTexture"_n;
         if (const NodeId t = node(m, field); t != kNullNode) a.texture = texture(t);
     }
     if (const NodeId tt = node(id, "textureTransform"_n); tt != kNullNode)
@@ -516,10 +517,10 @@ sg::Index Builder::material(NodeId id) {
     m.transparency = number(id, "transparency"_n);
     m.hints = hints(id);
     sg::Index index = static_cast<sg::Index>(scene_.materials.size());
-    const double values[] = {m.diffuse_color.x,  m.diffuse_color.y,  m.diffuse_color.z,
-                             m.specular_color.x, m.specular_color.y, m.specular_color.z,
-                             m.emissive_color.x, m.emissive_color.y, m.emissive_color.z,
-                             m.ambient_intensity, m.shininess,       m.transparency,
+    const double values[] = {m.diffuse_color.x,   m.diffuse_color.y,  m.diffuse_color.z,
+                             m.specular_color.x,  m.specular_color.y, m.specular_color.z,
+                             m.emissive_color.x,  m.emissive_color.y, m.emissive_color.z,
+                             m.ambient_intensity, m.shininess,        m.transparency,
                              m.metallic,          m.roughness};
     bool mergeable = m.hints == sg::kNone;  // hints belong to their node
     MaterialKey key{uint64_t(m.model)};
@@ -548,8 +549,10 @@ sg::Index Builder::texture(NodeId id) {
     }
     sg::Texture tex;
     tex.origin = origin(id);
-    tex.repeat_s = boolean(id, "repeatS"_n);
-    tex.repeat_t = boolean(id, "repeatT"_n);
+    if (t == "ImageTexture"_n || t == "PixelTexture"_n) {
+        tex.repeat_s = boolean(id, "repeatS"_n);
+        tex.repeat_t = boolean(id, "repeatT"_n);
+    }
     if (t == "ImageTexture"_n) {
         tex.kind = sg::TextureKind::Image;
         tex.urls = strings(id, "url"_n);

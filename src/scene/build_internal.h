@@ -118,7 +118,8 @@ class Builder {
   private:
     // The field's value, checked against the kinds and SF/MF the caller reads it as.
     enum class Many : uint8_t { SF, MF, Either };
-    FieldView read(NodeId node, Name field, Many many, std::initializer_list<ValueKind> kinds) const;
+    FieldView read(NodeId node, Name field, Many many,
+                   std::initializer_list<ValueKind> kinds) const;
     mutable std::vector<std::string> misreads_;
     void reserve();
     std::optional<sg::ChildRef> child(NodeId node);

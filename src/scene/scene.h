@@ -227,8 +227,8 @@ struct Viewpoint {
     std::string description;
     bool ortho = false;  // OrthoViewpoint
     Vec3 position{};
-    Vec4 orientation{};                  // axis xyz, angle w
-    double field_of_view = 0.0;          // perspective
+    Vec4 orientation{};                    // axis xyz, angle w
+    double field_of_view = 0.0;            // perspective
     std::array<double, 4> ortho_extent{};  // OrthoViewpoint fieldOfView
 };
 

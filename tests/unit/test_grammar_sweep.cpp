@@ -97,8 +97,8 @@ Group { children [
 ] })";
 
 TEST(GrammarSweep, EveryFieldTheBuilderReadsIsInTheRegistryWithItsType) {
-    for (const auto& [text, file] : {std::pair{kEveryVrml97Node, "every.wrl"},
-                                     std::pair{kEveryX3dNode, "every.x3dv"}}) {
+    for (const auto& [text, file] :
+         {std::pair{kEveryVrml97Node, "every.wrl"}, std::pair{kEveryX3dNode, "every.x3dv"}}) {
         SCOPED_TRACE(file);
         const LoadedScene loaded = load_scene_text(text, file);
         ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
@@ -131,7 +131,8 @@ TEST(GrammarSweep, EveryCorpusFileBuildsWithoutMisreads) {
     size_t files = 0;
     for (const auto& entry : fs::recursive_directory_iterator(folder)) {
         const std::string ext = entry.path().extension().string();
-        if (!entry.is_regular_file() || (ext != ".wrl" && ext != ".x3dv" && ext != ".x3d")) continue;
+        if (!entry.is_regular_file() || (ext != ".wrl" && ext != ".x3dv" && ext != ".x3d"))
+            continue;
         const LoadedScene loaded = load_scene(entry.path());
         if (!loaded.ok()) continue;  // the broken files on purpose
         ++files;
@@ -148,7 +149,8 @@ double first_default(Spec spec, const char* node, const char* field) {
 
 TEST(GrammarSweep, AbsentFieldsTakeTheGrammarsDefaults) {
     const LoadedScene loaded = load_scene_text(
-        "#VRML V2.0 utf8\nShape { appearance Appearance { material Material {} } geometry Sphere {} }"
+        "#VRML V2.0 utf8\nShape { appearance Appearance { material Material {} } geometry Sphere "
+        "{} }"
         "Shape { geometry Cone {} } SpotLight {} Viewpoint {} Fog {}",
         "defaults.wrl");
     Scene s;
@@ -158,7 +160,8 @@ TEST(GrammarSweep, AbsentFieldsTakeTheGrammarsDefaults) {
     EXPECT_EQ(s.materials[0].ambient_intensity, first_default(v, "Material", "ambientIntensity"));
     EXPECT_EQ(s.materials[0].shininess, first_default(v, "Material", "shininess"));
     EXPECT_EQ(s.materials[0].diffuse_color.x, first_default(v, "Material", "diffuseColor"));
-    EXPECT_EQ(std::get<sg::Sphere>(s.geometries[0].shape).radius, first_default(v, "Sphere", "radius"));
+    EXPECT_EQ(std::get<sg::Sphere>(s.geometries[0].shape).radius,
+              first_default(v, "Sphere", "radius"));
     const auto& cone = std::get<sg::Cone>(s.geometries[1].shape);
     EXPECT_EQ(cone.bottom_radius, first_default(v, "Cone", "bottomRadius"));
     EXPECT_EQ(cone.height, first_default(v, "Cone", "height"));
@@ -167,7 +170,7 @@ TEST(GrammarSweep, AbsentFieldsTakeTheGrammarsDefaults) {
     EXPECT_EQ(s.lights[0].radius, first_default(v, "SpotLight", "radius"));
     EXPECT_EQ(s.lights[0].beam_width, first_default(v, "SpotLight", "beamWidth"));
     EXPECT_EQ(s.lights[0].cut_off_angle, first_default(v, "SpotLight", "cutOffAngle"));
-    EXPECT_EQ(s.lights[0].direction.z, -1.0);  // the grammar's 0 0 -1
+    EXPECT_EQ(s.lights[0].direction.z, -1.0);           // the grammar's 0 0 -1
     EXPECT_TRUE(s.lights[0].on && s.lights[0].global);  // X3D's `global` default for spot lights
     ASSERT_EQ(s.viewpoints.size(), 1u);
     EXPECT_EQ(s.viewpoints[0].field_of_view, first_default(v, "Viewpoint", "fieldOfView"));
@@ -179,15 +182,18 @@ TEST(GrammarSweep, AbsentFieldsTakeTheGrammarsDefaults) {
 
 TEST(GrammarSweep, PhysicalAndUnlitBorrowMaterialsPhongDefaults) {
     const LoadedScene loaded = load_scene_text(
-        "#X3D V4.0 utf8\nPROFILE Full\nShape { appearance Appearance { material PhysicalMaterial {} } "
+        "#X3D V4.0 utf8\nPROFILE Full\nShape { appearance Appearance { material PhysicalMaterial "
+        "{} } "
         "geometry Sphere {} }",
         "physical.x3dv");
     Scene s;
     ASSERT_EQ(misreads_of(loaded, &s).size(), 0u);
     ASSERT_EQ(s.materials.size(), 1u);
-    EXPECT_EQ(s.materials[0].ambient_intensity, first_default(Spec::X3d, "Material", "ambientIntensity"));
+    EXPECT_EQ(s.materials[0].ambient_intensity,
+              first_default(Spec::X3d, "Material", "ambientIntensity"));
     EXPECT_EQ(s.materials[0].shininess, first_default(Spec::X3d, "Material", "shininess"));
-    EXPECT_EQ(s.materials[0].diffuse_color.x, first_default(Spec::X3d, "PhysicalMaterial", "baseColor"));
+    EXPECT_EQ(s.materials[0].diffuse_color.x,
+              first_default(Spec::X3d, "PhysicalMaterial", "baseColor"));
 }
 
 TEST(GrammarSweep, OrthoViewpointWithTooFewNumbersUsesTheGrammarsExtent) {
@@ -213,14 +219,16 @@ TEST(GrammarSweep, EveryNumericRangeInTheGrammarParses) {
                     f.type.kind == ValueKind::Image)
                     continue;
                 std::string error;
-                EXPECT_TRUE(parse_numeric_range(f.range, error)) << name_text(node.name) << "."
-                                                                 << name_text(f.name) << ": " << error;
-                EXPECT_FALSE(f.numeric_range.empty()) << name_text(node.name) << "." << name_text(f.name);
+                EXPECT_TRUE(parse_numeric_range(f.range, error))
+                    << name_text(node.name) << "." << name_text(f.name) << ": " << error;
+                EXPECT_FALSE(f.numeric_range.empty())
+                    << name_text(node.name) << "." << name_text(f.name);
                 ++numeric;
             }
     EXPECT_GT(numeric, 300u);
     const FieldDecl* radius = Registry::builtin().find(Spec::Vrml97, "Sphere")->find("radius");
-    for (double bad : {0.0, -1.0, kInf, kNaN}) EXPECT_FALSE(radius->numeric_range.contains({&bad, 1}));
+    for (double bad : {0.0, -1.0, kInf, kNaN})
+        EXPECT_FALSE(radius->numeric_range.contains({&bad, 1}));
     const double one = 1.0;
     EXPECT_TRUE(radius->numeric_range.contains({&one, 1}));
 }
@@ -254,7 +262,8 @@ TEST(GrammarSweep, RangeNotation) {
 TEST(GrammarSweep, OutOfRangeSizesWarnAsBefore) {
     Diagnostics diagnostics;
     const LoadedScene loaded = load_scene_text(
-        "#VRML V2.0 utf8\nShape { geometry Sphere { radius 0 } } Shape { geometry Box { size 1 0 1 } }"
+        "#VRML V2.0 utf8\nShape { geometry Sphere { radius 0 } } Shape { geometry Box { size 1 0 1 "
+        "} }"
         "Shape { geometry Cylinder { height -1 } } Shape { geometry Cone { height 0 } }"
         "Shape { geometry Sphere { radius 2 } }",
         "sizes.wrl");
@@ -262,7 +271,8 @@ TEST(GrammarSweep, OutOfRangeSizesWarnAsBefore) {
     std::vector<std::string> messages;
     for (const Diagnostic& d : diagnostics.all()) messages.push_back(d.message);
     ASSERT_EQ(messages.size(), 4u) << joined(messages);
-    EXPECT_NE(messages[0].find("radius must be positive and finite; not rendered"), std::string::npos);
+    EXPECT_NE(messages[0].find("radius must be positive and finite; not rendered"),
+              std::string::npos);
     EXPECT_NE(messages[1].find("size must be positive and finite in x, y and z; not rendered"),
               std::string::npos);
     EXPECT_NE(messages[2].find("radius and height must be positive and finite; not rendered"),
@@ -270,7 +280,8 @@ TEST(GrammarSweep, OutOfRangeSizesWarnAsBefore) {
     EXPECT_NE(messages[3].find("bottomRadius and height must be positive and finite; not rendered"),
               std::string::npos);
     size_t drawn = 0;
-    for (const sg::Geometry& g : s.geometries) drawn += !std::holds_alternative<std::monostate>(g.shape);
+    for (const sg::Geometry& g : s.geometries)
+        drawn += !std::holds_alternative<std::monostate>(g.shape);
     EXPECT_EQ(drawn, 1u);  // only the radius-2 sphere
 }
 
