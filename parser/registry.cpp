@@ -82,10 +82,18 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
                 std::string_view rest = line.substr(0, line.size() - 1);
                 std::string_view name = next_word(rest);
                 if (name.empty()) bad("node without a name");
+                Name role = kNoName;  // "Name : Role {": what vrmlray does with the node
+                if (std::string_view colon = next_word(rest); colon == ":") {
+                    const std::string_view r = next_word(rest);
+                    if (r.empty()) bad("node " + std::string(name) + ": ':' without a role");
+                    role = intern(r);
+                } else if (!colon.empty()) {
+                    bad("expected 'NodeName {' or 'NodeName : Role {'");
+                }
                 Name n = intern(name);
                 if (index.count(n)) bad("node " + std::string(name) + " defined twice");
                 index.emplace(n, static_cast<uint32_t>(table.size()));
-                table.push_back({n, spec, {}});
+                table.push_back({n, spec, role, {}});
                 current = &table.back();
                 continue;
             }
@@ -132,6 +140,13 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
                 decl.range = std::string(trim(rest.substr(std::min<size_t>(lexer.next_offset(), rest.size()))));
             } else {
                 decl.range = std::string(rest);
+            }
+            if (is_numeric(decl.type.kind) && decl.type.kind != ValueKind::Bool &&
+                decl.type.kind != ValueKind::Image) {
+                std::string error;
+                auto range = parse_numeric_range(decl.range, error);
+                if (!range) bad("field " + std::string(fname) + ": " + error);
+                decl.numeric_range = std::move(*range);
             }
             current->fields.push_back(std::move(decl));
         }

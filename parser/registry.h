@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "parser/field_range.h"
 #include "parser/field_type.h"
 #include "parser/name.h"
 
@@ -23,12 +24,17 @@ struct FieldDecl {
     Access access = Access::Field;
     uint32_t default_field = UINT32_MAX;  // index into Registry::defaults().fields; UINT32_MAX for events
     std::string range;                    // the table's range text, e.g. "(0,inf)" or "[X3DChildNode]"
+    NumericRange numeric_range;           // `range` parsed, for fields of numbers (empty: any value)
     bool extension = false;               // from extensions.nodes: a browser's addition, read and ignored
 };
 
 struct NodeTypeDecl {
     Name name;
     Spec spec = Spec::Vrml97;
+    // What vrmlray does with the node ("Group", "Sphere", "Silent", ...; the table's
+    // "Name : Role {"); kNoName: not modelled. The one node-kind table of the scene build and the
+    // VRML 1.0 upgrade.
+    Name role = kNoName;
     std::vector<FieldDecl> fields;
     const FieldDecl* find(Name field) const;
     const FieldDecl* find(std::string_view field) const;

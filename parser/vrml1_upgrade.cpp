@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "parser/registry.h"
+
 namespace vr::vrml1 {
 
 namespace {
@@ -48,8 +50,9 @@ enum class Kind : uint8_t {
     Silent,
 };
 
+// The node's role in grammar/vrml1.nodes ("Name : Role {") as the upgrade's kind.
 Kind kind_of(Name type) {
-    static const std::unordered_map<Name, Kind> table = [] {
+    static const std::unordered_map<Name, Kind> by_role = [] {
         std::unordered_map<Name, Kind> t;
         const std::pair<const char*, Kind> entries[] = {
             {"Separator", Kind::Separator},
@@ -57,8 +60,8 @@ Kind kind_of(Name type) {
             {"TransformSeparator", Kind::TransformSeparator},
             {"Switch", Kind::Switch},
             {"LOD", Kind::LOD},
-            {"WWWAnchor", Kind::Anchor},
-            {"WWWInline", Kind::Inline},
+            {"Anchor", Kind::Anchor},
+            {"Inline", Kind::Inline},
             {"Material", Kind::Material},
             {"MaterialBinding", Kind::MaterialBinding},
             {"NormalBinding", Kind::NormalBinding},
@@ -86,12 +89,14 @@ Kind kind_of(Name type) {
             {"SpotLight", Kind::SpotLight},
             {"PerspectiveCamera", Kind::PerspectiveCamera},
             {"OrthographicCamera", Kind::OrthographicCamera},
+            {"Silent", Kind::Silent},
         };
-        for (const auto& [name, kind] : entries) t[intern(name)] = kind;
+        for (const auto& [role, kind] : entries) t[intern(role)] = kind;
         return t;
     }();
-    auto it = table.find(type);
-    return it == table.end() ? Kind::Silent : it->second;  // Info, FontStyle
+    const NodeTypeDecl* decl = Registry::builtin().find(Spec::Vrml1, type);
+    const auto it = decl ? by_role.find(decl->role) : by_role.end();
+    return it == by_role.end() ? Kind::Silent : it->second;  // Info, FontStyle, unknown nodes
 }
 
 Binding parse_binding(std::string_view w) {

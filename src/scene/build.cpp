@@ -4,21 +4,18 @@
 
 #include <bit>
 #include <cmath>
+#include <stdexcept>
 #include <unordered_map>
 
+#include "core/huge_pages.h"
+#include "parser/registry.h"
 #include "scene/build_internal.h"
 #include "scene/hints.h"
-#include "core/huge_pages.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 
 namespace vr {
 namespace detail {
-
-const Names& names() {
-    static const Names n;
-    return n;
-}
 
 namespace {
 
@@ -40,43 +37,32 @@ enum class ChildKind : uint8_t {
     NotModelled,
 };
 
-ChildKind child_kind(Name type) {
-    static const std::unordered_map<Name, ChildKind> table = [] {
+// The node's role in the grammar ("Name : Role {" in grammar/*.nodes) as the builder's kind.
+ChildKind child_kind(const NodeTypeDecl* decl) {
+    static const std::unordered_map<Name, ChildKind> by_role = [] {
         std::unordered_map<Name, ChildKind> t;
-        for (const char* n : {"Group", "StaticGroup", "Collision", "Anchor", "CADAssembly",
-                              "CADLayer", "PickableGroup", "ViewpointGroup"})
-            t[intern(n)] = ChildKind::Group;
-        for (const char* n : {"Transform", "CADPart"}) t[intern(n)] = ChildKind::Transform;
-        t[intern("Billboard")] = ChildKind::Billboard;
-        t[intern("Switch")] = ChildKind::Switch;
-        t[intern("LOD")] = ChildKind::LOD;
-        t[intern("Inline")] = ChildKind::Inline;
-        t[intern("CADFace")] = ChildKind::CADFace;
-        t[intern("Shape")] = ChildKind::Shape;
-        for (const char* n : {"DirectionalLight", "PointLight", "SpotLight"})
-            t[intern(n)] = ChildKind::Light;
-        for (const char* n : {"Viewpoint", "OrthoViewpoint"}) t[intern(n)] = ChildKind::Viewpoint;
-        t[intern("Background")] = ChildKind::Background;
-        t[intern("Fog")] = ChildKind::Fog;
-        t[intern("NavigationInfo")] = ChildKind::NavigationInfo;
-        // Nodes that draw nothing at time 0 (SPEC section 2: parsed and ignored).
-        for (const char* n :
-             {"WorldInfo",       "Script",          "Sound",         "AudioClip",
-              "MetadataSet",     "MetadataString",  "MetadataFloat", "MetadataDouble",
-              "MetadataInteger", "MetadataBoolean", "BooleanToggle", "IntegerTrigger",
-              "TimeTrigger",     "BooleanTrigger",  "FontStyle",     "ScreenFontStyle",
-              "EspduTransform",  "SignalPdu",       "ReceiverPdu",   "TransmitterPdu"})
-            t[intern(n)] = ChildKind::Silent;
+        const std::pair<const char*, ChildKind> roles[] = {
+            {"Group", ChildKind::Group},
+            {"Transform", ChildKind::Transform},
+            {"Billboard", ChildKind::Billboard},
+            {"Switch", ChildKind::Switch},
+            {"LOD", ChildKind::LOD},
+            {"Inline", ChildKind::Inline},
+            {"CADFace", ChildKind::CADFace},
+            {"Shape", ChildKind::Shape},
+            {"Light", ChildKind::Light},
+            {"Viewpoint", ChildKind::Viewpoint},
+            {"Background", ChildKind::Background},
+            {"Fog", ChildKind::Fog},
+            {"NavigationInfo", ChildKind::NavigationInfo},
+            {"Silent", ChildKind::Silent},  // draws nothing at time 0 (SPEC section 2)
+        };
+        for (const auto& [role, kind] : roles) t[intern(role)] = kind;
         return t;
     }();
-    const auto it = table.find(type);
-    if (it != table.end()) return it->second;
-    const std::string_view text = name_text(type);
-    for (std::string_view suffix :
-         {"Sensor", "Interpolator", "Sequencer", "Trigger", "Filter", "Chaser", "Damper"})
-        if (text.size() > suffix.size() && text.substr(text.size() - suffix.size()) == suffix)
-            return ChildKind::Silent;
-    return ChildKind::NotModelled;
+    if (!decl) return ChildKind::NotModelled;
+    const auto it = by_role.find(decl->role);
+    return it == by_role.end() ? ChildKind::NotModelled : it->second;
 }
 
 }  // namespace
@@ -84,37 +70,73 @@ ChildKind child_kind(Name type) {
 // ------------------------------------------------------------------------------------------------
 // Field readers
 
-double Builder::number(NodeId n, Name f, double fallback) const {
+FieldView Builder::read(NodeId n, Name f, Many many, std::initializer_list<ValueKind> kinds) const {
     const FieldView v = tree_.get(n, f);
-    return v.numbers.empty() ? fallback : v.numbers[0];
+    const bool kind_ok = std::find(kinds.begin(), kinds.end(), v.type.kind) != kinds.end();
+    const bool many_ok = many == Many::Either || v.type.multi == (many == Many::MF);
+    if (v.found && kind_ok && many_ok) return v;
+    std::string why = std::string(tree_.type_name(n)) + "." + std::string(name_text(f));
+    why += v.found ? " is " + std::string(type_name(v.type)) + ", read as another type"
+                   : " is not in the node's interface";
+    misreads_.push_back(std::move(why));
+    return {};
 }
-int32_t Builder::integer(NodeId n, Name f, int32_t fallback) const {
-    const FieldView v = tree_.get(n, f);
-    return v.numbers.empty() ? fallback : static_cast<int32_t>(v.numbers[0]);
+
+bool Builder::in_range(NodeId n, Name f, std::initializer_list<double> value) const {
+    const NodeTypeDecl* decl = tree_.decl(n);
+    const FieldDecl* field =
+        decl ? Registry::builtin().lookup_field(decl->spec, *decl, f) : nullptr;
+    if (!field) {
+        misreads_.push_back(std::string(tree_.type_name(n)) + "." + std::string(name_text(f)) +
+                            " has no range: not in the node's interface");
+        return true;
+    }
+    return field->numeric_range.contains({value.begin(), value.size()});
 }
-bool Builder::boolean(NodeId n, Name f, bool fallback) const {
-    const FieldView v = tree_.get(n, f);
-    return v.numbers.empty() ? fallback : v.numbers[0] != 0.0;
+
+FieldView Builder::default_of(Name node_type, Name f) const {
+    const Registry& registry = Registry::builtin();
+    const NodeTypeDecl* decl = registry.find(Spec::X3d, node_type);
+    const FieldDecl* field = decl ? decl->find(f) : nullptr;
+    if (!field || field->default_field == UINT32_MAX)
+        throw std::logic_error("the grammar has no default for " +
+                               std::string(name_text(node_type)) + "." + std::string(name_text(f)));
+    return registry.defaults().view(registry.defaults().fields[field->default_field]);
 }
-Vec2 Builder::vec2(NodeId n, Name f, Vec2 fallback) const {
-    const FieldView v = tree_.get(n, f);
-    return v.numbers.size() < 2 ? fallback : Vec2(v.numbers[0], v.numbers[1]);
+
+double Builder::number(NodeId n, Name f) const {
+    const FieldView v =
+        read(n, f, Many::SF, {ValueKind::Float, ValueKind::Double, ValueKind::Time});
+    return v.numbers.empty() ? 0.0 : v.numbers[0];
 }
-Vec3 Builder::vec3(NodeId n, Name f, Vec3 fallback) const {
-    const FieldView v = tree_.get(n, f);
-    return v.numbers.size() < 3 ? fallback : Vec3(v.numbers[0], v.numbers[1], v.numbers[2]);
+int32_t Builder::integer(NodeId n, Name f) const {
+    const FieldView v = read(n, f, Many::SF, {ValueKind::Int32});
+    return v.numbers.empty() ? 0 : static_cast<int32_t>(v.numbers[0]);
+}
+bool Builder::boolean(NodeId n, Name f) const {
+    const FieldView v = read(n, f, Many::SF, {ValueKind::Bool});
+    return !v.numbers.empty() && v.numbers[0] != 0.0;
+}
+Vec2 Builder::vec2(NodeId n, Name f) const {
+    const FieldView v = read(n, f, Many::SF, {ValueKind::Vec2f, ValueKind::Vec2d});
+    return v.numbers.size() < 2 ? Vec2(0.0) : Vec2(v.numbers[0], v.numbers[1]);
+}
+Vec3 Builder::vec3(NodeId n, Name f) const {
+    const FieldView v =
+        read(n, f, Many::SF, {ValueKind::Vec3f, ValueKind::Vec3d, ValueKind::Color});
+    return v.numbers.size() < 3 ? Vec3(0.0) : Vec3(v.numbers[0], v.numbers[1], v.numbers[2]);
 }
 Vec4 Builder::rotation(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
-    if (v.numbers.size() < 4) return Vec4(0.0, 0.0, 1.0, 0.0);
+    const FieldView v = read(n, f, Many::SF, {ValueKind::Rotation});
+    if (v.numbers.size() < 4) return Vec4(0.0);
     return Vec4(v.numbers[0], v.numbers[1], v.numbers[2], v.numbers[3]);
 }
 std::vector<double> Builder::numbers(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
+    const FieldView v = read(n, f, Many::MF, {ValueKind::Float, ValueKind::Double});
     return {v.numbers.begin(), v.numbers.end()};
 }
 std::vector<int32_t> Builder::integers(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
+    const FieldView v = read(n, f, Many::MF, {ValueKind::Int32});
     std::vector<int32_t> out(v.numbers.size());
     for (size_t i = 0; i < out.size(); ++i) {
         const double d = v.numbers[i];
@@ -124,31 +146,32 @@ std::vector<int32_t> Builder::integers(NodeId n, Name f) const {
     return out;
 }
 std::vector<Vec2> Builder::vec2s(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
+    const FieldView v = read(n, f, Many::MF, {ValueKind::Vec2f, ValueKind::Vec2d});
     std::vector<Vec2> out(v.numbers.size() / 2);
     for (size_t i = 0; i < out.size(); ++i) out[i] = Vec2(v.numbers[2 * i], v.numbers[2 * i + 1]);
     return out;
 }
 std::vector<Vec3> Builder::vec3s(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
-    const size_t stride = v.type.kind == ValueKind::ColorRGBA || v.type.kind == ValueKind::Vec4f ||
-                                  v.type.kind == ValueKind::Vec4d
-                              ? 4
-                              : 3;
+    const FieldView v =
+        read(n, f, Many::MF,
+             {ValueKind::Vec3f, ValueKind::Vec3d, ValueKind::Color, ValueKind::ColorRGBA});
+    const size_t stride = v.type.kind == ValueKind::ColorRGBA ? 4 : 3;
     std::vector<Vec3> out(v.numbers.size() / stride);
     for (size_t i = 0; i < out.size(); ++i)
         out[i] = Vec3(v.numbers[stride * i], v.numbers[stride * i + 1], v.numbers[stride * i + 2]);
     return out;
 }
 std::vector<std::string> Builder::strings(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
+    const FieldView v = read(n, f, Many::Either, {ValueKind::String});
     return {v.strings.begin(), v.strings.end()};
 }
 NodeId Builder::node(NodeId n, Name f) const {
-    const FieldView v = tree_.get(n, f);
+    const FieldView v = read(n, f, Many::SF, {ValueKind::Node});
     return v.nodes.empty() ? kNullNode : v.nodes[0];
 }
-std::span<const NodeId> Builder::nodes(NodeId n, Name f) const { return tree_.get(n, f).nodes; }
+std::span<const NodeId> Builder::nodes(NodeId n, Name f) const {
+    return read(n, f, Many::MF, {ValueKind::Node}).nodes;
+}
 
 sg::Origin Builder::origin(NodeId n) const {
     const Node& node = tree_.nodes[n];
@@ -156,7 +179,7 @@ sg::Origin Builder::origin(NodeId n) const {
 }
 
 sg::Index Builder::hints(NodeId n) {
-    const NodeId metadata = node(n, names().metadata);
+    const NodeId metadata = node(n, "metadata"_n);
     if (metadata == kNullNode) return sg::kNone;
     const sg::Hints h = read_hints(tree_, metadata, diagnostics_);
     if (!h.any()) return sg::kNone;
@@ -233,17 +256,12 @@ void Builder::reserve() {
     // Arenas sized from the node counts up front: PyMOL files hold 1e5 shapes, and growing the
     // arenas by doubling would move (and touch) every element several times. Appearances,
     // materials and geometries are mostly merged (see same_material_): they grow as needed.
-    const Names& n = names();
     size_t groups = 1, shapes = 0, transforms = 0;
+    std::vector<ChildKind> kinds;  // by NodeTree::kinds: a few, for millions of nodes
+    for (const NodeKind& k : tree_.kinds) kinds.push_back(child_kind(k.decl));
     for (const Node& node : tree_.nodes) {
-        const Name t = tree_.kinds[node.kind].type;
-        if (t == n.Shape) {
-            ++shapes;
-            continue;
-        }
-        // The most common nodes besides groups, told apart without child_kind's suffix checks.
-        if (t == n.Appearance || t == n.Material || is_geometry_type(t)) continue;
-        const ChildKind kind = child_kind(t);
+        const ChildKind kind = kinds[node.kind];
+        if (kind == ChildKind::Shape) ++shapes;
         if (kind <= ChildKind::CADFace) ++groups;
         if (kind == ChildKind::Transform) ++transforms;
     }
@@ -301,7 +319,7 @@ std::optional<sg::ChildRef> Builder::child(NodeId id) {
 
 std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
     using sg::NodeKind;
-    switch (child_kind(type(id))) {
+    switch (child_kind(tree_.decl(id))) {
         case ChildKind::Group:
         case ChildKind::Transform:
         case ChildKind::Billboard:
@@ -335,21 +353,20 @@ std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
 }
 
 sg::Index Builder::make_group(NodeId id) {
-    const Names& n = names();
     const sg::Index index = static_cast<sg::Index>(scene_.groups.size());
     scene_.groups.emplace_back();
     sg::Group group;
     group.origin = origin(id);
     std::span<const NodeId> children;
     std::vector<NodeId> chosen;  // Switch/LOD: the one active child
-    switch (child_kind(type(id))) {
+    switch (child_kind(tree_.decl(id))) {
         case ChildKind::Transform: {
             TransformFields f;
-            f.translation = vec3(id, n.translation, f.translation);
-            f.rotation = rotation(id, n.rotation);
-            f.scale = vec3(id, n.scale, f.scale);
-            f.scale_orientation = rotation(id, n.scale_orientation);
-            f.center = vec3(id, n.center, f.center);
+            f.translation = vec3(id, "translation"_n);
+            f.rotation = rotation(id, "rotation"_n);
+            f.scale = vec3(id, "scale"_n);
+            f.scale_orientation = rotation(id, "scaleOrientation"_n);
+            f.center = vec3(id, "center"_n);
             const Mat4 m = transform_matrix(f);
             if (is_singular(m)) {
                 group.singular = true;  // flattening skips the subtree: no matrix to keep
@@ -366,29 +383,29 @@ sg::Index Builder::make_group(NodeId id) {
                 group.transform = static_cast<sg::Index>(scene_.matrices.size());
                 scene_.matrices.push_back(m);
             }
-            children = nodes(id, n.children);
+            children = nodes(id, "children"_n);
             break;
         }
         case ChildKind::Billboard:
             group.transform_kind = sg::GroupTransform::Billboard;
             group.transform = static_cast<sg::Index>(scene_.billboard_axes.size());
-            scene_.billboard_axes.push_back(vec3(id, n.axis_of_rotation, Vec3(0.0, 1.0, 0.0)));
-            children = nodes(id, n.children);
+            scene_.billboard_axes.push_back(vec3(id, "axisOfRotation"_n));
+            children = nodes(id, "children"_n);
             break;
         case ChildKind::Switch: {
             // VRML97 `choice`, X3D `children`: the reader accepts both spellings, so take the one
             // that is set.
-            const std::span<const NodeId> choice = nodes(id, n.choice);
-            const std::span<const NodeId> all = !choice.empty() ? choice : nodes(id, n.children);
-            const int32_t which = integer(id, n.which_choice, -1);
+            const std::span<const NodeId> choice = nodes(id, "choice"_n);
+            const std::span<const NodeId> all = !choice.empty() ? choice : nodes(id, "children"_n);
+            const int32_t which = integer(id, "whichChoice"_n);
             if (which >= 0 && static_cast<size_t>(which) < all.size()) chosen.push_back(all[which]);
             children = chosen;
             break;
         }
         case ChildKind::LOD: {
             const std::span<const NodeId> level =
-                nodes(id, n.level);  // VRML97 `level`, X3D `children`
-            const std::span<const NodeId> all = !level.empty() ? level : nodes(id, n.children);
+                nodes(id, "level"_n);  // VRML97 `level`, X3D `children`
+            const std::span<const NodeId> all = !level.empty() ? level : nodes(id, "children"_n);
             if (!all.empty()) chosen.push_back(all[0]);
             children = chosen;
             break;
@@ -396,15 +413,15 @@ sg::Index Builder::make_group(NodeId id) {
         case ChildKind::Inline: {
             group.inline_content = true;
             const auto it = tree_.inline_roots.find(id);
-            if (it != tree_.inline_roots.end() && boolean(id, n.load, true)) children = it->second;
+            if (it != tree_.inline_roots.end() && boolean(id, "load"_n)) children = it->second;
             break;
         }
         case ChildKind::CADFace:
-            chosen.push_back(node(id, n.shape));
+            chosen.push_back(node(id, "shape"_n));
             children = chosen;
             break;
         default:
-            children = nodes(id, n.children);
+            children = nodes(id, "children"_n);
             break;
     }
     scene_.groups[index] = group;
@@ -413,14 +430,13 @@ sg::Index Builder::make_group(NodeId id) {
 }
 
 std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
-    const Names& n = names();
-    if (!boolean(id, n.visible, true)) return std::nullopt;  // X3D 4 Shape.visible
+    if (!boolean(id, "visible"_n)) return std::nullopt;  // X3D 4 Shape.visible
     sg::Shape shape;
     shape.origin = origin(id);
     shape.hints = hints(id);
-    const NodeId app = node(id, n.appearance);
+    const NodeId app = node(id, "appearance"_n);
     if (app != kNullNode) shape.appearance = appearance(app);
-    const NodeId geo = node(id, n.geometry);
+    const NodeId geo = node(id, "geometry"_n);
     if (geo != kNullNode) shape.geometry = geometry(geo);
     if (shape.geometry == sg::kNone) return std::nullopt;
     const sg::Index index = static_cast<sg::Index>(scene_.shapes.size());
@@ -432,29 +448,28 @@ std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
 // Appearance
 
 sg::Index Builder::appearance(NodeId id) {
-    const Names& n = names();
     Memo* memo = shared(id);
     if (memo && memo->typed != sg::kNone) return memo->typed;
-    if (type(id) != n.Appearance) {
+    if (type(id) != "Appearance"_n) {
         warn(id, "wrong-type",
              "cannot be an appearance; the shape is drawn with the default appearance");
         return sg::kNone;
     }
     sg::Appearance a;
     a.origin = origin(id);
-    if (const NodeId m = node(id, n.material); m != kNullNode) a.material = material(m);
-    if (const NodeId t = node(id, n.texture); t != kNullNode) a.texture = texture(t);
+    if (const NodeId m = node(id, "material"_n); m != kNullNode) a.material = material(m);
+    if (const NodeId t = node(id, "texture"_n); t != kNullNode) a.texture = texture(t);
     if (a.texture == sg::kNone && a.material != sg::kNone) {
         // X3D 4: a texture may sit in the material instead (Material.diffuseTexture,
         // PhysicalMaterial.baseTexture, UnlitMaterial.emissiveTexture); it stands in for the
         // Appearance's texture (the materials' other texture fields are not modelled).
-        const NodeId m = node(id, n.material);
-        const Name field = type(m) == n.PhysicalMaterial ? n.base_texture
-                           : type(m) == n.UnlitMaterial  ? n.emissive_texture
-                                                         : n.diffuse_texture;
+        const NodeId m = node(id, "material"_n);
+        const Name field = type(m) == "PhysicalMaterial"_n ? "baseTexture"_n
+                           : type(m) == "UnlitMaterial"_n  ? "emissiveTexture"_n
+                                                           : "diffuseTexture"_n;
         if (const NodeId t = node(m, field); t != kNullNode) a.texture = texture(t);
     }
-    if (const NodeId tt = node(id, n.texture_transform); tt != kNullNode)
+    if (const NodeId tt = node(id, "textureTransform"_n); tt != kNullNode)
         read_texture_transform(tt, a);
     sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
     if (!a.has_texture_transform) {
@@ -467,37 +482,45 @@ sg::Index Builder::appearance(NodeId id) {
 }
 
 sg::Index Builder::material(NodeId id) {
-    const Names& n = names();
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     sg::Material m;
     m.origin = origin(id);
     const Name t = type(id);
-    if (t == n.Material || t == n.TwoSidedMaterial) {
-        // TwoSidedMaterial: its front-face fields (the back ones are not modelled).
-        m.model = sg::MaterialModel::Phong;
-        m.ambient_intensity = number(id, n.ambient_intensity, m.ambient_intensity);
-        m.diffuse_color = vec3(id, n.diffuse_color, m.diffuse_color);
-        m.specular_color = vec3(id, n.specular_color, m.specular_color);
-        m.shininess = number(id, n.shininess, m.shininess);
-    } else if (t == n.PhysicalMaterial) {
-        m.model = sg::MaterialModel::Physical;
-        m.diffuse_color = vec3(id, n.base_color, m.diffuse_color);
-        m.metallic = number(id, n.metallic, m.metallic);
-        m.roughness = number(id, n.roughness, m.roughness);
-    } else if (t == n.UnlitMaterial) {
-        m.model = sg::MaterialModel::Unlit;
-    } else {
+    const bool phong = t == "Material"_n || t == "TwoSidedMaterial"_n;
+    if (!phong && t != "PhysicalMaterial"_n && t != "UnlitMaterial"_n) {
         warn(id, "wrong-type", "cannot be a material; the shape is unlit");
         return sg::kNone;
     }
-    m.emissive_color = vec3(id, n.emissive_color, m.emissive_color);
-    m.transparency = number(id, n.transparency, m.transparency);
+    // TwoSidedMaterial: its front-face fields (the back ones are not modelled). The Phong fields
+    // PhysicalMaterial and UnlitMaterial lack shade as a Material's defaults would.
+    const auto phong_number = [&](Name f) {
+        return phong ? number(id, f) : default_of("Material"_n, f).numbers[0];
+    };
+    const auto phong_colour = [&](Name f) {
+        if (phong) return vec3(id, f);
+        const auto c = default_of("Material"_n, f).numbers;
+        return Vec3(c[0], c[1], c[2]);
+    };
+    m.ambient_intensity = phong_number("ambientIntensity"_n);
+    m.diffuse_color = phong_colour("diffuseColor"_n);
+    m.specular_color = phong_colour("specularColor"_n);
+    m.shininess = phong_number("shininess"_n);
+    if (t == "PhysicalMaterial"_n) {
+        m.model = sg::MaterialModel::Physical;
+        m.diffuse_color = vec3(id, "baseColor"_n);
+        m.metallic = number(id, "metallic"_n);
+        m.roughness = number(id, "roughness"_n);
+    } else if (t == "UnlitMaterial"_n) {
+        m.model = sg::MaterialModel::Unlit;
+    }
+    m.emissive_color = vec3(id, "emissiveColor"_n);
+    m.transparency = number(id, "transparency"_n);
     m.hints = hints(id);
     sg::Index index = static_cast<sg::Index>(scene_.materials.size());
-    const double values[] = {m.diffuse_color.x,  m.diffuse_color.y,  m.diffuse_color.z,
-                             m.specular_color.x, m.specular_color.y, m.specular_color.z,
-                             m.emissive_color.x, m.emissive_color.y, m.emissive_color.z,
-                             m.ambient_intensity, m.shininess,       m.transparency,
+    const double values[] = {m.diffuse_color.x,   m.diffuse_color.y,  m.diffuse_color.z,
+                             m.specular_color.x,  m.specular_color.y, m.specular_color.z,
+                             m.emissive_color.x,  m.emissive_color.y, m.emissive_color.z,
+                             m.ambient_intensity, m.shininess,        m.transparency,
                              m.metallic,          m.roughness};
     bool mergeable = m.hints == sg::kNone;  // hints belong to their node
     MaterialKey key{uint64_t(m.model)};
@@ -512,13 +535,12 @@ sg::Index Builder::material(NodeId id) {
 }
 
 sg::Index Builder::texture(NodeId id) {
-    const Names& n = names();
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     const Name t = type(id);
-    if (t == n.MultiTexture) {
+    if (t == "MultiTexture"_n) {
         // The first texture stands for the stack (multi-texturing is not modelled).
-        for (NodeId inner : nodes(id, n.texture))
-            if (inner != kNullNode && type(inner) != n.MultiTexture) {
+        for (NodeId inner : nodes(id, "texture"_n))
+            if (inner != kNullNode && type(inner) != "MultiTexture"_n) {
                 const sg::Index index = texture(inner);
                 if (Memo* memo = shared(id)) memo->typed = index;
                 return index;
@@ -527,16 +549,18 @@ sg::Index Builder::texture(NodeId id) {
     }
     sg::Texture tex;
     tex.origin = origin(id);
-    tex.repeat_s = boolean(id, n.repeat_s, true);
-    tex.repeat_t = boolean(id, n.repeat_t, true);
-    if (t == n.ImageTexture) {
+    if (t == "ImageTexture"_n || t == "PixelTexture"_n) {
+        tex.repeat_s = boolean(id, "repeatS"_n);
+        tex.repeat_t = boolean(id, "repeatT"_n);
+    }
+    if (t == "ImageTexture"_n) {
         tex.kind = sg::TextureKind::Image;
-        tex.urls = strings(id, n.url);
+        tex.urls = strings(id, "url"_n);
         tex.from_file = file_of(id);
         if (tex.urls.empty()) return sg::kNone;
-    } else if (t == n.PixelTexture) {
+    } else if (t == "PixelTexture"_n) {
         tex.kind = sg::TextureKind::Pixel;
-        const FieldView image = tree_.get(id, n.image);
+        const FieldView image = tree_.get(id, "image"_n);
         const auto& v = image.numbers;
         if (v.size() < 3) return sg::kNone;
         const double w = v[0], h = v[1], c = v[2];
@@ -564,75 +588,80 @@ sg::Index Builder::texture(NodeId id) {
 }
 
 void Builder::read_texture_transform(NodeId id, sg::Appearance& a) {
-    const Names& n = names();
-    if (type(id) == n.MultiTextureTransform) {
-        const auto inner = nodes(id, n.texture_transform);
-        if (!inner.empty() && inner[0] != kNullNode && type(inner[0]) == n.TextureTransform)
+    if (type(id) == "MultiTextureTransform"_n) {
+        const auto inner = nodes(id, "textureTransform"_n);
+        if (!inner.empty() && inner[0] != kNullNode && type(inner[0]) == "TextureTransform"_n)
             read_texture_transform(inner[0], a);
         return;
     }
-    if (type(id) != n.TextureTransform) {
+    if (type(id) != "TextureTransform"_n) {
         warn(id, "wrong-type", "cannot be a texture transform; ignored");
         return;
     }
     a.has_texture_transform = true;
     sg::TextureTransform& tt = a.texture_transform;
-    tt.center = vec2(id, n.center, tt.center);
-    tt.rotation = number(id, n.rotation, tt.rotation);
-    tt.scale = vec2(id, n.scale, tt.scale);
-    tt.translation = vec2(id, n.translation, tt.translation);
+    tt.center = vec2(id, "center"_n);
+    tt.rotation = number(id, "rotation"_n);
+    tt.scale = vec2(id, "scale"_n);
+    tt.translation = vec2(id, "translation"_n);
 }
 
 // ------------------------------------------------------------------------------------------------
 // Lights and bindable nodes
 
 sg::Index Builder::make_light(NodeId id) {
-    const Names& n = names();
     sg::Light l;
     l.origin = origin(id);
     const std::string_view t = tree_.type_name(id);
     l.type = t == "DirectionalLight" ? sg::LightType::Directional
              : t == "PointLight"     ? sg::LightType::Point
                                      : sg::LightType::Spot;
-    l.on = boolean(id, n.on, true);
+    l.on = boolean(id, "on"_n);
     // VRML97 has no `global` field; the X3D defaults (FALSE for directional, TRUE for point and
     // spot lights) are exactly VRML97's scoping rules, and the reader gives them for .wrl files
     // too.
-    l.global = boolean(id, n.global, l.type != sg::LightType::Directional);
-    l.color = vec3(id, n.color, l.color);
-    l.intensity = number(id, n.intensity, l.intensity);
-    l.ambient_intensity = number(id, n.ambient_intensity, l.ambient_intensity);
-    l.direction = vec3(id, n.direction, l.direction);
-    l.location = vec3(id, n.location, l.location);
-    l.attenuation = vec3(id, n.attenuation, l.attenuation);
-    l.radius = number(id, n.radius, l.radius);
-    l.beam_width = number(id, n.beam_width, l.beam_width);
-    l.cut_off_angle = number(id, n.cut_off_angle, l.cut_off_angle);
+    l.global = boolean(id, "global"_n);
+    l.color = vec3(id, "color"_n);
+    l.intensity = number(id, "intensity"_n);
+    l.ambient_intensity = number(id, "ambientIntensity"_n);
+    // Each light type has only some of these fields; the others stay zero and unused.
+    if (l.type != sg::LightType::Point) l.direction = vec3(id, "direction"_n);
+    if (l.type != sg::LightType::Directional) {
+        l.location = vec3(id, "location"_n);
+        l.attenuation = vec3(id, "attenuation"_n);
+        l.radius = number(id, "radius"_n);
+    }
+    if (l.type == sg::LightType::Spot) {
+        l.beam_width = number(id, "beamWidth"_n);
+        l.cut_off_angle = number(id, "cutOffAngle"_n);
+    }
     const sg::Index index = static_cast<sg::Index>(scene_.lights.size());
     scene_.lights.push_back(std::move(l));
     return index;
 }
 
 sg::Index Builder::make_viewpoint(NodeId id) {
-    const Names& n = names();
     sg::Viewpoint v;
     v.origin = origin(id);
     v.def_name = std::string(tree_.def_name(id));
     v.ortho = tree_.type_name(id) == "OrthoViewpoint";
-    v.position = vec3(id, n.position, v.position);
-    v.orientation = rotation(id, n.orientation);
-    const std::vector<std::string> description = strings(id, n.description);
+    v.position = vec3(id, "position"_n);
+    v.orientation = rotation(id, "orientation"_n);
+    const std::vector<std::string> description = strings(id, "description"_n);
     if (!description.empty()) v.description = description[0];
-    const FieldView fov = tree_.get(id, n.field_of_view);
     if (v.ortho) {
-        if (fov.numbers.size() >= 4) {
-            for (int i = 0; i < 4; ++i) v.ortho_extent[i] = fov.numbers[i];
-        } else if (!fov.numbers.empty()) {
-            warn(id, "field-of-view",
-                 "fieldOfView needs 4 numbers (min x, min y, max x, max y); using -1 -1 1 1");
+        FieldView fov = read(id, "fieldOfView"_n, Many::MF, {ValueKind::Float});
+        if (fov.numbers.size() < 4) {
+            if (!fov.numbers.empty())
+                warn(id, "field-of-view",
+                     "fieldOfView needs 4 numbers (min x, min y, max x, max y); using -1 -1 1 1");
+            fov = default_of(type(id), "fieldOfView"_n);
         }
-    } else if (!fov.numbers.empty()) {
-        v.field_of_view = fov.numbers[0];
+        for (int i = 0; i < 4; ++i) v.ortho_extent[i] = fov.numbers[i];
+        // Unused for an orthographic view, but flattening checks it: a Viewpoint's default.
+        v.field_of_view = default_of("Viewpoint"_n, "fieldOfView"_n).numbers[0];
+    } else {
+        v.field_of_view = number(id, "fieldOfView"_n);
     }
     const sg::Index index = static_cast<sg::Index>(scene_.viewpoints.size());
     scene_.viewpoints.push_back(std::move(v));
@@ -640,15 +669,14 @@ sg::Index Builder::make_viewpoint(NodeId id) {
 }
 
 sg::Index Builder::make_background(NodeId id) {
-    const Names& n = names();
     sg::Background b;
     b.origin = origin(id);
-    b.sky_color = vec3s(id, n.sky_color);
-    b.sky_angle = numbers(id, n.sky_angle);
-    b.ground_color = vec3s(id, n.ground_color);
-    b.ground_angle = numbers(id, n.ground_angle);
-    const Name urls[6] = {n.front_url, n.back_url, n.left_url,
-                          n.right_url, n.top_url,  n.bottom_url};
+    b.sky_color = vec3s(id, "skyColor"_n);
+    b.sky_angle = numbers(id, "skyAngle"_n);
+    b.ground_color = vec3s(id, "groundColor"_n);
+    b.ground_angle = numbers(id, "groundAngle"_n);
+    const Name urls[6] = {"frontUrl"_n, "backUrl"_n, "leftUrl"_n,
+                          "rightUrl"_n, "topUrl"_n,  "bottomUrl"_n};
     for (int i = 0; i < 6; ++i) b.urls[i] = strings(id, urls[i]);
     b.from_file = file_of(id);
     const sg::Index index = static_cast<sg::Index>(scene_.backgrounds.size());
@@ -657,12 +685,11 @@ sg::Index Builder::make_background(NodeId id) {
 }
 
 sg::Index Builder::make_fog(NodeId id) {
-    const Names& n = names();
     sg::Fog f;
     f.origin = origin(id);
-    f.color = vec3(id, n.color, f.color);
-    f.visibility_range = number(id, n.visibility_range, f.visibility_range);
-    const std::vector<std::string> kind = strings(id, n.fog_type);
+    f.color = vec3(id, "color"_n);
+    f.visibility_range = number(id, "visibilityRange"_n);
+    const std::vector<std::string> kind = strings(id, "fogType"_n);
     if (!kind.empty()) {
         if (kind[0] == "EXPONENTIAL")
             f.exponential = true;
@@ -678,7 +705,7 @@ sg::Index Builder::make_fog(NodeId id) {
 sg::Index Builder::make_navigation_info(NodeId id) {
     sg::NavigationInfo info;
     info.origin = origin(id);
-    info.headlight = boolean(id, names().headlight, true);
+    info.headlight = boolean(id, "headlight"_n);
     const sg::Index index = static_cast<sg::Index>(scene_.navigation_infos.size());
     scene_.navigation_infos.push_back(std::move(info));
     return index;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "parser/registry.h"
 #include "scene/build_internal.h"
 #include "scene/hints.h"
 
@@ -31,8 +32,9 @@ struct GeometryType {
     sg::ComposedKind composed = sg::ComposedKind::TriangleSet;
 };
 
-GeometryType geometry_type(Name type) {
-    static const std::unordered_map<Name, GeometryType> table = [] {
+// The node's role in the grammar ("Name : Role {" in grammar/*.nodes) as the builder's kind.
+GeometryType geometry_type(const NodeTypeDecl* decl) {
+    static const std::unordered_map<Name, GeometryType> by_role = [] {
         std::unordered_map<Name, GeometryType> t;
         t[intern("Sphere")] = {GeometryKind::Sphere};
         t[intern("Box")] = {GeometryKind::Box};
@@ -41,6 +43,7 @@ GeometryType geometry_type(Name type) {
         t[intern("IndexedFaceSet")] = {GeometryKind::IndexedFaceSet};
         t[intern("ElevationGrid")] = {GeometryKind::ElevationGrid};
         t[intern("Extrusion")] = {GeometryKind::Extrusion};
+        t[intern("NoArea")] = {GeometryKind::NoArea};
         using C = sg::ComposedKind;
         const std::pair<const char*, C> composed[] = {
             {"IndexedTriangleSet", C::IndexedTriangleSet},
@@ -51,23 +54,15 @@ GeometryType geometry_type(Name type) {
             {"TriangleStripSet", C::TriangleStripSet},
             {"IndexedQuadSet", C::IndexedQuadSet},
             {"QuadSet", C::QuadSet}};
-        for (const auto& [name, kind] : composed) t[intern(name)] = {GeometryKind::Composed, kind};
-        for (const char* n : {"PointSet", "IndexedLineSet", "LineSet", "Text", "Polyline2D",
-                              "Polypoint2D", "Arc2D", "Circle2D"})
-            t[intern(n)] = {GeometryKind::NoArea};
+        for (const auto& [role, kind] : composed) t[intern(role)] = {GeometryKind::Composed, kind};
         return t;
     }();
-    const auto it = table.find(type);
-    return it == table.end() ? GeometryType{} : it->second;
+    if (!decl) return GeometryType{};
+    const auto it = by_role.find(decl->role);
+    return it == by_role.end() ? GeometryType{} : it->second;
 }
-
-bool positive_finite(double d) { return d > 0.0 && std::isfinite(d); }
 
 }  // namespace
-
-bool Builder::is_geometry_type(Name type) {
-    return geometry_type(type).kind != GeometryKind::Unsupported;
-}
 
 sg::Index Builder::geometry(NodeId id) {
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
@@ -82,16 +77,15 @@ sg::Index Builder::geometry(NodeId id) {
 }
 
 sg::Geometry Builder::make_geometry(NodeId id) {
-    const Names& n = names();
     sg::Geometry g;
     g.origin = origin(id);
-    const GeometryType gt = geometry_type(type(id));
+    const GeometryType gt = geometry_type(tree_.decl(id));
     switch (gt.kind) {
         case GeometryKind::Sphere: {
             sg::Sphere s;
-            s.radius = number(id, n.radius, s.radius);
+            s.radius = number(id, "radius"_n);
             g.hints = hints(id);
-            if (positive_finite(s.radius))
+            if (in_range(id, "radius"_n, {s.radius}))
                 g.shape = s;
             else
                 warn(id, "zero-size", "radius must be positive and finite; not rendered");
@@ -99,8 +93,8 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         }
         case GeometryKind::Box: {
             sg::Box b;
-            b.size = vec3(id, n.size, b.size);
-            if (positive_finite(b.size.x) && positive_finite(b.size.y) && positive_finite(b.size.z))
+            b.size = vec3(id, "size"_n);
+            if (in_range(id, "size"_n, {b.size.x, b.size.y, b.size.z}))
                 g.shape = b;
             else
                 warn(id, "zero-size",
@@ -109,12 +103,12 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         }
         case GeometryKind::Cylinder: {
             sg::Cylinder c;
-            c.radius = number(id, n.radius, c.radius);
-            c.height = number(id, n.height, c.height);
-            c.side = boolean(id, n.side, c.side);
-            c.top = boolean(id, n.top, c.top);
-            c.bottom = boolean(id, n.bottom, c.bottom);
-            if (positive_finite(c.radius) && positive_finite(c.height))
+            c.radius = number(id, "radius"_n);
+            c.height = number(id, "height"_n);
+            c.side = boolean(id, "side"_n);
+            c.top = boolean(id, "top"_n);
+            c.bottom = boolean(id, "bottom"_n);
+            if (in_range(id, "radius"_n, {c.radius}) && in_range(id, "height"_n, {c.height}))
                 g.shape = c;
             else
                 warn(id, "zero-size",
@@ -123,11 +117,12 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         }
         case GeometryKind::Cone: {
             sg::Cone c;
-            c.bottom_radius = number(id, n.bottom_radius, c.bottom_radius);
-            c.height = number(id, n.height, c.height);
-            c.side = boolean(id, n.side, c.side);
-            c.bottom = boolean(id, n.bottom, c.bottom);
-            if (positive_finite(c.bottom_radius) && positive_finite(c.height))
+            c.bottom_radius = number(id, "bottomRadius"_n);
+            c.height = number(id, "height"_n);
+            c.side = boolean(id, "side"_n);
+            c.bottom = boolean(id, "bottom"_n);
+            if (in_range(id, "bottomRadius"_n, {c.bottom_radius}) &&
+                in_range(id, "height"_n, {c.height}))
                 g.shape = c;
             else
                 warn(id, "zero-size",
@@ -137,50 +132,50 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         case GeometryKind::IndexedFaceSet: {
             sg::IndexedFaceSet f;
             read_vertex_data(id, f.data, true, g.origin);
-            f.coord_index = integers(id, n.coord_index);
-            f.normal_index = integers(id, n.normal_index);
-            f.color_index = integers(id, n.color_index);
-            f.texcoord_index = integers(id, n.tex_coord_index);
-            f.ccw = boolean(id, n.ccw, f.ccw);
-            f.solid = boolean(id, n.solid, f.solid);
-            f.convex = boolean(id, n.convex, f.convex);
-            f.color_per_vertex = boolean(id, n.color_per_vertex, f.color_per_vertex);
-            f.normal_per_vertex = boolean(id, n.normal_per_vertex, f.normal_per_vertex);
-            f.crease_angle = number(id, n.crease_angle, f.crease_angle);
+            f.coord_index = integers(id, "coordIndex"_n);
+            f.normal_index = integers(id, "normalIndex"_n);
+            f.color_index = integers(id, "colorIndex"_n);
+            f.texcoord_index = integers(id, "texCoordIndex"_n);
+            f.ccw = boolean(id, "ccw"_n);
+            f.solid = boolean(id, "solid"_n);
+            f.convex = boolean(id, "convex"_n);
+            f.color_per_vertex = boolean(id, "colorPerVertex"_n);
+            f.normal_per_vertex = boolean(id, "normalPerVertex"_n);
+            f.crease_angle = number(id, "creaseAngle"_n);
             g.shape = std::make_unique<sg::IndexedFaceSet>(std::move(f));
             break;
         }
         case GeometryKind::ElevationGrid: {
             sg::ElevationGrid e;
             read_vertex_data(id, e.data, false, g.origin);
-            e.x_dimension = integer(id, n.x_dimension, 0);
-            e.z_dimension = integer(id, n.z_dimension, 0);
-            e.x_spacing = number(id, n.x_spacing, e.x_spacing);
-            e.z_spacing = number(id, n.z_spacing, e.z_spacing);
-            e.height = numbers(id, n.height);
-            e.ccw = boolean(id, n.ccw, e.ccw);
-            e.solid = boolean(id, n.solid, e.solid);
-            e.color_per_vertex = boolean(id, n.color_per_vertex, e.color_per_vertex);
-            e.normal_per_vertex = boolean(id, n.normal_per_vertex, e.normal_per_vertex);
-            e.crease_angle = number(id, n.crease_angle, e.crease_angle);
+            e.x_dimension = integer(id, "xDimension"_n);
+            e.z_dimension = integer(id, "zDimension"_n);
+            e.x_spacing = number(id, "xSpacing"_n);
+            e.z_spacing = number(id, "zSpacing"_n);
+            e.height = numbers(id, "height"_n);
+            e.ccw = boolean(id, "ccw"_n);
+            e.solid = boolean(id, "solid"_n);
+            e.color_per_vertex = boolean(id, "colorPerVertex"_n);
+            e.normal_per_vertex = boolean(id, "normalPerVertex"_n);
+            e.crease_angle = number(id, "creaseAngle"_n);
             g.shape = std::make_unique<sg::ElevationGrid>(std::move(e));
             break;
         }
         case GeometryKind::Extrusion: {
             sg::Extrusion e;
-            e.cross_section = vec2s(id, n.cross_section);
-            e.spine = vec3s(id, n.spine);
-            e.scale = vec2s(id, n.scale);
-            const FieldView orientation = tree_.get(id, n.orientation);
+            e.cross_section = vec2s(id, "crossSection"_n);
+            e.spine = vec3s(id, "spine"_n);
+            e.scale = vec2s(id, "scale"_n);
+            const FieldView orientation = tree_.get(id, "orientation"_n);
             for (size_t i = 0; i + 3 < orientation.numbers.size(); i += 4)
                 e.orientation.emplace_back(orientation.numbers[i], orientation.numbers[i + 1],
                                            orientation.numbers[i + 2], orientation.numbers[i + 3]);
-            e.begin_cap = boolean(id, n.begin_cap, e.begin_cap);
-            e.end_cap = boolean(id, n.end_cap, e.end_cap);
-            e.ccw = boolean(id, n.ccw, e.ccw);
-            e.solid = boolean(id, n.solid, e.solid);
-            e.convex = boolean(id, n.convex, e.convex);
-            e.crease_angle = number(id, n.crease_angle, e.crease_angle);
+            e.begin_cap = boolean(id, "beginCap"_n);
+            e.end_cap = boolean(id, "endCap"_n);
+            e.ccw = boolean(id, "ccw"_n);
+            e.solid = boolean(id, "solid"_n);
+            e.convex = boolean(id, "convex"_n);
+            e.crease_angle = number(id, "creaseAngle"_n);
             g.shape = std::make_unique<sg::Extrusion>(std::move(e));
             break;
         }
@@ -188,14 +183,17 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             sg::ComposedSet c;
             c.kind = gt.composed;
             read_vertex_data(id, c.data, true, g.origin);
-            c.index = integers(id, n.index);
-            if (c.kind == sg::ComposedKind::TriangleFanSet) c.counts = integers(id, n.fan_count);
+            using C = sg::ComposedKind;
+            if (c.kind == C::IndexedTriangleSet || c.kind == C::IndexedTriangleFanSet ||
+                c.kind == C::IndexedTriangleStripSet || c.kind == C::IndexedQuadSet)
+                c.index = integers(id, "index"_n);  // the others have no index field
+            if (c.kind == sg::ComposedKind::TriangleFanSet) c.counts = integers(id, "fanCount"_n);
             if (c.kind == sg::ComposedKind::TriangleStripSet)
-                c.counts = integers(id, n.strip_count);
-            c.ccw = boolean(id, n.ccw, c.ccw);
-            c.solid = boolean(id, n.solid, c.solid);
-            c.color_per_vertex = boolean(id, n.color_per_vertex, c.color_per_vertex);
-            c.normal_per_vertex = boolean(id, n.normal_per_vertex, c.normal_per_vertex);
+                c.counts = integers(id, "stripCount"_n);
+            c.ccw = boolean(id, "ccw"_n);
+            c.solid = boolean(id, "solid"_n);
+            c.color_per_vertex = boolean(id, "colorPerVertex"_n);
+            c.normal_per_vertex = boolean(id, "normalPerVertex"_n);
             g.shape = std::make_unique<sg::ComposedSet>(std::move(c));
             break;
         }
@@ -217,36 +215,35 @@ sg::Geometry Builder::make_geometry(NodeId id) {
 
 void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords,
                                const sg::Origin& origin) {
-    const Names& n = names();
     if (want_coords) {
-        if (const NodeId c = node(id, n.coord); c != kNullNode) {
-            if (type(c) == n.Coordinate || type(c) == n.CoordinateDouble)
-                data.coords = vec3s(c, n.point);
+        if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
+            if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
+                data.coords = vec3s(c, "point"_n);
             else
                 warn(c, "wrong-type",
                      "is not a coordinate node vrmlray reads; the geometry has no coordinates");
         }
     }
-    if (const NodeId c = node(id, n.normal); c != kNullNode) {
-        if (type(c) == n.Normal)
-            data.normals = vec3s(c, n.vector);
+    if (const NodeId c = node(id, "normal"_n); c != kNullNode) {
+        if (type(c) == "Normal"_n)
+            data.normals = vec3s(c, "vector"_n);
         else
             warn(c, "wrong-type", "is not a Normal node; normals are generated");
     }
-    if (const NodeId c = node(id, n.color); c != kNullNode) {
-        if (type(c) == n.Color || type(c) == n.ColorRGBA)
-            data.colors = vec3s(c, n.color);  // RGBA: alpha dropped
+    if (const NodeId c = node(id, "color"_n); c != kNullNode) {
+        if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
+            data.colors = vec3s(c, "color"_n);  // RGBA: alpha dropped
         else
             warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
     }
-    NodeId t = node(id, n.tex_coord);
-    if (t != kNullNode && type(t) == n.MultiTextureCoordinate) {
-        const auto inner = nodes(t, n.tex_coord);
+    NodeId t = node(id, "texCoord"_n);
+    if (t != kNullNode && type(t) == "MultiTextureCoordinate"_n) {
+        const auto inner = nodes(t, "texCoord"_n);
         t = inner.empty() ? kNullNode : inner[0];
     }
     if (t != kNullNode) {
-        if (type(t) == n.TextureCoordinate) {
-            data.texcoords = vec2s(t, n.point);
+        if (type(t) == "TextureCoordinate"_n) {
+            data.texcoords = vec2s(t, "point"_n);
             data.has_texcoord_node = true;
         } else {
             warn(t, "not-modelled",

@@ -1,6 +1,7 @@
 // The scene builder's state and field readers, shared by build.cpp (grouping, appearance, lights,
 // bindable nodes) and build_geometry.cpp (geometry nodes). Private to src/scene.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <span>
@@ -13,57 +14,20 @@
 
 namespace vr::detail {
 
-// Field and node type names, interned once.
-// clang-format off
-struct Names {
-#define VR_NAME(member, text) Name member = intern(text);
-    // fields
-    VR_NAME(children, "children") VR_NAME(choice, "choice") VR_NAME(level, "level")
-    VR_NAME(which_choice, "whichChoice") VR_NAME(axis_of_rotation, "axisOfRotation")
-    VR_NAME(translation, "translation") VR_NAME(rotation, "rotation") VR_NAME(scale, "scale")
-    VR_NAME(scale_orientation, "scaleOrientation") VR_NAME(center, "center") VR_NAME(load, "load")
-    VR_NAME(shape, "shape") VR_NAME(appearance, "appearance") VR_NAME(geometry, "geometry")
-    VR_NAME(metadata, "metadata") VR_NAME(visible, "visible") VR_NAME(material, "material")
-    VR_NAME(texture, "texture") VR_NAME(texture_transform, "textureTransform")
-    VR_NAME(ambient_intensity, "ambientIntensity") VR_NAME(diffuse_color, "diffuseColor")
-    VR_NAME(emissive_color, "emissiveColor") VR_NAME(shininess, "shininess")
-    VR_NAME(specular_color, "specularColor") VR_NAME(transparency, "transparency")
-    VR_NAME(base_color, "baseColor") VR_NAME(metallic, "metallic") VR_NAME(roughness, "roughness")
-    VR_NAME(url, "url") VR_NAME(repeat_s, "repeatS") VR_NAME(repeat_t, "repeatT") VR_NAME(image, "image")
-    VR_NAME(color, "color") VR_NAME(intensity, "intensity") VR_NAME(on, "on") VR_NAME(global, "global")
-    VR_NAME(direction, "direction") VR_NAME(location, "location") VR_NAME(attenuation, "attenuation")
-    VR_NAME(radius, "radius") VR_NAME(beam_width, "beamWidth") VR_NAME(cut_off_angle, "cutOffAngle")
-    VR_NAME(position, "position") VR_NAME(orientation, "orientation") VR_NAME(field_of_view, "fieldOfView")
-    VR_NAME(description, "description") VR_NAME(sky_color, "skyColor") VR_NAME(sky_angle, "skyAngle")
-    VR_NAME(ground_color, "groundColor") VR_NAME(ground_angle, "groundAngle")
-    VR_NAME(front_url, "frontUrl") VR_NAME(back_url, "backUrl") VR_NAME(left_url, "leftUrl")
-    VR_NAME(right_url, "rightUrl") VR_NAME(top_url, "topUrl") VR_NAME(bottom_url, "bottomUrl")
-    VR_NAME(fog_type, "fogType") VR_NAME(visibility_range, "visibilityRange") VR_NAME(headlight, "headlight")
-    VR_NAME(size, "size") VR_NAME(height, "height") VR_NAME(side, "side") VR_NAME(top, "top")
-    VR_NAME(bottom, "bottom") VR_NAME(bottom_radius, "bottomRadius") VR_NAME(coord, "coord")
-    VR_NAME(coord_index, "coordIndex") VR_NAME(normal, "normal") VR_NAME(normal_index, "normalIndex")
-    VR_NAME(color_index, "colorIndex") VR_NAME(tex_coord, "texCoord") VR_NAME(tex_coord_index, "texCoordIndex")
-    VR_NAME(ccw, "ccw") VR_NAME(solid, "solid") VR_NAME(convex, "convex") VR_NAME(crease_angle, "creaseAngle")
-    VR_NAME(color_per_vertex, "colorPerVertex") VR_NAME(normal_per_vertex, "normalPerVertex")
-    VR_NAME(x_dimension, "xDimension") VR_NAME(z_dimension, "zDimension") VR_NAME(x_spacing, "xSpacing")
-    VR_NAME(z_spacing, "zSpacing") VR_NAME(cross_section, "crossSection") VR_NAME(spine, "spine")
-    VR_NAME(begin_cap, "beginCap") VR_NAME(end_cap, "endCap") VR_NAME(index, "index")
-    VR_NAME(fan_count, "fanCount") VR_NAME(strip_count, "stripCount") VR_NAME(point, "point")
-    VR_NAME(vector, "vector")
-    // node types
-    VR_NAME(Appearance, "Appearance") VR_NAME(Material, "Material") VR_NAME(TwoSidedMaterial, "TwoSidedMaterial")
-    VR_NAME(PhysicalMaterial, "PhysicalMaterial") VR_NAME(UnlitMaterial, "UnlitMaterial")
-    VR_NAME(ImageTexture, "ImageTexture") VR_NAME(PixelTexture, "PixelTexture") VR_NAME(MultiTexture, "MultiTexture")
-    VR_NAME(TextureTransform, "TextureTransform") VR_NAME(MultiTextureTransform, "MultiTextureTransform")
-    VR_NAME(Coordinate, "Coordinate") VR_NAME(CoordinateDouble, "CoordinateDouble") VR_NAME(Normal, "Normal")
-    VR_NAME(Color, "Color") VR_NAME(ColorRGBA, "ColorRGBA") VR_NAME(TextureCoordinate, "TextureCoordinate")
-    VR_NAME(MultiTextureCoordinate, "MultiTextureCoordinate") VR_NAME(Shape, "Shape")
-    VR_NAME(diffuse_texture, "diffuseTexture") VR_NAME(base_texture, "baseTexture")
-    VR_NAME(emissive_texture, "emissiveTexture")
-#undef VR_NAME
+// A field or node type name, interned once per spelling: `"translation"_n`. No list of the names
+// the builder reads: the grammar sweep test builds every modelled node type and checks that each
+// field read exists in the registry with the type it is read as (Builder::misreads).
+template <size_t N>
+struct NameLiteral {
+    char text[N];
+    constexpr NameLiteral(const char (&s)[N]) { std::copy_n(s, N, text); }
+    std::string_view view() const { return {text, N - 1}; }
 };
-// clang-format on
-const Names& names();
+template <NameLiteral L>
+Name operator""_n() {
+    static const Name name = intern(L.view());
+    return name;
+}
 
 // 64-bit key -> first index, open addressing in one flat array: the sphere merge looks up every
 // Sphere of a 1e6-sphere file, and std::unordered_map's bucket and node loads were two cache
@@ -114,21 +78,31 @@ class Builder {
     Builder(const LoadedScene& loaded, Diagnostics& diagnostics);
     Scene build();
 
-    // ---- field readers: the file's value or the grammar default; `fallback` only when the node
-    // type has no such field at all (or the value has the wrong size).
-    double number(NodeId node, Name field, double fallback) const;
-    int32_t integer(NodeId node, Name field, int32_t fallback) const;
-    bool boolean(NodeId node, Name field, bool fallback) const;
-    Vec2 vec2(NodeId node, Name field, Vec2 fallback) const;
-    Vec3 vec3(NodeId node, Name field, Vec3 fallback) const;
+    // ---- field readers: the file's value or the grammar's default (the node tree has both), so
+    // C++ states no default. A field missing from the node's interface, or read as another type,
+    // is a builder bug: it reads as zero or empty and is recorded in misreads().
+    double number(NodeId node, Name field) const;  // SFFloat, SFDouble, SFTime
+    int32_t integer(NodeId node, Name field) const;
+    bool boolean(NodeId node, Name field) const;
+    Vec2 vec2(NodeId node, Name field) const;
+    Vec3 vec3(NodeId node, Name field) const;  // SFVec3f, SFVec3d, SFColor
     Vec4 rotation(NodeId node, Name field) const;
     std::vector<double> numbers(NodeId node, Name field) const;
     std::vector<int32_t> integers(NodeId node, Name field) const;
     std::vector<Vec2> vec2s(NodeId node, Name field) const;
     std::vector<Vec3> vec3s(NodeId node, Name field) const;
-    std::vector<std::string> strings(NodeId node, Name field) const;
+    std::vector<std::string> strings(NodeId node, Name field) const;  // SFString or MFString
     NodeId node(NodeId node, Name field) const;
     std::span<const NodeId> nodes(NodeId node, Name field) const;
+    // A field of a numeric range (the grammar's range text, e.g. "(0,inf)"): false if `value` is
+    // outside it (NaN always is).
+    bool in_range(NodeId node, Name field, std::initializer_list<double> value) const;
+    // The X3D grammar's default of a node type's field (for values a node borrows from another
+    // type, e.g. a PhysicalMaterial's Phong terms); throws std::logic_error if there is none, a
+    // grammar or builder bug the unit tests catch.
+    FieldView default_of(Name node_type, Name field) const;
+    // "Type.field read as SFFloat: not in the interface" for every bad read so far.
+    const std::vector<std::string>& misreads() const { return misreads_; }
 
     sg::Origin origin(NodeId node) const;
     sg::Index hints(
@@ -142,8 +116,12 @@ class Builder {
     sg::Index geometry(NodeId node);
 
   private:
+    // The field's value, checked against the kinds and SF/MF the caller reads it as.
+    enum class Many : uint8_t { SF, MF, Either };
+    FieldView read(NodeId node, Name field, Many many,
+                   std::initializer_list<ValueKind> kinds) const;
+    mutable std::vector<std::string> misreads_;
     void reserve();
-    static bool is_geometry_type(Name type);  // build_geometry.cpp
     std::optional<sg::ChildRef> child(NodeId node);
     std::optional<sg::ChildRef> make_child(NodeId node);
     void add_children(sg::Index group, std::span<const NodeId> children);

@@ -60,14 +60,16 @@ enum class MaterialModel : uint8_t {
     Unlit
 };  // Material, PhysicalMaterial, UnlitMaterial
 
+// Node fields carry no defaults here: the builder fills every one from the file or the grammar
+// (grammar/*.nodes), the only place that states them.
 struct Material {
     Origin origin;
     MaterialModel model = MaterialModel::Phong;
-    Vec3 diffuse_color{0.8};  // Phong: diffuseColor; Physical: baseColor
-    Vec3 specular_color{0.0};
-    Vec3 emissive_color{0.0};
-    double ambient_intensity = 0.2;
-    double shininess = 0.2;
+    Vec3 diffuse_color{};  // Phong: diffuseColor; Physical: baseColor
+    Vec3 specular_color{};
+    Vec3 emissive_color{};
+    double ambient_intensity = 0.0;
+    double shininess = 0.0;
     double transparency = 0.0;
     double metallic = 0.0;   // Physical only
     double roughness = 0.0;  // Physical only
@@ -76,10 +78,10 @@ struct Material {
 
 // VRML TextureTransform (see texture_transform_matrix in transform.h); rotation in radians.
 struct TextureTransform {
-    Vec2 center{0.0};
+    Vec2 center{};
     double rotation = 0.0;
-    Vec2 scale{1.0};
-    Vec2 translation{0.0};
+    Vec2 scale{};
+    Vec2 translation{};
 };
 
 enum class TextureKind : uint8_t { Image, Pixel };
@@ -92,8 +94,8 @@ struct Texture {
     // components)
     int width = 0, height = 0, components = 0;
     std::vector<uint32_t> pixels;
-    bool repeat_s = true;
-    bool repeat_t = true;
+    bool repeat_s = false;
+    bool repeat_t = false;
 };
 
 struct Appearance {
@@ -114,18 +116,18 @@ struct VertexData {
 };
 
 struct Sphere {
-    double radius = 1.0;
+    double radius = 0.0;
 };
 struct Box {
-    Vec3 size{2.0};
+    Vec3 size{};
 };
 struct Cylinder {
-    double radius = 1.0, height = 2.0;
-    bool side = true, top = true, bottom = true;
+    double radius = 0.0, height = 0.0;
+    bool side = false, top = false, bottom = false;
 };
 struct Cone {
-    double bottom_radius = 1.0, height = 2.0;
-    bool side = true, bottom = true;
+    double bottom_radius = 0.0, height = 0.0;
+    bool side = false, bottom = false;
 };
 
 // IndexedFaceSet; also the common polygon form that src/geometry turns the other mesh nodes into.
@@ -143,7 +145,7 @@ struct IndexedFaceSet {
 
 struct ElevationGrid {
     int x_dimension = 0, z_dimension = 0;
-    double x_spacing = 1.0, z_spacing = 1.0;
+    double x_spacing = 0.0, z_spacing = 0.0;
     std::vector<double> height;  // x_dimension * z_dimension, row by row along x
     VertexData data;             // normals, colors, texcoords (no coords)
     bool ccw = true, solid = true;
@@ -203,19 +205,20 @@ enum class LightType : uint8_t { Directional, Point, Spot };
 struct Light {
     Origin origin;
     LightType type = LightType::Directional;
-    bool on = true;
+    bool on = false;
     // Global lights light the whole scene; the others only their parent group's subtree. VRML97:
     // directional scoped, point/spot global; X3D: the `global` field.
     bool global = false;
-    Vec3 color{1.0};
-    double intensity = 1.0;
+    // The fields of the light's type; the others (e.g. a PointLight's direction) stay zero.
+    Vec3 color{};
+    double intensity = 0.0;
     double ambient_intensity = 0.0;
-    Vec3 location{0.0};
-    Vec3 direction{0.0, 0.0, -1.0};
-    Vec3 attenuation{1.0, 0.0, 0.0};
-    double radius = 100.0;
-    double beam_width = 1.570796;
-    double cut_off_angle = 0.785398;
+    Vec3 location{};
+    Vec3 direction{};
+    Vec3 attenuation{};
+    double radius = 0.0;
+    double beam_width = 0.0;
+    double cut_off_angle = 0.0;
 };
 
 struct Viewpoint {
@@ -223,10 +226,10 @@ struct Viewpoint {
     std::string def_name;
     std::string description;
     bool ortho = false;  // OrthoViewpoint
-    Vec3 position{0.0, 0.0, 10.0};
-    Vec4 orientation{0.0, 0.0, 1.0, 0.0};                      // axis xyz, angle w
-    double field_of_view = 0.785398;                           // perspective
-    std::array<double, 4> ortho_extent{-1.0, -1.0, 1.0, 1.0};  // OrthoViewpoint fieldOfView
+    Vec3 position{};
+    Vec4 orientation{};                    // axis xyz, angle w
+    double field_of_view = 0.0;            // perspective
+    std::array<double, 4> ortho_extent{};  // OrthoViewpoint fieldOfView
 };
 
 struct Background {
@@ -243,13 +246,13 @@ struct Background {
 struct Fog {
     Origin origin;
     bool exponential = false;  // fogType "EXPONENTIAL"; else LINEAR
-    Vec3 color{1.0};
+    Vec3 color{};
     double visibility_range = 0.0;
 };
 
 struct NavigationInfo {
     Origin origin;
-    bool headlight = true;
+    bool headlight = false;
 };
 
 enum class NodeKind : uint8_t { Group, Shape, Light, Viewpoint, Background, Fog, NavigationInfo };
