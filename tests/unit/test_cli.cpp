@@ -2,6 +2,7 @@
 // and, where it changes the image, a tiny render shows that change. Every check compares against the
 // same command without the option, so it fails if the option were ignored.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -35,7 +36,8 @@ Transform { translation 3 0 0 children Shape {
 
 struct TempDir {
     fs::path path;
-    explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("vrmlray_cli_" + name)) {
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() / (std::to_string(getpid()) + "_vrmlray_cli_" + name)) {
         fs::remove_all(path);
         fs::create_directories(path);
     }
@@ -74,8 +76,11 @@ Rendered render(const std::string& scene, std::vector<std::string> args, const s
     static int counter = 0;
     const fs::path dir = fs::temp_directory_path() / "vrmlray_cli_out";
     fs::create_directories(dir);
-    const std::string out = (dir / ("r" + std::to_string(counter) + "." + ext)).string();
-    const std::string stats = (dir / ("r" + std::to_string(counter++) + ".json")).string();
+    // The process id: ctest runs tests in parallel processes. (The name starts with a number: GCC 12
+    // misreads "r" + std::string as an overlapping copy, -Wrestrict.)
+    const std::string stem = std::to_string(getpid()) + "_" + std::to_string(counter++);
+    const std::string out = (dir / (stem + "." + ext)).string();
+    const std::string stats = (dir / (stem + ".json")).string();
     std::vector<std::string> full = {"render", scene, "-W", std::to_string(size.first), "-H", std::to_string(size.second), "-o", out, "--stats", stats};
     full.insert(full.end(), args.begin(), args.end());
     Rendered r;
