@@ -233,6 +233,14 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
     return canonical;
 }
 
+fs::path resolve_or_note(const std::string& url, const fs::path& from_file, const std::vector<fs::path>& allowed_roots,
+                         UrlFailures& failures, bool name_url) {
+    std::string why;
+    fs::path path = resolve_url(url, from_file, allowed_roots, why);
+    if (path.empty()) failures.add(name_url ? url + ": " + why : why);
+    return path;
+}
+
 namespace {
 
 Spec spec_of(Encoding e) {
@@ -349,14 +357,10 @@ private:
 
     std::optional<std::vector<NodeId>> load_inline(const std::vector<std::string>& urls, uint32_t from, SourceLoc where,
                                                    size_t depth) {
-        std::string reasons;
+        UrlFailures failures;
         for (const std::string& url : urls) {
-            std::string why;
-            fs::path path = resolve_url(url, scene_.sources.file(from).path, scene_.allowed_roots, why);
-            if (path.empty()) {
-                reasons += (reasons.empty() ? "" : "; ") + why;
-                continue;
-            }
+            const fs::path path = resolve_or_note(url, scene_.sources.file(from).path, scene_.allowed_roots, failures);
+            if (path.empty()) continue;
             std::string key = path.string();
             if (std::find(stack_.begin(), stack_.end(), key) != stack_.end()) {
                 scene_.diagnostics.warning(where, "Inline '" + url + "' includes itself (a cycle); skipped",
@@ -381,7 +385,7 @@ private:
             try {
                 file = scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
             } catch (const std::exception& e) {
-                reasons += (reasons.empty() ? "" : "; ") + key + ": " + e.what();
+                failures.add(key + ": " + e.what());
                 continue;
             }
             ++scene_.stats.inline_files;
@@ -391,14 +395,14 @@ private:
             inline_cache_[key] = r.roots;
             return r.roots;
         }
-        scene_.diagnostics.warning(where, "Inline not loaded: " + (reasons.empty() ? std::string("no URL") : reasons),
-                                   "inline-missing:" + reasons);
+        scene_.diagnostics.warning(where, "Inline not loaded: " + failures.message(),
+                                   "inline-missing:" + failures.reasons);
         return std::nullopt;
     }
 
     std::shared_ptr<const ProtoDecl> resolve_externproto(const std::vector<std::string>& urls, uint32_t from,
                                                          SourceLoc where, Name name, size_t depth) {
-        std::string reasons;
+        UrlFailures failures;
         for (const std::string& full : urls) {
             // "urn:web3d:vrml97:node:Shape" / "urn:web3d:x3d:node:Shape" name a built-in node type.
             for (const char* prefix : {"urn:web3d:vrml97:node:", "urn:web3d:x3d:node:"}) {
@@ -419,12 +423,8 @@ private:
                 url = url.substr(0, hash);
             }
             if (url.empty()) continue;  // "#Name" alone refers to this file: not supported by VRML97
-            std::string why;
-            fs::path path = resolve_url(url, scene_.sources.file(from).path, scene_.allowed_roots, why);
-            if (path.empty()) {
-                reasons += (reasons.empty() ? "" : "; ") + why;
-                continue;
-            }
+            const fs::path path = resolve_or_note(url, scene_.sources.file(from).path, scene_.allowed_roots, failures);
+            if (path.empty()) continue;
             std::string key = path.string();
             std::shared_ptr<ProtoScope> scope;
             auto cached = proto_files_.find(key);
@@ -433,14 +433,14 @@ private:
             } else {
                 if (std::find(stack_.begin(), stack_.end(), key) != stack_.end() ||
                     depth + 1 > options_.limits.max_inline_depth) {
-                    reasons += (reasons.empty() ? "" : "; ") + key + " refers back to itself";
+                    failures.add(key + " refers back to itself");
                     continue;
                 }
                 uint32_t file;
                 try {
                     file = scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
                 } catch (const std::exception& e) {
-                    reasons += (reasons.empty() ? "" : "; ") + key + ": " + e.what();
+                    failures.add(key + ": " + e.what());
                     continue;
                 }
                 stack_.push_back(key);
@@ -458,17 +458,17 @@ private:
                 const ProtoDecl* found = it->second.get();
                 if (found->external) {
                     if (found->implementation) return found->implementation;
-                    reasons += (reasons.empty() ? "" : "; ") + key + " declares it as an EXTERNPROTO that is not resolved";
+                    failures.add(key + " declares it as an EXTERNPROTO that is not resolved");
                     continue;
                 }
                 return it->second;
             }
-            reasons += (reasons.empty() ? "" : "; ") + key + " has no PROTO named '" +
-                       (fragment.empty() ? std::string(name_text(name)) : fragment) + "'";
+            failures.add(key + " has no PROTO named '" +
+                       (fragment.empty() ? std::string(name_text(name)) : fragment) + "'");
         }
         scene_.diagnostics.warning(where,
                                    "EXTERNPROTO " + std::string(name_text(name)) + " not resolved: " +
-                                       (reasons.empty() ? std::string("no URL") : reasons),
+                                       failures.message(),
                                    "externproto:" + std::string(name_text(name)));
         return nullptr;
     }

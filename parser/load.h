@@ -61,6 +61,20 @@ std::filesystem::path resolve_url(const std::string& url, const std::filesystem:
                                   const std::vector<std::filesystem::path>& allowed_roots,
                                   std::string& why);
 
+// Why each URL of an MFString failed, in the order tried: the one message of a node none of whose URLs
+// loads ("Inline not loaded: ...", "EXTERNPROTO X not resolved: ...", "no texture image ...").
+struct UrlFailures {
+    std::string reasons;  // "; "-separated
+    void add(const std::string& why) { reasons += (reasons.empty() ? "" : "; ") + why; }
+    // The reasons, or "no URL" when there were none to try.
+    std::string message() const { return reasons.empty() ? std::string("no URL") : reasons; }
+};
+// The first step of each URL's try: resolve_url, and on failure its reason noted in `failures`
+// (after "URL: " when `name_url`, for reasons that do not quote it).
+std::filesystem::path resolve_or_note(const std::string& url, const std::filesystem::path& from_file,
+                                      const std::vector<std::filesystem::path>& allowed_roots, UrlFailures& failures,
+                                      bool name_url = false);
+
 // Reads a whole file, decompressing gzip data (found by its magic bytes). Throws std::runtime_error.
 std::string read_file_bytes(const std::filesystem::path& path, size_t max_bytes);
 // The same, for a reader: a large plain file is mapped instead of copied (see SourceText).

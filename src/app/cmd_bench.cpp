@@ -90,6 +90,45 @@ std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bo
 
 }  // namespace
 
+namespace {
+
+// Which sampler reaches a given error first: the least time among its settings at or below it. The
+// gas tolerance series is left out when it was measured against its own reference.
+void print_fastest(const std::vector<Row>& rows, bool own_references) {
+    std::printf("\nfastest sampler to reach an RMSE (seconds of rendering; '-' = not reached on the ladder):\n");
+    for (double target : {1e-2, 5e-3, 2e-3, 1e-3}) {
+        std::map<std::string, double> best;
+        for (const Row& r : rows) {
+            if (r.metrics.rmse > target) continue;
+            if (own_references && r.setting.series == "gas tolerance") continue;
+            auto [it, fresh] = best.emplace(r.setting.series, r.seconds);
+            if (!fresh) it->second = std::min(it->second, r.seconds);
+        }
+        std::vector<std::pair<double, std::string>> order;
+        for (auto& [name, t] : best) order.emplace_back(t, name);
+        std::sort(order.begin(), order.end());
+        std::printf("  RMSE <= %-7.0e", target);
+        if (order.empty()) std::printf(" -");
+        for (size_t i = 0; i < order.size() && i < 4; ++i)
+            std::printf("%s %s %.4f", i ? "," : "", order[i].second.c_str(), order[i].first);
+        std::printf("\n");
+    }
+}
+
+// The table, one row per setting; false when it cannot be written.
+bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
+    std::ofstream csv(csv_path);
+    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_second,rmse,psnr,max_abs,ssim\n";
+    for (const Row& r : rows) {
+        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ',' << r.setting.threshold << ','
+            << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ',' << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ',' << r.rays_per_second << ','
+            << r.metrics.rmse << ',' << r.metrics.psnr << ',' << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
+    }
+    return bool(csv);
+}
+
+}  // namespace
+
 int run_bench(const BenchCommand& cmd) {
     LoadedScene loaded;
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
@@ -187,35 +226,8 @@ int run_bench(const BenchCommand& cmd) {
         rows.push_back(row);
     }
 
-    // Which sampler reaches a given error first: the least time among its settings at or below it. The
-    // gas tolerance series is left out when it was measured against its own reference.
-    std::printf("\nfastest sampler to reach an RMSE (seconds of rendering; '-' = not reached on the ladder):\n");
-    for (double target : {1e-2, 5e-3, 2e-3, 1e-3}) {
-        std::map<std::string, double> best;
-        for (const Row& r : rows) {
-            if (r.metrics.rmse > target) continue;
-            if (cmd.reference.empty() && r.setting.series == "gas tolerance") continue;
-            auto [it, fresh] = best.emplace(r.setting.series, r.seconds);
-            if (!fresh) it->second = std::min(it->second, r.seconds);
-        }
-        std::vector<std::pair<double, std::string>> order;
-        for (auto& [name, t] : best) order.emplace_back(t, name);
-        std::sort(order.begin(), order.end());
-        std::printf("  RMSE <= %-7.0e", target);
-        if (order.empty()) std::printf(" -");
-        for (size_t i = 0; i < order.size() && i < 4; ++i)
-            std::printf("%s %s %.4f", i ? "," : "", order[i].second.c_str(), order[i].first);
-        std::printf("\n");
-    }
-
-    std::ofstream csv(csv_path);
-    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_second,rmse,psnr,max_abs,ssim\n";
-    for (const Row& r : rows) {
-        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ',' << r.setting.threshold << ','
-            << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ',' << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ',' << r.rays_per_second << ','
-            << r.metrics.rmse << ',' << r.metrics.psnr << ',' << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
-    }
-    if (!csv) {
+    print_fastest(rows, cmd.reference.empty());
+    if (!write_csv(csv_path, rows)) {
         std::cerr << "vrmlray: error: cannot write " << csv_path << "\n";
         return kExitOutput;
     }

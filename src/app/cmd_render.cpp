@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/render_stats.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "core/huge_pages.h"
@@ -39,6 +40,36 @@ std::string output_path(const RenderCommand& cmd) {
 }
 
 }  // namespace
+
+nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_count,
+                                         const RenderStats& stats, const RenderTimings& t) {
+    // Every figure at full precision (a double reads back as itself); the scene name escaped.
+    nlohmann::ordered_json j;
+    j["scene"] = cmd.scene;
+    j["width"] = cmd.options.width;
+    j["height"] = cmd.options.height;
+    j["seconds"] = {{"parse", t.parse}, {"scene", t.scene}, {"build", stats.build_seconds},
+                    {"render", stats.render_seconds}, {"write", t.write}, {"total", t.total}};
+    j["primitives"] = {{"spheres", sphere_count},
+                       {"quadrics", flat.quadrics.size()},
+                       {"meshes", flat.meshes.size()},
+                       {"triangles", flat.triangle_count()},
+                       {"instances", flat.instances.size()},
+                       {"instanced_triangles", flat.instanced_triangle_count()},
+                       {"materials", flat.materials.size()},
+                       {"lights", flat.lights.size()},
+                       {"bvh_nodes", stats.bvh_nodes}};
+    j["rays"] = {{"primary", stats.primary_rays},
+                 {"shadow", stats.shadow_rays},
+                 {"secondary", stats.secondary_rays},
+                 {"per_pixel", static_cast<double>(stats.primary_rays) / (double(cmd.options.width) * cmd.options.height)},
+                 {"per_second", stats.rays_per_second()}};
+    const NonFiniteCounts& bad = stats.nonfinite;
+    j["nonfinite"] = {{"shading", bad.shading}, {"gas", bad.gas}, {"light", bad.light}};
+    j["tracer_bytes"] = stats.tracer_bytes;
+    j["peak_memory_mb"] = peak_memory_mb();
+    return j;
+}
 
 int run_render(const RenderCommand& cmd) {
     auto t0 = std::chrono::steady_clock::now();
@@ -165,31 +196,8 @@ int run_render(const RenderCommand& cmd) {
                      stats.render_seconds, stats.rays_per_second() * 1e-6, total, output.c_str());
     }
     if (!cmd.stats_path.empty()) {
-        // Every figure at full precision (a double reads back as itself); the scene name escaped.
-        nlohmann::ordered_json j;
-        j["scene"] = cmd.scene;
-        j["width"] = cmd.options.width;
-        j["height"] = cmd.options.height;
-        j["seconds"] = {{"parse", parse_seconds}, {"scene", scene_seconds}, {"build", stats.build_seconds},
-                        {"render", stats.render_seconds}, {"write", write_seconds}, {"total", total}};
-        j["primitives"] = {{"spheres", sphere_count},
-                           {"quadrics", flat.quadrics.size()},
-                           {"meshes", flat.meshes.size()},
-                           {"triangles", flat.triangle_count()},
-                           {"instances", flat.instances.size()},
-                           {"instanced_triangles", flat.instanced_triangle_count()},
-                           {"materials", flat.materials.size()},
-                           {"lights", flat.lights.size()},
-                           {"bvh_nodes", stats.bvh_nodes}};
-        j["rays"] = {{"primary", stats.primary_rays},
-                     {"shadow", stats.shadow_rays},
-                     {"secondary", stats.secondary_rays},
-                     {"per_pixel", static_cast<double>(stats.primary_rays) /
-                                       (double(cmd.options.width) * cmd.options.height)},
-                     {"per_second", stats.rays_per_second()}};
-        j["nonfinite"] = {{"shading", bad.shading}, {"gas", bad.gas}, {"light", bad.light}};
-        j["tracer_bytes"] = stats.tracer_bytes;
-        j["peak_memory_mb"] = peak_memory_mb();
+        RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total};
+        const nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
         std::ofstream out(cmd.stats_path);
         // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
         out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";

@@ -781,21 +781,17 @@ class Flattener {
         std::filesystem::path from = from_file;
         if (from.empty())
             from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
-        std::string reasons;
+        UrlFailures failures;
         for (const std::string& url : urls) {
-            std::string why;
-            const std::filesystem::path path = resolve_url(url, from, roots, why);
-            if (path.empty()) {
-                reasons += (reasons.empty() ? "" : "; ") + url + ": " + why;
-                continue;
-            }
+            const std::filesystem::path path = resolve_or_note(url, from, roots, failures, true);
+            if (path.empty()) continue;
             const std::string key =
                 path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
             if (const auto it = image_index_.find(key); it != image_index_.end()) return it->second;
             ImageData image;
             std::string error;
             if (!read_image_file(path, image, error, options_.max_texture_pixels)) {
-                reasons += (reasons.empty() ? "" : "; ") + url + ": " + error;
+                failures.add(url + ": " + error);
                 continue;
             }
             Texture out;
@@ -811,7 +807,7 @@ class Flattener {
             return index;
         }
         NodeReport(diagnostics_, origin)
-            .warn("texture", "no texture image could be loaded (" + reasons + "); untextured");
+            .warn("texture", "no texture image could be loaded (" + failures.reasons + "); untextured");
         return -1;
     }
 

@@ -434,18 +434,14 @@ void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B,
     }
 }
 
-GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Lighting& lighting, double tolerance,
-                                       GasStats& stats) const {
-    Result result;
-    if (spheres_.empty()) return result;
-    // Pieces of constant sphere membership, front to back.
-    struct Piece {
-        double a, b, T, sigma;
-    };
+struct GasVolume::Piece {  // a stretch of the ray inside the same spheres
+    double a, b, T, sigma;
+};
+
+GasVolume::Result GasVolume::march_pieces(const Ray& ray, double t_end, const Lighting& lighting, GasStats& stats,
+                                          std::vector<Piece>& pieces, std::vector<Vec3>& coef) const {
     thread_local std::vector<Event> events;
     thread_local std::vector<uint32_t> active;
-    thread_local std::vector<Piece> pieces;
-    thread_local std::vector<Vec3> coef;  // [piece * n_lights + light]: sigma*rho of the spheres it reaches
     collect_events(ray, t_end, events);
     const size_t n_lights = lighting.lights ? lighting.lights->size() : 0;
     active.clear();
@@ -495,10 +491,15 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
         }
         prev = std::max(prev, e.t);
     }
+    Result result;
     result.transmittance = T;
     result.optical_depth = tau;
-    // The rest of each light's term varies along a piece (shadows, attenuation, spot): integrated over the
-    // whole ray at once, so that the error goes where the light is, to tolerance * the light's total.
+    result.radiance = L;
+    return result;
+}
+
+// A LightPass's work space, kept per thread so that a ray allocates nothing.
+struct GasVolume::LightScratch {
     struct Interval {
         double t0, width;
         uint32_t piece;
@@ -508,191 +509,210 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
         double mid;
         uint32_t begin, end;
     };
-    thread_local std::vector<Panel> panels;
-    thread_local std::vector<Interval> intervals;
-    thread_local std::vector<Frame> frames;
     struct Window {  // a run of consecutive pieces: its frame and its shadowing spheres in `window`
         Vec3 point;
         double mid;
         uint32_t begin, end;
     };
-    thread_local std::vector<WindowSphere> window;
-    thread_local std::vector<Window> windows;
-    thread_local std::vector<uint32_t> window_of;  // per piece: its window
-    constexpr uint32_t kNoWindow = ~0u;
-    thread_local ShadowBlocks pool;
-    thread_local std::vector<double> cuts;
-    thread_local std::vector<std::pair<double, uint32_t>> order;
+    static constexpr uint32_t kNoWindow = ~0u;
+    std::vector<Panel> panels;
+    std::vector<Interval> intervals;
+    std::vector<Frame> frames;
+    std::vector<WindowSphere> window;
+    std::vector<Window> windows;
+    std::vector<uint32_t> window_of;  // per piece: its window
+    ShadowBlocks pool;
+    std::vector<double> cuts;
+    std::vector<std::pair<double, uint32_t>> order;
+};
+
+// The part of one light's term that varies along a piece (shadows, attenuation, spot): integrated over the
+// whole ray at once, so that the error goes where the light is, to tolerance * the light's total.
+struct GasVolume::LightPass {
+    using Scratch = LightScratch;
+    const GasVolume& gas;
+    const Ray& ray;
+    const Lighting& lighting;
+    const Light& light;
+    const size_t li, n_lights;
+    const std::vector<Piece>& pieces;
+    const std::vector<Vec3>& coef;  // [piece * n_lights + light]
+    GasStats& stats;
+    Scratch& k;
+    const bool directional = light.kind == LightKind::Directional;
+    const bool ambient_varies = !directional;
+    const bool shadowed = light.intensity > 0.0 && !light.headlight;
+    const double w_max = (ambient_varies ? light.ambient_intensity : 0.0) + light.intensity;
     const Vec3& u = ray.d;
-    for (size_t li = 0; li < n_lights; ++li) {
-        const Light& light = (*lighting.lights)[li];
-        const bool directional = light.kind == LightKind::Directional;
-        const bool ambient_varies = !directional;
-        const bool shadowed = light.intensity > 0.0 && !light.headlight;
-        const double w_max = (ambient_varies ? light.ambient_intensity : 0.0) + light.intensity;
-        if (!(w_max > 0.0)) continue;
-        // Scalar weight of a piece (its colour factor's largest channel), and a bound on its integral:
-        // w <= w_max since att, spot and V are at most 1.
-        auto scale = [&](size_t p) {
-            const Vec3 c = coef[p * n_lights + li] * light.color;
-            return std::max(c.x, std::max(c.y, c.z));
+
+    // Scalar weight of a piece (its colour factor's largest channel), and a bound on its integral:
+    // w <= w_max since att, spot and V are at most 1.
+    double scale(size_t p) const {
+        const Vec3 c = coef[p * n_lights + li] * light.color;
+        return std::max(c.x, std::max(c.y, c.z));
+    }
+
+    // The integrand at t in piece p.
+    double integrand(uint32_t p, double t) const {
+        const Piece& pc = pieces[p];
+        const Scratch::Frame& fr = k.frames[p];
+        const double s = t - fr.mid;
+        const Vec3 at = fr.point + s * u;
+        double factor = 1.0;
+        if (!directional) {
+            factor = light_incidence(light, at).factor;
+            if (!(factor > 0.0)) return 0.0;
+        }
+        double visibility = shadowed ? 1.0 : 0.0, depth = 0.0;  // V = visibility * exp(-depth)
+        if (shadowed) {
+            ++stats.visibility_rays;
+            Ray shadow;
+            shadow.o = at;
+            if (directional) {
+                shadow.d = -light.direction;
+                shadow.t_max = kInf;
+            } else {
+                shadow.d = light.position - at;  // t = 1 at the light
+                shadow.t_max = 1.0;
+            }
+            if (lighting.surfaces) visibility = lighting.surfaces(shadow);
+            if (visibility > 0.0 && fr.end > fr.begin)
+                depth = directional ? directional_depth(k.pool.blocks.data() + fr.begin, fr.end - fr.begin, s)
+                                    : point_depth(k.pool.blocks.data() + fr.begin, fr.end - fr.begin, s * u, shadow.d,
+                                                  glm::dot(shadow.d, shadow.d));
+        }
+        // T(0, t) * sigma rho * att * spot * (ambient + intensity * V), with one exp where possible.
+        const double camera = pc.sigma * (t - pc.a);
+        const double weight = pc.T * scale(p) * factor;
+        if (!ambient_varies || !(light.ambient_intensity > 0.0))
+            return visibility > 0.0 ? weight * light.intensity * visibility * std::exp(-(camera + depth)) : 0.0;
+        return weight * std::exp(-camera) * (light.ambient_intensity + light.intensity * visibility * std::exp(-depth));
+    }
+
+    // The integrand of interval i in its unit parameter x: t = t0 + w g(x), g(x) = x^2 (3 - 2x).
+    auto mapped(uint32_t i) const {
+        const Scratch::Interval& iv = k.intervals[i];
+        return [this, iv](double x) {
+            const double g = x * x * (3.0 - 2.0 * x), dg = 6.0 * x * (1.0 - x);
+            return integrand(iv.piece, iv.t0 + iv.width * g) * (iv.width * dg);
         };
-        order.clear();
+    }
+
+    // The pieces this light reaches, largest bound first; the sum of the bounds.
+    double order_pieces() {
+        k.order.clear();
         double remaining = 0.0;
         for (size_t p = 0; p < pieces.size(); ++p) {
             const double s = scale(p);
             if (!(s > 0.0)) continue;
             const Piece& pc = pieces[p];
             const double bound = pc.T * s * w_max * (pc.b - pc.a) * one_minus_exp_over_x(pc.sigma * (pc.b - pc.a));
-            order.push_back({bound, uint32_t(p)});
+            k.order.push_back({bound, uint32_t(p)});
             remaining += bound;
         }
-        if (order.empty()) continue;
-        std::sort(order.begin(), order.end(), [](auto& x, auto& y) { return x.first > y.first; });
-        const Vec3 to_light = -light.direction;
-        // The integrand at t in piece p.
-        auto integrand = [&](uint32_t p, double t) {
-            const Piece& pc = pieces[p];
-            const Frame& fr = frames[p];
-            const double s = t - fr.mid;
-            const Vec3 at = fr.point + s * u;
-            double factor = 1.0;
-            if (!directional) {
-                factor = light_incidence(light, at).factor;
-                if (!(factor > 0.0)) return 0.0;
-            }
-            double visibility = shadowed ? 1.0 : 0.0, depth = 0.0;  // V = visibility * exp(-depth)
-            if (shadowed) {
-                ++stats.visibility_rays;
-                Ray shadow;
-                shadow.o = at;
-                if (directional) {
-                    shadow.d = to_light;
-                    shadow.t_max = kInf;
-                } else {
-                    shadow.d = light.position - at;  // t = 1 at the light
-                    shadow.t_max = 1.0;
-                }
-                if (lighting.surfaces) visibility = lighting.surfaces(shadow);
-                if (visibility > 0.0 && fr.end > fr.begin)
-                    depth = directional ? directional_depth(pool.blocks.data() + fr.begin, fr.end - fr.begin, s)
-                                        : point_depth(pool.blocks.data() + fr.begin, fr.end - fr.begin, s * u,
-                                                      shadow.d, glm::dot(shadow.d, shadow.d));
-            }
-            // T(0, t) * sigma rho * att * spot * (ambient + intensity * V), with one exp where possible.
-            const double camera = pc.sigma * (t - pc.a);
-            const double weight = pc.T * scale(p) * factor;
-            if (!ambient_varies || !(light.ambient_intensity > 0.0))
-                return visibility > 0.0 ? weight * light.intensity * visibility * std::exp(-(camera + depth)) : 0.0;
-            return weight * std::exp(-camera) * (light.ambient_intensity + light.intensity * visibility * std::exp(-depth));
+        std::sort(k.order.begin(), k.order.end(), [](auto& x, auto& y) { return x.first > y.first; });
+        return remaining;
+    }
+
+    // Where the light's radius ends (the weight jumps to 0) and a spot light's cones, solved about the
+    // piece's midpoint so that a far camera costs no precision.
+    void light_cuts(const Piece& pc) {
+        double s[2];
+        const double mid = 0.5 * (pc.a + pc.b), half = 0.5 * (pc.b - pc.a);
+        auto keep = [&](int n) {
+            for (int i = 0; i < n; ++i)
+                if (std::abs(s[i]) < half) k.cuts.push_back(mid + s[i]);
         };
-        // The integrand of interval i in its unit parameter x: t = t0 + w g(x), g(x) = x^2 (3 - 2x).
-        auto mapped = [&](uint32_t i) {
-            const Interval& iv = intervals[i];
-            return [&, iv](double x) {
-                const double g = x * x * (3.0 - 2.0 * x), dg = 6.0 * x * (1.0 - x);
-                return integrand(iv.piece, iv.t0 + iv.width * g) * (iv.width * dg);
-            };
-        };
-        pool.blocks.clear();
-        intervals.clear();
-        panels.clear();
-        frames.resize(pieces.size());
-        window.clear();
-        window_of.assign(pieces.size(), kNoWindow);
-        windows.clear();
-        // Pieces in order of their bound; once the bounds of all the rest are below a quarter of the
-        // tolerance times what has been found so far (a lower bound of the total), they are left out.
-        double found = 0.0;
-        for (const auto& [bound, p] : order) {
-            if (remaining <= 0.25 * tolerance * found) break;
-            remaining -= bound;
-            const Piece& pc = pieces[p];
-            cuts.clear();
-            cuts.push_back(pc.a);
-            double s[2];
-            if (!directional) {
-                // Where the light's radius ends (the weight jumps to 0) and a spot light's cones, solved
-                // about the piece's midpoint so that a far camera costs no precision.
-                const double mid = 0.5 * (pc.a + pc.b), half = 0.5 * (pc.b - pc.a);
-                auto keep = [&](int n) {
-                    for (int i = 0; i < n; ++i)
-                        if (std::abs(s[i]) < half) cuts.push_back(mid + s[i]);
-                };
-                const Vec3 w0 = ray.at(mid) - light.position;
-                keep(quadratic_roots(glm::dot(u, u), 2.0 * glm::dot(w0, u),
-                                     glm::dot(w0, w0) - light.radius * light.radius, s));
-                if (light.kind == LightKind::Spot) {
-                    const Vec3& D = light.direction;
-                    for (double angle : {light.cutoff_angle, light.beam_width}) {
-                        if (!(angle > 0.0 && angle < kPi)) continue;
-                        const double c2 = std::cos(angle) * std::cos(angle);
-                        const double uD = glm::dot(u, D), wD = glm::dot(w0, D);
-                        keep(quadratic_roots(uD * uD - c2 * glm::dot(u, u), 2.0 * (wD * uD - c2 * glm::dot(w0, u)),
-                                             wD * wD - c2 * glm::dot(w0, w0), s));
-                    }
-                }
-            }
-            Frame& fr = frames[p];
-            fr.begin = fr.end = pool.begin();
-            fr.mid = 0.5 * (pc.a + pc.b);
-            fr.point = ray.at(fr.mid);
-            if (shadowed) {
-                if (window_of[p] == kNoWindow) {
-                    // A window: this piece and the next ones up to window_length_ further, whose shadowing
-                    // spheres are gathered from the BVH at once, with their coefficients in the window's
-                    // frame and the places where the path to the light touches their silhouettes.
-                    size_t q = p;
-                    while (q + 1 < pieces.size() && pieces[q + 1].b - pc.a <= window_length_) ++q;
-                    Window w;
-                    w.mid = 0.5 * (pc.a + pieces[q].b);
-                    w.point = ray.at(w.mid);
-                    w.begin = uint32_t(window.size());
-                    const double s0 = pc.a - w.mid, s1 = pieces[q].b - w.mid;
-                    WindowSphere ws;
-                    spheres_in_fan(light, ray.at(pc.a), ray.at(pieces[q].b), [&](uint32_t id) {
-                        if (window_sphere(spheres_[id], id, light, w.point, u, s0, s1, ws)) window.push_back(ws);
-                    });
-                    w.end = uint32_t(window.size());
-                    windows.push_back(w);
-                    for (size_t k = p; k <= q; ++k) window_of[k] = uint32_t(windows.size() - 1);
-                }
-                const Window& w = windows[window_of[p]];
-                fr.point = w.point;
-                fr.mid = w.mid;
-                // The spheres that can shadow this piece, and the cuts inside it.
-                const double a = pc.a - w.mid, b = pc.b - w.mid;
-                const Vec3 A = ray.at(pc.a), B = ray.at(pc.b);
-                for (uint32_t i = w.begin; i < w.end; ++i) {
-                    const WindowSphere& ws = window[i];
-                    if (!(ws.lo < b && ws.hi > a)) continue;
-                    if (directional) {
-                        // Wholly behind the piece: the chord's centre is more than a radius behind it.
-                        const double* c = ws.shadower.c;
-                        if (!(std::max(c[3] + a * c[4], c[3] + b * c[4]) + ws.radius > 0.0)) continue;
-                    } else if (!meets_point_fan(light.position, A, B, spheres_[ws.id].center, ws.radius)) {
-                        continue;
-                    }
-                    pool.push(ws.shadower);
-                    for (double c : ws.cut)
-                        if (c > a && c < b) cuts.push_back(w.mid + c);
-                }
-                fr.end = uint32_t(pool.blocks.size());
-            }
-            cuts.push_back(pc.b);
-            std::sort(cuts.begin() + 1, cuts.end() - 1);
-            for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-                if (!(cuts[i + 1] > cuts[i])) continue;
-                intervals.push_back({cuts[i], cuts[i + 1] - cuts[i], p});
-                const uint32_t id = uint32_t(intervals.size() - 1);
-                panels.push_back(lobatto(mapped(id), 0.0, 1.0, 0.0, 0.0, id));
-                found += panels.back().value;
-            }
-            ++stats.quadrature;
+        const Vec3 w0 = ray.at(mid) - light.position;
+        keep(quadratic_roots(glm::dot(u, u), 2.0 * glm::dot(w0, u), glm::dot(w0, w0) - light.radius * light.radius, s));
+        if (light.kind != LightKind::Spot) return;
+        const Vec3& D = light.direction;
+        for (double angle : {light.cutoff_angle, light.beam_width}) {
+            if (!(angle > 0.0 && angle < kPi)) continue;
+            const double c2 = std::cos(angle) * std::cos(angle);
+            const double uD = glm::dot(u, D), wD = glm::dot(w0, D);
+            keep(quadratic_roots(uD * uD - c2 * glm::dot(u, u), 2.0 * (wD * uD - c2 * glm::dot(w0, u)),
+                                 wD * wD - c2 * glm::dot(w0, w0), s));
         }
-        // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance: the panel with
-        // the largest error estimate gets the higher-order rule or is halved (see Panel) until the estimates
-        // add up to little enough.
+    }
+
+    // A window: piece p and the next ones up to window_length_ further, whose shadowing spheres are
+    // gathered from the BVH at once, with their coefficients in the window's frame and the places where
+    // the path to the light touches their silhouettes.
+    void open_window(size_t p) {
+        const Piece& pc = pieces[p];
+        size_t q = p;
+        while (q + 1 < pieces.size() && pieces[q + 1].b - pc.a <= gas.window_length_) ++q;
+        Scratch::Window w;
+        w.mid = 0.5 * (pc.a + pieces[q].b);
+        w.point = ray.at(w.mid);
+        w.begin = uint32_t(k.window.size());
+        const double s0 = pc.a - w.mid, s1 = pieces[q].b - w.mid;
+        WindowSphere ws;
+        gas.spheres_in_fan(light, ray.at(pc.a), ray.at(pieces[q].b), [&](uint32_t id) {
+            if (window_sphere(gas.spheres_[id], id, light, w.point, u, s0, s1, ws)) k.window.push_back(ws);
+        });
+        w.end = uint32_t(k.window.size());
+        k.windows.push_back(w);
+        for (size_t j = p; j <= q; ++j) k.window_of[j] = uint32_t(k.windows.size() - 1);
+    }
+
+    // Piece p's frame becomes its window's; the spheres that can shadow it go to the pool, and their cuts
+    // inside it to `cuts`.
+    void shadow_cuts(size_t p, Scratch::Frame& fr) {
+        if (k.window_of[p] == Scratch::kNoWindow) open_window(p);
+        const Piece& pc = pieces[p];
+        const Scratch::Window& w = k.windows[k.window_of[p]];
+        fr.point = w.point;
+        fr.mid = w.mid;
+        const double a = pc.a - w.mid, b = pc.b - w.mid;
+        const Vec3 A = ray.at(pc.a), B = ray.at(pc.b);
+        for (uint32_t i = w.begin; i < w.end; ++i) {
+            const WindowSphere& ws = k.window[i];
+            if (!(ws.lo < b && ws.hi > a)) continue;
+            if (directional) {
+                // Wholly behind the piece: the chord's centre is more than a radius behind it.
+                const double* c = ws.shadower.c;
+                if (!(std::max(c[3] + a * c[4], c[3] + b * c[4]) + ws.radius > 0.0)) continue;
+            } else if (!meets_point_fan(light.position, A, B, gas.spheres_[ws.id].center, ws.radius)) {
+                continue;
+            }
+            k.pool.push(ws.shadower);
+            for (double c : ws.cut)
+                if (c > a && c < b) k.cuts.push_back(w.mid + c);
+        }
+        fr.end = uint32_t(k.pool.blocks.size());
+    }
+
+    // Piece p cut where the integrand has kinks or jumps, one first-order panel per interval; adds their
+    // values to `found`.
+    void start_panels(uint32_t p, double& found) {
+        const Piece& pc = pieces[p];
+        k.cuts.clear();
+        k.cuts.push_back(pc.a);
+        if (!directional) light_cuts(pc);
+        Scratch::Frame& fr = k.frames[p];
+        fr.begin = fr.end = k.pool.begin();
+        fr.mid = 0.5 * (pc.a + pc.b);
+        fr.point = ray.at(fr.mid);
+        if (shadowed) shadow_cuts(p, fr);
+        k.cuts.push_back(pc.b);
+        std::sort(k.cuts.begin() + 1, k.cuts.end() - 1);
+        for (size_t i = 0; i + 1 < k.cuts.size(); ++i) {
+            if (!(k.cuts[i + 1] > k.cuts[i])) continue;
+            k.intervals.push_back({k.cuts[i], k.cuts[i + 1] - k.cuts[i], p});
+            const uint32_t id = uint32_t(k.intervals.size() - 1);
+            k.panels.push_back(lobatto(mapped(id), 0.0, 1.0, 0.0, 0.0, id));
+            found += k.panels.back().value;
+        }
+        ++stats.quadrature;
+    }
+
+    // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance: the panel with
+    // the largest error estimate gets the higher-order rule or is halved (see Panel) until the estimates
+    // add up to little enough.
+    void refine(double tolerance) {
+        std::vector<Panel>& panels = k.panels;
         auto by_error = [](const Panel& x, const Panel& y) { return x.error < y.error; };
         std::make_heap(panels.begin(), panels.end(), by_error);
         const size_t max_panels = panels.size() + 2000;
@@ -726,13 +746,49 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
             value += panels.back().value, error += panels.back().error;
             std::push_heap(panels.begin(), panels.end(), by_error);
         }
-        for (const Panel& pn : panels) {
-            const uint32_t p = intervals[pn.interval].piece;
+    }
+
+    // Adds this light's varying term to L.
+    void integrate(double tolerance, Vec3& L) {
+        if (!(w_max > 0.0)) return;
+        double remaining = order_pieces();
+        if (k.order.empty()) return;
+        k.pool.blocks.clear();
+        k.intervals.clear();
+        k.panels.clear();
+        k.frames.resize(pieces.size());
+        k.window.clear();
+        k.window_of.assign(pieces.size(), Scratch::kNoWindow);
+        k.windows.clear();
+        // Pieces in order of their bound; once the bounds of all the rest are below a quarter of the
+        // tolerance times what has been found so far (a lower bound of the total), they are left out.
+        double found = 0.0;
+        for (const auto& [bound, p] : k.order) {
+            if (remaining <= 0.25 * tolerance * found) break;
+            remaining -= bound;
+            start_panels(p, found);
+        }
+        refine(tolerance);
+        for (const Panel& pn : k.panels) {
+            const uint32_t p = k.intervals[pn.interval].piece;
             const double s = scale(p);
             if (s > 0.0) L += (pn.value / s) * coef[p * n_lights + li] * light.color;
         }
     }
-    result.radiance = L;
+};
+
+GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Lighting& lighting, double tolerance,
+                                       GasStats& stats) const {
+    if (spheres_.empty()) return Result();
+    thread_local std::vector<Piece> pieces;
+    thread_local std::vector<Vec3> coef;  // [piece * n_lights + light]: sigma*rho of the spheres it reaches
+    thread_local LightScratch scratch;
+    Result result = march_pieces(ray, t_end, lighting, stats, pieces, coef);
+    const size_t n_lights = lighting.lights ? lighting.lights->size() : 0;
+    for (size_t li = 0; li < n_lights; ++li) {
+        LightPass pass{*this, ray, lighting, (*lighting.lights)[li], li, n_lights, pieces, coef, stats, scratch};
+        pass.integrate(tolerance, result.radiance);
+    }
     return result;
 }
 

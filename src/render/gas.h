@@ -106,6 +106,13 @@ private:
         bool enter;
     };
     void collect_events(const Ray& ray, double t_end, std::vector<Event>& events) const;
+    // integrate's parts (gas.cpp): the pieces of constant membership with their closed-form terms, then
+    // one LightPass per light for the terms that vary along a piece.
+    struct Piece;
+    struct LightScratch;
+    struct LightPass;
+    Result march_pieces(const Ray& ray, double t_end, const Lighting& lighting, GasStats& stats,
+                        std::vector<Piece>& pieces, std::vector<Vec3>& coef) const;
     // att * spot * (ambient + intensity * V) at p, V by a shadow ray through the BVH (with ambient = false:
     // att * spot * intensity * V). For the brute-force reference.
     double light_weight(const Light& light, const Vec3& p, bool ambient, const SurfaceTransmittance& surfaces,

@@ -7,8 +7,10 @@
 // stream shared between pixels, so an image is the same for every thread count and tile order.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,14 @@ struct SampleValue {
 };
 
 enum class SamplerKind : uint8_t { Center, Grid, Rgss, Rooks8, Quincunx, Jitter, Adaptive, Statistical };
+// The names --sampler takes, in SamplerKind order: the one table that make_sampler, the command
+// line's check and its --help read, so that they cannot disagree.
+inline constexpr std::array<const char*, 8> kSamplerNames = {"center",   "grid",   "rgss",     "rooks8",
+                                                             "quincunx", "jitter", "adaptive", "statistical"};
+// The kind named `name`, or nullopt when kSamplerNames lacks it.
+std::optional<SamplerKind> sampler_kind(const std::string& name);
+// kSamplerNames joined by `separator` ("center, grid, ...").
+std::string sampler_names(const std::string& separator = ", ");
 
 struct PixelSampler {
     SamplerKind kind = SamplerKind::Center;

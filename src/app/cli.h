@@ -1,0 +1,28 @@
+// The vrmlray command line as a library (the unit tests parse argv with it): every option of every
+// subcommand, the mapping of its text to the commands' settings, and the running of the one named.
+#pragma once
+#include <string>
+
+#include "app/commands.h"
+
+namespace vr {
+
+enum class Subcommand { None, Render, Info, Convert, Compare, Bench };
+
+struct CommandLine {
+    Subcommand command = Subcommand::None;
+    RenderCommand render;    // command == Render (its common is `common`)
+    BenchCommand bench;      // command == Bench
+    CompareCommand compare;  // command == Compare
+    std::string in, out;     // info: in; convert: in, out
+    CommonOptions common;
+};
+
+// Parses argv into `cmd`. -1 when `cmd` names a command to run; otherwise the exit code to return at
+// once: 0 after --help or --version (printed to stdout), kExitUsage after an error (printed to stderr
+// as "vrmlray: error: ..." with where to read more).
+int parse_command_line(int argc, const char* const* argv, CommandLine& cmd);
+// Runs the parsed command and gives its exit code (--strict applied).
+int run_command_line(const CommandLine& cmd);
+
+}  // namespace vr

@@ -1,0 +1,20 @@
+// render --stats: the JSON a render writes about itself (SPEC section 1, README "Statistics").
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "render/flat_scene.h"
+#include "render/render.h"
+
+namespace vr {
+
+struct RenderTimings {
+    double parse = 0.0, scene = 0.0, write = 0.0, total = 0.0;  // seconds
+};
+
+// scene, width, height, seconds{parse scene build render write total}, primitives{...}, rays{...},
+// nonfinite{shading gas light}, tracer_bytes, peak_memory_mb. `sphere_count`: the spheres before the render freed them.
+nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_count,
+                                         const RenderStats& stats, const RenderTimings& timings);
+
+}  // namespace vr
