@@ -122,16 +122,7 @@ Viewpoint Flattener::make_viewpoint(const sg::Viewpoint& v, const Mat4& m) {
     const Mat3 linear = linear_part(m);
     out.position = transform_point(m, finite_or(v.position, Vec3(0.0, 0.0, 10.0)));
     out.world_from_camera = orthonormalize(linear) * rotation_matrix(v.orientation);
-    out.field_of_view = v.field_of_view;
-    if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
-        // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, a value
-        // of pi or more is taken as the widest sensible view; 0, negative or NaN as the default.
-        out.field_of_view = v.field_of_view >= kPi ? kPi - 0.01 : 0.785398;
-        NodeReport(diagnostics_, v.origin)
-            .warn("field-of-view", "fieldOfView " + format_g(v.field_of_view) +
-                                       " lies outside (0, pi); using " +
-                                       format_g(out.field_of_view));
-    }
+    out.field_of_view = v.field_of_view;  // checked by the scene build
     const double s = mean_scale(linear);
     for (int i = 0; i < 4; ++i) out.ortho_extent[i] = v.ortho_extent[i] * s;
     return out;
@@ -145,25 +136,7 @@ Background Flattener::make_background(const sg::Background& b, const Mat4& m) {
     out.sky_angles = b.sky_angle;
     out.ground_colors = b.ground_color;
     out.ground_angles = b.ground_angle;
-    NodeReport report(diagnostics_, b.origin);
-    if (out.sky_colors.empty()) out.sky_colors.push_back(Vec3(0.0));
-    if (out.sky_angles.size() + 1 != out.sky_colors.size()) {
-        report.warn(
-            "angles",
-            "skyColor needs one value more than skyAngle; the extra values are ignored");
-        const size_t n = std::min(out.sky_angles.size(), out.sky_colors.size() - 1);
-        out.sky_angles.resize(n);
-        out.sky_colors.resize(n + 1);
-    }
-    if (!out.ground_colors.empty() &&
-        out.ground_angles.size() + 1 != out.ground_colors.size()) {
-        report.warn(
-            "angles",
-            "groundColor needs one value more than groundAngle; the extra values are ignored");
-        const size_t n = std::min(out.ground_angles.size(), out.ground_colors.size() - 1);
-        out.ground_angles.resize(n);
-        out.ground_colors.resize(n + 1);
-    }
+    // Colours and angles already match (the scene build made them).
     for (int face = 0; face < 6; ++face) {
         if (b.urls[face].empty()) continue;
         out.panorama[face] = load_image(b.urls[face], b.from_file, false, false, b.origin);

@@ -2,12 +2,14 @@
 // nodes. Geometry nodes are in build_geometry.cpp.
 #include "scene/build.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <unordered_map>
 
 #include "scene/build_internal.h"
 #include "scene/hints.h"
+#include "core/format.h"
 #include "core/huge_pages.h"
 #include "scene/report.h"
 #include "scene/transform.h"
@@ -633,6 +635,15 @@ sg::Index Builder::make_viewpoint(NodeId id) {
         }
     } else if (!fov.numbers.empty()) {
         v.field_of_view = fov.numbers[0];
+        if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
+            // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, a value
+            // of pi or more is taken as the widest sensible view; 0, negative or NaN as the default.
+            const double given = v.field_of_view;
+            v.field_of_view = given >= kPi ? kPi - 0.01 : 0.785398;
+            warn(id, "field-of-view",
+                 "fieldOfView " + format_g(given) + " lies outside (0, pi); using " +
+                     format_g(v.field_of_view));
+        }
     }
     const sg::Index index = static_cast<sg::Index>(scene_.viewpoints.size());
     scene_.viewpoints.push_back(std::move(v));
@@ -647,6 +658,21 @@ sg::Index Builder::make_background(NodeId id) {
     b.sky_angle = numbers(id, n.sky_angle);
     b.ground_color = vec3s(id, n.ground_color);
     b.ground_angle = numbers(id, n.ground_angle);
+    // n colours need n - 1 angles (VRML97 6.5); the surplus of either goes.
+    if (b.sky_color.empty()) b.sky_color.push_back(Vec3(0.0));
+    if (b.sky_angle.size() + 1 != b.sky_color.size()) {
+        warn(id, "angles", "skyColor needs one value more than skyAngle; the extra values are ignored");
+        const size_t k = std::min(b.sky_angle.size(), b.sky_color.size() - 1);
+        b.sky_angle.resize(k);
+        b.sky_color.resize(k + 1);
+    }
+    if (!b.ground_color.empty() && b.ground_angle.size() + 1 != b.ground_color.size()) {
+        warn(id, "angles",
+             "groundColor needs one value more than groundAngle; the extra values are ignored");
+        const size_t k = std::min(b.ground_angle.size(), b.ground_color.size() - 1);
+        b.ground_angle.resize(k);
+        b.ground_color.resize(k + 1);
+    }
     const Name urls[6] = {n.front_url, n.back_url, n.left_url,
                           n.right_url, n.top_url,  n.bottom_url};
     for (int i = 0; i < 6; ++i) b.urls[i] = strings(id, urls[i]);

@@ -21,7 +21,7 @@
 #include "image/oiio_module.h"
 #include "image/png.h"
 #include "parser/load.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "scene/build.h"
 #include "scene/image_file.h"
 
