@@ -43,11 +43,13 @@ void Flattener::reserve_primitives() {
     size_t spheres = 0, quadrics = 0, meshes = 0;
     for (const sg::Shape& shape : scene_.shapes) {
         const sg::GeometryShape& g = scene_.geometries[shape.geometry].shape;
-        if (std::holds_alternative<sg::Sphere>(g)) ++spheres;
+        if (std::holds_alternative<sg::Sphere>(g))
+            ++spheres;
         else if (std::holds_alternative<sg::Box>(g) || std::holds_alternative<sg::Cylinder>(g) ||
                  std::holds_alternative<sg::Cone>(g))
             ++quadrics;
-        else if (!std::holds_alternative<std::monostate>(g)) ++meshes;
+        else if (!std::holds_alternative<std::monostate>(g))
+            ++meshes;
     }
     reserve_huge(out_.spheres, spheres);
     reserve_huge(out_.quadrics, quadrics);

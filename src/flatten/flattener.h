@@ -53,8 +53,8 @@ class Flattener {
   private:
     static constexpr int32_t kUnloaded = -2;
 
-    // Room for one primitive a shape node (a guess: USE may add more), so that 1e5 primitives are not
-    // moved by doubling.
+    // Room for one primitive a shape node (a guess: USE may add more), so that 1e5 primitives are
+    // not moved by doubling.
     void reserve_primitives();
 
     // ---- bindable nodes (first pass)
@@ -163,14 +163,16 @@ class Flattener {
     std::unordered_map<std::string, int32_t> image_index_;
     std::vector<std::unique_ptr<TriMesh>>
         mesh_cache_[2];  // per geometry, without / with texture coordinates
-    // A mesh placed twice or more is instanced from then on when it has at least this many triangles:
-    // an instance costs about 300 bytes (two matrices, a BVH entry) and a change of coordinates per ray
-    // that reaches it, a world copy 84 bytes a triangle in the flat scene and 72 more in the tracer.
+    // A mesh placed twice or more is instanced from then on when it has at least this many
+    // triangles: an instance costs about 300 bytes (two matrices, a BVH entry) and a change of
+    // coordinates per ray that reaches it, a world copy 84 bytes a triangle in the flat scene and
+    // 72 more in the tracer.
     static constexpr size_t kInstanceMinTriangles = 16;
     static constexpr uint32_t kNone = UINT32_MAX;
     struct MeshUse {
-        uint32_t first_mesh = kNone;  // index in out_.meshes of the first placement, while it is a world mesh
-        uint32_t prototype = kNone;   // set from the second placement on
+        uint32_t first_mesh =
+            kNone;  // index in out_.meshes of the first placement, while it is a world mesh
+        uint32_t prototype = kNone;  // set from the second placement on
         Mat4 first_transform{1.0};
         uint32_t first_shading = 0;
     };

@@ -99,8 +99,7 @@ void Flattener::collect(sg::Index g, const Mat4& parent, bool in_inline, size_t 
                 b.viewpoints.push_back(make_viewpoint(scene_.viewpoints[c.index], m));
                 break;
             case sg::NodeKind::Background:
-                if (!b.background)
-                    b.background = make_background(scene_.backgrounds[c.index], m);
+                if (!b.background) b.background = make_background(scene_.backgrounds[c.index], m);
                 break;
             case sg::NodeKind::Fog:
                 if (!b.fog) b.fog = make_fog(scene_.fogs[c.index], m);

@@ -13,7 +13,6 @@ namespace vr::flatten_detail {
 
 namespace {
 
-
 MaterialKey key_of(const Material& m) {
     MaterialKey k{};
     size_t i = 0;
@@ -111,11 +110,15 @@ Material Flattener::resolve_material(const sg::Shape& shape, const sg::Geometry&
     if (hints.reflectivity >= 0.0) out.reflectivity = hints.reflectivity;
     if (hints.ior >= 0.0) out.ior = hints.ior;
     if (hints.sphere_mode != sg::SphereHint::Unset)
-        out.sphere_mode = int8_t(hints.sphere_mode == sg::SphereHint::Gas ? SphereMode::Gas
-                                                                          : SphereMode::Opaque);
+        out.sphere_mode =
+            int8_t(hints.sphere_mode == sg::SphereHint::Gas ? SphereMode::Gas : SphereMode::Opaque);
     out.density = hints.density >= 0.0 ? hints.density : options_.density;
-    out.albedo = hints.albedo.x >= 0.0 ? hints.albedo : options_.albedo ? *options_.albedo : out.diffuse;
-    out.emission = hints.emission.x >= 0.0 ? hints.emission : options_.emission ? *options_.emission : out.emissive;
+    out.albedo = hints.albedo.x >= 0.0 ? hints.albedo
+                 : options_.albedo     ? *options_.albedo
+                                       : out.diffuse;
+    out.emission = hints.emission.x >= 0.0 ? hints.emission
+                   : options_.emission     ? *options_.emission
+                                           : out.emissive;
     return out;
 }
 
@@ -147,13 +150,13 @@ int32_t Flattener::texture_of(sg::Index t) {
     return index;
 }
 
-int32_t Flattener::load_image(const std::vector<std::string>& urls, const std::filesystem::path& from_file,
-                              bool repeat_s, bool repeat_t, const sg::Origin& origin) {
+int32_t Flattener::load_image(const std::vector<std::string>& urls,
+                              const std::filesystem::path& from_file, bool repeat_s, bool repeat_t,
+                              const sg::Origin& origin) {
     std::vector<std::filesystem::path> roots = options_.allowed_roots;
     if (roots.empty()) roots = scene_.allowed_roots;
     std::filesystem::path from = from_file;
-    if (from.empty())
-        from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
+    if (from.empty()) from = options_.scene_file.empty() ? scene_.main_file : options_.scene_file;
     std::string reasons;
     for (const std::string& url : urls) {
         std::string why;
@@ -162,8 +165,7 @@ int32_t Flattener::load_image(const std::vector<std::string>& urls, const std::f
             reasons += (reasons.empty() ? "" : "; ") + url + ": " + why;
             continue;
         }
-        const std::string key =
-            path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
+        const std::string key = path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
         if (const auto it = image_index_.find(key); it != image_index_.end()) return it->second;
         ImageData image;
         std::string error;

@@ -13,7 +13,8 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
         ++stats_.skipped_shapes;
         return;
     }
-    if (stats_.spheres + stats_.quadrics + stats_.meshes + stats_.instances >= options_.max_primitives)
+    if (stats_.spheres + stats_.quadrics + stats_.meshes + stats_.instances >=
+        options_.max_primitives)
         return stop("primitives");
     const uint32_t material = material_of(shape, g);
     const uint32_t shading = shading_of(material, light_set);
@@ -54,8 +55,7 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
     if (!cached)
         cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
-    if (recover_spheres_ &&
-        std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) &&
+    if (recover_spheres_ && std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) &&
         recover_exact(shape.geometry, *cached, m, shading, out_.materials[material], want_uvs))
         return;
     if (cached->triangles.empty()) {
@@ -68,8 +68,8 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     if (cached->triangle_count() >= kInstanceMinTriangles) {
         MeshUse& use = mesh_uses_[want_uvs ? 1 : 0][shape.geometry];
         if (use.prototype == kNone && use.first_mesh != kNone) {
-            // The second placement: the geometry becomes a prototype, and its first placement, a world
-            // mesh until now, an instance (the mesh is emptied here and dropped at the end).
+            // The second placement: the geometry becomes a prototype, and its first placement, a
+            // world mesh until now, an instance (the mesh is emptied here and dropped at the end).
             use.prototype = uint32_t(out_.prototypes.size());
             out_.prototypes.push_back(object_mesh(*cached));
             out_.meshes[use.first_mesh] = Mesh{};
@@ -102,8 +102,8 @@ Flattener::Recovery Flattener::recognise(const TriMesh& mesh) {
     return r;
 }
 
-bool Flattener::recover_exact(sg::Index geometry, const TriMesh& mesh, const Mat4& m, uint32_t shading,
-                              const Material& material, bool want_uvs) {
+bool Flattener::recover_exact(sg::Index geometry, const TriMesh& mesh, const Mat4& m,
+                              uint32_t shading, const Material& material, bool want_uvs) {
     ++stats_.recovery_candidates;
     auto miss = [&](RecoveryMiss why) {
         ++stats_.recovery_misses[size_t(why)];
@@ -178,7 +178,8 @@ Mesh Flattener::object_mesh(const TriMesh& t) {
     return mesh;
 }
 
-Quadric& Flattener::add_quadric(QuadricKind kind, const Mat4& m, const Vec3& size, uint32_t shading) {
+Quadric& Flattener::add_quadric(QuadricKind kind, const Mat4& m, const Vec3& size,
+                                uint32_t shading) {
     Quadric q;
     q.kind = kind;
     q.world_from_object = m;

@@ -636,8 +636,8 @@ sg::Index Builder::make_viewpoint(NodeId id) {
     } else if (!fov.numbers.empty()) {
         v.field_of_view = fov.numbers[0];
         if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
-            // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, a value
-            // of pi or more is taken as the widest sensible view; 0, negative or NaN as the default.
+            // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, pi or
+            // more is taken as the widest sensible view; 0, negative or NaN as the default.
             const double given = v.field_of_view;
             v.field_of_view = given >= kPi ? kPi - 0.01 : 0.785398;
             warn(id, "field-of-view",
@@ -661,7 +661,8 @@ sg::Index Builder::make_background(NodeId id) {
     // n colours need n - 1 angles (VRML97 6.5); the surplus of either goes.
     if (b.sky_color.empty()) b.sky_color.push_back(Vec3(0.0));
     if (b.sky_angle.size() + 1 != b.sky_color.size()) {
-        warn(id, "angles", "skyColor needs one value more than skyAngle; the extra values are ignored");
+        warn(id, "angles",
+             "skyColor needs one value more than skyAngle; the extra values are ignored");
         const size_t k = std::min(b.sky_angle.size(), b.sky_color.size() - 1);
         b.sky_angle.resize(k);
         b.sky_color.resize(k + 1);
