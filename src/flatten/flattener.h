@@ -57,7 +57,7 @@ class Flattener {
     // not moved by doubling.
     void reserve_primitives();
 
-    // ---- bindable nodes (first pass)
+    // ---- bindable nodes (first pass): lights_bindables.cpp
 
     struct Bindables {
         std::vector<Viewpoint> viewpoints;
@@ -83,7 +83,7 @@ class Flattener {
 
     void choose_viewer();
 
-    // ---- graph (second pass)
+    // ---- graph (second pass): flatten.cpp; lights: lights_bindables.cpp
 
     void visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_t depth);
 
@@ -91,11 +91,11 @@ class Flattener {
 
     std::optional<uint32_t> add_light(const sg::Light& l, const Mat4& m);
 
-    // ---- shapes
+    // ---- shapes and instances: shapes.cpp
 
     void emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light_set);
 
-    // ---- recovery of exact shapes from meshes (FlattenOptions::recover_spheres)
+    // ---- recovery of exact shapes from meshes (FlattenOptions::recover_spheres): shapes.cpp
 
     struct Recovery {
         std::optional<SphereFit> sphere;
@@ -125,7 +125,7 @@ class Flattener {
 
     bool gas_of(const Material& m) const;
 
-    // ---- materials
+    // ---- materials and textures: materials.cpp
 
     uint32_t material_of(const sg::Shape& shape, const sg::Geometry& g);
 
