@@ -5,10 +5,8 @@
 //
 //   bench_tracer SCENE.bin [--size W H] [--threads N] [--reps N] [--out FILE.ppm]
 //
-// Not built by default (it needs the harness's scenes); build it against the library with e.g.
-//   g++ -std=c++20 -O3 -march=native -I. -Isrc -DGLM_FORCE_XYZW_ONLY -DGLM_ENABLE_EXPERIMENTAL \
-//       bench/bench_tracer.cpp BUILD/libvrmlray_lib.a BUILD/libvrml_parser.a \
-//       -lz -pthread
+// Not built by default (it needs the harness's scenes): configure with -DVRMLRAY_BENCH=ON and
+// `cmake --build BUILD --target bench_tracer` (it links the render layer alone).
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -1,29 +1,27 @@
 // Gas integrator alone: times GasVolume::integrate over a camera's pixels and measures its error
-// against the brute-force GasVolume::integrate_reference, without the parser, the image library or
-// the rest of the renderer, so that it runs under callgrind (valgrind knows no AVX-512: build it with
-// -march=x86-64-v3) and so that two versions of src/render/gas.cpp can be compared on the same rays.
+// against the brute-force GasVolume::integrate_reference, without the image library or the rest of the
+// renderer, so that it runs under callgrind (see Build below) and so that two versions of src/render/gas.cpp can be compared on the same rays.
 //
 //   gas_bench SCENE.wrl [--size W H] [--density D] [--albedo R,G,B] [--emission R,G,B]
 //             [--tolerance T]... [--reps N] [--check N] [--steps S] [--reference FILE]
 //
-// SCENE is a file written by the peer harness's generator (../shared/bench/gen_scene.py) or by
-// tools/gen_molecule.py --no-bonds: it reads the first Viewpoint, DirectionalLight and PointLight
-// nodes and every Transform { translation } holding a Sphere with its Material's diffuseColor and
-// emissiveColor, nothing else. Every sphere is gas with sigma = --density, albedo = diffuseColor and
-// emission = emissiveColor unless --albedo/--emission say otherwise (vrmlray render's defaults).
+// SCENE is any scene vrmlray reads (e.g. one written by the peer harness's generator,
+// ../shared/bench/gen_scene.py, or by tools/gen_molecule.py --no-bonds): it is read, built and
+// flattened as `vrmlray render --spheres gas` does, and the rays come from its first Viewpoint (else
+// the default camera). Every sphere is gas with sigma = --density, albedo = diffuseColor and emission =
+// emissiveColor unless --albedo/--emission (or the file's hints) say otherwise.
 //
 // For each tolerance: the median over --reps of the seconds to integrate every pixel (one thread),
 // the integrator's counters, and with --check N the error on N pixels spread over the image whose ray
 // meets the gas: the largest and the median relative error of the scattered (lit) radiance, channel
 // by channel, against integrate_reference with --steps steps per piece. The references are written
-// to / read from --reference so that they are computed once. Build (from the repository root, one line):
-//
-//   g++ -std=c++20 -O3 -march=x86-64-v3 -I. -Isrc -DGLM_FORCE_XYZW_ONLY -DGLM_ENABLE_EXPERIMENTAL
-//       bench/gas_bench.cpp src/render/gas.cpp src/render/bvh.cpp src/render/lights.cpp -pthread
+// to / read from --reference so that they are computed once. Build it with -DVRMLRAY_BENCH=ON
+// (for callgrind, which knows no AVX-512, also -DVRMLRAY_NATIVE=OFF) and `cmake --build BUILD
+// --target gas_bench`,
 //
 // and count instructions of the integrator alone with
 //   valgrind --tool=callgrind "--toggle-collect=vr::GasVolume::integrate(vr::Ray const&, double,
-//       vr::GasVolume::Lighting const&, double, vr::GasStats&) const" ./a.out SCENE ...
+//       vr::GasVolume::Lighting const&, double, vr::GasStats&) const" BUILD/bench/gas_bench SCENE ...
 // (the full signature: a pattern would also match the integrator's lambdas and stop counting inside them).
 #include <algorithm>
 #include <chrono>
@@ -32,11 +30,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "flatten/flatten.h"
+#include "parser/load.h"
 #include "render/gas.h"
+#include "scene/build.h"
 
 namespace {
 
@@ -49,111 +49,24 @@ struct BenchScene {
     double fov = 0.785398;
 };
 
-Mat3 axis_angle(Vec3 axis, double angle) {
-    const double len = glm::length(axis);
-    if (!(len > 0.0)) return Mat3(1.0);
-    axis /= len;
-    const double c = std::cos(angle), s = std::sin(angle), t = 1.0 - c;
-    const double x = axis.x, y = axis.y, z = axis.z;
-    // Columns of the rotation matrix.
-    return Mat3(Vec3(t * x * x + c, t * x * y + s * z, t * x * z - s * y),
-                Vec3(t * x * y - s * z, t * y * y + c, t * y * z + s * x),
-                Vec3(t * x * z + s * y, t * y * z - s * x, t * z * z + c));
-}
-
-bool read_scene(const char* path, BenchScene& out, std::string& error) {
-    std::ifstream f(path);
-    if (!f) {
-        error = std::string("cannot open ") + path;
+// The scene as vrmlray render --spheres gas sees it: the project's reader, scene build and flattening.
+bool read_scene(const char* path, const FlattenOptions& flatten_options, BenchScene& out,
+                std::string& error) {
+    const LoadedScene loaded = load_scene(path);
+    Diagnostics diagnostics;
+    if (!loaded.ok()) {
+        error = loaded.diagnostics.format(loaded.sources);
         return false;
     }
-    std::vector<std::string> tok;
-    {
-        std::string line;
-        while (std::getline(f, line)) {
-            const size_t hash = line.find('#');
-            if (hash != std::string::npos) line.resize(hash);
-            for (char& c : line)
-                if (c == '{' || c == '}' || c == '[' || c == ']' || c == ',') c = ' ';
-            std::istringstream in(line);
-            std::string t;
-            while (in >> t) tok.push_back(t);
-        }
+    const Scene scene = build_scene(loaded, diagnostics);
+    FlattenStats stats;
+    out.flat = flatten_scene(scene, flatten_options, diagnostics, stats);
+    if (!out.flat.viewpoints.empty()) {
+        const Viewpoint& v = out.flat.viewpoints.front();
+        out.eye = v.position;
+        out.world_from_camera = v.world_from_camera;
+        out.fov = v.field_of_view;
     }
-    size_t i = 0;
-    auto num = [&]() { return i < tok.size() ? std::strtod(tok[i++].c_str(), nullptr) : 0.0; };
-    auto vec = [&]() {
-        Vec3 v;
-        v.x = num();
-        v.y = num();
-        v.z = num();
-        return v;
-    };
-    std::string context;
-    bool have_viewpoint = false, in_viewpoint = false;
-    Vec3 translation(0.0), diffuse(0.8), emissive(0.0);
-    Light light;
-    int light_kind = 0;  // 0 none, 1 directional, 2 point
-    auto flush_light = [&]() {
-        if (light_kind) out.flat.lights.push_back(light);
-        light_kind = 0;
-    };
-    out.flat.light_sets.assign(1, {});
-    out.flat.headlight = false;
-    while (i < tok.size()) {
-        const std::string t = tok[i++];
-        if (t == "Viewpoint" || t == "DirectionalLight" || t == "PointLight" || t == "Material" || t == "Sphere" ||
-            t == "Transform" || t == "Shape" || t == "Background" || t == "NavigationInfo" || t == "WorldInfo") {
-            flush_light();
-            context = t;
-            in_viewpoint = t == "Viewpoint" && !have_viewpoint;
-            if (t == "Viewpoint") have_viewpoint = true;
-            if (t == "Transform") translation = Vec3(0.0), diffuse = Vec3(0.8), emissive = Vec3(0.0);
-            if (t == "DirectionalLight") light = Light{}, light_kind = 1;
-            if (t == "PointLight") {
-                light = Light{};
-                light.kind = LightKind::Point;
-                light_kind = 2;
-            }
-            continue;
-        }
-        if (in_viewpoint) {
-            if (t == "position") out.eye = vec();
-            if (t == "orientation") {
-                const Vec3 axis = vec();
-                out.world_from_camera = axis_angle(axis, num());
-            }
-            if (t == "fieldOfView") out.fov = num();
-        } else if (light_kind) {
-            if (t == "direction") light.direction = glm::normalize(vec());
-            if (t == "location") light.position = vec();
-            if (t == "color") light.color = vec();
-            if (t == "intensity") light.intensity = num();
-            if (t == "ambientIntensity") light.ambient_intensity = num();
-            if (t == "attenuation") light.attenuation = vec();
-            if (t == "radius") light.radius = num();
-        } else if (t == "translation") {
-            translation = vec();
-        } else if (context == "Material" && t == "diffuseColor") {
-            diffuse = vec();
-        } else if (context == "Material" && t == "emissiveColor") {
-            emissive = vec();
-        } else if (context == "Sphere" && t == "radius") {
-            Material m;
-            m.diffuse = diffuse;
-            m.emissive = emissive;
-            out.flat.materials.push_back(m);
-            out.flat.shadings.push_back({uint32_t(out.flat.materials.size() - 1), 0});
-            Sphere s;
-            s.center = translation;
-            s.radius = num();
-            s.shading = uint32_t(out.flat.shadings.size() - 1);
-            s.gas = true;
-            out.flat.spheres.push_back(s);
-        }
-    }
-    flush_light();
-    for (uint32_t l = 0; l < out.flat.lights.size(); ++l) out.flat.light_sets[0].push_back(l);
     if (out.flat.spheres.empty()) {
         error = "no spheres";
         return false;
@@ -176,12 +89,6 @@ int main(int argc, char** argv) {
                      "          [--tolerance T]... [--reps N] [--check N] [--steps S] [--reference FILE]\n",
                      argv[0]);
         return 2;
-    }
-    BenchScene scene;
-    std::string error;
-    if (!read_scene(argv[1], scene, error)) {
-        std::fprintf(stderr, "%s: %s\n", argv[1], error.c_str());
-        return 3;
     }
     int width = 160, height = 120, reps = 3, check = 0, steps = 40000;
     std::vector<double> tolerances;
@@ -219,9 +126,17 @@ int main(int argc, char** argv) {
         }
     }
     if (tolerances.empty()) tolerances = {1e-2, 1e-3, 1e-4, 1e-5, 1e-6};
-    for (Material& m : scene.flat.materials) {
-        if (albedo) m.albedo = *albedo;
-        if (emission) m.emission = *emission;
+    FlattenOptions flatten_options;
+    flatten_options.spheres = SpheresOption::Gas;
+    flatten_options.density = options.density;
+    flatten_options.albedo = albedo;
+    flatten_options.emission = emission;
+    flatten_options.scene_file = argv[1];
+    BenchScene scene;
+    std::string error;
+    if (!read_scene(argv[1], flatten_options, scene, error)) {
+        std::fprintf(stderr, "%s: %s\n", argv[1], error.c_str());
+        return 3;
     }
     GasVolume gas;
     gas.build(scene.flat, options);

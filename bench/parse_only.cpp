@@ -1,8 +1,8 @@
 // Reads one scene with the parser library alone (no scene build, no flattening, no OpenImageIO) and
 // prints the reading time, the node count and the process's peak memory; with --dump, a canonical
 // listing of the whole node tree and the diagnostics, for checking that two builds read every file
-// the same way. Build (from a build folder): g++ -std=c++20 -O2 -I SRC SRC/bench/parse_only.cpp
-// libvrml_parser.a -lz Usage: parse_only FILE [--dump]
+// the same way. Build: -DVRMLRAY_BENCH=ON and `cmake --build BUILD --target parse_only` (it links
+// the parser layer alone). Usage: parse_only FILE [--dump]
 #include <sys/resource.h>
 
 #include <chrono>

@@ -18,11 +18,12 @@ if [ ! -s "$wrl" ]; then
     python3 "$root/tools/gen_molecule.py" 345000 "$wrl" --no-bonds
 fi
 [ -s "$x3d" ] || "$bin" convert "$wrl" "$x3d" -q
-lib=$(dirname "$bin")/libvrml_parser.a
+# The reader alone, built as an optional target of the binary's own build folder.
+build=$(dirname "$bin")
 reader=""
-if [ -f "$lib" ] && g++ -std=c++20 -O2 -I "$root" "$root/bench/parse_only.cpp" "$lib" -lz -lpthread \
-        -o "$work/parse_only" 2>/dev/null; then
-    reader=$work/parse_only
+if [ -f "$build/CMakeCache.txt" ] && cmake -S "$root" -B "$build" -DVRMLRAY_BENCH=ON >/dev/null &&
+        cmake --build "$build" --target parse_only >/dev/null; then
+    reader=$build/bench/parse_only
 fi
 for file in "$wrl" "$x3d"; do
     bytes=$(stat -c %s "$file")

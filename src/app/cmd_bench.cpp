@@ -15,7 +15,7 @@
 #include "image/compare.h"
 #include "image/image.h"
 #include "image/plot.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 
 namespace vr {

@@ -7,7 +7,7 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "render/camera.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "scene/build.h"
 
 namespace vr {

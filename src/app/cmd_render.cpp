@@ -15,7 +15,7 @@
 #include "app/progress.h"
 #include "core/huge_pages.h"
 #include "image/image.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 
 namespace vr {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "parser/load.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 
 namespace vr {
 

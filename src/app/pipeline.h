@@ -5,7 +5,7 @@
 #include "app/commands.h"
 #include "parser/load.h"
 #include "render/flat_scene.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/options.h"
 
 namespace vr {

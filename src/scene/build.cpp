@@ -2,11 +2,13 @@
 // nodes. Geometry nodes are in build_geometry.cpp.
 #include "scene/build.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
 
+#include "core/format.h"
 #include "core/huge_pages.h"
 #include "parser/registry.h"
 #include "scene/build_internal.h"
@@ -658,10 +660,19 @@ sg::Index Builder::make_viewpoint(NodeId id) {
             fov = default_of(type(id), "fieldOfView"_n);
         }
         for (int i = 0; i < 4; ++i) v.ortho_extent[i] = fov.numbers[i];
-        // Unused for an orthographic view, but flattening checks it: a Viewpoint's default.
+        // Unused for an orthographic view: a Viewpoint's default.
         v.field_of_view = default_of("Viewpoint"_n, "fieldOfView"_n).numbers[0];
     } else {
         v.field_of_view = number(id, "fieldOfView"_n);
+        if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
+            // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, pi or
+            // more is taken as the widest sensible view; 0, negative or NaN as the default.
+            const double given = v.field_of_view;
+            v.field_of_view = given >= kPi ? kPi - 0.01 : default_of("Viewpoint"_n, "fieldOfView"_n).numbers[0];
+            warn(id, "field-of-view",
+                 "fieldOfView " + format_g(given) + " lies outside (0, pi); using " +
+                     format_g(v.field_of_view));
+        }
     }
     const sg::Index index = static_cast<sg::Index>(scene_.viewpoints.size());
     scene_.viewpoints.push_back(std::move(v));
@@ -675,6 +686,22 @@ sg::Index Builder::make_background(NodeId id) {
     b.sky_angle = numbers(id, "skyAngle"_n);
     b.ground_color = vec3s(id, "groundColor"_n);
     b.ground_angle = numbers(id, "groundAngle"_n);
+    // n colours need n - 1 angles (VRML97 6.5); the surplus of either goes.
+    if (b.sky_color.empty()) b.sky_color.push_back(Vec3(0.0));
+    if (b.sky_angle.size() + 1 != b.sky_color.size()) {
+        warn(id, "angles",
+             "skyColor needs one value more than skyAngle; the extra values are ignored");
+        const size_t k = std::min(b.sky_angle.size(), b.sky_color.size() - 1);
+        b.sky_angle.resize(k);
+        b.sky_color.resize(k + 1);
+    }
+    if (!b.ground_color.empty() && b.ground_angle.size() + 1 != b.ground_color.size()) {
+        warn(id, "angles",
+             "groundColor needs one value more than groundAngle; the extra values are ignored");
+        const size_t k = std::min(b.ground_angle.size(), b.ground_color.size() - 1);
+        b.ground_angle.resize(k);
+        b.ground_color.resize(k + 1);
+    }
     const Name urls[6] = {"frontUrl"_n, "backUrl"_n, "leftUrl"_n,
                           "rightUrl"_n, "topUrl"_n,  "bottomUrl"_n};
     for (int i = 0; i < 6; ++i) b.urls[i] = strings(id, urls[i]);

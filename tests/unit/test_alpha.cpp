@@ -12,7 +12,7 @@
 #include "image/image.h"
 #include "parser/load.h"
 #include "render/accel.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/integrator.h"
 #include "render/render.h"
 #include "scene/build.h"

@@ -7,7 +7,7 @@
 
 #include "parser/load.h"
 #include "render/camera.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 #include "image/texture_file.h"

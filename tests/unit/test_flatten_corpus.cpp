@@ -6,7 +6,7 @@
 
 #include "corpus.h"
 #include "parser/load.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "scene/build.h"
 
 namespace vr {

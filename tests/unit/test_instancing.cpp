@@ -12,7 +12,7 @@
 
 #include "parser/load.h"
 #include "render/accel.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 #include "scene/transform.h"

@@ -12,7 +12,7 @@
 #include "geometry/sphere_fit.h"
 #include "parser/load.h"
 #include "render/camera.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 

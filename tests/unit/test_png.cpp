@@ -22,7 +22,7 @@
 #include "image/png.h"
 #include "image/texture_file.h"
 #include "parser/load.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "scene/build.h"
 
 namespace vr {

@@ -5,7 +5,7 @@
 
 #include "geometry/sphere_fit.h"
 #include "parser/load.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "scene/build.h"
 
 namespace vr {

@@ -9,7 +9,7 @@
 #include "image/image.h"
 #include "parser/load.h"
 #include "render/camera.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 

@@ -26,8 +26,8 @@
 //   global lights.
 // * Bindable nodes: the first NavigationInfo, Background and Fog in file order are used, preferring
 //   the main file's over inlined files' (VRML97 4.6.10 binds none from Inlines; we fall back to
-//   them when the main file has none). Viewpoints keep file order with the main file's first; a
-//   fieldOfView outside (0, pi) warns and becomes pi - 0.01 (from pi up) or 0.785398; OrthoViewpoint
+//   them when the main file has none). Viewpoints keep file order with the main file's first (their
+//   fieldOfView, and Background's colours and angles, were checked by build_scene); OrthoViewpoint
 //   extents are scaled like a light's radius. Background rotation: the rotation of its transform
 //   (scale removed). Fog visibilityRange is scaled like a light's radius. Bindable nodes under a
 //   Billboard ignore the Billboard's rotation.
