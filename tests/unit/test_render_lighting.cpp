@@ -7,7 +7,7 @@
 #include <string>
 
 #include "parser/load.h"
-#include "render/flatten.h"
+#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 
