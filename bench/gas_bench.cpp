@@ -1,28 +1,32 @@
 // Gas integrator alone: times GasVolume::integrate over a camera's pixels and measures its error
-// against the brute-force GasVolume::integrate_reference, without the image library or the rest of the
-// renderer, so that it runs under callgrind (see Build below) and so that two versions of src/render/gas.cpp can be compared on the same rays.
+// against the brute-force GasVolume::integrate_reference, without the image library or the rest of
+// the renderer, so that it runs under callgrind (see Build below) and so that two versions of
+// src/render/gas.cpp can be compared on the same rays.
 //
 //   gas_bench SCENE.wrl [--size W H] [--density D] [--albedo R,G,B] [--emission R,G,B]
 //             [--tolerance T]... [--reps N] [--check N] [--steps S] [--reference FILE]
 //
 // SCENE is any scene vrmlray reads (e.g. one written by the peer harness's generator,
 // ../shared/bench/gen_scene.py, or by tools/gen_molecule.py --no-bonds): it is read, built and
-// flattened as `vrmlray render --spheres gas` does, and the rays come from its first Viewpoint (else
-// the default camera). Every sphere is gas with sigma = --density, albedo = diffuseColor and emission =
-// emissiveColor unless --albedo/--emission (or the file's hints) say otherwise.
+// flattened as `vrmlray render --spheres gas` does, and the rays come from its first Viewpoint
+// (else the default camera). Every sphere is gas with sigma = --density, albedo = diffuseColor and
+// emission = emissiveColor unless --albedo/--emission (or the file's hints) say otherwise.
 //
 // For each tolerance: the median over --reps of the seconds to integrate every pixel (one thread),
-// the integrator's counters, and with --check N the error on N pixels spread over the image whose ray
-// meets the gas: the largest and the median relative error of the scattered (lit) radiance, channel
-// by channel, against integrate_reference with --steps steps per piece. The references are written
-// to / read from --reference so that they are computed once. Build it with -DVRMLRAY_BENCH=ON
-// (for callgrind, which knows no AVX-512, also -DVRMLRAY_NATIVE=OFF) and `cmake --build BUILD
+// the integrator's counters, and with --check N the error on N pixels spread over the image whose
+// ray meets the gas: the largest and the median relative error of the scattered (lit) radiance,
+// channel by channel, against integrate_reference with --steps steps per piece. The references are
+// written to / read from --reference so that they are computed once. Build it with
+// -DVRMLRAY_BENCH=ON (for callgrind, which knows no AVX-512, also -DVRMLRAY_NATIVE=OFF) and `cmake
+// --build BUILD
 // --target gas_bench`,
 //
 // and count instructions of the integrator alone with
 //   valgrind --tool=callgrind "--toggle-collect=vr::GasVolume::integrate(vr::Ray const&, double,
-//       vr::GasVolume::Lighting const&, double, vr::GasStats&) const" BUILD/bench/gas_bench SCENE ...
-// (the full signature: a pattern would also match the integrator's lambdas and stop counting inside them).
+//       vr::GasVolume::Lighting const&, double, vr::GasStats&) const" BUILD/bench/gas_bench SCENE
+//       ...
+// (the full signature: a pattern would also match the integrator's lambdas and stop counting inside
+// them).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,7 +53,8 @@ struct BenchScene {
     double fov = 0.785398;
 };
 
-// The scene as vrmlray render --spheres gas sees it: the project's reader, scene build and flattening.
+// The scene as vrmlray render --spheres gas sees it: the project's reader, scene build and
+// flattening.
 bool read_scene(const char* path, const FlattenOptions& flatten_options, BenchScene& out,
                 std::string& error) {
     const LoadedScene loaded = load_scene(path);
@@ -74,20 +79,24 @@ bool read_scene(const char* path, const FlattenOptions& flatten_options, BenchSc
     return true;
 }
 
-bool parse_rgb(const char* s, Vec3& v) { return std::sscanf(s, "%lf,%lf,%lf", &v.x, &v.y, &v.z) == 3; }
+bool parse_rgb(const char* s, Vec3& v) {
+    return std::sscanf(s, "%lf,%lf,%lf", &v.x, &v.y, &v.z) == 3;
+}
 
 double now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr,
-                     "usage: %s SCENE.wrl [--size W H] [--density D] [--albedo R,G,B] [--emission R,G,B]\n"
-                     "          [--tolerance T]... [--reps N] [--check N] [--steps S] [--reference FILE]\n",
-                     argv[0]);
+        std::fprintf(
+            stderr,
+            "usage: %s SCENE.wrl [--size W H] [--density D] [--albedo R,G,B] [--emission R,G,B]\n"
+            "          [--tolerance T]... [--reps N] [--check N] [--steps S] [--reference FILE]\n",
+            argv[0]);
         return 2;
     }
     int width = 160, height = 120, reps = 3, check = 0, steps = 40000;
@@ -144,7 +153,8 @@ int main(int argc, char** argv) {
     lighting.lights = &scene.flat.lights;
     lighting.light_sets = &scene.flat.light_sets;
 
-    // Camera rays through the pixel centres; fieldOfView spans the smaller image dimension (SPEC 4).
+    // Camera rays through the pixel centres; fieldOfView spans the smaller image dimension (SPEC
+    // 4).
     const Vec3 right = scene.world_from_camera[0], up = scene.world_from_camera[1],
                forward = -scene.world_from_camera[2];
     const double scale = std::tan(0.5 * scene.fov) / (0.5 * std::min(width, height));
@@ -155,8 +165,8 @@ int main(int argc, char** argv) {
                              ((0.5 * height - y - 0.5) * scale) * up);
         return r;
     };
-    std::printf("%s: %zu gas spheres, %zu lights, %dx%d\n", argv[1], gas.size(), scene.flat.lights.size(), width,
-                height);
+    std::printf("%s: %zu gas spheres, %zu lights, %dx%d\n", argv[1], gas.size(),
+                scene.flat.lights.size(), width, height);
 
     // Pixels to check: every k-th pixel whose ray meets the gas (transmittance < 1).
     std::vector<int> checked;
@@ -166,7 +176,8 @@ int main(int argc, char** argv) {
         GasVolume::Lighting dark;
         for (int p = 0; p < width * height; ++p) {
             GasStats st;
-            if (gas.integrate(pixel_ray(p % width, p / width), kInf, dark, 1e-2, st).transmittance < 1.0)
+            if (gas.integrate(pixel_ray(p % width, p / width), kInf, dark, 1e-2, st).transmittance <
+                1.0)
                 in_gas.push_back(p);
         }
         for (int k = 0; k < check && !in_gas.empty(); ++k)
@@ -184,9 +195,11 @@ int main(int argc, char** argv) {
         if (reference.empty()) {
             const double t0 = now();
             for (int p : checked)
-                reference.push_back(gas.integrate_reference(pixel_ray(p % width, p / width), kInf, lighting, steps)
-                                        .radiance);
-            std::printf("reference: %zu pixels, %d steps per piece, %.1f s\n", checked.size(), steps, now() - t0);
+                reference.push_back(
+                    gas.integrate_reference(pixel_ray(p % width, p / width), kInf, lighting, steps)
+                        .radiance);
+            std::printf("reference: %zu pixels, %d steps per piece, %.1f s\n", checked.size(),
+                        steps, now() - t0);
             if (!reference_file.empty()) {
                 std::ofstream o(reference_file);
                 o.precision(17);
@@ -211,8 +224,8 @@ int main(int argc, char** argv) {
     std::vector<Vec3> exact;
     for (int p : checked) exact.push_back(exact_part(pixel_ray(p % width, p / width)));
 
-    std::printf("%10s %10s %12s %14s %12s %12s %12s\n", "tolerance", "seconds", "pieces", "quadrature", "vis/pixel",
-                "max rel err", "median rel");
+    std::printf("%10s %10s %12s %14s %12s %12s %12s\n", "tolerance", "seconds", "pieces",
+                "quadrature", "vis/pixel", "max rel err", "median rel");
     for (double tol : tolerances) {
         std::vector<double> times;
         GasStats stats;
@@ -223,7 +236,8 @@ int main(int argc, char** argv) {
             const double t0 = now();
             for (int y = 0; y < height; ++y)
                 for (int x = 0; x < width; ++x) {
-                    const GasVolume::Result g = gas.integrate(pixel_ray(x, y), kInf, lighting, tol, st);
+                    const GasVolume::Result g =
+                        gas.integrate(pixel_ray(x, y), kInf, lighting, tol, st);
                     s += g.radiance.x + g.radiance.y + g.radiance.z;
                 }
             times.push_back(now() - t0);
@@ -235,7 +249,8 @@ int main(int argc, char** argv) {
         for (size_t k = 0; k < checked.size(); ++k) {
             const int p = checked[k];
             GasStats st;
-            const Vec3 got = gas.integrate(pixel_ray(p % width, p / width), kInf, lighting, tol, st).radiance;
+            const Vec3 got =
+                gas.integrate(pixel_ray(p % width, p / width), kInf, lighting, tol, st).radiance;
             double e = 0.0;
             for (int c = 0; c < 3; ++c) {
                 const double lit = reference[k][c] - exact[k][c];

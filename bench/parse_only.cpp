@@ -44,7 +44,8 @@ void dump(const LoadedScene& scene) {
         for (const FieldEntry& e : tree.set_fields(id)) {
             FieldView v = tree.view(e);
             std::printf("  %s %s at %u:%u =", std::string(name_text(e.name)).c_str(),
-                        std::string(type_name(e.type)).c_str(), e.loc.get().file, e.loc.get().offset);
+                        std::string(type_name(e.type)).c_str(), e.loc.get().file,
+                        e.loc.get().offset);
             dump_value(tree, v);
             std::printf("\n");
         }

@@ -20,18 +20,21 @@ struct Frame {
     Lexer lexer;
     uint32_t file;
     std::unordered_map<Name, NodeId> defs;  // DEF names of this scope (file, or one PROTO instance)
-    // PROTO interface defaults may USE what the enclosing scope DEFined, but their own DEFs stay theirs.
+    // PROTO interface defaults may USE what the enclosing scope DEFined, but their own DEFs stay
+    // theirs.
     const std::unordered_map<Name, NodeId>* outer_defs = nullptr;
     std::shared_ptr<ProtoScope> protos;
     const std::unordered_map<Name, FieldEntry>* is_values = nullptr;  // inside a PROTO body
     const ProtoDecl* proto = nullptr;
     size_t proto_depth = 0;
-    bool whole_file = false;  // reads its file from the start: the pages behind it may be given back
+    bool whole_file =
+        false;  // reads its file from the start: the pages behind it may be given back
 };
 
 class Reader {
-public:
-    Reader(LoadedScene& scene, Spec spec, const LoadLimits& limits, const ExternProtoResolver& resolver)
+  public:
+    Reader(LoadedScene& scene, Spec spec, const LoadLimits& limits,
+           const ExternProtoResolver& resolver)
         : scene_(scene),
           tree_(scene.tree),
           registry_(Registry::builtin()),
@@ -61,7 +64,7 @@ public:
         return result;
     }
 
-private:
+  private:
     // ---- tokens ------------------------------------------------------------------------------
 
     [[noreturn]] void fail(Frame& f, const Token& t, std::string message) {
@@ -73,13 +76,15 @@ private:
 
     Token expect(Frame& f, TokenKind kind, const char* what) {
         Token t = f.lexer.next();
-        if (t.kind != kind) fail(f, t, std::string("expected ") + what + ", found " + describe(f, t));
+        if (t.kind != kind)
+            fail(f, t, std::string("expected ") + what + ", found " + describe(f, t));
         return t;
     }
 
     std::string_view expect_word(Frame& f, const char* what) {
         Token t = f.lexer.next();
-        if (t.kind != TokenKind::Word) fail(f, t, std::string("expected ") + what + ", found " + describe(f, t));
+        if (t.kind != TokenKind::Word)
+            fail(f, t, std::string("expected ") + what + ", found " + describe(f, t));
         return f.lexer.text(t);
     }
 
@@ -92,20 +97,23 @@ private:
         scene_.diagnostics.warning({f.file, offset}, std::move(message), cause);
     }
 
-    // COMPONENT name:level. The statement only declares what the file uses (the nodes are read whatever it
-    // says), but a level no X3D component has (1 to 5 in X3D 3.0-4.0) means the file is not what it claims.
+    // COMPONENT name:level. The statement only declares what the file uses (the nodes are read
+    // whatever it says), but a level no X3D component has (1 to 5 in X3D 3.0-4.0) means the file is
+    // not what it claims.
     void component_level(Frame& f, const Token& name, std::string_view text) {
         const size_t colon = text.rfind(':');
         if (colon == std::string_view::npos) return;  // no level: level 1
         const std::string_view digits = text.substr(colon + 1);
         int level = 0;
-        const bool number = !digits.empty() && digits.size() <= 3 &&
-                            std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+        const bool number =
+            !digits.empty() && digits.size() <= 3 &&
+            std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
         if (number) level = std::stoi(std::string(digits));
         if (!number || level < 1 || level > 5)
             warn(f, name.offset,
                  "COMPONENT " + std::string(f.lexer.text(name)) +
-                     ": no X3D component has that level (levels run from 1 to 5); the nodes are read anyway",
+                     ": no X3D component has that level (levels run from 1 to 5); the nodes are "
+                     "read anyway",
                  "component level");
     }
 
@@ -119,12 +127,19 @@ private:
             Token t = f.lexer.next();
             switch (t.kind) {
                 case TokenKind::LBrace:
-                case TokenKind::LBracket: ++depth; break;
+                case TokenKind::LBracket:
+                    ++depth;
+                    break;
                 case TokenKind::RBrace:
-                case TokenKind::RBracket: --depth; break;
-                case TokenKind::End: fail(f, open, "this group is not closed before the end of the file");
-                case TokenKind::BadString: fail(f, t, "string is not closed before the end of the file");
-                default: break;
+                case TokenKind::RBracket:
+                    --depth;
+                    break;
+                case TokenKind::End:
+                    fail(f, open, "this group is not closed before the end of the file");
+                case TokenKind::BadString:
+                    fail(f, t, "string is not closed before the end of the file");
+                default:
+                    break;
             }
         }
     }
@@ -134,7 +149,8 @@ private:
     // A statement at file or body level; returns the node it makes, or kNullNode.
     NodeId statement(Frame& f, size_t depth) {
         const Token t = f.lexer.peek();
-        if (t.kind != TokenKind::Word) fail(f, t, "expected a node or statement, found " + describe(f, t));
+        if (t.kind != TokenKind::Word)
+            fail(f, t, "expected a node or statement, found " + describe(f, t));
         std::string_view w = f.lexer.text(t);
         if (w == "PROTO") {
             proto_declaration(f);
@@ -164,7 +180,8 @@ private:
                     return kNullNode;
                 }
                 std::string_view level = f.lexer.text(name);
-                if (f.lexer.peek().kind == TokenKind::Word && f.lexer.text(f.lexer.peek()).front() == ':')
+                if (f.lexer.peek().kind == TokenKind::Word &&
+                    f.lexer.text(f.lexer.peek()).front() == ':')
                     level = f.lexer.text(f.lexer.next());  // "name :level" written with a space
                 component_level(f, name, level);
                 return kNullNode;
@@ -214,7 +231,8 @@ private:
             std::string_view name = expect_word(f, "a name after DEF");
             Name def = intern(name);
             Token type = f.lexer.next();
-            if (type.kind != TokenKind::Word) fail(f, type, "expected a node type after DEF " + std::string(name));
+            if (type.kind != TokenKind::Word)
+                fail(f, type, "expected a node type after DEF " + std::string(name));
             NodeId id = node(f, type, depth);
             if (id != kNullNode) {
                 if (tree_.nodes[id].def_name == kNoName) tree_.nodes[id].def_name = def;
@@ -236,8 +254,10 @@ private:
                 }
             }
             if (it == f.defs.end())
-                fail(f, nt, "USE of '" + std::string(f.lexer.text(nt)) + "', which no DEF before it names" +
-                                (f.is_values ? " in this PROTO body" : ""));
+                fail(f, nt,
+                     "USE of '" + std::string(f.lexer.text(nt)) +
+                         "', which no DEF before it names" +
+                         (f.is_values ? " in this PROTO body" : ""));
             ++scene_.stats.use_count;
             return it->second;
         }
@@ -255,15 +275,19 @@ private:
                 fail(f, type_token, "expected a node, found " + describe(f, type_token));
         }
         if (depth > limits_.max_nesting_depth)
-            fail(f, type_token, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) + " (limit)");
+            fail(f, type_token,
+                 "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) +
+                     " (limit)");
         std::string_view type = f.lexer.text(type_token);
         Name type_name = intern(type);
-        if (const ProtoDecl* proto = f.protos->find(type_name)) return proto_instance(f, type_token, *proto, depth);
+        if (const ProtoDecl* proto = f.protos->find(type_name))
+            return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
         if (!decl) {
             if (f.lexer.peek().kind != TokenKind::LBrace)
-                fail(f, f.lexer.peek(), "expected '{' after node type '" + std::string(type) + "', found " +
-                                            describe(f, f.lexer.peek()));
+                fail(f, f.lexer.peek(),
+                     "expected '{' after node type '" + std::string(type) + "', found " +
+                         describe(f, f.lexer.peek()));
             warn(f, type_token.offset, "unknown node type '" + std::string(type) + "' skipped",
                  "unknown-node:" + std::string(type));
             ++scene_.stats.skipped_nodes[std::string(type)];
@@ -273,7 +297,9 @@ private:
         const bool dynamic = has_dynamic_interface(type);
         Token open = f.lexer.next();
         if (open.kind != TokenKind::LBrace)
-            fail(f, open, "expected '{' after node type '" + std::string(type) + "', found " + describe(f, open));
+            fail(f, open,
+                 "expected '{' after node type '" + std::string(type) + "', found " +
+                     describe(f, open));
 
         const size_t mark = scratch_.size();
         std::vector<std::pair<Name, FieldType>> dynamic_fields;  // declared in a Script's body
@@ -284,7 +310,9 @@ private:
                 break;
             }
             if (t.kind != TokenKind::Word)
-                fail(f, t, "expected a field name or '}' in " + std::string(type) + ", found " + describe(f, t));
+                fail(f, t,
+                     "expected a field name or '}' in " + std::string(type) + ", found " +
+                         describe(f, t));
             std::string_view w = f.lexer.text(t);
             if (w == "ROUTE") {
                 route(f);
@@ -306,7 +334,8 @@ private:
             Name field_name = intern(w);
             const FieldDecl* field = registry_.lookup_field(spec_, *decl, field_name);
             if (!field && dynamic) {
-                // A field the Script declared itself: `name IS protoField` or `name value`; dropped.
+                // A field the Script declared itself: `name IS protoField` or `name value`;
+                // dropped.
                 auto it = std::find_if(dynamic_fields.begin(), dynamic_fields.end(),
                                        [&](const auto& d) { return d.first == field_name; });
                 if (it != dynamic_fields.end()) {
@@ -323,8 +352,9 @@ private:
             if (!field)
                 fail(f, t, "unknown field '" + std::string(w) + "' in node " + std::string(type));
             if (field->extension)
-                warn(f, t.offset, "non-standard field '" + std::string(w) + "' of " + std::string(type) +
-                                      " (a browser extension) read and ignored",
+                warn(f, t.offset,
+                     "non-standard field '" + std::string(w) + "' of " + std::string(type) +
+                         " (a browser extension) read and ignored",
                      "extension-field:" + std::string(type) + "." + std::string(w));
             if (peek_word(f, "IS")) {
                 f.lexer.next();
@@ -332,7 +362,9 @@ private:
                 continue;
             }
             if (!has_value(field->access))
-                fail(f, t, "'" + std::string(w) + "' is an event of " + std::string(type) + " and takes no value here");
+                fail(f, t,
+                     "'" + std::string(w) + "' is an event of " + std::string(type) +
+                         " and takes no value here");
             FieldEntry entry;
             entry.name = field->name;
             field_value(f, field->type, entry, depth);
@@ -352,7 +384,8 @@ private:
         Token at = f.lexer.next();
         Access access = *parse_access(f.lexer.text(at));
         Token type_token = f.lexer.next();
-        auto type = type_token.kind == TokenKind::Word ? parse_type_name(f.lexer.text(type_token)) : std::nullopt;
+        auto type = type_token.kind == TokenKind::Word ? parse_type_name(f.lexer.text(type_token))
+                                                       : std::nullopt;
         if (!type) fail(f, type_token, "expected a field type, found " + describe(f, type_token));
         Name name = intern(expect_word(f, "a field name"));
         if (peek_word(f, "IS")) {
@@ -368,7 +401,9 @@ private:
     void push_field(Frame& f, size_t mark, const FieldEntry& entry, const Token& at) {
         for (size_t i = mark; i < scratch_.size(); ++i) {
             if (scratch_[i].name == entry.name) {
-                warn(f, at.offset, "field '" + std::string(name_text(entry.name)) + "' given twice; the last value is used",
+                warn(f, at.offset,
+                     "field '" + std::string(name_text(entry.name)) +
+                         "' given twice; the last value is used",
                      "duplicate-field");
                 scratch_[i] = entry;
                 return;
@@ -377,7 +412,8 @@ private:
         scratch_.push_back(entry);
     }
 
-    NodeId make_node(Frame& f, const NodeTypeDecl* decl, Name type_name, const Token& at, size_t mark) {
+    NodeId make_node(Frame& f, const NodeTypeDecl* decl, Name type_name, const Token& at,
+                     size_t mark) {
         if (tree_.nodes.size() >= limits_.max_nodes)
             fail(f, at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         Node n;
@@ -385,7 +421,8 @@ private:
         n.loc = {f.file, at.offset};
         n.first_field = static_cast<uint32_t>(tree_.fields.size());
         const uint32_t field_count = static_cast<uint32_t>(scratch_.size() - mark);
-        tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark), scratch_.end());
+        tree_.fields.insert(tree_.fields.end(), scratch_.begin() + static_cast<ptrdiff_t>(mark),
+                            scratch_.end());
         scratch_.resize(mark);
         tree_.add_node(n, field_count);
         if (f.whole_file) scene_.sources.release_before(f.file, f.lexer.position());
@@ -407,8 +444,8 @@ private:
         entry.type = type;
         Token first = f.lexer.peek();
         entry.loc = {f.file, first.offset};
-        // Node values collect on a stack shared by all levels (no allocation per field): nested fields push
-        // above this mark and are gone again before control returns here.
+        // Node values collect on a stack shared by all levels (no allocation per field): nested
+        // fields push above this mark and are gone again before control returns here.
         const size_t mark = node_scratch_.size();
         struct Ids {
             std::vector<NodeId>& v;
@@ -421,7 +458,8 @@ private:
                 f.lexer.next();
                 ids.push_back(kNullNode);
             } else {
-                if (first.kind != TokenKind::Word) fail(f, first, "expected a node or NULL, found " + describe(f, first));
+                if (first.kind != TokenKind::Word)
+                    fail(f, first, "expected a node or NULL, found " + describe(f, first));
                 ids.push_back(node_statement(f, depth + 1));
             }
         } else if (first.kind == TokenKind::LBracket) {
@@ -432,9 +470,12 @@ private:
                     f.lexer.next();
                     break;
                 }
-                if (t.kind == TokenKind::End) fail(f, first, "'[' is not closed before the end of the file");
-                if (t.kind != TokenKind::Word) fail(f, t, "expected a node or ']', found " + describe(f, t));
-                if (f.lexer.text(t) == "NULL") {  // not valid in MFNode, but written by some exporters
+                if (t.kind == TokenKind::End)
+                    fail(f, first, "'[' is not closed before the end of the file");
+                if (t.kind != TokenKind::Word)
+                    fail(f, t, "expected a node or ']', found " + describe(f, t));
+                if (f.lexer.text(t) ==
+                    "NULL") {  // not valid in MFNode, but written by some exporters
                     f.lexer.next();
                     continue;
                 }
@@ -448,10 +489,12 @@ private:
                 }
                 NodeId id = node_statement(f, depth + 1);
                 if (id != kNullNode) ids.push_back(id);
-                if (ids.size() > limits_.max_mf_values) fail(f, first, "too many nodes in one field (limit)");
+                if (ids.size() > limits_.max_mf_values)
+                    fail(f, first, "too many nodes in one field (limit)");
             }
         } else {
-            if (first.kind != TokenKind::Word) fail(f, first, "expected a node or '[', found " + describe(f, first));
+            if (first.kind != TokenKind::Word)
+                fail(f, first, "expected a node or '[', found " + describe(f, first));
             if (!peek_word(f, "NULL")) {
                 NodeId id = node_statement(f, depth + 1);
                 if (id != kNullNode) ids.push_back(id);
@@ -460,7 +503,8 @@ private:
             }
         }
         entry.begin = static_cast<uint32_t>(tree_.node_refs.size());
-        tree_.node_refs.insert(tree_.node_refs.end(), node_scratch_.begin() + static_cast<ptrdiff_t>(mark),
+        tree_.node_refs.insert(tree_.node_refs.end(),
+                               node_scratch_.begin() + static_cast<ptrdiff_t>(mark),
                                node_scratch_.end());
         entry.count = static_cast<uint32_t>(node_scratch_.size() - mark);
         node_scratch_.resize(mark);
@@ -470,15 +514,18 @@ private:
     void is_mapping(Frame& f, Name field, FieldType type, Access access, size_t mark) {
         Token t = f.lexer.next();
         if (t.kind != TokenKind::Word) fail(f, t, "expected a PROTO field name after IS");
-        if (!f.is_values)
-            fail(f, t, "IS may only be used inside a PROTO body");
+        if (!f.is_values) fail(f, t, "IS may only be used inside a PROTO body");
         Name proto_field = intern(f.lexer.text(t));
         const ProtoField* pf = f.proto->find(proto_field);
-        if (!pf) fail(f, t, "IS names '" + std::string(f.lexer.text(t)) + "', which is not a field of PROTO " +
-                                std::string(name_text(f.proto->name)));
+        if (!pf)
+            fail(f, t,
+                 "IS names '" + std::string(f.lexer.text(t)) + "', which is not a field of PROTO " +
+                     std::string(name_text(f.proto->name)));
         if (pf->type != type)
-            fail(f, t, "IS connects a " + std::string(type_name(type)) + " field to PROTO field '" +
-                           std::string(name_text(pf->name)) + "' of type " + std::string(type_name(pf->type)));
+            fail(f, t,
+                 "IS connects a " + std::string(type_name(type)) + " field to PROTO field '" +
+                     std::string(name_text(pf->name)) + "' of type " +
+                     std::string(type_name(pf->type)));
         if (!has_value(access)) return;  // events carry no value at time 0
         auto it = f.is_values->find(proto_field);
         if (it == f.is_values->end()) return;  // PROTO event: the node keeps its default
@@ -500,12 +547,18 @@ private:
         for (;;) {
             Token t = f.lexer.next();
             if (t.kind == TokenKind::RBracket) break;
-            if (t.kind != TokenKind::Word) fail(f, t, "expected a field declaration or ']', found " + describe(f, t));
+            if (t.kind != TokenKind::Word)
+                fail(f, t, "expected a field declaration or ']', found " + describe(f, t));
             auto access = parse_access(f.lexer.text(t));
-            if (!access) fail(f, t, "expected eventIn, eventOut, field or exposedField, found " + describe(f, t));
+            if (!access)
+                fail(f, t,
+                     "expected eventIn, eventOut, field or exposedField, found " + describe(f, t));
             Token type_token = f.lexer.next();
-            auto type = type_token.kind == TokenKind::Word ? parse_type_name(f.lexer.text(type_token)) : std::nullopt;
-            if (!type) fail(f, type_token, "expected a field type, found " + describe(f, type_token));
+            auto type = type_token.kind == TokenKind::Word
+                            ? parse_type_name(f.lexer.text(type_token))
+                            : std::nullopt;
+            if (!type)
+                fail(f, type_token, "expected a field type, found " + describe(f, type_token));
             ProtoField pf;
             pf.name = intern(expect_word(f, "a field name"));
             pf.type = *type;
@@ -541,8 +594,10 @@ private:
             t = f.lexer.next();
             if (t.kind == TokenKind::LBrace || t.kind == TokenKind::LBracket) ++depth;
             if (t.kind == TokenKind::RBrace || t.kind == TokenKind::RBracket) --depth;
-            if (t.kind == TokenKind::End) fail(f, open, "PROTO body is not closed before the end of the file");
-            if (t.kind == TokenKind::BadString) fail(f, t, "string is not closed before the end of the file");
+            if (t.kind == TokenKind::End)
+                fail(f, open, "PROTO body is not closed before the end of the file");
+            if (t.kind == TokenKind::BadString)
+                fail(f, t, "string is not closed before the end of the file");
         }
         decl->body_end = t.offset;
         decl->scope = f.protos;
@@ -571,7 +626,8 @@ private:
         std::vector<std::string> url_list(tree_.strings.begin() + urls.begin,
                                           tree_.strings.begin() + urls.begin + urls.count);
         decl->scope = f.protos;
-        if (resolver_) decl->implementation = resolver_(url_list, f.file, {f.file, kw.offset}, decl->name);
+        if (resolver_)
+            decl->implementation = resolver_(url_list, f.file, {f.file, kw.offset}, decl->name);
         if (!f.protos->protos.count(decl->name)) f.protos->order.push_back(decl->name);
         f.protos->protos[decl->name] = decl;
         ++scene_.stats.externproto_declarations;
@@ -584,26 +640,33 @@ private:
             Token t = f.lexer.next();
             if (t.kind == TokenKind::RBrace) break;
             if (t.kind != TokenKind::Word)
-                fail(f, t, "expected a field name or '}' in " + std::string(name_text(proto.name)) + ", found " +
-                               describe(f, t));
+                fail(f, t,
+                     "expected a field name or '}' in " + std::string(name_text(proto.name)) +
+                         ", found " + describe(f, t));
             Name field_name = intern(f.lexer.text(t));
             const ProtoField* pf = proto.find(field_name);
             if (!pf)
-                fail(f, t, "unknown field '" + std::string(f.lexer.text(t)) + "' in PROTO instance " +
-                               std::string(name_text(proto.name)));
+                fail(f, t,
+                     "unknown field '" + std::string(f.lexer.text(t)) + "' in PROTO instance " +
+                         std::string(name_text(proto.name)));
             if (peek_word(f, "IS")) {
                 f.lexer.next();
                 Token is_name = f.lexer.next();
                 if (!f.is_values) fail(f, is_name, "IS may only be used inside a PROTO body");
                 Name outer = intern(f.lexer.text(is_name));
                 const ProtoField* opf = f.proto->find(outer);
-                if (!opf) fail(f, is_name, "IS names a field that PROTO " + std::string(name_text(f.proto->name)) + " does not have");
-                if (opf->type != pf->type) fail(f, is_name, "IS connects fields of different types");
+                if (!opf)
+                    fail(f, is_name,
+                         "IS names a field that PROTO " + std::string(name_text(f.proto->name)) +
+                             " does not have");
+                if (opf->type != pf->type)
+                    fail(f, is_name, "IS connects fields of different types");
                 auto it = f.is_values->find(outer);
                 if (it != f.is_values->end()) values[field_name] = it->second;
                 continue;
             }
-            if (!has_value(pf->access)) fail(f, t, "'" + std::string(f.lexer.text(t)) + "' is an event and takes no value");
+            if (!has_value(pf->access))
+                fail(f, t, "'" + std::string(f.lexer.text(t)) + "' is an event and takes no value");
             FieldEntry entry;
             entry.name = field_name;
             field_value(f, pf->type, entry, depth);
@@ -616,7 +679,8 @@ private:
             impl = proto.implementation.get();
             if (!impl) {
                 warn(f, type_token.offset,
-                     "instance of EXTERNPROTO " + std::string(name_text(proto.name)) + " skipped: it was not resolved",
+                     "instance of EXTERNPROTO " + std::string(name_text(proto.name)) +
+                         " skipped: it was not resolved",
                      "unresolved-externproto:" + std::string(name_text(proto.name)));
                 ++scene_.stats.skipped_nodes[std::string(name_text(proto.name))];
                 return kNullNode;
@@ -629,19 +693,28 @@ private:
             auto it = values.find(pf.name);
             if (it != values.end()) {
                 if (it->second.type != pf.type)
-                    fail(f, type_token, "field '" + std::string(name_text(pf.name)) + "' of EXTERNPROTO " +
-                                            std::string(name_text(proto.name)) + " has another type in its implementation");
+                    fail(f, type_token,
+                         "field '" + std::string(name_text(pf.name)) + "' of EXTERNPROTO " +
+                             std::string(name_text(proto.name)) +
+                             " has another type in its implementation");
                 bound[pf.name] = it->second;
             } else if (pf.has_default) {
                 bound[pf.name] = pf.default_value;
             }
         }
         if (f.proto_depth + 1 > limits_.max_proto_depth)
-            fail(f, type_token, "PROTO instances nested deeper than " + std::to_string(limits_.max_proto_depth) +
-                                    " (limit; a PROTO that instantiates itself?)");
+            fail(f, type_token,
+                 "PROTO instances nested deeper than " + std::to_string(limits_.max_proto_depth) +
+                     " (limit; a PROTO that instantiates itself?)");
         const std::string_view text = scene_.sources.file(impl->file).text;
-        Frame body{Lexer(text, impl->body_begin, impl->body_end), impl->file, {}, nullptr,
-                   std::make_shared<ProtoScope>(), &bound, impl, f.proto_depth + 1};
+        Frame body{Lexer(text, impl->body_begin, impl->body_end),
+                   impl->file,
+                   {},
+                   nullptr,
+                   std::make_shared<ProtoScope>(),
+                   &bound,
+                   impl,
+                   f.proto_depth + 1};
         body.protos->parent = impl->scope.lock();
         NodeId first = kNullNode;
         bool have_first = false;
@@ -655,15 +728,17 @@ private:
         return first;
     }
 
-    // An EXTERNPROTO that names a built-in node: the instance is that node with the fields it was given.
+    // An EXTERNPROTO that names a built-in node: the instance is that node with the fields it was
+    // given.
     NodeId builtin_instance(Frame& f, const Token& at, const NodeTypeDecl& decl,
                             const std::unordered_map<Name, FieldEntry>& values) {
         const size_t mark = scratch_.size();
         for (const auto& [name, entry] : values) {
             const FieldDecl* field = decl.find(name);
             if (!field || field->type != entry.type || !has_value(field->access)) {
-                warn(f, at.offset, "field '" + std::string(name_text(name)) + "' does not match built-in node " +
-                                       std::string(name_text(decl.name)) + "; ignored",
+                warn(f, at.offset,
+                     "field '" + std::string(name_text(name)) + "' does not match built-in node " +
+                         std::string(name_text(decl.name)) + "; ignored",
                      "builtin-proto-field:" + std::string(name_text(name)));
                 continue;
             }
@@ -678,7 +753,7 @@ private:
     Spec spec_;
     const LoadLimits& limits_;
     const ExternProtoResolver& resolver_;
-    std::vector<FieldEntry> scratch_;  // fields of the nodes being read, innermost last
+    std::vector<FieldEntry> scratch_;   // fields of the nodes being read, innermost last
     std::vector<NodeId> node_scratch_;  // node values of the fields being read, innermost last
     uint32_t error_file_ = 0;
 };

@@ -54,7 +54,8 @@ std::string Diagnostics::format_one(const Diagnostic& d, const SourceManager& so
             out += "  ";
             out += line;
             out += "\n  ";
-            for (uint32_t i = 1; i < lc.column && i <= line.size(); ++i) out += line[i - 1] == '\t' ? '\t' : ' ';
+            for (uint32_t i = 1; i < lc.column && i <= line.size(); ++i)
+                out += line[i - 1] == '\t' ? '\t' : ' ';
             out += "^\n";
         }
     } else {

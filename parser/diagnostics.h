@@ -1,4 +1,5 @@
-// Errors and warnings collected while reading; the command line decides what to print and the exit code.
+// Errors and warnings collected while reading; the command line decides what to print and the exit
+// code.
 #pragma once
 #include <cstdint>
 #include <map>
@@ -13,14 +14,16 @@ enum class Severity : uint8_t { Warning, Error };
 
 struct Diagnostic {
     Severity severity = Severity::Error;
-    SourceLoc loc;        // may be invalid (no place in a file)
-    std::string file;     // used when loc is invalid but a file is known (e.g. a file that cannot be opened)
+    SourceLoc loc;  // may be invalid (no place in a file)
+    std::string
+        file;  // used when loc is invalid but a file is known (e.g. a file that cannot be opened)
     std::string message;
-    uint32_t count = 1;   // how many times this cause occurred (warnings are reported once per cause)
+    uint32_t count =
+        1;  // how many times this cause occurred (warnings are reported once per cause)
 };
 
 class Diagnostics {
-public:
+  public:
     void error(SourceLoc loc, std::string message);
     void error_in_file(std::string file, std::string message);
     // Warnings with the same cause are merged: the first place is kept and the rest counted.
@@ -36,7 +39,7 @@ public:
     std::string format(const SourceManager& sources) const;
     static std::string format_one(const Diagnostic& d, const SourceManager& sources);
 
-private:
+  private:
     std::vector<Diagnostic> items_;
     std::map<std::string, size_t> warning_index_;  // cause -> index in items_
     size_t error_count_ = 0;

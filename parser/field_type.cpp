@@ -41,16 +41,15 @@ const KindInfo& info(ValueKind kind) { return kKinds[static_cast<size_t>(kind)];
 
 constexpr bool components_agree() {
     for (size_t i = 0; i < kKinds.size(); ++i)
-        if (static_cast<size_t>(kKinds[i].kind) != i || kKinds[i].components != kComponents[i]) return false;
+        if (static_cast<size_t>(kKinds[i].kind) != i || kKinds[i].components != kComponents[i])
+            return false;
     return sizeof kComponents == kKinds.size();
 }
 static_assert(components_agree(), "kComponents in field_type.h disagrees with kKinds");
 
 }  // namespace
 
-bool is_numeric(ValueKind kind) {
-    return kind != ValueKind::String && kind != ValueKind::Node;
-}
+bool is_numeric(ValueKind kind) { return kind != ValueKind::String && kind != ValueKind::Node; }
 
 std::string_view type_name(FieldType type) {
     return type.multi ? info(type.kind).mf : info(type.kind).sf;
@@ -74,20 +73,28 @@ std::optional<Access> parse_access(std::string_view w) {
 
 std::string_view access_name_vrml97(Access a) {
     switch (a) {
-        case Access::Field: return "field";
-        case Access::ExposedField: return "exposedField";
-        case Access::EventIn: return "eventIn";
-        case Access::EventOut: return "eventOut";
+        case Access::Field:
+            return "field";
+        case Access::ExposedField:
+            return "exposedField";
+        case Access::EventIn:
+            return "eventIn";
+        case Access::EventOut:
+            return "eventOut";
     }
     return "field";
 }
 
 std::string_view access_name_x3d(Access a) {
     switch (a) {
-        case Access::Field: return "initializeOnly";
-        case Access::ExposedField: return "inputOutput";
-        case Access::EventIn: return "inputOnly";
-        case Access::EventOut: return "outputOnly";
+        case Access::Field:
+            return "initializeOnly";
+        case Access::ExposedField:
+            return "inputOutput";
+        case Access::EventIn:
+            return "inputOnly";
+        case Access::EventOut:
+            return "outputOnly";
     }
     return "initializeOnly";
 }

@@ -17,14 +17,16 @@ bool parse_double(std::string_view w, double& out) {
     // Plain decimals, the bulk of every scene, exactly as from_chars below would read them.
     const auto* first = reinterpret_cast<const unsigned char*>(w.data());
     Decimal d;
-    if (read_decimal(first, first + w.size(), d) == first + w.size() && d.to_double(out)) return true;
+    if (read_decimal(first, first + w.size(), d) == first + w.size() && d.to_double(out))
+        return true;
     if (body.size() > 2 && body[0] == '0' && (body[1] == 'x' || body[1] == 'X')) {
         int64_t v;
         if (!parse_int32(w, v)) return false;
         out = static_cast<double>(v);
         return true;
     }
-    if (body.empty() || !(std::isdigit(static_cast<unsigned char>(body.front())) || body.front() == '.'))
+    if (body.empty() ||
+        !(std::isdigit(static_cast<unsigned char>(body.front())) || body.front() == '.'))
         return false;
     double v = 0;
     auto r = std::from_chars(body.data(), body.data() + body.size(), v, std::chars_format::general);
@@ -61,28 +63,38 @@ bool parse_int32(std::string_view w, int64_t& out) {
 bool normalise_rotation(double* r) {
     double len2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     if (len2 == 0.0) return r[3] == 0.0;  // a zero axis only makes sense with a zero angle
-    // Unit to within double rounding: left as written, so that reading a written file again changes nothing.
+    // Unit to within double rounding: left as written, so that reading a written file again changes
+    // nothing.
     if (std::abs(len2 - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon()) return true;
     double inv = 1.0 / std::sqrt(len2);
     r[0] *= inv;
     r[1] *= inv;
     r[2] *= inv;
-    // Axes written with a few decimals are off by rounding only (|len^2 - 1| ~ 1e-5): normalised silently.
+    // Axes written with a few decimals are off by rounding only (|len^2 - 1| ~ 1e-5): normalised
+    // silently.
     return std::abs(len2 - 1.0) <= 1e-3;
 }
 
 namespace {
 
-[[noreturn]] void fail(const Token& t, std::string message) { throw SyntaxError{t.offset, std::move(message)}; }
+[[noreturn]] void fail(const Token& t, std::string message) {
+    throw SyntaxError{t.offset, std::move(message)};
+}
 
 std::string describe(Lexer& lex, const Token& t) {
     switch (t.kind) {
-        case TokenKind::End: return "end of file";
-        case TokenKind::LBrace: return "'{'";
-        case TokenKind::RBrace: return "'}'";
-        case TokenKind::LBracket: return "'['";
-        case TokenKind::RBracket: return "']'";
-        case TokenKind::BadString: return "an unterminated string";
+        case TokenKind::End:
+            return "end of file";
+        case TokenKind::LBrace:
+            return "'{'";
+        case TokenKind::RBrace:
+            return "'}'";
+        case TokenKind::LBracket:
+            return "'['";
+        case TokenKind::RBracket:
+            return "']'";
+        case TokenKind::BadString:
+            return "an unterminated string";
         default: {
             std::string_view w = lex.text(t);
             if (w.size() > 40) return "'" + std::string(w.substr(0, 40)) + "...'";
@@ -98,7 +110,8 @@ double read_number(ValueContext& ctx, ValueKind kind) {
     if (kind != ValueKind::Int32) {
         double v;
         if (d.to_double(v)) return v;
-    } else if (d.plain && d.fraction < 0 && d.digits <= (d.negative ? 0x80000000ull : 0x7fffffffull)) {
+    } else if (d.plain && d.fraction < 0 &&
+               d.digits <= (d.negative ? 0x80000000ull : 0x7fffffffull)) {
         const int64_t v = static_cast<int64_t>(d.digits);
         return static_cast<double>(d.negative ? -v : v);
     }
@@ -110,7 +123,8 @@ double read_number(ValueContext& ctx, ValueKind kind) {
         double d;
         if (parse_double(w, d) && d == std::floor(d) && std::abs(d) <= 2147483647.0) {
             if (ctx.diagnostics)
-                ctx.diagnostics->warning({ctx.file, t.offset}, "integer written as a float: " + std::string(w),
+                ctx.diagnostics->warning({ctx.file, t.offset},
+                                         "integer written as a float: " + std::string(w),
                                          "int-as-float");
             return d;
         }
@@ -121,7 +135,8 @@ double read_number(ValueContext& ctx, ValueKind kind) {
         if (w == "FALSE" || (ctx.xml && w == "false")) return 0.0;
         if (w == "true" || w == "false") {
             if (ctx.diagnostics)
-                ctx.diagnostics->warning({ctx.file, t.offset}, "lower-case boolean '" + std::string(w) + "'",
+                ctx.diagnostics->warning({ctx.file, t.offset},
+                                         "lower-case boolean '" + std::string(w) + "'",
                                          "lower-case-bool");
             return w == "true" ? 1.0 : 0.0;
         }
@@ -159,7 +174,8 @@ void read_image(ValueContext& ctx, const Token& at) {
         ctx.lexer.next();
         int64_t v;
         std::string_view word = ctx.lexer.text(t);
-        if (!parse_int32(word, v)) fail(t, "expected a pixel value, found " + describe(ctx.lexer, t));
+        if (!parse_int32(word, v))
+            fail(t, "expected a pixel value, found " + describe(ctx.lexer, t));
         nums.push_back(static_cast<double>(v < 0 ? v + 4294967296LL : v));
     }
 }
@@ -183,7 +199,8 @@ void read_single(ValueContext& ctx, ValueKind kind, const Token& at) {
     if (kind == ValueKind::Rotation) {
         double* r = ctx.tree.numbers.data() + start;
         if (!normalise_rotation(r) && ctx.diagnostics)
-            ctx.diagnostics->warning({ctx.file, at.offset}, "rotation axis is not unit length; normalised",
+            ctx.diagnostics->warning({ctx.file, at.offset},
+                                     "rotation axis is not unit length; normalised",
                                      "rotation-axis");
     }
 }
@@ -204,7 +221,8 @@ void read_field_value(ValueContext& ctx, FieldType type, FieldEntry& entry) {
             entry.count = 1;
             return;
         }
-        if (type.multi && t.kind == TokenKind::LBracket && ctx.lexer.peek().kind == TokenKind::RBracket) {
+        if (type.multi && t.kind == TokenKind::LBracket &&
+            ctx.lexer.peek().kind == TokenKind::RBracket) {
             ctx.lexer.next();
             return;
         }
@@ -224,7 +242,8 @@ void read_field_value(ValueContext& ctx, FieldType type, FieldEntry& entry) {
                 ctx.lexer.next();
                 break;
             }
-            if (t.kind == TokenKind::End) fail(first, "'[' is not closed before the end of the file");
+            if (t.kind == TokenKind::End)
+                fail(first, "'[' is not closed before the end of the file");
             if (n == 1 && !strings) {
                 // Fast path for MFFloat/MFInt32 and friends, the bulk of large files.
                 ctx.tree.numbers.push_back(read_number(ctx, type.kind));

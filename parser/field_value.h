@@ -1,5 +1,6 @@
 // Reading field values of a known type, the same way for scene files, X3D XML attributes and the
-// grammar tables' defaults. SFNode/MFNode values other than NULL and [] are read by the node readers.
+// grammar tables' defaults. SFNode/MFNode values other than NULL and [] are read by the node
+// readers.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -12,8 +13,8 @@
 
 namespace vr {
 
-// Thrown by the readers for a syntax error at a byte offset of the current file; caught at the top of a
-// reader and turned into one Diagnostic.
+// Thrown by the readers for a syntax error at a byte offset of the current file; caught at the top
+// of a reader and turned into one Diagnostic.
 struct SyntaxError {
     uint32_t offset;
     std::string message;
@@ -22,8 +23,9 @@ struct SyntaxError {
 struct ValueContext {
     NodeTree& tree;
     Lexer& lexer;
-    Diagnostics* diagnostics = nullptr;  // for warnings (e.g. rotation axes normalised); may be null
-    uint32_t file = UINT32_MAX;           // source file index for warning locations
+    Diagnostics* diagnostics =
+        nullptr;                 // for warnings (e.g. rotation axes normalised); may be null
+    uint32_t file = UINT32_MAX;  // source file index for warning locations
     size_t max_values = size_t(1) << 28;  // numbers or strings one field may hold
     bool xml = false;                     // X3D XML attribute: true/false accepted, no brackets
 };
@@ -34,7 +36,8 @@ void read_field_value(ValueContext& ctx, FieldType type, FieldEntry& entry);
 
 // Number words: decimal or hex integers, floats with optional sign, '.5', '1.', '1E+5'.
 bool parse_double(std::string_view word, double& out);
-bool parse_int32(std::string_view word, int64_t& out);  // accepts hex up to 0xFFFFFFFF (as unsigned)
+bool parse_int32(std::string_view word,
+                 int64_t& out);  // accepts hex up to 0xFFFFFFFF (as unsigned)
 
 // Normalises an SFRotation axis in place; returns false if it was further from unit length than the
 // rounding of a few written decimals explains (worth a warning).

@@ -4,13 +4,20 @@ namespace vr {
 
 std::string Lexer::describe(const Token& t) const {
     switch (t.kind) {
-        case TokenKind::End: return "end of file";
-        case TokenKind::LBrace: return "'{'";
-        case TokenKind::RBrace: return "'}'";
-        case TokenKind::LBracket: return "'['";
-        case TokenKind::RBracket: return "']'";
-        case TokenKind::String: return "a string";
-        case TokenKind::BadString: return "an unterminated string";
+        case TokenKind::End:
+            return "end of file";
+        case TokenKind::LBrace:
+            return "'{'";
+        case TokenKind::RBrace:
+            return "'}'";
+        case TokenKind::LBracket:
+            return "'['";
+        case TokenKind::RBracket:
+            return "']'";
+        case TokenKind::String:
+            return "a string";
+        case TokenKind::BadString:
+            return "an unterminated string";
         case TokenKind::Word: {
             std::string_view w = text(t);
             return "'" + std::string(w.substr(0, 40)) + (w.size() > 40 ? "...'" : "'");

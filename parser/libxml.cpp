@@ -5,7 +5,9 @@
 namespace vr {
 namespace {
 
-xmlParserInputPtr refuse_external_entity(const char*, const char*, xmlParserCtxtPtr) { return nullptr; }
+xmlParserInputPtr refuse_external_entity(const char*, const char*, xmlParserCtxtPtr) {
+    return nullptr;
+}
 
 struct Loaded {
     LibXml api;
@@ -17,12 +19,14 @@ Loaded load() {
     void* library = dlopen("libxml2.so.2", RTLD_NOW | RTLD_LOCAL);
     if (!library) {
         const char* why = dlerror();
-        out.error = std::string("libxml2.so.2 could not be loaded: ") + (why ? why : "unknown reason");
+        out.error =
+            std::string("libxml2.so.2 could not be loaded: ") + (why ? why : "unknown reason");
         return out;
     }
     LibXml& x = out.api;
     auto get = [&](auto& function, const char* name) {
-        function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(library, name));
+        function =
+            reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(library, name));
         if (!function && out.error.empty()) out.error = std::string("libxml2.so.2 has no ") + name;
     };
     get(x.InitParser, "xmlInitParser");

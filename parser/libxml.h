@@ -23,8 +23,8 @@ struct LibXml {
     decltype(&::xmlStopParser) StopParser = nullptr;
 };
 
-// The library, loaded (and initialised, with external entities refused) on the first call; null with
-// `error` set ("libxml2.so.2 could not be loaded: WHY") when it cannot be. Thread-safe.
+// The library, loaded (and initialised, with external entities refused) on the first call; null
+// with `error` set ("libxml2.so.2 could not be loaded: WHY") when it cannot be. Thread-safe.
 const LibXml* libxml(std::string& error);
 
 }  // namespace vr

@@ -25,28 +25,37 @@ namespace fs = std::filesystem;
 
 std::string_view encoding_name(Encoding e) {
     switch (e) {
-        case Encoding::Vrml97: return "VRML97 (classic)";
-        case Encoding::X3dClassic: return "X3D classic";
-        case Encoding::X3dXml: return "X3D XML";
-        case Encoding::Vrml1: return "VRML 1.0";
-        case Encoding::Unknown: return "unknown";
+        case Encoding::Vrml97:
+            return "VRML97 (classic)";
+        case Encoding::X3dClassic:
+            return "X3D classic";
+        case Encoding::X3dXml:
+            return "X3D XML";
+        case Encoding::Vrml1:
+            return "VRML 1.0";
+        case Encoding::Unknown:
+            return "unknown";
     }
     return "unknown";
 }
 
-// Decompresses a whole gzip stream into one string, written in place (no staging buffer, no copy per chunk).
-// The stream's trailer gives the size modulo 2^32; it sizes the string when it is plausible (a deflate
-// stream expands at most about 1032 times), so a 100 MB scene is not grown, and copied, by doubling.
+// Decompresses a whole gzip stream into one string, written in place (no staging buffer, no copy
+// per chunk). The stream's trailer gives the size modulo 2^32; it sizes the string when it is
+// plausible (a deflate stream expands at most about 1032 times), so a 100 MB scene is not grown,
+// and copied, by doubling.
 static std::string gunzip(std::string_view data, size_t max_bytes) {
     z_stream zs{};
-    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::runtime_error("cannot start gzip decompression");
+    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK)
+        throw std::runtime_error("cannot start gzip decompression");
     zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
     zs.avail_in = static_cast<uInt>(data.size());
     size_t hint = size_t(1) << 16;
     if (data.size() >= 18) {
         const auto* t = reinterpret_cast<const unsigned char*>(data.data() + data.size() - 4);
-        const size_t isize = size_t(t[0]) | size_t(t[1]) << 8 | size_t(t[2]) << 16 | size_t(t[3]) << 24;
-        if (isize <= data.size() * 1032) hint = std::max(hint, isize + 1);  // +1: the end shows without growing
+        const size_t isize =
+            size_t(t[0]) | size_t(t[1]) << 8 | size_t(t[2]) << 16 | size_t(t[3]) << 24;
+        if (isize <= data.size() * 1032)
+            hint = std::max(hint, isize + 1);  // +1: the end shows without growing
     }
     std::string out(std::min(hint, max_bytes + 1), '\0');
     size_t used = 0;
@@ -64,14 +73,16 @@ static std::string gunzip(std::string_view data, size_t max_bytes) {
         used += room - zs.avail_out;
         if (used > max_bytes) {
             inflateEnd(&zs);
-            throw std::runtime_error("decompressed size exceeds the limit of " + std::to_string(max_bytes) + " bytes");
+            throw std::runtime_error("decompressed size exceeds the limit of " +
+                                     std::to_string(max_bytes) + " bytes");
         }
         // No input left and output space unused: the stream stopped before its end.
         if (ret == Z_BUF_ERROR || (zs.avail_in == 0 && zs.avail_out != 0)) break;
     } while (ret != Z_STREAM_END);
     if (ret != Z_STREAM_END) {
         inflateEnd(&zs);
-        throw std::runtime_error("gzip data is truncated (the file ends before the compressed stream does)");
+        throw std::runtime_error(
+            "gzip data is truncated (the file ends before the compressed stream does)");
     }
     inflateEnd(&zs);
     out.resize(used);
@@ -79,7 +90,8 @@ static std::string gunzip(std::string_view data, size_t max_bytes) {
 }
 
 static bool is_gzip(std::string_view data) {
-    return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f && static_cast<unsigned char>(data[1]) == 0x8b;
+    return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
+           static_cast<unsigned char>(data[1]) == 0x8b;
 }
 
 std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
@@ -91,7 +103,8 @@ std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
     std::streamoff size = in.tellg();
     if (size < 0) throw std::runtime_error("cannot read file");
     if (static_cast<uint64_t>(size) > max_bytes)
-        throw std::runtime_error("file is larger than the limit of " + std::to_string(max_bytes) + " bytes");
+        throw std::runtime_error("file is larger than the limit of " + std::to_string(max_bytes) +
+                                 " bytes");
     in.seekg(0);
     std::string data(static_cast<size_t>(size), '\0');
     in.read(data.data(), size);
@@ -101,12 +114,14 @@ std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
 }
 
 SourceText read_source_text(const fs::path& path, size_t max_bytes) {
-    // Plain regular files of a megabyte or more are mapped; gzip is decompressed straight from the mapping.
-    // Anything else (small files, pipes, devices, a failed mapping) is read by read_file_bytes.
+    // Plain regular files of a megabyte or more are mapped; gzip is decompressed straight from the
+    // mapping. Anything else (small files, pipes, devices, a failed mapping) is read by
+    // read_file_bytes.
     constexpr size_t kMapFrom = size_t(1) << 20;
-    struct stat st{};
+    struct stat st {};
     int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && static_cast<uint64_t>(st.st_size) >= kMapFrom &&
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+        static_cast<uint64_t>(st.st_size) >= kMapFrom &&
         static_cast<uint64_t>(st.st_size) <= max_bytes) {
         SourceText mapped = SourceText::map(fd, static_cast<size_t>(st.st_size));
         ::close(fd);
@@ -137,11 +152,14 @@ static std::string printable(std::string_view s) {
 
 static Encoding detect_encoding(std::string_view text, std::string& header) {
     size_t start = 0;
-    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) start = 3;  // UTF-8 byte order mark
+    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0)
+        start = 3;  // UTF-8 byte order mark
     size_t end = text.find_first_of("\r\n", start);
     header = printable(std::string_view(text).substr(
         start, std::min<size_t>(end == std::string::npos ? text.size() : end, start + 60) - start));
-    auto starts = [&](const char* prefix) { return text.compare(start, std::strlen(prefix), prefix) == 0; };
+    auto starts = [&](const char* prefix) {
+        return text.compare(start, std::strlen(prefix), prefix) == 0;
+    };
     if (starts("#VRML V2.0")) return Encoding::Vrml97;
     if (starts("#X3D V3.") || starts("#X3D V4.")) return Encoding::X3dClassic;
     if (starts("#VRML V1.0")) return Encoding::Vrml1;
@@ -162,7 +180,8 @@ static bool is_under(const fs::path& path, const fs::path& root) {
 static std::string percent_decode(const std::string& s) {
     std::string out;
     for (size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+        if (s[i] == '%' && i + 2 < s.size() &&
+            std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
             std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
             out += static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16));
             i += 2;
@@ -180,22 +199,25 @@ static std::optional<std::string> file_url_path(const std::string& url, const st
     const std::string rest = url.substr(7);
     const size_t slash = rest.find('/');
     const std::string host = lower.substr(7, slash);
-    if (host.empty() || slash == std::string::npos) return rest;  // "file://x.jpg": a sloppy relative URL
+    if (host.empty() || slash == std::string::npos)
+        return rest;  // "file://x.jpg": a sloppy relative URL
     if (host == "localhost") return rest.substr(slash);
     return std::nullopt;
 }
 
-fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const std::vector<fs::path>& allowed_roots,
-                     std::string& why) {
+fs::path resolve_url(const std::string& url_in, const fs::path& from_file,
+                     const std::vector<fs::path>& allowed_roots, std::string& why) {
     std::string url = url_in;
     while (!url.empty() && std::isspace(static_cast<unsigned char>(url.back()))) url.pop_back();
-    while (!url.empty() && std::isspace(static_cast<unsigned char>(url.front()))) url.erase(url.begin());
+    while (!url.empty() && std::isspace(static_cast<unsigned char>(url.front())))
+        url.erase(url.begin());
     if (url.empty()) {
         why = "empty URL";
         return {};
     }
     std::string lower = url;
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (lower.rfind("file:", 0) == 0) {
         std::optional<std::string> local = file_url_path(url, lower);
         if (!local) {
@@ -207,23 +229,27 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
         size_t colon = url.find(':');
         size_t slash = url.find('/');
         // "C:/..." is a drive letter, not a scheme; anything else before ':' is a scheme.
-        if (colon != std::string::npos && colon > 1 && (slash == std::string::npos || colon < slash)) {
+        if (colon != std::string::npos && colon > 1 &&
+            (slash == std::string::npos || colon < slash)) {
             why = "network or non-file URL '" + url_in + "' is never fetched";
             return {};
         }
     }
     url = percent_decode(url);
-    fs::path candidate = fs::path(url).is_absolute() ? fs::path(url) : from_file.parent_path() / url;
+    fs::path candidate =
+        fs::path(url).is_absolute() ? fs::path(url) : from_file.parent_path() / url;
     std::error_code ec;
-    candidate = fs::absolute(candidate, ec);  // a relative main file name must not make this relative
+    candidate =
+        fs::absolute(candidate, ec);  // a relative main file name must not make this relative
     fs::path canonical = fs::weakly_canonical(candidate, ec);
     if (ec) canonical = candidate.lexically_normal();
-    const bool allowed = allowed_roots.empty() ||
-                         std::any_of(allowed_roots.begin(), allowed_roots.end(),
-                                     [&](const fs::path& root) { return is_under(canonical, root); });
+    const bool allowed =
+        allowed_roots.empty() ||
+        std::any_of(allowed_roots.begin(), allowed_roots.end(),
+                    [&](const fs::path& root) { return is_under(canonical, root); });
     if (!allowed) {
-        why = "'" + url_in + "' lies outside the --sandbox folder " + allowed_roots.front().string() +
-              " (--allow-path DIR lets URLs reach DIR too)";
+        why = "'" + url_in + "' lies outside the --sandbox folder " +
+              allowed_roots.front().string() + " (--allow-path DIR lets URLs reach DIR too)";
         return {};
     }
     if (!fs::is_regular_file(canonical, ec)) {
@@ -233,8 +259,9 @@ fs::path resolve_url(const std::string& url_in, const fs::path& from_file, const
     return canonical;
 }
 
-fs::path resolve_or_note(const std::string& url, const fs::path& from_file, const std::vector<fs::path>& allowed_roots,
-                         UrlFailures& failures, bool name_url) {
+fs::path resolve_or_note(const std::string& url, const fs::path& from_file,
+                         const std::vector<fs::path>& allowed_roots, UrlFailures& failures,
+                         bool name_url) {
     std::string why;
     fs::path path = resolve_url(url, from_file, allowed_roots, why);
     if (path.empty()) failures.add(name_url ? url + ": " + why : why);
@@ -246,15 +273,18 @@ namespace {
 Spec spec_of(Encoding e) {
     switch (e) {
         case Encoding::X3dClassic:
-        case Encoding::X3dXml: return Spec::X3d;
-        case Encoding::Vrml1: return Spec::Vrml1;
-        default: return Spec::Vrml97;
+        case Encoding::X3dXml:
+            return Spec::X3d;
+        case Encoding::Vrml1:
+            return Spec::Vrml1;
+        default:
+            return Spec::Vrml97;
     }
 }
 
 // Reads the main file and, recursively, what its Inline and EXTERNPROTO URLs name.
 class Loader {
-public:
+  public:
     Loader(LoadedScene& scene, const LoadOptions& options) : scene_(scene), options_(options) {}
 
     // The main file counts as being read, so that an Inline leading back to it is a cycle.
@@ -271,8 +301,9 @@ public:
         if (file == 0) scene_.encoding = enc;
         ClassicResult result;
         const size_t first_node = scene_.tree.nodes.size();
-        ExternProtoResolver resolver = [this, inline_depth](const std::vector<std::string>& urls, uint32_t from,
-                                                            SourceLoc where, Name name) {
+        ExternProtoResolver resolver = [this, inline_depth](const std::vector<std::string>& urls,
+                                                            uint32_t from, SourceLoc where,
+                                                            Name name) {
             return resolve_externproto(urls, from, where, name, inline_depth);
         };
         switch (enc) {
@@ -291,12 +322,15 @@ public:
             case Encoding::Unknown:
                 if (src.text.size() >= 2 && ((src.text[0] == '\xFF' && src.text[1] == '\xFE') ||
                                              (src.text[0] == '\xFE' && src.text[1] == '\xFF'))) {
-                    scene_.diagnostics.error({file, 0}, "the file is UTF-16 encoded; VRML and X3D files must be UTF-8");
+                    scene_.diagnostics.error(
+                        {file, 0}, "the file is UTF-16 encoded; VRML and X3D files must be UTF-8");
                     result.ok = false;
                     break;
                 }
-                scene_.diagnostics.error({file, 0}, "not a VRML97 or X3D file: the first line is '" + header +
-                                                        "', expected '#VRML V2.0 utf8', '#X3D V3.x utf8' or an XML document");
+                scene_.diagnostics.error(
+                    {file, 0},
+                    "not a VRML97 or X3D file: the first line is '" + header +
+                        "', expected '#VRML V2.0 utf8', '#X3D V3.x utf8' or an XML document");
                 result.ok = false;
                 break;
         }
@@ -304,7 +338,7 @@ public:
         return result;
     }
 
-private:
+  private:
     // Reads an Inline or EXTERNPROTO file: its errors become warnings of the including scene, which
     // still renders without it.
     ClassicResult read_demoting_errors(uint32_t file, size_t depth, const char* what) {
@@ -334,8 +368,9 @@ private:
         size_t space = header.find(' ', 6);
         std::string rest = space == std::string::npos ? "" : header.substr(space + 1);
         if (rest.rfind("utf8", 0) != 0) {
-            scene_.diagnostics.warning({file, 0}, "header should say 'utf8' after the version: '" + header + "'",
-                                       "header-utf8");
+            scene_.diagnostics.warning(
+                {file, 0}, "header should say 'utf8' after the version: '" + header + "'",
+                "header-utf8");
         }
     }
 
@@ -355,35 +390,42 @@ private:
         }
     }
 
-    std::optional<std::vector<NodeId>> load_inline(const std::vector<std::string>& urls, uint32_t from, SourceLoc where,
-                                                   size_t depth) {
+    std::optional<std::vector<NodeId>> load_inline(const std::vector<std::string>& urls,
+                                                   uint32_t from, SourceLoc where, size_t depth) {
         UrlFailures failures;
         for (const std::string& url : urls) {
-            const fs::path path = resolve_or_note(url, scene_.sources.file(from).path, scene_.allowed_roots, failures);
+            const fs::path path = resolve_or_note(url, scene_.sources.file(from).path,
+                                                  scene_.allowed_roots, failures);
             if (path.empty()) continue;
             std::string key = path.string();
             if (std::find(stack_.begin(), stack_.end(), key) != stack_.end()) {
-                scene_.diagnostics.warning(where, "Inline '" + url + "' includes itself (a cycle); skipped",
-                                           "inline-cycle:" + key);
+                scene_.diagnostics.warning(
+                    where, "Inline '" + url + "' includes itself (a cycle); skipped",
+                    "inline-cycle:" + key);
                 return std::nullopt;
             }
             auto cached = inline_cache_.find(key);
             if (cached != inline_cache_.end()) return cached->second;
             if (depth + 1 > options_.limits.max_inline_depth) {
-                scene_.diagnostics.warning(where, "Inline nesting deeper than " +
-                                                      std::to_string(options_.limits.max_inline_depth) + " (limit); skipped",
+                scene_.diagnostics.warning(where,
+                                           "Inline nesting deeper than " +
+                                               std::to_string(options_.limits.max_inline_depth) +
+                                               " (limit); skipped",
                                            "inline-depth");
                 return std::nullopt;
             }
             if (++inline_files_ > options_.limits.max_inline_files) {
-                scene_.diagnostics.warning(where, "more than " + std::to_string(options_.limits.max_inline_files) +
-                                                      " Inline files (limit); skipped",
+                scene_.diagnostics.warning(where,
+                                           "more than " +
+                                               std::to_string(options_.limits.max_inline_files) +
+                                               " Inline files (limit); skipped",
                                            "inline-count");
                 return std::nullopt;
             }
             uint32_t file;
             try {
-                file = scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
+                file =
+                    scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
             } catch (const std::exception& e) {
                 failures.add(key + ": " + e.what());
                 continue;
@@ -400,8 +442,9 @@ private:
         return std::nullopt;
     }
 
-    std::shared_ptr<const ProtoDecl> resolve_externproto(const std::vector<std::string>& urls, uint32_t from,
-                                                         SourceLoc where, Name name, size_t depth) {
+    std::shared_ptr<const ProtoDecl> resolve_externproto(const std::vector<std::string>& urls,
+                                                         uint32_t from, SourceLoc where, Name name,
+                                                         size_t depth) {
         UrlFailures failures;
         for (const std::string& full : urls) {
             // "urn:web3d:vrml97:node:Shape" / "urn:web3d:x3d:node:Shape" name a built-in node type.
@@ -422,8 +465,10 @@ private:
                 fragment = url.substr(hash + 1);
                 url = url.substr(0, hash);
             }
-            if (url.empty()) continue;  // "#Name" alone refers to this file: not supported by VRML97
-            const fs::path path = resolve_or_note(url, scene_.sources.file(from).path, scene_.allowed_roots, failures);
+            if (url.empty())
+                continue;  // "#Name" alone refers to this file: not supported by VRML97
+            const fs::path path = resolve_or_note(url, scene_.sources.file(from).path,
+                                                  scene_.allowed_roots, failures);
             if (path.empty()) continue;
             std::string key = path.string();
             std::shared_ptr<ProtoScope> scope;
@@ -438,7 +483,8 @@ private:
                 }
                 uint32_t file;
                 try {
-                    file = scene_.sources.add(key, read_source_text(path, options_.limits.max_file_bytes));
+                    file = scene_.sources.add(
+                        key, read_source_text(path, options_.limits.max_file_bytes));
                 } catch (const std::exception& e) {
                     failures.add(key + ": " + e.what());
                     continue;
@@ -464,12 +510,12 @@ private:
                 return it->second;
             }
             failures.add(key + " has no PROTO named '" +
-                       (fragment.empty() ? std::string(name_text(name)) : fragment) + "'");
+                         (fragment.empty() ? std::string(name_text(name)) : fragment) + "'");
         }
-        scene_.diagnostics.warning(where,
-                                   "EXTERNPROTO " + std::string(name_text(name)) + " not resolved: " +
-                                       failures.message(),
-                                   "externproto:" + std::string(name_text(name)));
+        scene_.diagnostics.warning(
+            where,
+            "EXTERNPROTO " + std::string(name_text(name)) + " not resolved: " + failures.message(),
+            "externproto:" + std::string(name_text(name)));
         return nullptr;
     }
 
@@ -485,7 +531,8 @@ void set_roots(LoadedScene& scene, const fs::path& main, const LoadOptions& opti
     scene.main_file = main;
     if (!options.sandbox) return;
     std::error_code ec;
-    const fs::path dir = options.sandbox_dir.empty() ? fs::absolute(main, ec).parent_path() : options.sandbox_dir;
+    const fs::path dir =
+        options.sandbox_dir.empty() ? fs::absolute(main, ec).parent_path() : options.sandbox_dir;
     scene.allowed_roots.push_back(fs::weakly_canonical(fs::absolute(dir, ec), ec));
     for (const fs::path& p : options.allowed_roots) {
         fs::path c = fs::weakly_canonical(fs::absolute(p, ec), ec);
@@ -495,8 +542,8 @@ void set_roots(LoadedScene& scene, const fs::path& main, const LoadOptions& opti
 
 }  // namespace
 
-// The readers recurse once per nesting level; LoadLimits::max_nesting_depth bounds that, and this stack
-// holds it with room to spare in any build (sanitizers make frames several times larger).
+// The readers recurse once per nesting level; LoadLimits::max_nesting_depth bounds that, and this
+// stack holds it with room to spare in any build (sanitizers make frames several times larger).
 static void run_on_large_stack(const std::function<void()>& work) {
     pthread_attr_t attr;
     pthread_attr_init(&attr);
@@ -506,7 +553,8 @@ static void run_on_large_stack(const std::function<void()>& work) {
         (*static_cast<const std::function<void()>*>(arg))();
         return nullptr;
     };
-    if (pthread_create(&thread, &attr, trampoline, const_cast<std::function<void()>*>(&work)) != 0) {
+    if (pthread_create(&thread, &attr, trampoline, const_cast<std::function<void()>*>(&work)) !=
+        0) {
         work();  // no thread to be had: read on this stack
     } else {
         pthread_join(thread, nullptr);
@@ -514,7 +562,8 @@ static void run_on_large_stack(const std::function<void()>& work) {
     pthread_attr_destroy(&attr);
 }
 
-static LoadedScene load_scene_source(SourceText text, const std::string& path, const LoadOptions& options) {
+static LoadedScene load_scene_source(SourceText text, const std::string& path,
+                                     const LoadOptions& options) {
     LoadedScene scene;
     set_roots(scene, path, options);
     uint32_t file = scene.sources.add(path, std::move(text));

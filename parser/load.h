@@ -1,4 +1,5 @@
-// Reading a scene file of any supported encoding, with its Inlines and EXTERNPROTOs, into one node tree.
+// Reading a scene file of any supported encoding, with its Inlines and EXTERNPROTOs, into one node
+// tree.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -15,9 +16,9 @@ enum class Encoding : uint8_t { Vrml97, X3dClassic, X3dXml, Vrml1, Unknown };
 std::string_view encoding_name(Encoding encoding);
 
 struct LoadLimits {
-    size_t max_nesting_depth = 1000;       // nodes inside nodes (also bounds the reader's recursion)
-    size_t max_proto_depth = 64;           // PROTO instances inside PROTO bodies
-    size_t max_nodes = 50'000'000;         // total nodes, including expanded PROTO bodies
+    size_t max_nesting_depth = 1000;  // nodes inside nodes (also bounds the reader's recursion)
+    size_t max_proto_depth = 64;      // PROTO instances inside PROTO bodies
+    size_t max_nodes = 50'000'000;    // total nodes, including expanded PROTO bodies
     size_t max_inline_depth = 16;
     size_t max_inline_files = 1000;
     size_t max_file_bytes = size_t(4) << 30;  // after decompression
@@ -27,9 +28,9 @@ struct LoadLimits {
 struct LoadOptions {
     LoadLimits limits;
     bool resolve_inlines = true;
-    // --sandbox: confine every URL (Inline, EXTERNPROTO, textures, Background) to sandbox_dir (empty: the
-    // main file's folder) and allowed_roots. Without it, URLs reach any file the user can read, as in a
-    // browser.
+    // --sandbox: confine every URL (Inline, EXTERNPROTO, textures, Background) to sandbox_dir
+    // (empty: the main file's folder) and allowed_roots. Without it, URLs reach any file the user
+    // can read, as in a browser.
     bool sandbox = false;
     std::filesystem::path sandbox_dir;
     // Folders besides the sandbox's that URLs may reach (--allow-path); used only with `sandbox`.
@@ -43,26 +44,30 @@ struct LoadedScene {
     ReadStats stats;
     Encoding encoding = Encoding::Unknown;
     std::filesystem::path main_file;
-    // Folders URLs are confined to: the sandbox folder + LoadOptions::allowed_roots; empty: not confined.
+    // Folders URLs are confined to: the sandbox folder + LoadOptions::allowed_roots; empty: not
+    // confined.
     std::vector<std::filesystem::path> allowed_roots;
     bool ok() const { return !diagnostics.has_errors(); }
 };
 
-// Reads `path` (gzip detected by magic bytes). Never throws for bad input: errors land in diagnostics.
+// Reads `path` (gzip detected by magic bytes). Never throws for bad input: errors land in
+// diagnostics.
 LoadedScene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
-// Reads scene text held in memory (tests, fuzzers). `path` names it in messages and anchors relative URLs.
-LoadedScene load_scene_text(std::string text, const std::string& path, const LoadOptions& options = {});
+// Reads scene text held in memory (tests, fuzzers). `path` names it in messages and anchors
+// relative URLs.
+LoadedScene load_scene_text(std::string text, const std::string& path,
+                            const LoadOptions& options = {});
 
 // Resolves a URL found in `from_file` (relative, absolute or file:) to a local path. An empty
-// `allowed_roots` allows any path; otherwise the path, symbolic links and `..` resolved, must lie under
-// one of them (the first is the sandbox folder). Returns an empty path and sets `why` when the URL is
-// remote (never fetched), missing, or outside the allowed folders.
+// `allowed_roots` allows any path; otherwise the path, symbolic links and `..` resolved, must lie
+// under one of them (the first is the sandbox folder). Returns an empty path and sets `why` when
+// the URL is remote (never fetched), missing, or outside the allowed folders.
 std::filesystem::path resolve_url(const std::string& url, const std::filesystem::path& from_file,
                                   const std::vector<std::filesystem::path>& allowed_roots,
                                   std::string& why);
 
-// Why each URL of an MFString failed, in the order tried: the one message of a node none of whose URLs
-// loads ("Inline not loaded: ...", "EXTERNPROTO X not resolved: ...", "no texture image ...").
+// Why each URL of an MFString failed, in the order tried: the one message of a node none of whose
+// URLs loads ("Inline not loaded: ...", "EXTERNPROTO X not resolved: ...", "no texture image ...").
 struct UrlFailures {
     std::string reasons;  // "; "-separated
     void add(const std::string& why) { reasons += (reasons.empty() ? "" : "; ") + why; }
@@ -71,11 +76,13 @@ struct UrlFailures {
 };
 // The first step of each URL's try: resolve_url, and on failure its reason noted in `failures`
 // (after "URL: " when `name_url`, for reasons that do not quote it).
-std::filesystem::path resolve_or_note(const std::string& url, const std::filesystem::path& from_file,
-                                      const std::vector<std::filesystem::path>& allowed_roots, UrlFailures& failures,
-                                      bool name_url = false);
+std::filesystem::path resolve_or_note(const std::string& url,
+                                      const std::filesystem::path& from_file,
+                                      const std::vector<std::filesystem::path>& allowed_roots,
+                                      UrlFailures& failures, bool name_url = false);
 
-// Reads a whole file, decompressing gzip data (found by its magic bytes). Throws std::runtime_error.
+// Reads a whole file, decompressing gzip data (found by its magic bytes). Throws
+// std::runtime_error.
 std::string read_file_bytes(const std::filesystem::path& path, size_t max_bytes);
 // The same, for a reader: a large plain file is mapped instead of copied (see SourceText).
 SourceText read_source_text(const std::filesystem::path& path, size_t max_bytes);

@@ -75,7 +75,9 @@ FieldView NodeTree::get(NodeId id, Name field) const {
     return view_in(defaults, defaults.fields[decl->default_field], true);
 }
 
-FieldView NodeTree::get(NodeId node, std::string_view field) const { return get(node, intern(field)); }
+FieldView NodeTree::get(NodeId node, std::string_view field) const {
+    return get(node, intern(field));
+}
 
 bool NodeTree::get_bool(NodeId node, Name field) const {
     FieldView v = get(node, field);

@@ -1,6 +1,6 @@
-// The generic node tree both readers produce: an arena of nodes whose field values live in shared pools.
-// DEF/USE is a shared NodeId (instancing, not copying). PROTO instances are already expanded: a PROTO
-// instance appears as the first node of its body, with IS fields filled in.
+// The generic node tree both readers produce: an arena of nodes whose field values live in shared
+// pools. DEF/USE is a shared NodeId (instancing, not copying). PROTO instances are already
+// expanded: a PROTO instance appears as the first node of its body, with IS fields filled in.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -22,9 +22,9 @@ class Registry;
 using NodeId = uint32_t;
 constexpr NodeId kNullNode = UINT32_MAX;
 
-// One field value set in a file. `begin`/`count` index the pool that fits the type: numbers for numeric
-// kinds (count = number of doubles, i.e. values * components), strings for String, node_refs for Node.
-// 20 bytes (type and place packed): a 100 MB scene holds some 3 million.
+// One field value set in a file. `begin`/`count` index the pool that fits the type: numbers for
+// numeric kinds (count = number of doubles, i.e. values * components), strings for String,
+// node_refs for Node. 20 bytes (type and place packed): a 100 MB scene holds some 3 million.
 struct FieldEntry {
     Name name = kNoName;
     FieldType type;
@@ -42,10 +42,10 @@ struct NodeKind {
 };
 
 struct Node {
-    uint32_t kind = 0;                   // into NodeTree::kinds
-    Name def_name = kNoName;             // DEF name, if any
-    uint32_t first_field = 0;            // into NodeTree::fields
-    PackedLoc loc;                       // where the node's type name stands
+    uint32_t kind = 0;         // into NodeTree::kinds
+    Name def_name = kNoName;   // DEF name, if any
+    uint32_t first_field = 0;  // into NodeTree::fields
+    PackedLoc loc;             // where the node's type name stands
     // The number of fields set, when below kManyFields; else NodeTree::many_fields has it (one
     // byte here keeps a node at 20 bytes; only Scripts and PROTOs can declare that many fields).
     uint8_t few_fields = 0;
@@ -56,12 +56,12 @@ static_assert(sizeof(Node) == 20, "a large scene holds millions of nodes");
 // A read-only view of one field's value: the value set in the file, or the grammar default.
 struct FieldView {
     FieldType type;
-    std::span<const double> numbers;        // numeric kinds (Bool is 0/1, Int32 exact)
-    std::span<const std::string> strings;   // String kind
-    std::span<const NodeId> nodes;          // Node kind (kNullNode for NULL)
-    SourceLoc loc;                          // invalid for defaults
+    std::span<const double> numbers;       // numeric kinds (Bool is 0/1, Int32 exact)
+    std::span<const std::string> strings;  // String kind
+    std::span<const NodeId> nodes;         // Node kind (kNullNode for NULL)
+    SourceLoc loc;                         // invalid for defaults
     bool is_default = true;
-    bool found = false;                     // false: the node type has no such field
+    bool found = false;  // false: the node type has no such field
 
     // Number of values (for MF fields), e.g. 3 numbers of an MFVec3f make 1 value.
     size_t size() const;
@@ -75,7 +75,7 @@ struct NodeTree {
     std::vector<std::string> strings;
     Pool<NodeId> node_refs;
 
-    std::vector<NodeId> roots;  // top-level nodes of the main file, in order
+    std::vector<NodeId> roots;                         // top-level nodes of the main file, in order
     std::unordered_map<NodeId, uint32_t> many_fields;  // field counts of Node::kManyFields or more
 
     // Inline nodes that were resolved: the top-level nodes of the file they name.
@@ -123,7 +123,8 @@ struct ReadStats {
     size_t proto_instances = 0;
     size_t inline_files = 0;
     size_t routes = 0;
-    std::unordered_map<std::string, size_t> skipped_nodes;  // node type -> count (unknown or not modelled)
+    std::unordered_map<std::string, size_t>
+        skipped_nodes;  // node type -> count (unknown or not modelled)
 };
 
 }  // namespace vr

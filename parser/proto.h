@@ -29,13 +29,15 @@ struct ProtoDecl {
     uint32_t file = 0;        // source file of the body
     uint32_t body_begin = 0;  // byte range of the body, inside its braces
     uint32_t body_end = 0;
-    // Where the PROTO was declared: bodies see the PROTOs before it. Weak, because that scope owns this
-    // declaration; whoever reads the body (the file being read, or the EXTERNPROTO file cache) keeps it alive.
+    // Where the PROTO was declared: bodies see the PROTOs before it. Weak, because that scope owns
+    // this declaration; whoever reads the body (the file being read, or the EXTERNPROTO file cache)
+    // keeps it alive.
     std::weak_ptr<ProtoScope> scope;
     // EXTERNPROTO: the PROTO it resolved to, or null when it could not be resolved.
     bool external = false;
     std::shared_ptr<const ProtoDecl> implementation;
-    // An EXTERNPROTO whose URL is a built-in node's URN (urn:web3d:vrml97:node:Shape): that node type.
+    // An EXTERNPROTO whose URL is a built-in node's URN (urn:web3d:vrml97:node:Shape): that node
+    // type.
     const NodeTypeDecl* builtin = nullptr;
 
     const ProtoField* find(Name field) const {
@@ -52,7 +54,8 @@ struct ProtoScope {
 
     const ProtoDecl* find(Name name) const {
         for (const ProtoScope* s = this; s; s = s->parent.get()) {
-            if (s->protos.empty()) continue;  // most files declare none, and this runs for every node
+            if (s->protos.empty())
+                continue;  // most files declare none, and this runs for every node
             auto it = s->protos.find(name);
             if (it != s->protos.end()) return it->second.get();
         }

@@ -27,8 +27,10 @@ Spec spec_of_file(const std::string& file) {
 }
 
 std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+        s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+        s.remove_suffix(1);
     return s;
 }
 
@@ -137,7 +139,8 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
                 entry.loc = {};
                 decl.default_field = static_cast<uint32_t>(defaults_->fields.size());
                 defaults_->fields.push_back(entry);
-                decl.range = std::string(trim(rest.substr(std::min<size_t>(lexer.next_offset(), rest.size()))));
+                decl.range = std::string(
+                    trim(rest.substr(std::min<size_t>(lexer.next_offset(), rest.size()))));
             } else {
                 decl.range = std::string(rest);
             }
@@ -150,8 +153,9 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
             }
             current->fields.push_back(std::move(decl));
         }
-        if (current) throw std::runtime_error(g.file + ": node " + std::string(name_text(current->name)) +
-                                              " is not closed");
+        if (current)
+            throw std::runtime_error(g.file + ": node " + std::string(name_text(current->name)) +
+                                     " is not closed");
     }
     for (int spec = 0; spec < 5; ++spec) {
         for (const auto& [name, position] : index_[spec]) {
@@ -174,7 +178,9 @@ const NodeTypeDecl* Registry::find(Spec spec, Name node) const {
     return position ? &tables_[static_cast<int>(spec)][position - 1] : nullptr;
 }
 
-const NodeTypeDecl* Registry::find(Spec spec, std::string_view node) const { return find(spec, intern(node)); }
+const NodeTypeDecl* Registry::find(Spec spec, std::string_view node) const {
+    return find(spec, intern(node));
+}
 
 const NodeTypeDecl* Registry::lookup(Spec encoding, Name node) const {
     if (const NodeTypeDecl* d = find(encoding, node)) return d;
@@ -199,6 +205,8 @@ const FieldDecl* Registry::lookup_field(Spec encoding, const NodeTypeDecl& decl,
     return nullptr;
 }
 
-const std::vector<NodeTypeDecl>& Registry::nodes(Spec spec) const { return tables_[static_cast<int>(spec)]; }
+const std::vector<NodeTypeDecl>& Registry::nodes(Spec spec) const {
+    return tables_[static_cast<int>(spec)];
+}
 
 }  // namespace vr

@@ -193,7 +193,8 @@ NodeId Upgrader::appearance(const State& s, NodeId material_node) {
     set_node(f, n.material, material_node);
     set_node(f, n.texture, tex);
     set_node(f, n.textureTransform, tt);
-    const SourceLoc loc = material_node != kNullNode ? tree_.nodes[material_node].loc.get() : SourceLoc{};
+    const SourceLoc loc =
+        material_node != kNullNode ? tree_.nodes[material_node].loc.get() : SourceLoc{};
     NodeId node = make(f, loc);
     values_[key] = node;
     return node;
@@ -478,9 +479,11 @@ void Upgrader::cube(uint32_t id, const State& s, OutList& out) {
     emit_shape(id, s, out, appearance(s, mat), geometry);
 }
 
-// The Material of an indexed set, and its colours as a Color node with colorIndex/colorPerVertex when
-// the binding asks for several (then the Material itself is dropped if it only carried emission).
-NodeId Upgrader::indexed_colors(uint32_t id, const State& s, Fields& f, const std::vector<double>& coord_index) {
+// The Material of an indexed set, and its colours as a Color node with colorIndex/colorPerVertex
+// when the binding asks for several (then the Material itself is dropped if it only carried
+// emission).
+NodeId Upgrader::indexed_colors(uint32_t id, const State& s, Fields& f,
+                                const std::vector<double>& coord_index) {
     const Names& n = names();
     NodeId mat = material(s.material, 0);
     const size_t colors = material_count(s.material);

@@ -110,7 +110,8 @@ class Upgrader {
     void sphere(uint32_t id, const State& s, OutList& out);
     void cube(uint32_t id, const State& s, OutList& out);
     void cylinder_or_cone(uint32_t id, const State& s, OutList& out, bool cone);
-    NodeId indexed_colors(uint32_t id, const State& s, Fields& f, const std::vector<double>& coord_index);
+    NodeId indexed_colors(uint32_t id, const State& s, Fields& f,
+                          const std::vector<double>& coord_index);
     void face_set(uint32_t id, const State& s, OutList& out);
     void line_set(uint32_t id, const State& s, OutList& out);
     void point_set(uint32_t id, const State& s, OutList& out);

@@ -19,11 +19,12 @@ std::string format_number(double v) {
 namespace {
 
 class Writer {
-public:
+  public:
     Writer(const NodeTree& tree, Encoding target) : tree_(tree), target_(target), names_(tree) {}
 
     std::string run() {
-        out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n" : "#VRML V2.0 utf8\n\n";
+        out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n"
+                                                : "#VRML V2.0 utf8\n\n";
         for (NodeId root : tree_.roots) {
             write_node(root, 0);
             out_ += "\n";
@@ -31,7 +32,7 @@ public:
         return std::move(out_);
     }
 
-private:
+  private:
     void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
 
     std::string_view field_name(NodeId id, Name field) {
@@ -126,7 +127,8 @@ private:
                         format_number(v.numbers[i + 2]);
                 for (size_t k = 0; k < n && i + 3 + k < v.numbers.size(); ++k) {
                     char buf[16];
-                    std::snprintf(buf, sizeof(buf), " 0x%X", static_cast<unsigned>(v.numbers[i + 3 + k]));
+                    std::snprintf(buf, sizeof(buf), " 0x%X",
+                                  static_cast<unsigned>(v.numbers[i + 3 + k]));
                     out_ += buf;
                 }
                 i += 3 + n;
@@ -164,6 +166,8 @@ private:
 
 }  // namespace
 
-std::string write_classic(const NodeTree& tree, Encoding target) { return Writer(tree, target).run(); }
+std::string write_classic(const NodeTree& tree, Encoding target) {
+    return Writer(tree, target).run();
+}
 
 }  // namespace vr

@@ -1,5 +1,6 @@
-// Writing a node tree back out in a classic encoding (VRML97 or X3D classic). PROTO instances are written
-// expanded; DEF/USE sharing is kept, and DEF names are kept (made unique where expansion repeated one).
+// Writing a node tree back out in a classic encoding (VRML97 or X3D classic). PROTO instances are
+// written expanded; DEF/USE sharing is kept, and DEF names are kept (made unique where expansion
+// repeated one).
 #pragma once
 #include <string>
 

@@ -122,7 +122,8 @@ ClassicResult XmlReader::read(uint32_t file) {
         result.ok = false;
         return result;
     }
-    xml_->SetGenericErrorFunc(nullptr, silent_generic_error);  // per thread: the library never prints
+    xml_->SetGenericErrorFunc(nullptr,
+                              silent_generic_error);  // per thread: the library never prints
 
     main_file_ = file;
     text_ = scene_.sources.file(file).text;
@@ -166,15 +167,16 @@ ClassicResult XmlReader::read(uint32_t file) {
         const bool last = pos + n >= text_.size();
         const uint64_t events = events_;
         xml_->ParseChunk(ctxt_, text_.data() + pos, static_cast<int>(n), last ? 1 : 0);
-        // libxml2 copied what it still needs; attribute values before this piece are read again only
-        // for PROTO bodies, which a mapped file brings back from the page cache.
+        // libxml2 copied what it still needs; attribute values before this piece are read again
+        // only for PROTO bodies, which a mapped file brings back from the page cache.
         scene_.sources.release_before(file, static_cast<uint32_t>(pos));
         pos += n;
         if (last || stopped_) break;
         chunk = events_ == events ? chunk * 2 : kChunk;
     }
     scene_.sources.release_all(file);  // the last piece too: the scene build comes next
-    // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to free.
+    // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to
+    // free.
     if (ctxt_->myDoc) xml_->FreeDoc(ctxt_->myDoc);
     xml_->FreeParserCtxt(ctxt_);
     ctxt_ = nullptr;

@@ -1,9 +1,8 @@
-// vrmlray's command line: one function per subcommand defines its options; map_render turns the texts
-// CLI11 collected into the render's enums and colours.
+// vrmlray's command line: one function per subcommand defines its options; map_render turns the
+// texts CLI11 collected into the render's enums and colours.
 #include "app/cli.h"
 
 #include <CLI/CLI.hpp>
-
 #include <cctype>
 #include <cstdio>
 #include <iostream>
@@ -22,10 +21,12 @@ struct Label {
     const char* name;
     E value;
 };
-constexpr Label<SpheresOption> kSpheresLabels[] = {
-    {"opaque", SpheresOption::Opaque}, {"gas", SpheresOption::Gas}, {"hints", SpheresOption::FromHints}};
-constexpr Label<CameraMode> kCameraLabels[] = {
-    {"perspective", CameraMode::Perspective}, {"ortho", CameraMode::Ortho}, {"viewpoint", CameraMode::FromViewpoint}};
+constexpr Label<SpheresOption> kSpheresLabels[] = {{"opaque", SpheresOption::Opaque},
+                                                   {"gas", SpheresOption::Gas},
+                                                   {"hints", SpheresOption::FromHints}};
+constexpr Label<CameraMode> kCameraLabels[] = {{"perspective", CameraMode::Perspective},
+                                               {"ortho", CameraMode::Ortho},
+                                               {"viewpoint", CameraMode::FromViewpoint}};
 
 template <class E, size_t N>
 std::vector<std::string> label_names(const Label<E> (&table)[N]) {
@@ -42,13 +43,16 @@ E label_value(const Label<E> (&table)[N], const std::string& text) {
     return table[N - 1].value;
 }
 
-std::vector<std::string> sampler_name_list() { return {kSamplerNames.begin(), kSamplerNames.end()}; }
+std::vector<std::string> sampler_name_list() {
+    return {kSamplerNames.begin(), kSamplerNames.end()};
+}
 
 // "R,G,B" -> Vec3
 std::optional<Vec3> parse_rgb(const std::string& text) {
     Vec3 c;
     char extra;
-    if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &c.x, &c.y, &c.z, &extra) != 3) return std::nullopt;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &c.x, &c.y, &c.z, &extra) != 3)
+        return std::nullopt;
     return c;
 }
 
@@ -60,8 +64,8 @@ struct UsageFirstFormatter : CLI::Formatter {
     }
 };
 
-// CLI11's own parse errors in the house style, "vrmlray: error: MESSAGE", and where to read more: the
-// help of the subcommand named on the command line, else the program's.
+// CLI11's own parse errors in the house style, "vrmlray: error: MESSAGE", and where to read more:
+// the help of the subcommand named on the command line, else the program's.
 int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* const* argv) {
     std::string help = "vrmlray --help";
     for (int k = 1; k < argc; ++k) {
@@ -72,7 +76,8 @@ int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* c
     }
     std::string message = e.what();
     // "The following argument ..." reads as the rest of our sentence.
-    if (message.size() > 1 && std::isupper((unsigned char)message[0]) && !std::isupper((unsigned char)message[1]))
+    if (message.size() > 1 && std::isupper((unsigned char)message[0]) &&
+        !std::isupper((unsigned char)message[1]))
         message[0] = char(std::tolower((unsigned char)message[0]));
     std::cerr << "vrmlray: error: " << message << "\nvrmlray: see '" << help << "'\n";
     return kExitUsage;
@@ -88,20 +93,25 @@ struct Texts {
 };
 
 void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
-    std::string limit_help = "Raise or lower a limit (repeatable; VALUE may end in k, M, G). Limits and defaults:";
+    std::string limit_help =
+        "Raise or lower a limit (repeatable; VALUE may end in k, M, G). Limits and defaults:";
     for (const LimitInfo& l : limit_table())
-        limit_help += std::string("\n  ") + l.name + "=" + std::to_string(l.value) + "  " + l.meaning;
+        limit_help +=
+            std::string("\n  ") + l.name + "=" + std::to_string(l.value) + "  " + l.meaning;
     sub->add_flag("-q,--quiet", common.quiet, "Print errors only");
     sub->add_option("--limit", texts.limits, limit_help)->type_name("NAME=VALUE");
-    sub->add_option("--max-memory", common.max_memory_gb,
-                    "Refuse a render estimated to need more than this many GB (default: physical memory)")
+    sub->add_option(
+           "--max-memory", common.max_memory_gb,
+           "Refuse a render estimated to need more than this many GB (default: physical memory)")
         ->check(CLI::PositiveNumber);
     texts.sandbox_options.push_back(
-        sub->add_option("--sandbox", common.sandbox_dir,
-                        "Untrusted input: URLs (Inline, EXTERNPROTO, textures) may read only under DIR "
-                        "(default: the scene's folder)")
+        sub->add_option(
+               "--sandbox", common.sandbox_dir,
+               "Untrusted input: URLs (Inline, EXTERNPROTO, textures) may read only under DIR "
+               "(default: the scene's folder)")
             ->expected(0, 1)
-            ->check(CLI::ExistingDirectory)  // also catches "--sandbox scene.wrl" taking the scene as DIR
+            ->check(CLI::ExistingDirectory)  // also catches "--sandbox scene.wrl" taking the scene
+                                             // as DIR
             ->type_name("[DIR]"));
     sub->add_option("--allow-path", common.allow_paths,
                     "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)");
@@ -111,18 +121,23 @@ void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
 CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common, Texts& texts) {
     RenderOptions& o = render.options;
     CLI::App* r = app.add_subcommand("render", "Render a scene to an image");
-    r->add_option("scene", render.scene, "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv)")->required();
-    r->add_option("-o,--output", render.output, "Output image; the format follows the extension (default: SCENE's stem + .png)");
+    r->add_option("scene", render.scene, "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv)")
+        ->required();
+    r->add_option("-o,--output", render.output,
+                  "Output image; the format follows the extension (default: SCENE's stem + .png)");
     r->add_option("-W,--width", o.width, "Image width in pixels")->check(CLI::Range(1, 65536));
     r->add_option("-H,--height", o.height, "Image height in pixels")->check(CLI::Range(1, 65536));
-    r->add_option("--spheres", texts.spheres, "How spheres render: opaque, gas, or hints (per-node hints, else opaque)")
+    r->add_option("--spheres", texts.spheres,
+                  "How spheres render: opaque, gas, or hints (per-node hints, else opaque)")
         ->check(CLI::IsMember(label_names(kSpheresLabels)));
     r->add_option("--viewpoint", o.viewpoint, "Viewpoint to use: DEF name or description");
     r->add_flag("--fit", o.fit, "Move the camera to frame the scene's bounds");
-    r->add_option("--camera", texts.camera, "perspective, ortho, or viewpoint (as the viewpoint says)")
+    r->add_option("--camera", texts.camera,
+                  "perspective, ortho, or viewpoint (as the viewpoint says)")
         ->check(CLI::IsMember(label_names(kCameraLabels)));
     r->add_option("--spp", o.spp,
-                  "Samples per pixel (grid, jitter: n^2; rgss: 4 m^2; rooks8: 8 m^2; statistical: the cap, default 256)")
+                  "Samples per pixel (grid, jitter: n^2; rgss: 4 m^2; rooks8: 8 m^2; statistical: "
+                  "the cap, default 256)")
         ->check(CLI::Range(1, 65536));
     r->add_option("--sampler", o.sampler,
                   "Anti-aliasing: " + sampler_names() + " (default: center, grid when --spp > 1)")
@@ -130,29 +145,42 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--adaptive-threshold", o.adaptive_threshold,
                   "adaptive: subdivide where a corner and the centre differ by more (default 0.05)")
         ->check(CLI::NonNegativeNumber);
-    r->add_option("--adaptive-depth", o.adaptive_depth, "adaptive: subdivisions at most (default 3)")
+    r->add_option("--adaptive-depth", o.adaptive_depth,
+                  "adaptive: subdivisions at most (default 3)")
         ->check(CLI::Range(0, 6));
     r->add_option("--noise-threshold", o.noise_threshold,
-                  "statistical: add samples until the standard error of the pixel mean is below this (default 0.005)")
+                  "statistical: add samples until the standard error of the pixel mean is below "
+                  "this (default 0.005)")
         ->check(CLI::PositiveNumber);
-    r->add_option("--timeout", o.timeout,
-                  "Stop with an error (exit 3) when the command has run this many seconds (default: none)")
+    r->add_option(
+         "--timeout", o.timeout,
+         "Stop with an error (exit 3) when the command has run this many seconds (default: none)")
         ->check(CLI::PositiveNumber);
-    r->add_option("--max-depth", o.max_depth, "Maximum reflection/refraction depth")->check(CLI::Range(0, 1000));
+    r->add_option("--max-depth", o.max_depth, "Maximum reflection/refraction depth")
+        ->check(CLI::Range(0, 1000));
     r->add_option("--threads", o.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
-    r->add_option("--tolerance", o.tolerance, "Relative tolerance of the gas integrator")->check(CLI::Range(1e-12, 1.0));
-    r->add_option("--density", o.density, "Gas extinction per scene unit")->check(CLI::NonNegativeNumber);
-    r->add_option("--albedo", texts.albedo, "Gas albedo R,G,B where no hint gives one (default: the Material's diffuseColor)");
-    r->add_option("--emission", texts.emission, "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
-    r->add_option("--background", texts.background, "Background colour R,G,B (overrides the scene's Background)");
+    r->add_option("--tolerance", o.tolerance, "Relative tolerance of the gas integrator")
+        ->check(CLI::Range(1e-12, 1.0));
+    r->add_option("--density", o.density, "Gas extinction per scene unit")
+        ->check(CLI::NonNegativeNumber);
+    r->add_option(
+        "--albedo", texts.albedo,
+        "Gas albedo R,G,B where no hint gives one (default: the Material's diffuseColor)");
+    r->add_option("--emission", texts.emission,
+                  "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
+    r->add_option("--background", texts.background,
+                  "Background colour R,G,B (overrides the scene's Background)");
     r->add_flag("--srgb", o.srgb, "sRGB-encode integer image formats");
     r->add_flag("--alpha", o.alpha,
-                "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then leaves the background out");
+                "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
+                "leaves the background out");
     r->add_option("--seed", o.seed, "Seed of the jitter and statistical samplers (default 0)");
     r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file");
     r->add_flag("--recover-spheres", texts.recover,
-                "Render meshes whose vertices all lie on one sphere or cylinder to their written precision (Jmol atoms, bonds) as exact shapes (default in gas mode)");
-    r->add_flag("--no-recover-spheres", texts.no_recover, "Keep such meshes as triangles, also in gas mode");
+                "Render meshes whose vertices all lie on one sphere or cylinder to their written "
+                "precision (Jmol atoms, bonds) as exact shapes (default in gas mode)");
+    r->add_flag("--no-recover-spheres", texts.no_recover,
+                "Keep such meshes as triangles, also in gas mode");
     add_common(r, common, texts);
     return r;
 }
@@ -164,20 +192,31 @@ CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
     cmp->add_option("--max-rmse", compare.max_rmse, "Fail if RMSE is above this");
     cmp->add_option("--min-psnr", compare.min_psnr, "Fail if PSNR (dB) is below this");
     cmp->add_option("--min-ssim", compare.min_ssim, "Fail if SSIM is below this");
-    cmp->add_option("--max-abs", compare.max_abs, "Fail if the largest absolute difference is above this");
-    cmp->add_option("--max-fail-percent", compare.max_fail_percent,
-                    "Fail if more than this percentage of pixels differ by more than --pixel-threshold");
-    cmp->add_option("--pixel-threshold", compare.pixel_threshold, "A pixel fails when a channel differs by more (default 1/255)");
+    cmp->add_option("--max-abs", compare.max_abs,
+                    "Fail if the largest absolute difference is above this");
+    cmp->add_option(
+        "--max-fail-percent", compare.max_fail_percent,
+        "Fail if more than this percentage of pixels differ by more than --pixel-threshold");
+    cmp->add_option("--pixel-threshold", compare.pixel_threshold,
+                    "A pixel fails when a channel differs by more (default 1/255)");
     // OpenImageIO idiff's flags, with its meanings and defaults.
-    cmp->add_option("--fail", compare.fail, "idiff: a pixel fails when a channel differs by more (default 1e-6)");
-    cmp->add_option("--failpercent", compare.failpercent, "idiff: fail if more than this % of pixels fail (default 0)");
-    cmp->add_option("--hardfail", compare.hardfail, "idiff: fail if any channel differs by more (default: inf)");
-    cmp->add_option("--warn", compare.warn, "idiff: a pixel warns when a channel differs by more (default 1e-6)");
-    cmp->add_option("--warnpercent", compare.warnpercent, "idiff: warn if more than this % of pixels warn (default 0)");
-    cmp->add_option("--hardwarn", compare.hardwarn, "idiff: warn if any channel differs by more (default: inf)");
+    cmp->add_option("--fail", compare.fail,
+                    "idiff: a pixel fails when a channel differs by more (default 1e-6)");
+    cmp->add_option("--failpercent", compare.failpercent,
+                    "idiff: fail if more than this % of pixels fail (default 0)");
+    cmp->add_option("--hardfail", compare.hardfail,
+                    "idiff: fail if any channel differs by more (default: inf)");
+    cmp->add_option("--warn", compare.warn,
+                    "idiff: a pixel warns when a channel differs by more (default 1e-6)");
+    cmp->add_option("--warnpercent", compare.warnpercent,
+                    "idiff: warn if more than this % of pixels warn (default 0)");
+    cmp->add_option("--hardwarn", compare.hardwarn,
+                    "idiff: warn if any channel differs by more (default: inf)");
     cmp->footer(
-        "With no threshold it fails unless every value agrees to 1e-6 (idiff's default test). Every figure but\n"
-        "SSIM (luminance) covers alpha too. Exit: 0 pass (warnings included), 1 fail, 3 unreadable or size mismatch.");
+        "With no threshold it fails unless every value agrees to 1e-6 (idiff's default test). "
+        "Every figure but\n"
+        "SSIM (luminance) covers alpha too. Exit: 0 pass (warnings included), 1 fail, 3 unreadable "
+        "or size mismatch.");
     cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference");
     cmp->add_flag("--json", compare.json, "Print the figures as JSON");
     return cmp;
@@ -186,42 +225,58 @@ CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
 CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, Texts& texts) {
     bench.options.width = 320;
     bench.options.height = 240;
-    CLI::App* b = app.add_subcommand("bench", "Speed against error: render at rising quality, measure time and error");
+    CLI::App* b = app.add_subcommand(
+        "bench", "Speed against error: render at rising quality, measure time and error");
     b->footer(
         "Example: vrmlray bench scenes/seeds/000_scene1.wrl -W 320 -H 240\n"
-        "  prints seconds, rays per pixel, RMSE, PSNR, max error and SSIM per setting and which sampler reaches\n"
-        "  an error first; writes 000_scene1-bench.csv and 000_scene1-bench.png (RMSE against seconds, log-log,\n"
+        "  prints seconds, rays per pixel, RMSE, PSNR, max error and SSIM per setting and which "
+        "sampler reaches\n"
+        "  an error first; writes 000_scene1-bench.csv and 000_scene1-bench.png (RMSE against "
+        "seconds, log-log,\n"
         "  one line per sampler; the README shows one).");
     b->add_option("scene", bench.scene, "Scene file")->required();
-    b->add_option("-W,--width", bench.options.width, "Image width (default 320)")->check(CLI::Range(1, 16384));
-    b->add_option("-H,--height", bench.options.height, "Image height (default 240)")->check(CLI::Range(1, 16384));
-    b->add_option("--reference", bench.reference,
-                  "Reference image (default: rendered on a 32x32 grid, gas at tolerance 1e-8, and cached)");
-    b->add_option("--reference-spp", bench.reference_spp, "Samples per pixel of the rendered reference (a square)")
+    b->add_option("-W,--width", bench.options.width, "Image width (default 320)")
+        ->check(CLI::Range(1, 16384));
+    b->add_option("-H,--height", bench.options.height, "Image height (default 240)")
+        ->check(CLI::Range(1, 16384));
+    b->add_option(
+        "--reference", bench.reference,
+        "Reference image (default: rendered on a 32x32 grid, gas at tolerance 1e-8, and cached)");
+    b->add_option("--reference-spp", bench.reference_spp,
+                  "Samples per pixel of the rendered reference (a square)")
         ->check(CLI::Range(1, 65536));
     std::vector<std::string> series = sampler_name_list();
     series.push_back("tolerance");
-    b->add_option("--samplers", bench.samplers,
-                  "Series to run, comma-separated: " + sampler_names(" ") + " tolerance (default: all)")
+    b->add_option(
+         "--samplers", bench.samplers,
+         "Series to run, comma-separated: " + sampler_names(" ") + " tolerance (default: all)")
         ->delimiter(',')
         ->check(CLI::IsMember(series));
-    b->add_option("--tolerance", bench.options.tolerance, "Gas integrator tolerance of the sampler series")
+    b->add_option("--tolerance", bench.options.tolerance,
+                  "Gas integrator tolerance of the sampler series")
         ->check(CLI::Range(1e-12, 1.0));
     b->add_option("--seed", bench.options.seed, "Seed of the jitter and statistical samplers");
     b->add_option("--csv", bench.csv, "Where to write the table (default: SCENE-bench.csv)");
-    b->add_option("--plot", bench.plot, "Where to draw error against time (default: SCENE-bench.png)");
-    b->add_option("--runs", bench.runs, "Renders per setting; the median time is reported")->check(CLI::Range(1, 100));
-    b->add_option("--spheres", texts.bench_spheres, "opaque, gas, or hints")->check(CLI::IsMember(label_names(kSpheresLabels)));
-    b->add_option("--viewpoint", bench.options.viewpoint, "Viewpoint to use: DEF name or description");
-    b->add_option("--density", bench.options.density, "Gas extinction per scene unit")->check(CLI::NonNegativeNumber);
-    b->add_option("--threads", bench.options.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+    b->add_option("--plot", bench.plot,
+                  "Where to draw error against time (default: SCENE-bench.png)");
+    b->add_option("--runs", bench.runs, "Renders per setting; the median time is reported")
+        ->check(CLI::Range(1, 100));
+    b->add_option("--spheres", texts.bench_spheres, "opaque, gas, or hints")
+        ->check(CLI::IsMember(label_names(kSpheresLabels)));
+    b->add_option("--viewpoint", bench.options.viewpoint,
+                  "Viewpoint to use: DEF name or description");
+    b->add_option("--density", bench.options.density, "Gas extinction per scene unit")
+        ->check(CLI::NonNegativeNumber);
+    b->add_option("--threads", bench.options.threads, "Threads (0: all cores)")
+        ->check(CLI::Range(0, 1024));
     add_common(b, common, texts);
     return b;
 }
 
 // The options every subcommand shares, from their texts; false after printing why not.
 bool finish_common(const Texts& texts, CommonOptions& common) {
-    for (const CLI::Option* o : texts.sandbox_options) common.sandbox = common.sandbox || o->count() > 0;
+    for (const CLI::Option* o : texts.sandbox_options)
+        common.sandbox = common.sandbox || o->count() > 0;
     for (const std::string& text : texts.limits) {
         std::string error;
         if (!parse_limit(text, common.limits, error)) {
@@ -238,13 +293,15 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     if (texts.no_recover) render.recover_spheres = false;
     render.options.spheres = label_value(kSpheresLabels, texts.spheres);
     render.options.camera = label_value(kCameraLabels, texts.camera);
-    for (auto [text, target, name] : {std::tuple{&texts.background, &render.options.background, "--background"},
-                                      std::tuple{&texts.albedo, &render.options.albedo, "--albedo"},
-                                      std::tuple{&texts.emission, &render.options.emission, "--emission"}}) {
+    for (auto [text, target, name] :
+         {std::tuple{&texts.background, &render.options.background, "--background"},
+          std::tuple{&texts.albedo, &render.options.albedo, "--albedo"},
+          std::tuple{&texts.emission, &render.options.emission, "--emission"}}) {
         if (text->empty()) continue;
         *target = parse_rgb(*text);
         if (!*target) {
-            std::cerr << "vrmlray: error: " << name << " wants R,G,B (three numbers separated by commas)\n";
+            std::cerr << "vrmlray: error: " << name
+                      << " wants R,G,B (three numbers separated by commas)\n";
             return false;
         }
     }
@@ -256,17 +313,20 @@ bool map_render(const Texts& texts, RenderCommand& render) {
 int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
     // Named here, so that usage lines say "vrmlray", not the path the binary was started by.
     CLI::App app{"vrmlray: a ray tracer for VRML97 and X3D scene files", "vrmlray"};
-    app.formatter(std::make_shared<UsageFirstFormatter>());  // before add_subcommand: they inherit it
+    app.formatter(
+        std::make_shared<UsageFirstFormatter>());  // before add_subcommand: they inherit it
     app.require_subcommand(1);
     app.set_version_flag("--version", "vrmlray 0.1.0");
 
     Texts texts;
     CLI::App* r = add_render(app, cmd.render, cmd.common, texts);
-    CLI::App* i = app.add_subcommand("info", "Tell what a scene file holds and what the tracer will get");
+    CLI::App* i =
+        app.add_subcommand("info", "Tell what a scene file holds and what the tracer will get");
     i->add_option("scene", cmd.in, "Scene file")->required();
     add_common(i, cmd.common, texts);
-    CLI::App* c = app.add_subcommand(
-        "convert", "Rewrite a scene as VRML97 (.wrl), X3D classic (.x3dv) or X3D XML (.x3d); gzip by .gz/.wrz/.x3dvz/.x3dz");
+    CLI::App* c = app.add_subcommand("convert",
+                                     "Rewrite a scene as VRML97 (.wrl), X3D classic (.x3dv) or X3D "
+                                     "XML (.x3d); gzip by .gz/.wrz/.x3dvz/.x3dz");
     c->add_option("in", cmd.in, "Input scene")->required();
     c->add_option("out", cmd.out, "Output scene")->required();
     add_common(c, cmd.common, texts);
@@ -301,12 +361,18 @@ int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
 
 int run_command_line(const CommandLine& cmd) {
     switch (cmd.command) {
-        case Subcommand::Render: return strict_exit(run_render(cmd.render), cmd.common);
-        case Subcommand::Bench: return run_bench(cmd.bench);
-        case Subcommand::Info: return strict_exit(run_info(cmd.in, cmd.common), cmd.common);
-        case Subcommand::Convert: return strict_exit(run_convert(cmd.in, cmd.out, cmd.common), cmd.common);
-        case Subcommand::Compare: return run_compare(cmd.compare);
-        case Subcommand::None: break;
+        case Subcommand::Render:
+            return strict_exit(run_render(cmd.render), cmd.common);
+        case Subcommand::Bench:
+            return run_bench(cmd.bench);
+        case Subcommand::Info:
+            return strict_exit(run_info(cmd.in, cmd.common), cmd.common);
+        case Subcommand::Convert:
+            return strict_exit(run_convert(cmd.in, cmd.out, cmd.common), cmd.common);
+        case Subcommand::Compare:
+            return run_compare(cmd.compare);
+        case Subcommand::None:
+            break;
     }
     return kExitUsage;
 }

@@ -18,9 +18,9 @@ struct CommandLine {
     CommonOptions common;
 };
 
-// Parses argv into `cmd`. -1 when `cmd` names a command to run; otherwise the exit code to return at
-// once: 0 after --help or --version (printed to stdout), kExitUsage after an error (printed to stderr
-// as "vrmlray: error: ..." with where to read more).
+// Parses argv into `cmd`. -1 when `cmd` names a command to run; otherwise the exit code to return
+// at once: 0 after --help or --version (printed to stdout), kExitUsage after an error (printed to
+// stderr as "vrmlray: error: ..." with where to read more).
 int parse_command_line(int argc, const char* const* argv, CommandLine& cmd);
 // Runs the parsed command and gives its exit code (--strict applied).
 int run_command_line(const CommandLine& cmd);

@@ -1,7 +1,7 @@
-// vrmlray bench SCENE: speed against error (SPEC section 11). The scene is read and flattened once; then a
-// reference image is read (--reference) or rendered at a much higher setting, and a ladder of settings is
-// rendered and measured against it: seconds, rays/s, RMSE, PSNR, max error, SSIM. The table goes to the
-// terminal and to a CSV file, and error against time to a log-log plot.
+// vrmlray bench SCENE: speed against error (SPEC section 11). The scene is read and flattened once;
+// then a reference image is read (--reference) or rendered at a much higher setting, and a ladder
+// of settings is rendered and measured against it: seconds, rays/s, RMSE, PSNR, max error, SSIM.
+// The table goes to the terminal and to a CSV file, and error against time to a log-log plot.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +12,10 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "flatten/flatten.h"
 #include "image/compare.h"
 #include "image/image.h"
 #include "image/plot.h"
-#include "flatten/flatten.h"
 #include "render/render.h"
 
 namespace vr {
@@ -25,7 +25,8 @@ struct Setting {
     std::string series;  // the plot line it belongs to: the sampler, or "gas tolerance"
     std::string sampler;
     int spp = 1;
-    double threshold = 0.0;  // adaptive: --adaptive-threshold; statistical: --noise-threshold; else unused
+    double threshold =
+        0.0;  // adaptive: --adaptive-threshold; statistical: --noise-threshold; else unused
     double tolerance = 1e-4;
     int depth = 3;  // adaptive: --adaptive-depth
 };
@@ -59,13 +60,16 @@ std::string stem_of(const std::string& scene) {
     return p.string();
 }
 
-// The default ladder: each sampler at rising cost (spp, or a falling threshold -- and for adaptive a
-// deeper subdivision, for statistical a higher cap -- for the two that choose their own count), all at the given gas tolerance; for gas scenes also the centre sampler at
-// falling integrator tolerance.
-std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bool gas, double tolerance) {
+// The default ladder: each sampler at rising cost (spp, or a falling threshold -- and for adaptive
+// a deeper subdivision, for statistical a higher cap -- for the two that choose their own count),
+// all at the given gas tolerance; for gas scenes also the centre sampler at falling integrator
+// tolerance.
+std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bool gas,
+                                    double tolerance) {
     std::vector<Setting> ladder;
     auto wanted = [&](const char* name) {
-        return samplers.empty() || std::find(samplers.begin(), samplers.end(), name) != samplers.end();
+        return samplers.empty() ||
+               std::find(samplers.begin(), samplers.end(), name) != samplers.end();
     };
     if (wanted("center")) ladder.push_back({"center", "center", 1, 0.0, tolerance});
     if (wanted("grid"))
@@ -84,7 +88,8 @@ std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bo
         for (auto [t, cap] : {std::pair{0.05, 64}, {0.02, 256}, {0.01, 1024}, {0.005, 4096}})
             ladder.push_back({"statistical", "statistical", cap, t, tolerance});
     if (gas && (samplers.empty() || wanted("tolerance")))
-        for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6}) ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
+        for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6})
+            ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
     return ladder;
 }
 
@@ -95,7 +100,9 @@ namespace {
 // Which sampler reaches a given error first: the least time among its settings at or below it. The
 // gas tolerance series is left out when it was measured against its own reference.
 void print_fastest(const std::vector<Row>& rows, bool own_references) {
-    std::printf("\nfastest sampler to reach an RMSE (seconds of rendering; '-' = not reached on the ladder):\n");
+    std::printf(
+        "\nfastest sampler to reach an RMSE (seconds of rendering; '-' = not reached on the "
+        "ladder):\n");
     for (double target : {1e-2, 5e-3, 2e-3, 1e-3}) {
         std::map<std::string, double> best;
         for (const Row& r : rows) {
@@ -118,11 +125,15 @@ void print_fastest(const std::vector<Row>& rows, bool own_references) {
 // The table, one row per setting; false when it cannot be written.
 bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
     std::ofstream csv(csv_path);
-    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_second,rmse,psnr,max_abs,ssim\n";
+    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_"
+           "second,rmse,psnr,max_abs,ssim\n";
     for (const Row& r : rows) {
-        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ',' << r.setting.threshold << ','
-            << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ',' << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ',' << r.rays_per_second << ','
-            << r.metrics.rmse << ',' << r.metrics.psnr << ',' << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
+        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ','
+            << r.setting.threshold << ','
+            << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ','
+            << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ','
+            << r.rays_per_second << ',' << r.metrics.rmse << ',' << r.metrics.psnr << ','
+            << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
     }
     return bool(csv);
 }
@@ -134,34 +145,40 @@ int run_bench(const BenchCommand& cmd) {
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
     FlatScene flat;
     FlattenStats fs;
-    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common, flat, fs)) return kExitBadInput;
+    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common, flat, fs))
+        return kExitBadInput;
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
-    const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(), [](const Sphere& s) { return s.gas; });
+    const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(),
+                                 [](const Sphere& s) { return s.gas; });
 
     const std::vector<Setting> ladder = default_ladder(cmd.samplers, gas, cmd.options.tolerance);
     const std::string stem = stem_of(cmd.scene);
     const std::string csv_path = cmd.csv.empty() ? stem + "-bench.csv" : cmd.csv;
     const std::string plot_path = cmd.plot.empty() ? stem + "-bench.png" : cmd.plot;
 
-    // References: given (--reference, then used for every series), or rendered and cached under a name
-    // that holds the settings they depend on: a fine grid (and for gas tolerance 1e-8) for the sampler
-    // series, and for the gas tolerance series the same centre sampling at tolerance 1e-8, so that that
-    // series shows the integrator's error alone, not the missing anti-aliasing.
+    // References: given (--reference, then used for every series), or rendered and cached under a
+    // name that holds the settings they depend on: a fine grid (and for gas tolerance 1e-8) for the
+    // sampler series, and for the gas tolerance series the same centre sampling at tolerance 1e-8,
+    // so that that series shows the integrator's error alone, not the missing anti-aliasing.
     std::string error;
     auto reference_for = [&](const Setting& s, Image& image, std::string& path) -> int {
         if (!cmd.reference.empty()) {
             path = cmd.reference;
         } else {
             const bool tolerance_series = s.series == "gas tolerance";
-            const Setting ref = tolerance_series ? Setting{"reference", "center", 1, 0.0, 1e-8}
-                                                 : Setting{"reference", "grid", cmd.reference_spp, 0.0, 1e-8};
-            path = stem + "-reference-" + std::to_string(cmd.options.width) + "x" + std::to_string(cmd.options.height) +
-                   (tolerance_series ? std::string("-center") : "-grid" + std::to_string(cmd.reference_spp)) +
+            const Setting ref = tolerance_series
+                                    ? Setting{"reference", "center", 1, 0.0, 1e-8}
+                                    : Setting{"reference", "grid", cmd.reference_spp, 0.0, 1e-8};
+            path = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
+                   std::to_string(cmd.options.height) +
+                   (tolerance_series ? std::string("-center")
+                                     : "-grid" + std::to_string(cmd.reference_spp)) +
                    (gas ? "-tol1e-8" : "") + ".exr";
             if (!std::filesystem::exists(path)) {
                 if (!cmd.common.quiet)
-                    std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", " << ref.spp
-                              << " samples per pixel" << (gas ? ", tolerance 1e-8" : "") << ") ...\n";
+                    std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", "
+                              << ref.spp << " samples per pixel" << (gas ? ", tolerance 1e-8" : "")
+                              << ") ...\n";
                 RenderStats stats;
                 if (!render_once(flat, cmd.options, ref, image, stats, error)) {
                     std::cerr << "vrmlray: error: " << error << "\n";
@@ -185,8 +202,9 @@ int run_bench(const BenchCommand& cmd) {
     bool have_center = false;  // the reference in `reference` is the centre-sampled one
     std::vector<Row> rows;
     const double pixels = double(cmd.options.width) * cmd.options.height;
-    std::printf("%-13s %-11s %5s %9s %5s %9s %9s %8s %9s %10s %8s %10s %8s\n", "series", "sampler", "spp",
-                "threshold", "depth", "tolerance", "seconds", "rays/px", "Mrays/s", "RMSE", "PSNR dB", "max err", "SSIM");
+    std::printf("%-13s %-11s %5s %9s %5s %9s %9s %8s %9s %10s %8s %10s %8s\n", "series", "sampler",
+                "spp", "threshold", "depth", "tolerance", "seconds", "rays/px", "Mrays/s", "RMSE",
+                "PSNR dB", "max err", "SSIM");
     for (const Setting& s : ladder) {
         std::vector<double> seconds;
         Row row;
@@ -210,18 +228,19 @@ int run_bench(const BenchCommand& cmd) {
             if (int code = reference_for(s, reference, path); code != kExitOk) return code;
             ref_path = path;
             have_center = want_center;
-            if (used_refs.find(path) == std::string::npos) used_refs += (used_refs.empty() ? "" : ", ") + path;
+            if (used_refs.find(path) == std::string::npos)
+                used_refs += (used_refs.empty() ? "" : ", ") + path;
         }
         if (!compare_images(image, reference, 1.0 / 255.0, row.metrics, error)) {
             std::cerr << "vrmlray: error: " << error << " (reference " << ref_path << ")\n";
             return kExitBadInput;
         }
         const bool adaptive = s.sampler == "adaptive";
-        std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n", s.series.c_str(),
-                    s.sampler.c_str(), s.spp, s.threshold, adaptive ? std::to_string(s.depth).c_str() : "-",
-                    s.tolerance, row.seconds, row.rays_per_pixel,
-                    row.rays_per_second * 1e-6, row.metrics.rmse, row.metrics.psnr, row.metrics.max_abs,
-                    row.metrics.ssim);
+        std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n",
+                    s.series.c_str(), s.sampler.c_str(), s.spp, s.threshold,
+                    adaptive ? std::to_string(s.depth).c_str() : "-", s.tolerance, row.seconds,
+                    row.rays_per_pixel, row.rays_per_second * 1e-6, row.metrics.rmse,
+                    row.metrics.psnr, row.metrics.max_abs, row.metrics.ssim);
         std::fflush(stdout);
         rows.push_back(row);
     }
@@ -251,7 +270,9 @@ int run_bench(const BenchCommand& cmd) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitOutput;
     }
-    if (!cmd.common.quiet) std::cerr << "wrote " << csv_path << " and " << plot_path << " (reference " << used_refs << ")\n";
+    if (!cmd.common.quiet)
+        std::cerr << "wrote " << csv_path << " and " << plot_path << " (reference " << used_refs
+                  << ")\n";
     return kExitOk;
 }
 

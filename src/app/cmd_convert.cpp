@@ -13,7 +13,8 @@ namespace vr {
 namespace {
 
 bool ends_with(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return s.size() >= suffix.size() &&
+           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 struct Target {
@@ -61,15 +62,17 @@ int run_convert(const std::string& in, const std::string& out, const CommonOptio
     }
     LoadedScene scene;
     if (!load_and_report(in, common, scene)) return kExitBadInput;
-    std::string text = target.encoding == Encoding::X3dXml ? write_x3d_xml(scene.tree)
-                                                           : write_classic(scene.tree, target.encoding);
+    std::string text = target.encoding == Encoding::X3dXml
+                           ? write_x3d_xml(scene.tree)
+                           : write_classic(scene.tree, target.encoding);
     if (!write_output(out, text, target.gzip)) {
         std::cerr << out << ": error: cannot write the output file\n";
         return kExitOutput;
     }
     if (!common.quiet)
-        std::cerr << "wrote " << out << " (" << encoding_name(target.encoding) << (target.gzip ? ", gzip" : "")
-                  << ", " << scene.tree.nodes.size() << " nodes read)\n";
+        std::cerr << "wrote " << out << " (" << encoding_name(target.encoding)
+                  << (target.gzip ? ", gzip" : "") << ", " << scene.tree.nodes.size()
+                  << " nodes read)\n";
     return kExitOk;
 }
 

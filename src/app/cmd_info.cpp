@@ -6,8 +6,8 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
-#include "render/camera.h"
 #include "flatten/flatten.h"
+#include "render/camera.h"
 #include "scene/build.h"
 
 namespace vr {
@@ -49,10 +49,14 @@ int run_info(const std::string& path, const CommonOptions& common) {
 
     std::map<std::string_view, size_t> by_type;
     for (const Node& n : tree.nodes) ++by_type[name_text(tree.kinds[n.kind].type)];
-    std::printf("nodes       %zu read (PROTO bodies expanded), %zu top-level\n", tree.nodes.size(), tree.roots.size());
+    std::printf("nodes       %zu read (PROTO bodies expanded), %zu top-level\n", tree.nodes.size(),
+                tree.roots.size());
     std::vector<std::pair<std::string_view, size_t>> sorted(by_type.begin(), by_type.end());
-    std::sort(sorted.begin(), sorted.end(), [](auto& a, auto& b) { return a.second != b.second ? a.second > b.second : a.first < b.first; });
-    for (auto& [type, count] : sorted) std::printf("  %-28s %zu\n", std::string(type).c_str(), count);
+    std::sort(sorted.begin(), sorted.end(), [](auto& a, auto& b) {
+        return a.second != b.second ? a.second > b.second : a.first < b.first;
+    });
+    for (auto& [type, count] : sorted)
+        std::printf("  %-28s %zu\n", std::string(type).c_str(), count);
     std::printf("DEF/USE     %zu DEF, %zu USE\n", s.def_count, s.use_count);
     std::printf("PROTO       %zu declared, %zu EXTERNPROTO, %zu instances\n", s.proto_declarations,
                 s.externproto_declarations, s.proto_instances);
@@ -60,10 +64,12 @@ int run_info(const std::string& path, const CommonOptions& common) {
     std::printf("ROUTE       %zu (ignored: the scene is rendered at time 0)\n", s.routes);
     if (!s.skipped_nodes.empty()) {
         std::printf("skipped     unknown or unresolved node types:\n");
-        for (auto& [type, count] : s.skipped_nodes) std::printf("  %-28s %zu\n", type.c_str(), count);
+        for (auto& [type, count] : s.skipped_nodes)
+            std::printf("  %-28s %zu\n", type.c_str(), count);
     }
 
-    // Each stage's input is released once the next has what it needs, so that their peaks do not stack.
+    // Each stage's input is released once the next has what it needs, so that their peaks do not
+    // stack.
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
     release_tree(loaded);
@@ -74,13 +80,17 @@ int run_info(const std::string& path, const CommonOptions& common) {
     FlattenStats fs;
     FlatScene flat = flatten_scene(scene, fo, diagnostics, fs);
     print_diagnostics(diagnostics, loaded.sources, common.quiet);
-    std::printf("tracer      %zu spheres, %zu quadrics (box/cylinder/cone/ellipsoid), %zu meshes with %zu triangles\n",
-                flat.spheres.size(), flat.quadrics.size(), flat.meshes.size(), flat.triangle_count());
+    std::printf(
+        "tracer      %zu spheres, %zu quadrics (box/cylinder/cone/ellipsoid), %zu meshes with %zu "
+        "triangles\n",
+        flat.spheres.size(), flat.quadrics.size(), flat.meshes.size(), flat.triangle_count());
     if (!flat.instances.empty())
-        std::printf("            %zu instances of %zu meshes (DEF/USE), placing %zu triangles stored once\n",
-                    flat.instances.size(), flat.prototypes.size(), flat.instanced_triangle_count());
-    std::printf("            %zu materials, %zu textures, %zu shapes skipped\n", flat.materials.size(),
-                flat.textures.size(), fs.skipped_shapes);
+        std::printf(
+            "            %zu instances of %zu meshes (DEF/USE), placing %zu triangles stored "
+            "once\n",
+            flat.instances.size(), flat.prototypes.size(), flat.instanced_triangle_count());
+    std::printf("            %zu materials, %zu textures, %zu shapes skipped\n",
+                flat.materials.size(), flat.textures.size(), fs.skipped_shapes);
     const Bounds3 b = flat.bounds();
     const std::string empty_scene = nothing_to_render(loaded, flat, fs);
     if (!empty_scene.empty()) report_warning(path, empty_scene, common.quiet);
@@ -109,23 +119,29 @@ int run_info(const std::string& path, const CommonOptions& common) {
     if (b.empty()) {
         std::printf("bounds      empty (nothing to render)\n");
     } else {
-        std::printf("bounds      (%g %g %g) .. (%g %g %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+        std::printf("bounds      (%g %g %g) .. (%g %g %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
+                    b.hi.y, b.hi.z);
     }
-    std::printf("lights      %zu, headlight %s\n", flat.lights.size(), flat.headlight ? "on" : "off");
+    std::printf("lights      %zu, headlight %s\n", flat.lights.size(),
+                flat.headlight ? "on" : "off");
     static const char* kKinds[] = {"DirectionalLight", "PointLight", "SpotLight"};
     for (const Light& l : flat.lights) {
-        std::printf("  %-16s colour (%g %g %g) intensity %g ambient %g", kKinds[static_cast<int>(l.kind)], l.color.x,
-                    l.color.y, l.color.z, l.intensity, l.ambient_intensity);
+        std::printf("  %-16s colour (%g %g %g) intensity %g ambient %g",
+                    kKinds[static_cast<int>(l.kind)], l.color.x, l.color.y, l.color.z, l.intensity,
+                    l.ambient_intensity);
         if (l.kind == LightKind::Directional)
             std::printf(" direction (%g %g %g)\n", l.direction.x, l.direction.y, l.direction.z);
         else
-            std::printf(" at (%g %g %g) radius %g\n", l.position.x, l.position.y, l.position.z, l.radius);
+            std::printf(" at (%g %g %g) radius %g\n", l.position.x, l.position.y, l.position.z,
+                        l.radius);
     }
     std::printf("viewpoints  %zu\n", flat.viewpoints.size());
     for (const Viewpoint& v : flat.viewpoints) {
-        std::printf("  %s%s%s%s position (%g %g %g) fieldOfView %g%s\n", v.def_name.empty() ? "" : "DEF ",
-                    v.def_name.c_str(), v.description.empty() ? "" : " \"", (v.description + (v.description.empty() ? "" : "\"")).c_str(),
-                    v.position.x, v.position.y, v.position.z, v.field_of_view, v.ortho ? " (ortho)" : "");
+        std::printf("  %s%s%s%s position (%g %g %g) fieldOfView %g%s\n",
+                    v.def_name.empty() ? "" : "DEF ", v.def_name.c_str(),
+                    v.description.empty() ? "" : " \"",
+                    (v.description + (v.description.empty() ? "" : "\"")).c_str(), v.position.x,
+                    v.position.y, v.position.z, v.field_of_view, v.ortho ? " (ortho)" : "");
     }
     std::printf("camera      %s\n", camera_text.c_str());
     std::printf("warnings    %zu\n", warnings_reported());

@@ -6,16 +6,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/render_stats.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
+#include "app/render_stats.h"
 #include "core/huge_pages.h"
-#include "image/image.h"
 #include "flatten/flatten.h"
+#include "image/image.h"
 #include "render/render.h"
 
 namespace vr {
@@ -41,15 +40,20 @@ std::string output_path(const RenderCommand& cmd) {
 
 }  // namespace
 
-nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_count,
-                                         const RenderStats& stats, const RenderTimings& t) {
+nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
+                                         size_t sphere_count, const RenderStats& stats,
+                                         const RenderTimings& t) {
     // Every figure at full precision (a double reads back as itself); the scene name escaped.
     nlohmann::ordered_json j;
     j["scene"] = cmd.scene;
     j["width"] = cmd.options.width;
     j["height"] = cmd.options.height;
-    j["seconds"] = {{"parse", t.parse}, {"scene", t.scene}, {"build", stats.build_seconds},
-                    {"render", stats.render_seconds}, {"write", t.write}, {"total", t.total}};
+    j["seconds"] = {{"parse", t.parse},
+                    {"scene", t.scene},
+                    {"build", stats.build_seconds},
+                    {"render", stats.render_seconds},
+                    {"write", t.write},
+                    {"total", t.total}};
     j["primitives"] = {{"spheres", sphere_count},
                        {"quadrics", flat.quadrics.size()},
                        {"meshes", flat.meshes.size()},
@@ -62,7 +66,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
     j["rays"] = {{"primary", stats.primary_rays},
                  {"shadow", stats.shadow_rays},
                  {"secondary", stats.secondary_rays},
-                 {"per_pixel", static_cast<double>(stats.primary_rays) / (double(cmd.options.width) * cmd.options.height)},
+                 {"per_pixel", static_cast<double>(stats.primary_rays) /
+                                   (double(cmd.options.width) * cmd.options.height)},
                  {"per_second", stats.rays_per_second()}};
     const NonFiniteCounts& bad = stats.nonfinite;
     j["nonfinite"] = {{"shading", bad.shading}, {"gas", bad.gas}, {"light", bad.light}};
@@ -94,7 +99,8 @@ int run_render(const RenderCommand& cmd) {
     auto t1 = std::chrono::steady_clock::now();
     FlatScene flat;
     FlattenStats flatten_stats;
-    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat, flatten_stats))
+    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
+                           flatten_stats))
         return kExitBadInput;
     const double scene_seconds = seconds_since(t1);
 
@@ -106,7 +112,8 @@ int run_render(const RenderCommand& cmd) {
     }
     const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
     if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
-        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(), describe_camera(flat, cmd.options, camera).c_str());
+        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
+                     describe_camera(flat, cmd.options, camera).c_str());
     if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
 
     // --timeout counts from the start of the command; loading is bounded by the reader's limits
@@ -117,8 +124,8 @@ int run_render(const RenderCommand& cmd) {
         if (options.timeout <= 0.0) options.timeout = 1e-9;
     }
 
-    // PNG and PPM files are 8-bit: the tracing threads encode their tiles straight into those bytes,
-    // and no float image (16 bytes a pixel, 33 MB at 1920x1080) is made.
+    // PNG and PPM files are 8-bit: the tracing threads encode their tiles straight into those
+    // bytes, and no float image (16 bytes a pixel, 33 MB at 1920x1080) is made.
     ProgressBar bar(!cmd.common.quiet);
     RenderStats stats;
     const size_t sphere_count = flat.spheres.size();  // freed by the render
@@ -135,13 +142,15 @@ int run_render(const RenderCommand& cmd) {
     if (image8.channels > 0) {
         image8.width = cmd.options.width;
         image8.height = cmd.options.height;
-        resize_huge(image8.samples, size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
+        resize_huge(image8.samples,
+                    size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
         auto encode = [&](int x0, int y0, int x1, int y1, const float* rgba) {
             const size_t n = size_t(x1 - x0), channels = size_t(image8.channels);
             count_covered(n * size_t(y1 - y0), rgba);
             for (int y = y0; y < y1; ++y, rgba += 4 * n)
-                encode_8bit(rgba, n, image8.channels, cmd.options.srgb,
-                            &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
+                encode_8bit(
+                    rgba, n, image8.channels, cmd.options.srgb,
+                    &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
         };
         render_tiles(flat, camera, options, progress, stats, encode, &flat.spheres);
     } else {
@@ -150,21 +159,25 @@ int run_render(const RenderCommand& cmd) {
     }
     bar.finish();
     if (stats.timed_out) {
-        std::fprintf(stderr, "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
+        std::fprintf(stderr,
+                     "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
                      cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
         return kExitBadInput;
     }
 
     if (empty_scene.empty() && covered.load() == 0) {
-        const Vec3 at = camera.position + Vec3(0.0), fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
+        const Vec3 at = camera.position + Vec3(0.0),
+                   fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
         char where[160];
-        std::snprintf(where, sizeof where, "camera at (%g %g %g) looking along (%g %g %g)", at.x, at.y, at.z, fwd.x,
-                      fwd.y, fwd.z);
-        report_warning(cmd.scene,
-                       std::string("nothing of the scene is in view, the image shows only the background: every "
-                                   "primary ray missed (") +
-                           where + "; --fit frames the scene)",
-                       cmd.common.quiet);
+        std::snprintf(where, sizeof where, "camera at (%g %g %g) looking along (%g %g %g)", at.x,
+                      at.y, at.z, fwd.x, fwd.y, fwd.z);
+        report_warning(
+            cmd.scene,
+            std::string(
+                "nothing of the scene is in view, the image shows only the background: every "
+                "primary ray missed (") +
+                where + "; --fit frames the scene)",
+            cmd.common.quiet);
     }
 
     // The tracer replaced these by 0 so that no file holds NaN; each one is a bug to report.
@@ -178,8 +191,10 @@ int run_render(const RenderCommand& cmd) {
                      (unsigned long long)bad.light);
 
     auto t3 = std::chrono::steady_clock::now();
-    const bool written = image8.channels > 0 ? write_image8(output, image8, cmd.options.srgb, error)
-                                             : write_image(output, image, {cmd.options.srgb, cmd.options.alpha}, error);
+    const bool written =
+        image8.channels > 0
+            ? write_image8(output, image8, cmd.options.srgb, error)
+            : write_image(output, image, {cmd.options.srgb, cmd.options.alpha}, error);
     if (!written) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitOutput;
@@ -189,11 +204,13 @@ int run_render(const RenderCommand& cmd) {
 
     if (!cmd.common.quiet) {
         std::fprintf(stderr,
-                     "%s: %dx%d, %zu spheres, %zu quadrics, %zu triangles; parse %.3fs, scene %.3fs, build %.3fs, "
+                     "%s: %dx%d, %zu spheres, %zu quadrics, %zu triangles; parse %.3fs, scene "
+                     "%.3fs, build %.3fs, "
                      "render %.3fs (%.2f Mrays/s), total %.3fs -> %s\n",
                      cmd.scene.c_str(), cmd.options.width, cmd.options.height, sphere_count,
-                     flat.quadrics.size(), flat.triangle_count() + flat.instanced_triangle_count(), parse_seconds, scene_seconds, stats.build_seconds,
-                     stats.render_seconds, stats.rays_per_second() * 1e-6, total, output.c_str());
+                     flat.quadrics.size(), flat.triangle_count() + flat.instanced_triangle_count(),
+                     parse_seconds, scene_seconds, stats.build_seconds, stats.render_seconds,
+                     stats.rays_per_second() * 1e-6, total, output.c_str());
     }
     if (!cmd.stats_path.empty()) {
         RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total};

@@ -10,16 +10,24 @@
 
 namespace vr {
 
-enum ExitCode : int { kExitOk = 0, kExitCompareFailed = 1, kExitUsage = 2, kExitBadInput = 3, kExitOutput = 4 };
+enum ExitCode : int {
+    kExitOk = 0,
+    kExitCompareFailed = 1,
+    kExitUsage = 2,
+    kExitBadInput = 3,
+    kExitOutput = 4
+};
 
 struct CommonOptions {
     bool quiet = false;
-    bool sandbox = false;                 // --sandbox [DIR]: URLs may read only under DIR and allow_paths
-    std::filesystem::path sandbox_dir;    // empty: the main scene's folder
-    std::vector<std::filesystem::path> allow_paths;  // --allow-path: folders URLs may reach besides the sandbox
-    bool strict = false;                  // --strict: any warning makes the command exit 3
-    Limits limits;               // --limit NAME=VALUE
-    double max_memory_gb = 0.0;  // --max-memory: a render that would need more is refused; 0: physical memory
+    bool sandbox = false;  // --sandbox [DIR]: URLs may read only under DIR and allow_paths
+    std::filesystem::path sandbox_dir;  // empty: the main scene's folder
+    std::vector<std::filesystem::path>
+        allow_paths;      // --allow-path: folders URLs may reach besides the sandbox
+    bool strict = false;  // --strict: any warning makes the command exit 3
+    Limits limits;        // --limit NAME=VALUE
+    double max_memory_gb =
+        0.0;  // --max-memory: a render that would need more is refused; 0: physical memory
 };
 
 struct RenderCommand {
@@ -27,7 +35,8 @@ struct RenderCommand {
     std::string output;  // empty: the scene's stem + ".png" in the current folder
     RenderOptions options;
     std::string stats_path;
-    std::optional<bool> recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
+    std::optional<bool>
+        recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
     CommonOptions common;
 };
 
@@ -42,16 +51,19 @@ struct CompareCommand {
 
 struct BenchCommand {
     std::string scene;
-    RenderOptions options;  // size, viewpoint, spheres, gas settings; the ladder sets sampler/spp/tolerance
-    std::string reference;  // empty: render one on a reference_spp grid (gas: tolerance 1e-8) and cache it
+    RenderOptions
+        options;  // size, viewpoint, spheres, gas settings; the ladder sets sampler/spp/tolerance
+    std::string
+        reference;  // empty: render one on a reference_spp grid (gas: tolerance 1e-8) and cache it
     int reference_spp = 1024;  // a 32 x 32 grid: edge pixels within about 1e-3 of their coverage
     std::vector<std::string> samplers;  // the ladder's series; empty: all (and "tolerance" for gas)
-    std::string csv, plot;  // empty: SCENE's stem + "-bench.csv" / "-bench.png"
-    int runs = 3;           // renders per setting; the median time is reported
+    std::string csv, plot;              // empty: SCENE's stem + "-bench.csv" / "-bench.png"
+    int runs = 3;                       // renders per setting; the median time is reported
     CommonOptions common;
 };
 
-// The warnings print_diagnostics and report_warning have printed (or, with --quiet, would have) so far.
+// The warnings print_diagnostics and report_warning have printed (or, with --quiet, would have) so
+// far.
 size_t warnings_reported();
 // With --strict and a warning reported, says so on stderr and gives kExitBadInput; else `code`.
 int strict_exit(int code, const CommonOptions& common);

@@ -8,7 +8,7 @@ namespace {
 struct Entry {
     const char* name;
     const char* meaning;
-    size_t Limits::*flatten;       // one of the two is set
+    size_t Limits::*flatten;  // one of the two is set
     size_t LoadLimits::*load;
 };
 
@@ -18,9 +18,11 @@ const Entry kEntries[] = {
     {"nodes", "nodes in all, PROTO bodies expanded", nullptr, &LoadLimits::max_nodes},
     {"inline-depth", "Inline files inside Inline files", nullptr, &LoadLimits::max_inline_depth},
     {"inline-files", "Inline and EXTERNPROTO files read", nullptr, &LoadLimits::max_inline_files},
-    {"file-bytes", "bytes of one file after gzip decompression", nullptr, &LoadLimits::max_file_bytes},
+    {"file-bytes", "bytes of one file after gzip decompression", nullptr,
+     &LoadLimits::max_file_bytes},
     {"mf-values", "numbers or strings in one field", nullptr, &LoadLimits::max_mf_values},
-    {"primitives", "spheres, quadrics and meshes after instancing", &Limits::max_primitives, nullptr},
+    {"primitives", "spheres, quadrics and meshes after instancing", &Limits::max_primitives,
+     nullptr},
     {"triangles", "triangles after instancing", &Limits::max_triangles, nullptr},
     {"group-visits", "grouping nodes visited while instancing", &Limits::max_group_visits, nullptr},
     {"texture-pixels", "pixels of one texture image (a larger one is ignored, with a warning)",
@@ -66,7 +68,8 @@ bool parse_limit(const std::string& text, Limits& limits, std::string& error) {
         end = scale ? last : end;
     }
     if (ec != std::errc() || end != last || value == 0 || value > SIZE_MAX / scale) {
-        error = "--limit " + name + " wants a positive whole number, optionally with k, M or G (got '" +
+        error = "--limit " + name +
+                " wants a positive whole number, optionally with k, M or G (got '" +
                 text.substr(eq + 1) + "')";
         return false;
     }

@@ -1,4 +1,5 @@
-// vrmlray: command line. Reads like the pipeline: parse options, run one subcommand, return its exit code.
+// vrmlray: command line. Reads like the pipeline: parse options, run one subcommand, return its
+// exit code.
 #include "app/cli.h"
 
 int main(int argc, char** argv) {

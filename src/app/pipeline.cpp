@@ -18,8 +18,8 @@ size_t warnings_reported() { return g_warnings; }
 
 int strict_exit(int code, const CommonOptions& common) {
     if (!common.strict || code != kExitOk || g_warnings == 0) return code;
-    std::fprintf(stderr, "vrmlray: error: --strict: %zu warning%s, exit %d\n", g_warnings, g_warnings == 1 ? "" : "s",
-                 int(kExitBadInput));
+    std::fprintf(stderr, "vrmlray: error: --strict: %zu warning%s, exit %d\n", g_warnings,
+                 g_warnings == 1 ? "" : "s", int(kExitBadInput));
     return kExitBadInput;
 }
 
@@ -49,8 +49,9 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
 
 void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }
 
-bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
-                       const CommonOptions& common, FlatScene& flat, FlattenStats& stats) {
+bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
+                       std::optional<bool> recover_spheres, const CommonOptions& common,
+                       FlatScene& flat, FlattenStats& stats) {
     const bool quiet = common.quiet;
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
@@ -71,23 +72,27 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::o
     return !diagnostics.has_errors();
 }
 
-std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat, const FlattenStats& stats) {
+std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
+                              const FlattenStats& stats) {
     if (!flat.bounds().empty()) return "";
     size_t failed_inlines = 0;
     for (const Diagnostic& d : loaded.diagnostics.all())
-        if (d.message.rfind("Inline not loaded", 0) == 0 || d.message.rfind("Inline file not used", 0) == 0)
+        if (d.message.rfind("Inline not loaded", 0) == 0 ||
+            d.message.rfind("Inline file not used", 0) == 0)
             failed_inlines += d.count;
     std::string why = "nothing to render, the image shows only the background: ";
     if (failed_inlines > 0)
-        return why + std::to_string(failed_inlines) + " Inline" + (failed_inlines == 1 ? " was" : "s were") +
+        return why + std::to_string(failed_inlines) + " Inline" +
+               (failed_inlines == 1 ? " was" : "s were") +
                " not loaded (see above) and the rest holds no geometry";
     if (stats.skipped_shapes > 0)
-        return why + "all " + std::to_string(stats.skipped_shapes) + " shapes were skipped (see above)";
+        return why + "all " + std::to_string(stats.skipped_shapes) +
+               " shapes were skipped (see above)";
     return why + "the scene holds no geometry";
 }
 
-bool check_render_memory(const std::string& scene_path, const FlatScene& flat, const RenderOptions& options,
-                         const CommonOptions& common) {
+bool check_render_memory(const std::string& scene_path, const FlatScene& flat,
+                         const RenderOptions& options, const CommonOptions& common) {
     double limit = common.max_memory_gb * 1e9;
     const char* what = "--max-memory";
     if (limit <= 0.0) {
@@ -99,10 +104,11 @@ bool check_render_memory(const std::string& scene_path, const FlatScene& flat, c
     const double need = double(estimate_render_bytes(flat, options));
     if (need <= limit) return true;
     std::fprintf(stderr,
-                 "%s: error: rendering %dx%d with %zu spheres, %zu quadrics and %zu triangles needs about %.3g GB, "
+                 "%s: error: rendering %dx%d with %zu spheres, %zu quadrics and %zu triangles "
+                 "needs about %.3g GB, "
                  "more than %.3g GB (%s)\n",
-                 scene_path.c_str(), options.width, options.height, flat.spheres.size(), flat.quadrics.size(),
-                 flat.triangle_count(), need / 1e9, limit / 1e9, what);
+                 scene_path.c_str(), options.width, options.height, flat.spheres.size(),
+                 flat.quadrics.size(), flat.triangle_count(), need / 1e9, limit / 1e9, what);
     return false;
 }
 

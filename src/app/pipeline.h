@@ -3,9 +3,9 @@
 #include <string>
 
 #include "app/commands.h"
+#include "flatten/flatten.h"
 #include "parser/load.h"
 #include "render/flat_scene.h"
-#include "flatten/flatten.h"
 #include "render/options.h"
 
 namespace vr {
@@ -18,20 +18,23 @@ void report_warning(const std::string& file, const std::string& message, bool qu
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
 // Gives the node tree's memory back (build_scene has copied what it needs).
 void release_tree(LoadedScene& loaded);
-// Builds the typed scene and flattens it with the render options' sphere and gas settings; prints the
-// diagnostics; false when there are errors. The node tree is released once the typed scene is built
-// and the typed scene once it is flattened, so that their peaks do not stack (`loaded` keeps its
-// sources, diagnostics and statistics).
-bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options, std::optional<bool> recover_spheres,
-                       const CommonOptions& common, FlatScene& flat, FlattenStats& stats);
+// Builds the typed scene and flattens it with the render options' sphere and gas settings; prints
+// the diagnostics; false when there are errors. The node tree is released once the typed scene is
+// built and the typed scene once it is flattened, so that their peaks do not stack (`loaded` keeps
+// its sources, diagnostics and statistics).
+bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
+                       std::optional<bool> recover_spheres, const CommonOptions& common,
+                       FlatScene& flat, FlattenStats& stats);
 
 // Why the flattened scene has nothing to render ("" when it has something): every Inline failed,
 // every shape was skipped, or the file holds no geometry. For the one warning of an empty image.
-std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat, const FlattenStats& stats);
+std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
+                              const FlattenStats& stats);
 
 // Refuses (prints an error naming the scene, returns false) a render whose estimated memory
-// (estimate_render_bytes) exceeds --max-memory, or the machine's physical memory when that is not set.
-bool check_render_memory(const std::string& scene_path, const FlatScene& flat, const RenderOptions& options,
-                         const CommonOptions& common);
+// (estimate_render_bytes) exceeds --max-memory, or the machine's physical memory when that is not
+// set.
+bool check_render_memory(const std::string& scene_path, const FlatScene& flat,
+                         const RenderOptions& options, const CommonOptions& common);
 
 }  // namespace vr

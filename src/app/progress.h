@@ -6,12 +6,12 @@
 namespace vr {
 
 class ProgressBar {
-public:
+  public:
     explicit ProgressBar(bool enabled);
     void update(double fraction, uint64_t rays);
     void finish();
 
-private:
+  private:
     bool enabled_;
     bool drawn_ = false;
     std::chrono::steady_clock::time_point start_;

@@ -1,10 +1,9 @@
-// Double-precision vector types used everywhere in src/ (single precision fails far tiny spheres and
-// scenes translated by 1e5: SPEC section 8).
+// Double-precision vector types used everywhere in src/ (single precision fails far tiny spheres
+// and scenes translated by 1e5: SPEC section 8).
 #pragma once
-#include <limits>
-
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
 
 namespace vr {
 
@@ -17,9 +16,9 @@ using Mat4 = glm::dmat4;
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// A normal mapped by `normal_from_object` (the inverse transpose of a transform's linear part) and made
-// unit; a zero normal stays zero. World-space mesh copies and mesh instances both use it, so that their
-// shading agrees.
+// A normal mapped by `normal_from_object` (the inverse transpose of a transform's linear part) and
+// made unit; a zero normal stays zero. World-space mesh copies and mesh instances both use it, so
+// that their shading agrees.
 inline Vec3 map_normal(const Mat3& normal_from_object, const Vec3& n) {
     const Vec3 m = normal_from_object * n;
     const double length = glm::length(m);

@@ -5,8 +5,8 @@
 // * Transforms compose down the graph; a node USEd n times is emitted n times (each with its own
 //   world transform). Meshes are triangulated once per geometry node; a mesh of 16 triangles or
 //   more placed a second time becomes a prototype in object space, and every placement an instance
-//   (MeshInstance), so its triangles are stored once; smaller ones are copied to world space per use. A subtree under a singular Transform is skipped (build_scene
-//   warned).
+//   (MeshInstance), so its triangles are stored once; smaller ones are copied to world space per
+//   use. A subtree under a singular Transform is skipped (build_scene warned).
 // * Sphere: under a rotation and uniform scale it stays a Sphere (world centre and radius); under
 //   any other scale it becomes an Ellipsoid quadric. Its `gas` flag: the sphereMode hint (Sphere
 //   over Shape over Material) if set, else --spheres (FromHints and Opaque give opaque).
@@ -42,15 +42,15 @@
 //   texels, is one warning; the shape renders untextured.
 #pragma once
 #include <array>
-#include <optional>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "image/texture_file.h"
 #include "parser/diagnostics.h"
 #include "render/flat_scene.h"
 #include "render/options.h"
-#include "image/texture_file.h"
 #include "scene/scene.h"
 
 namespace vr {
@@ -58,13 +58,14 @@ namespace vr {
 struct FlattenOptions {
     SpheresOption spheres = SpheresOption::FromHints;
     double density = 1.0;
-    // Render an IndexedFaceSet whose vertices all lie on one sphere or axis-aligned cylinder, to the
-    // precision they were written with, as that exact shape (Jmol's atoms and bonds); unset: on in gas
-    // mode, off otherwise. A sphere under a non-uniform scale becomes an ellipsoid quadric, except in
-    // gas mode (gas needs true spheres: the mesh stays).
+    // Render an IndexedFaceSet whose vertices all lie on one sphere or axis-aligned cylinder, to
+    // the precision they were written with, as that exact shape (Jmol's atoms and bonds); unset: on
+    // in gas mode, off otherwise. A sphere under a non-uniform scale becomes an ellipsoid quadric,
+    // except in gas mode (gas needs true spheres: the mesh stays).
     std::optional<bool> recover_spheres;
-    std::optional<Vec3> albedo;    // --albedo: gas albedo where no hint says (default: diffuseColor)
-    std::optional<Vec3> emission;  // --emission: gas emission where no hint says (default: emissiveColor)
+    std::optional<Vec3> albedo;  // --albedo: gas albedo where no hint says (default: diffuseColor)
+    std::optional<Vec3>
+        emission;           // --emission: gas emission where no hint says (default: emissiveColor)
     std::string viewpoint;  // for Billboard: faces the chosen viewpoint (first if empty)
     std::filesystem::path scene_file;
     std::vector<std::filesystem::path> allowed_roots;
@@ -99,10 +100,11 @@ const char* recovery_miss_label(RecoveryMiss m);
 struct FlattenStats {
     size_t spheres = 0, quadrics = 0, meshes = 0, triangles = 0, materials = 0, lights = 0,
            textures = 0;
-    size_t instances = 0;  // placements of instanced meshes (not in `meshes`; their triangles are in `triangles`)
+    size_t instances =
+        0;  // placements of instanced meshes (not in `meshes`; their triangles are in `triangles`)
     size_t skipped_shapes = 0;  // shapes with no renderable geometry
-    // Recovery (FlattenOptions::recover_spheres), counted per placement: IndexedFaceSets tried, those
-    // rendered as exact spheres, ellipsoids and cylinders, and why the others were not.
+    // Recovery (FlattenOptions::recover_spheres), counted per placement: IndexedFaceSets tried,
+    // those rendered as exact spheres, ellipsoids and cylinders, and why the others were not.
     size_t recovery_candidates = 0;
     size_t recovered_spheres = 0, recovered_ellipsoids = 0, recovered_cylinders = 0;
     std::array<size_t, size_t(RecoveryMiss::kCount)> recovery_misses{};

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "flatten/flattener.h"
-#include "parser/load.h"
 #include "image/texture_file.h"
+#include "parser/load.h"
 #include "scene/report.h"
 #include "scene/transform.h"
 

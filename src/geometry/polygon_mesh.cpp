@@ -119,8 +119,8 @@ FaceList collect_faces(const sg::IndexedFaceSet& ifs, NodeReport& report) {
 }
 
 // Clears `a.usable` (with a warning) unless every index of the valid faces is in range.
-void check_attribute(AttributeSource& a, const std::vector<int32_t>& coord_index, const FaceList& list,
-                     NodeReport& report) {
+void check_attribute(AttributeSource& a, const std::vector<int32_t>& coord_index,
+                     const FaceList& list, NodeReport& report) {
     if (!a.usable) return;
     auto in_range = [&](int64_t s) { return s >= 0 && static_cast<size_t>(s) < a.value_count; };
     if (a.per_vertex) {
@@ -132,8 +132,9 @@ void check_attribute(AttributeSource& a, const std::vector<int32_t>& coord_index
     }
     if (!a.usable)
         report.warn(std::string(a.name) + "-index",
-                    std::string(a.name) + " index out of range or missing (" + std::to_string(a.value_count) +
-                        " values); the " + a.name + " values are ignored for this node");
+                    std::string(a.name) + " index out of range or missing (" +
+                        std::to_string(a.value_count) + " values); the " + a.name +
+                        " values are ignored for this node");
 }
 
 // Face normals (unit) of the valid faces, in the corner order used for output.
@@ -160,7 +161,8 @@ std::vector<Vec3> crease_normals(const sg::IndexedFaceSet& ifs, const FaceList& 
     std::vector<uint32_t> around(corner_coord.size());
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
     for (uint32_t fi = 0; fi < faces.size(); ++fi)
-        for (uint32_t j = 0; j < faces[fi].count; ++j) around[fill[corner_coord[faces[fi].begin + j]]++] = fi;
+        for (uint32_t j = 0; j < faces[fi].count; ++j)
+            around[fill[corner_coord[faces[fi].begin + j]]++] = fi;
     const double cos_crease = ifs.smooth_all ? -2.0 : std::cos(std::min(ifs.crease_angle, kPi));
     std::vector<Vec3> corner_normal(corner_coord.size());
     for (uint32_t fi = 0; fi < faces.size(); ++fi) {
@@ -200,7 +202,8 @@ struct CornerAttributes {
 
 // Pass 2: triangulate the valid faces and emit their corners; counts faces without area in
 // list.degenerate.
-void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttributes& at, TriMesh& mesh) {
+void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttributes& at,
+                TriMesh& mesh) {
     const std::vector<Vec3>& coords = ifs.data.coords;
     const std::vector<int32_t>& coord_index = ifs.coord_index;
     std::vector<int32_t> remap(coords.size(), -1);
@@ -235,11 +238,13 @@ void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttri
                 }
                 mesh.normals.push_back(n);
             }
-            if (at.color.usable) mesh.colors.push_back(ifs.data.colors[at.color.source(coord_index, k, f.number)]);
+            if (at.color.usable)
+                mesh.colors.push_back(ifs.data.colors[at.color.source(coord_index, k, f.number)]);
             if (at.want_uvs) {
-                mesh.uvs.push_back(at.texcoord.usable
-                                       ? ifs.data.texcoords[at.texcoord.source(coord_index, k, f.number)]
-                                       : at.default_mapping(coords[c]));
+                mesh.uvs.push_back(
+                    at.texcoord.usable
+                        ? ifs.data.texcoords[at.texcoord.source(coord_index, k, f.number)]
+                        : at.default_mapping(coords[c]));
             }
         }
     }
@@ -265,15 +270,18 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
                              !ifs.data.texcoords.empty()};
 
     FaceList list = collect_faces(ifs, report);
-    for (AttributeSource* a : {&normal, &color, &texcoord}) check_attribute(*a, coord_index, list, report);
+    for (AttributeSource* a : {&normal, &color, &texcoord})
+        check_attribute(*a, coord_index, list, report);
     face_normals(coords, list);
     // Crease-angle normals per corner, when no usable explicit normals are given.
     std::vector<Vec3> corner_normal;
-    if (!normal.usable && (ifs.smooth_all || ifs.crease_angle > 0.0)) corner_normal = crease_normals(ifs, list);
+    if (!normal.usable && (ifs.smooth_all || ifs.crease_angle > 0.0))
+        corner_normal = crease_normals(ifs, list);
     const DefaultTexMapping default_mapping =
         want_uvs && !texcoord.usable ? default_mapping_of(coords, list) : DefaultTexMapping();
 
-    emit_faces(ifs, list, {normal, color, texcoord, corner_normal, default_mapping, want_uvs}, mesh);
+    emit_faces(ifs, list, {normal, color, texcoord, corner_normal, default_mapping, want_uvs},
+               mesh);
     if (list.degenerate)
         report.warn("degenerate",
                     std::to_string(list.degenerate) +

@@ -49,8 +49,8 @@ double roundest_in(double lo, double hi, int max_decimals);
 // fewer than 12 points, a point that does not agree with any sphere near the least-squares one, a
 // precision coarser than 1e-3 of the radius, or a part-sphere (the points must reach out to within
 // 20% of the radius along every axis). `triangles` (3 indices a triangle, optional): the mesh must
-// also cover at least 90% of the sphere's area, which a large hole or a tessellation as coarse as an
-// icosahedron (76%) does not; Jmol's 162-vertex sphere covers 98.1%.
+// also cover at least 90% of the sphere's area, which a large hole or a tessellation as coarse as
+// an icosahedron (76%) does not; Jmol's 162-vertex sphere covers 98.1%.
 std::optional<SphereFit> fit_tessellated_sphere(const std::vector<Vec3>& points,
                                                 const std::vector<uint32_t>* triangles = nullptr,
                                                 FitFailure* why = nullptr);

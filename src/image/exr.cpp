@@ -33,7 +33,8 @@ bool bind(void* handle, const char* name, Fn& fn) {
 #endif
 
 bool load(ExrModule& m, std::string& error) {
-    const std::vector<std::string> candidates = module_candidates(kModuleName, VRMLRAY_EXR_MODULE_PATH);
+    const std::vector<std::string> candidates =
+        module_candidates(kModuleName, VRMLRAY_EXR_MODULE_PATH);
     // The headline is the first candidate that exists (why it failed is the news), else the first.
     std::string head, why = "nowhere to look for it";
     bool head_exists = false;

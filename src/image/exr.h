@@ -27,8 +27,8 @@ enum class ExrStatus { kOk, kNotExr, kOtherChannels, kError };
 ExrStatus read_exr(const std::string& path, size_t max_pixels, ExrPixels& pixels,
                    std::string& error);
 
-// Loads the module (once per process): false, with the reason, when it cannot be loaded. check_output
-// asks before rendering, so that a missing module fails at once, not after the render.
+// Loads the module (once per process): false, with the reason, when it cannot be loaded.
+// check_output asks before rendering, so that a missing module fails at once, not after the render.
 bool exr_available(std::string& error);
 
 // 3 or 4 channels a pixel, rows from the top. On failure the partial file is removed.

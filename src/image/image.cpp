@@ -1,6 +1,7 @@
 // Reading and writing float RGBA images: PNG (libpng, png.h), binary PPM and EXR (the OpenEXR
 // module, exr.h) without OpenImageIO, every other format through the OpenImageIO module
-// (oiio_module.h), which is loaded only then. Reading goes through read_file_pixels (texture_file.h).
+// (oiio_module.h), which is loaded only then. Reading goes through read_file_pixels
+// (texture_file.h).
 //
 // What reaches a file (SPEC section 9):
 //   - The extension picks the format and the stored sample type:
@@ -25,9 +26,11 @@
 //   - The native writers store what OpenImageIO stored before them: PNG 8-bit RGB or RGBA (tEXt
 //     Software, and the sRGB/gAMA/cHRM chunks with `srgb`), PPM "P6 W H 255" with 8-bit RGB.
 // Reading returns the stored values as floats (8/16-bit code k as the float nearest k/255 or
-// k/65535), no transfer curve undone. PNG, JPEG and EXR files are recognised by their signature, not
-// their name; other formats go through the OpenImageIO module.
+// k/65535), no transfer curve undone. PNG, JPEG and EXR files are recognised by their signature,
+// not their name; other formats go through the OpenImageIO module.
 #include "image/image.h"
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -41,10 +44,8 @@
 #include <limits>
 #include <memory>
 
-#include <unistd.h>
-
-#include "image/oiio_module.h"
 #include "image/exr.h"
+#include "image/oiio_module.h"
 #include "image/png.h"
 #include "image/texture_file.h"
 
@@ -100,15 +101,16 @@ uint32_t quantize(float value, bool srgb, double max_code) {
     return uint32_t(std::floor(v * max_code + 0.5));
 }
 
-// quantize(value, true, 255) without a pow per sample: code i + 1 starts at the smallest float whose
-// code is at least i + 1, found once by bisection over the bit patterns of [0, 1] (ordered like their
-// values) with quantize itself, so the two agree on every float. A sample's code is then its bucket's
-// first code (the bucket: the top 16 bits of the float, 2^-7 of its value wide), stepped past the code
-// starts in the bucket: none or one, as a code spans at least 0.9% of its linear value.
+// quantize(value, true, 255) without a pow per sample: code i + 1 starts at the smallest float
+// whose code is at least i + 1, found once by bisection over the bit patterns of [0, 1] (ordered
+// like their values) with quantize itself, so the two agree on every float. A sample's code is then
+// its bucket's first code (the bucket: the top 16 bits of the float, 2^-7 of its value wide),
+// stepped past the code starts in the bucket: none or one, as a code spans at least 0.9% of its
+// linear value.
 struct Srgb8 {
     static constexpr uint32_t kOneBits = 0x3F800000u;  // 1.0f
-    float first[255];                               // first[i]: where code i + 1 starts
-    uint8_t bucket[(kOneBits >> 16) + 1];           // code of the smallest float of each bucket
+    float first[255];                                  // first[i]: where code i + 1 starts
+    uint8_t bucket[(kOneBits >> 16) + 1];              // code of the smallest float of each bucket
     Srgb8() {
         for (uint32_t code = 1; code <= 255; ++code) {
             uint32_t lo = 0, hi = 0x3F800000u;  // 0.0f, 1.0f: quantize(1) = 255
@@ -116,8 +118,10 @@ struct Srgb8 {
                 const uint32_t mid = lo + (hi - lo) / 2;
                 float f;
                 std::memcpy(&f, &mid, sizeof f);
-                if (quantize(f, true, 255.0) >= code) hi = mid;
-                else lo = mid + 1;
+                if (quantize(f, true, 255.0) >= code)
+                    hi = mid;
+                else
+                    lo = mid + 1;
             }
             std::memcpy(&first[code - 1], &lo, sizeof(float));
         }
@@ -153,10 +157,11 @@ std::string format_name(const std::string& ext) {
 // Converts `count` RGBA pixels at `in` to the interleaved samples stored in the file (nchannels per
 // pixel) at `out`, colour as given.
 template <typename T>
-void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
-    // quantize(x, false, 255) without branches, so that the loops vectorise (vrmlray render encodes every
-    // tile so): NaN and everything below 0 give 0, everything from 1 up (+inf too) 255, and the rounding
-    // is quantize's floor(v * 255 + 0.5), truncation being floor for v >= 0.
+void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code,
+                       T* out) {
+    // quantize(x, false, 255) without branches, so that the loops vectorise (vrmlray render encodes
+    // every tile so): NaN and everything below 0 give 0, everything from 1 up (+inf too) 255, and
+    // the rounding is quantize's floor(v * 255 + 0.5), truncation being floor for v >= 0.
     auto linear8 = [](float x) {
         const double v = x > 0.0f ? (x < 1.0f ? double(x) : 1.0) : 0.0;
         return uint8_t(v * 255.0 + 0.5);
@@ -188,7 +193,8 @@ void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, 
 void unpremultiply(const float* in, size_t count, float* out) {
     for (size_t p = 0; p < count; ++p, in += 4, out += 4) {
         const double a = finite_or_zero(in[3]);
-        for (int c = 0; c < 3; ++c) out[c] = a > 0.0 ? float(double(finite_or_zero(in[c])) / a) : 0.0f;
+        for (int c = 0; c < 3; ++c)
+            out[c] = a > 0.0 ? float(double(finite_or_zero(in[c])) / a) : 0.0f;
         out[3] = in[3];
     }
 }
@@ -196,7 +202,8 @@ void unpremultiply(const float* in, size_t count, float* out) {
 // to_stored_samples, except that with 4 channels the colour of `in` is premultiplied and the file
 // gets it straight (the convention of integer formats: PNG, TIFF, ...).
 template <typename T>
-void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code, T* out) {
+void to_integer_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code,
+                        T* out) {
     if (nchannels != 4) return to_stored_samples(in, count, nchannels, srgb, max_code, out);
     constexpr size_t kBlock = 256;  // pixels converted at a time, on the stack
     float straight[kBlock * 4];
@@ -230,8 +237,9 @@ std::vector<float> to_float_samples(const Image& image, int nchannels, bool clam
     return out;
 }
 
-// Binary PPM (P6), byte for byte what OpenImageIO's writer produced, written a block of rows at a time:
-// `rows(first, count)` returns the 3-byte pixels of rows [first, first + count), valid until the next call.
+// Binary PPM (P6), byte for byte what OpenImageIO's writer produced, written a block of rows at a
+// time: `rows(first, count)` returns the 3-byte pixels of rows [first, first + count), valid until
+// the next call.
 template <class RowsFn>
 bool write_ppm(const std::string& path, int width, int height, RowsFn&& rows, std::string& error) {
     FILE* f = std::fopen(path.c_str(), "wb");
@@ -255,8 +263,8 @@ bool write_ppm(const std::string& path, int width, int height, RowsFn&& rows, st
     return true;
 }
 
-// From float pixels, converted a block at a time: the block's buffer stays in cache, and no file-sized
-// buffer is faulted in.
+// From float pixels, converted a block at a time: the block's buffer stays in cache, and no
+// file-sized buffer is faulted in.
 bool write_ppm(const std::string& path, const Image& image, bool srgb, std::string& error) {
     std::vector<uint8_t> block;
     const size_t width = size_t(image.width);
@@ -264,8 +272,8 @@ bool write_ppm(const std::string& path, const Image& image, bool srgb, std::stri
         path, image.width, image.height,
         [&](size_t first, size_t count) {
             block.resize(count * width * 3);
-            to_integer_samples<uint8_t>(image.rgba.data() + first * width * 4, count * width, 3, srgb, 255.0,
-                                        block.data());
+            to_integer_samples<uint8_t>(image.rgba.data() + first * width * 4, count * width, 3,
+                                        srgb, 255.0, block.data());
             return block.data();
         },
         error);
@@ -297,14 +305,16 @@ Image to_rgba(int width, int height, int nch, int alpha, const std::vector<float
 }
 
 // The extensions of OpenImageIO 2.4's image writers (its "extension_list" for the formats of
-// "output_format_list", less null and term). check_output refuses any other extension without loading
-// the module (0.4 s, over a second on a loaded machine); the module still has the last word on these.
+// "output_format_list", less null and term). check_output refuses any other extension without
+// loading the module (0.4 s, over a second on a loaded machine); the module still has the last word
+// on these.
 bool oiio_may_write(const std::string& ext) {
     static constexpr const char* kKnown[] = {
-        "exr", "sxr", "mxr", "tif", "tiff", "tx", "env", "sm", "vsm", "jpg", "jpe", "jpeg", "jif", "jfif",
-        "jfi", "bmp", "dib", "dpx", "fits", "gif", "heic", "heif", "heics", "avif", "hdr", "rgbe", "ico",
-        "iff", "z", "jp2", "j2k", "j2c", "png", "ppm", "pgm", "pbm", "pnm", "pfm", "rla", "sgi", "rgb",
-        "rgba", "bw", "int", "inta", "tga", "tpic", "webp", "zfile"};
+        "exr",  "sxr",  "mxr",   "tif",  "tiff", "tx",   "env",  "sm",   "vsm",  "jpg",
+        "jpe",  "jpeg", "jif",   "jfif", "jfi",  "bmp",  "dib",  "dpx",  "fits", "gif",
+        "heic", "heif", "heics", "avif", "hdr",  "rgbe", "ico",  "iff",  "z",    "jp2",
+        "j2k",  "j2c",  "png",   "ppm",  "pgm",  "pbm",  "pnm",  "pfm",  "rla",  "sgi",
+        "rgb",  "rgba", "bw",    "int",  "inta", "tga",  "tpic", "webp", "zfile"};
     return std::find(std::begin(kKnown), std::end(kKnown), ext) != std::end(kKnown);
 }
 
@@ -336,7 +346,8 @@ OutputCheck check_output(const std::string& path, bool alpha, std::string& error
     }
     const bool exists = fs::exists(path, ec);
     if (access(exists ? path.c_str() : folder.c_str(), W_OK) != 0) {
-        error = "cannot write '" + path + "': " + (exists ? "the file" : "the folder '" + folder.string() + "'") +
+        error = "cannot write '" + path +
+                "': " + (exists ? "the file" : "the folder '" + folder.string() + "'") +
                 " is not writable (" + std::strerror(errno) + ")";
         return OutputCheck::kNotWritable;
     }
@@ -386,7 +397,8 @@ bool write_image8(const std::string& path, const Image8& image, bool srgb, std::
     }
     std::string why;
     const bool ok = lower_extension(path) == "png"
-                        ? write_png(path, image.width, image.height, channels, 8, image.samples.data(), srgb, why)
+                        ? write_png(path, image.width, image.height, channels, 8,
+                                    image.samples.data(), srgb, why)
                         : write_ppm(
                               path, image.width, image.height,
                               [&](size_t first, size_t) {
@@ -397,7 +409,8 @@ bool write_image8(const std::string& path, const Image8& image, bool srgb, std::
     return ok;
 }
 
-bool write_image(const std::string& path, const Image& image, const WriteOptions& options, std::string& error) {
+bool write_image(const std::string& path, const Image& image, const WriteOptions& options,
+                 std::string& error) {
     const bool srgb = options.srgb;
     const int want = options.alpha ? 4 : 3;
     if (image.width <= 0 || image.height <= 0 ||
@@ -446,7 +459,8 @@ bool write_image(const std::string& path, const Image& image, const WriteOptions
         return false;
     }
     if (want > format_channels) {
-        error = "cannot write '" + path + "' with an alpha channel: " + format_name(ext) + " files have none";
+        error = "cannot write '" + path + "' with an alpha channel: " + format_name(ext) +
+                " files have none";
         return false;
     }
     const int nchannels = want;

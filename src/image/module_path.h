@@ -1,6 +1,7 @@
-// Where vrmlray's dlopen-ed modules (vrmlray_oiio.so, vrmlray_exr.so) are looked for, in order: next to the
-// running executable (the build folder), PREFIX/lib/vrmlray/ beside PREFIX/bin/vrmlray (cmake --install,
-// the .deb), then the folder CMake built it in (a compiled-in path, for test binaries in other folders).
+// Where vrmlray's dlopen-ed modules (vrmlray_oiio.so, vrmlray_exr.so) are looked for, in order:
+// next to the running executable (the build folder), PREFIX/lib/vrmlray/ beside PREFIX/bin/vrmlray
+// (cmake --install, the .deb), then the folder CMake built it in (a compiled-in path, for test
+// binaries in other folders).
 #pragma once
 #include <filesystem>
 #include <string>

@@ -48,8 +48,9 @@ typedef int (*VrOiioOutputChannelsFn)(const char* path);
 // Writes samples (1 to 4 channels; with 2 or 4 the last is alpha) stored as `format`. The format's
 // own settings (exr zip compression, jpeg quality 95, binary pnm, the Software tag, the sRGB
 // colour-space tag when `srgb`) are chosen by the module from PATH's extension. Alpha is marked
-// associated for VR_OIIO_FLOAT samples (premultiplied colour, EXR's convention) and unassociated for
-// integer ones (straight colour). No timestamp is written: the same samples give the same bytes.
+// associated for VR_OIIO_FLOAT samples (premultiplied colour, EXR's convention) and unassociated
+// for integer ones (straight colour). No timestamp is written: the same samples give the same
+// bytes.
 typedef int (*VrOiioWriteFn)(const char* path, int width, int height, int channels, int format,
                              const void* samples, int srgb, char* error, size_t error_size);
 

@@ -30,8 +30,8 @@ struct PngPixels {
 
 enum class PngStatus {
     kOk,
-    kNotPng,      // no PNG signature: some other format
-    kError,       // `error` says why
+    kNotPng,  // no PNG signature: some other format
+    kError,   // `error` says why
 };
 
 // Decodes a whole PNG file held in memory. More than `max_pixels` pixels is an error, found from

@@ -129,8 +129,8 @@ int vrmlray_oiio_write(const char* path, int width, int height, int channels, in
         if (ext == "jpg" || ext == "jpeg") spec.attribute("Compression", "jpeg:95");
         if (ext == "ppm" || ext == "pnm") spec.attribute("pnm:binary", 1);
         spec.attribute("Software", "vrmlray");
-        // OpenImageIO stamps the current time otherwise (EXR capDate, TIFF DateTime): the same render
-        // must write the same bytes (SPEC section 9).
+        // OpenImageIO stamps the current time otherwise (EXR capDate, TIFF DateTime): the same
+        // render must write the same bytes (SPEC section 9).
         spec.attribute("DateTime", "");
         if (!out->open(path, spec)) {
             set_error(error, error_size, oiio_error(out->geterror()));

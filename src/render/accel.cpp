@@ -85,13 +85,14 @@ void Accel::build_prototypes(const FlatScene& scene, int threads) {
         p.triangle_index = binary.order;
         for (size_t i = 0; i < binary.order.size(); ++i) {
             const uint32_t* corner = &m.triangles[3 * size_t(binary.order[i])];
-            p.triangles[i] = {m.positions[corner[0]], m.positions[corner[1]], m.positions[corner[2]]};
+            p.triangles[i] = {m.positions[corner[0]], m.positions[corner[1]],
+                              m.positions[corner[2]]};
         }
     }
 }
 
-// The world box of the prototype's BVH root (its lanes' union, rounded outwards) under the instance's
-// transform.
+// The world box of the prototype's BVH root (its lanes' union, rounded outwards) under the
+// instance's transform.
 bool Accel::instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) const {
     if (in.prototype >= prototypes_.size() || prototypes_[in.prototype].bvh.empty()) return false;
     const Bvh4Node& root = prototypes_[in.prototype].bvh.nodes[0];
@@ -115,8 +116,8 @@ bool Accel::instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) con
     return true;
 }
 
-// Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs, then
-// mesh instances.
+// Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs,
+// then mesh instances.
 void Accel::build(const FlatScene& scene, int threads) {
     scene_ = &scene;
     threads = std::max(threads, 1);
@@ -146,7 +147,8 @@ void Accel::build(const FlatScene& scene, int threads) {
                 if (i < n_spheres) {
                     const Sphere& s = scene.spheres[i];
                     // Gas spheres are volumes for render/gas.h, not surfaces.
-                    if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center))
+                    if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) ||
+                        !finite3(s.center))
                         continue;
                     box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
                 } else if (i < first_triangle) {
@@ -165,9 +167,10 @@ void Accel::build(const FlatScene& scene, int threads) {
 
     BvhBuildOptions options;
     options.threads = threads;
-    // An interior node of the collapsed tree tests four boxes in one step, so leaves may be fuller than
-    // a binary tree's cost would make them: on 1M random spheres this halves the nodes (285k -> 159k
-    // wide nodes, 36 -> 20 bytes a sphere) and shortens the build by a fifth; render time is unchanged.
+    // An interior node of the collapsed tree tests four boxes in one step, so leaves may be fuller
+    // than a binary tree's cost would make them: on 1M random spheres this halves the nodes (285k
+    // -> 159k wide nodes, 36 -> 20 bytes a sphere) and shortens the build by a fifth; render time
+    // is unchanged.
     options.traversal_cost = 4.0;
     const Bvh binary = build_bvh(std::move(boxes), options);
     bvh_ = collapse_bvh(binary);
@@ -205,7 +208,8 @@ void Accel::build(const FlatScene& scene, int threads) {
         for (size_t i = begin; i < end; ++i) {
             const uint32_t id = order[i];
             // Leaf order is a random walk through the scene's arrays: fetch ahead.
-            if (i + 8 < end && order[i + 8] < n_spheres) __builtin_prefetch(&scene.spheres[order[i + 8]]);
+            if (i + 8 < end && order[i + 8] < n_spheres)
+                __builtin_prefetch(&scene.spheres[order[i + 8]]);
             uint32_t shading = 0;
             if (id < n_spheres) {
                 const Sphere& sp = scene.spheres[id];
@@ -227,7 +231,8 @@ void Accel::build(const FlatScene& scene, int threads) {
                 prims_[i] = pack_prim(PrimKind::Instance, k);
                 InstanceGeom& g = instances_[k];
                 for (int r = 0; r < 3; ++r)
-                    for (int col = 0; col < 4; ++col) g.object_from_world[r][col] = in.object_from_world[col][r];
+                    for (int col = 0; col < 4; ++col)
+                        g.object_from_world[r][col] = in.object_from_world[col][r];
                 g.prototype = in.prototype;
                 g.source = id - first_instance;
                 shading = in.shading;
@@ -253,14 +258,15 @@ void Accel::build(const FlatScene& scene, int threads) {
 }
 
 size_t Accel::held_bytes() const {
-    // size, not capacity: the BVH's reserved tail is never touched, so it is address space, not memory.
+    // size, not capacity: the BVH's reserved tail is never touched, so it is address space, not
+    // memory.
     auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
     size_t prototypes = 0;
     for (const Prototype& p : prototypes_)
         prototypes += bytes(p.bvh.nodes) + bytes(p.triangles) + bytes(p.triangle_index);
-    return bytes(bvh_.nodes) + bytes(prims_) + bytes(prim_transparency_) + bytes(spheres_) + bytes(sphere_shading_) +
-           bytes(quadrics_) + bytes(quadric_source_) + bytes(triangles_) + bytes(triangle_mesh_) +
-           bytes(triangle_index_) + bytes(instances_) + prototypes;
+    return bytes(bvh_.nodes) + bytes(prims_) + bytes(prim_transparency_) + bytes(spheres_) +
+           bytes(sphere_shading_) + bytes(quadrics_) + bytes(quadric_source_) + bytes(triangles_) +
+           bytes(triangle_mesh_) + bytes(triangle_index_) + bytes(instances_) + prototypes;
 }
 
 inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
@@ -306,9 +312,11 @@ inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
     return false;
 }
 
-// The ray goes to the prototype's object space as for quadrics (its origin advanced by the map's rounding
-// error, dt added back to t), where the affine map keeps t: the object-space t of a point is its world t.
-bool Accel::test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit, bool brute_force) const {
+// The ray goes to the prototype's object space as for quadrics (its origin advanced by the map's
+// rounding error, dt added back to t), where the affine map keeps t: the object-space t of a point
+// is its world t.
+bool Accel::test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit,
+                          bool brute_force) const {
     const Prototype& p = prototypes_[instances_[index].prototype];
     const ObjectRay r = to_object_space(instances_[index].object_from_world, ray);
     double tm = t_max - r.dt;
@@ -448,8 +456,8 @@ SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
     switch (prim_kind(hit.prim)) {
         case PrimKind::Sphere: {
             const SphereGeom& g = spheres_[index];
-            return sphere_surface(Sphere{g.center, g.radius, sphere_shading_[index], false}, ray, hit.t,
-                                  want_uv);
+            return sphere_surface(Sphere{g.center, g.radius, sphere_shading_[index], false}, ray,
+                                  hit.t, want_uv);
         }
         case PrimKind::Quadric:
             return quadric_surface(scene_->quadrics[quadric_source_[index]], quadrics_[index], ray,
@@ -458,16 +466,18 @@ SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
             return triangle_surface(scene_->meshes[triangle_mesh_[index]], triangle_index_[index],
                                     ray, hit.t, hit.b1, hit.b2);
         case PrimKind::Instance: {
-            // The prototype's surface in object space, then to world: the point with its error bound
-            // grown by the map, the geometric normal by the inverse transpose (which keeps the front side
-            // under a mirror, where world-space copies swap two corners instead), and the shading normal
-            // as for a world-space copy: the corners' normals mapped and made unit, then interpolated.
+            // The prototype's surface in object space, then to world: the point with its error
+            // bound grown by the map, the geometric normal by the inverse transpose (which keeps
+            // the front side under a mirror, where world-space copies swap two corners instead),
+            // and the shading normal as for a world-space copy: the corners' normals mapped and
+            // made unit, then interpolated.
             const InstanceGeom& g = instances_[index];
             const MeshInstance& in = scene_->instances[g.source];
             const Mesh& m = scene_->prototypes[g.prototype];
             const ObjectRay r = to_object_space(g.object_from_world, ray);
             const Ray object_ray{r.o, r.d, kInf};
-            SurfaceHit s = triangle_surface(m, hit.triangle, object_ray, hit.t - r.dt, hit.b1, hit.b2);
+            SurfaceHit s =
+                triangle_surface(m, hit.triangle, object_ray, hit.t - r.dt, hit.b1, hit.b2);
             const Vec3 p = s.p, p_error = s.p_error;
             to_world_space(in.world_from_object, p, p_error, s.p, s.p_error);
             const Mat3 normal_from_object = glm::transpose(Mat3(in.object_from_world));
@@ -477,9 +487,11 @@ SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
             if (m.normals.size() >= c0 + 3) {
                 const double b[3] = {1.0 - hit.b1 - hit.b2, hit.b1, hit.b2};
                 Vec3 ns(0.0);
-                for (int k = 0; k < 3; ++k) ns += b[k] * map_normal(normal_from_object, m.normals[c0 + size_t(k)]);
+                for (int k = 0; k < 3; ++k)
+                    ns += b[k] * map_normal(normal_from_object, m.normals[c0 + size_t(k)]);
                 s.ns = safe_normalize(ns, s.ng);
-                if (glm::dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;  // the given normals say which side is the front
+                if (glm::dot(s.ns, s.ng) < 0.0)
+                    s.ng = -s.ng;  // the given normals say which side is the front
             }
             s.t = hit.t;
             s.shading = in.shading;
@@ -495,9 +507,10 @@ bool Accel::intersect_brute_force(const Ray& ray, Hit& hit) const {
     double t_max = ray.t_max;
     bool found = false;
     for (uint32_t ref : prims_) {
-        const bool hit_here = prim_kind(ref) == PrimKind::Instance
-                                  ? test_instance(prim_index(ref), ray, t_max, hit, /*brute_force=*/true)
-                                  : test_primitive(ref, ray, inv_a, tri_ray, t_max, hit);
+        const bool hit_here =
+            prim_kind(ref) == PrimKind::Instance
+                ? test_instance(prim_index(ref), ray, t_max, hit, /*brute_force=*/true)
+                : test_primitive(ref, ray, inv_a, tri_ray, t_max, hit);
         if (hit_here) found = true;
     }
     return found;

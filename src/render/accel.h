@@ -55,26 +55,28 @@ class Accel {
     bool test_primitive(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray,
                         double& t_max, Hit& hit) const;
     int crossings(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray) const;
-    // The closest hit in instance `index`'s prototype with world t in (0, t_max); brute force: every
-    // triangle, not the prototype's BVH (for tests).
-    bool test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit, bool brute_force = false) const;
+    // The closest hit in instance `index`'s prototype with world t in (0, t_max); brute force:
+    // every triangle, not the prototype's BVH (for tests).
+    bool test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit,
+                       bool brute_force = false) const;
     int instance_crossings(uint32_t index, const Ray& ray) const;
 
     const FlatScene* scene_ = nullptr;
-    Bvh4 bvh_;  // collapsed from the binary build, which is not kept
+    Bvh4 bvh_;                              // collapsed from the binary build, which is not kept
     std::vector<uint32_t> prims_;           // packed references in leaf order
     std::vector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;
 
     std::vector<SphereGeom> spheres_;
-    std::vector<uint32_t> sphere_shading_;  // the sphere's Shading index: scene.spheres is not read after build
+    std::vector<uint32_t>
+        sphere_shading_;  // the sphere's Shading index: scene.spheres is not read after build
     std::vector<QuadricGeom> quadrics_;
     std::vector<uint32_t> quadric_source_;
     std::vector<TriangleGeom> triangles_;
     std::vector<uint32_t> triangle_mesh_, triangle_index_;
 
-    // Mesh instances (FlatScene::instances): each prototype's triangles once, in object space, under a
-    // BVH of its own; each instance one entry of the scene's BVH.
+    // Mesh instances (FlatScene::instances): each prototype's triangles once, in object space,
+    // under a BVH of its own; each instance one entry of the scene's BVH.
     struct Prototype {
         Bvh4 bvh;
         std::vector<TriangleGeom> triangles;   // object space, in the prototype BVH's leaf order

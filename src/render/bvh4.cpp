@@ -9,12 +9,13 @@ namespace vr {
 namespace {
 
 double half_area(const BvhNode& n) {
-    const double dx = double(n.hi[0]) - n.lo[0], dy = double(n.hi[1]) - n.lo[1], dz = double(n.hi[2]) - n.lo[2];
+    const double dx = double(n.hi[0]) - n.lo[0], dy = double(n.hi[1]) - n.lo[1],
+                 dz = double(n.hi[2]) - n.lo[2];
     return dx * dy + dy * dz + dz * dx;
 }
 
-// A node over the n binary nodes `kids` (leaves keep their primitive range; interior children's indices
-// are set by the caller); unused lanes get the empty box.
+// A node over the n binary nodes `kids` (leaves keep their primitive range; interior children's
+// indices are set by the caller); unused lanes get the empty box.
 Bvh4Node make_node(const BvhNode* const* kids, int n) {
     Bvh4Node node;
     for (int c = 0; c < 4; ++c) {
@@ -29,10 +30,12 @@ Bvh4Node make_node(const BvhNode* const* kids, int n) {
     return node;
 }
 
-// Fills node `at` of `out` from the binary interior node `b`: its children, with the interior child of
-// largest area opened while fewer than four (the usual greedy collapse: big boxes are the ones rays meet).
+// Fills node `at` of `out` from the binary interior node `b`: its children, with the interior child
+// of largest area opened while fewer than four (the usual greedy collapse: big boxes are the ones
+// rays meet).
 void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
-    const BvhNode* kids[4] = {&binary.nodes[b.offset], &binary.nodes[b.offset + 1], nullptr, nullptr};
+    const BvhNode* kids[4] = {&binary.nodes[b.offset], &binary.nodes[b.offset + 1], nullptr,
+                              nullptr};
     int n = 2;
     while (n < 4) {
         int open = -1;
@@ -62,10 +65,10 @@ void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
 Bvh4 collapse_bvh(const Bvh& binary) {
     Bvh4 out;
     if (binary.empty()) return out;
-    // Every wide node takes at least one binary interior node, so half the binary nodes bound the count
-    // and the array never moves (a move would fault its pages in twice). The count is L / 3 to L / 2 for
-    // L leaves (1M random spheres: 159k of at most 300k); the reserved tail that stays untouched is
-    // address space only, never memory.
+    // Every wide node takes at least one binary interior node, so half the binary nodes bound the
+    // count and the array never moves (a move would fault its pages in twice). The count is L / 3
+    // to L / 2 for L leaves (1M random spheres: 159k of at most 300k); the reserved tail that stays
+    // untouched is address space only, never memory.
     reserve_huge(out.nodes, binary.nodes.size() / 2 + 4);
     out.nodes.emplace_back();
     const BvhNode& root = binary.nodes[0];

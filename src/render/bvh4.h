@@ -1,13 +1,14 @@
-// A 4-wide BVH for the opaque tracer, collapsed from the binary one of render/bvh.h (the same leaves,
-// so the same primitive order): a node holds its four children's boxes axis by axis, and a ray tests
-// all four at once in double precision (AVX2: four doubles a register). Three of every four binary
-// interior nodes disappear, so a traversal takes about a third of the steps and the tree holds about
-// a third of the bytes.
+// A 4-wide BVH for the opaque tracer, collapsed from the binary one of render/bvh.h (the same
+// leaves, so the same primitive order): a node holds its four children's boxes axis by axis, and a
+// ray tests all four at once in double precision (AVX2: four doubles a register). Three of every
+// four binary interior nodes disappear, so a traversal takes about a third of the steps and the
+// tree holds about a third of the bytes.
 //
-// The test is the binary tree's, lane by lane: single-precision planes rounded outwards at build, the
-// slab distances in double, the exit distance widened by pbrt's 1 + 2 gamma(3), NaN (a ray lying in a
-// slab plane) never shrinking the interval. Lanes past `lanes` are masked out of the test; their boxes
-// are also empty (lo = +inf, hi = -inf), so that code reading the boxes alone finds nothing there.
+// The test is the binary tree's, lane by lane: single-precision planes rounded outwards at build,
+// the slab distances in double, the exit distance widened by pbrt's 1 + 2 gamma(3), NaN (a ray
+// lying in a slab plane) never shrinking the interval. Lanes past `lanes` are masked out of the
+// test; their boxes are also empty (lo = +inf, hi = -inf), so that code reading the boxes alone
+// finds nothing there.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -21,11 +22,12 @@
 namespace vr {
 
 struct alignas(64) Bvh4Node {
-    float lo[3][4];      // [axis][child]
+    float lo[3][4];  // [axis][child]
     float hi[3][4];
-    uint32_t child[4];   // interior child: node index; leaf: first primitive in leaf order
-    uint16_t count[4];   // 0: interior child (or an unused lane: see lanes); else primitives in the leaf
-    uint8_t lanes = 0;   // children in use: lanes 0 .. lanes-1
+    uint32_t child[4];  // interior child: node index; leaf: first primitive in leaf order
+    uint16_t
+        count[4];  // 0: interior child (or an unused lane: see lanes); else primitives in the leaf
+    uint8_t lanes = 0;  // children in use: lanes 0 .. lanes-1
 };
 static_assert(sizeof(Bvh4Node) == 128);
 
@@ -40,13 +42,13 @@ Bvh4 collapse_bvh(const Bvh& binary);
 // Deepest root-to-leaf path in nodes (for tests: the traversal stack must hold 3 a level).
 int bvh4_depth(const Bvh4& bvh);
 
-// The binary tree is at most 64 + 32 levels deep (render/bvh.cpp); a 4-wide level takes at least one
-// binary level, and a step pushes at most three children.
+// The binary tree is at most 64 + 32 levels deep (render/bvh.cpp); a 4-wide level takes at least
+// one binary level, and a step pushes at most three children.
 inline constexpr int kBvh4StackSize = 3 * 97 + 4;
 
-// Visits leaves front to back along the ray, as traverse_bvh does: `leaf(first, count, t_max)` tests
-// primitives [first, first + count) of the leaf order and may lower t_max (closest hit) or return true
-// to stop (any hit).
+// Visits leaves front to back along the ray, as traverse_bvh does: `leaf(first, count, t_max)`
+// tests primitives [first, first + count) of the leaf order and may lower t_max (closest hit) or
+// return true to stop (any hit).
 template <class LeafFn>
 inline void traverse_bvh4(const Bvh4& bvh, const Ray& ray, double& t_max, LeafFn&& leaf) {
     if (bvh.nodes.empty()) return;
@@ -88,9 +90,12 @@ inline void traverse_bvh4(const Bvh4& bvh, const Ray& ray, double& t_max, LeafFn
             for (int k = 0; k < 3; ++k) {
                 const float* near_plane = near_hi[k] ? n.hi[k] : n.lo[k];
                 const float* far_plane = near_hi[k] ? n.lo[k] : n.hi[k];
-                const __m256d tn = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(near_plane)), O[k]), I[k]);
-                const __m256d tf = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(far_plane)), O[k]), I[k]);
-                t0 = _mm256_max_pd(tn, t0);  // NaN in tn: t0 is kept (maxpd returns its second operand)
+                const __m256d tn = _mm256_mul_pd(
+                    _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(near_plane)), O[k]), I[k]);
+                const __m256d tf = _mm256_mul_pd(
+                    _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(far_plane)), O[k]), I[k]);
+                t0 = _mm256_max_pd(tn,
+                                   t0);  // NaN in tn: t0 is kept (maxpd returns its second operand)
                 t1 = _mm256_min_pd(tf, t1);
             }
             _mm256_store_pd(t_near, t0);

@@ -127,8 +127,7 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.ortho_center = Vec2(0.5 * (e[0] + e[2]), 0.5 * (e[1] + e[3]));
     } else {
         if (!(vp.field_of_view > 0.0 && vp.field_of_view < kPi)) {
-            error = "viewpoint fieldOfView must lie in (0, pi), got " +
-                    format_g(vp.field_of_view);
+            error = "viewpoint fieldOfView must lie in (0, pi), got " + format_g(vp.field_of_view);
             return false;
         }
         camera.field_of_view = vp.field_of_view;
@@ -191,10 +190,12 @@ std::string point_text(const Vec3& p) {
 
 }  // namespace
 
-std::string describe_camera(const FlatScene& scene, const RenderOptions& options, const Camera& camera) {
+std::string describe_camera(const FlatScene& scene, const RenderOptions& options,
+                            const Camera& camera) {
     if (camera.framed_default) {
         if (scene.bounds().empty())
-            return "no Viewpoint and nothing to frame: the default camera at " + point_text(camera.position);
+            return "no Viewpoint and nothing to frame: the default camera at " +
+                   point_text(camera.position);
         char fov[48];
         std::snprintf(fov, sizeof fov, "%g", camera.field_of_view);
         return "no Viewpoint: framed from +Z at " + point_text(camera.position) +
@@ -203,14 +204,16 @@ std::string describe_camera(const FlatScene& scene, const RenderOptions& options
     if (scene.viewpoints.empty()) return "the default camera at " + point_text(camera.position);
     const Viewpoint* vp = &scene.viewpoints.front();
     for (const Viewpoint& v : scene.viewpoints)
-        if (!options.viewpoint.empty() && (v.def_name == options.viewpoint || v.description == options.viewpoint)) {
+        if (!options.viewpoint.empty() &&
+            (v.def_name == options.viewpoint || v.description == options.viewpoint)) {
             vp = &v;
             break;
         }
     std::string text = vp->ortho ? "OrthoViewpoint" : "Viewpoint";
     if (!vp->def_name.empty()) text += " DEF " + vp->def_name;
     if (!vp->description.empty()) text += " \"" + vp->description + "\"";
-    if (vp->def_name.empty() && vp->description.empty()) text += " (unnamed, the first in the file)";
+    if (vp->def_name.empty() && vp->description.empty())
+        text += " (unnamed, the first in the file)";
     text += " at " + point_text(camera.position);
     if (options.fit) text += " (moved by --fit)";
     return text;

@@ -66,6 +66,7 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
                  std::string& error);
 // Which camera make_camera chose, for info and the render's note: "Viewpoint DEF Cam \"Front\" at
 // (0 1 5)" or "no Viewpoint: framed from +Z at (0 0 12.3), fieldOfView 0.785398".
-std::string describe_camera(const FlatScene& scene, const RenderOptions& options, const Camera& camera);
+std::string describe_camera(const FlatScene& scene, const RenderOptions& options,
+                            const Camera& camera);
 
 }  // namespace vr

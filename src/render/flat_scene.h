@@ -1,5 +1,6 @@
-// What the tracer sees: world-space primitives in plain arrays, materials, lights, cameras, background.
-// Built by the flattening step (src/render/flatten.*) from the typed scene; knows nothing of VRML nodes.
+// What the tracer sees: world-space primitives in plain arrays, materials, lights, cameras,
+// background. Built by the flattening step (src/render/flatten.*) from the typed scene; knows
+// nothing of VRML nodes.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -14,8 +15,8 @@ enum class SphereMode : uint8_t { Opaque, Gas };
 struct Texture {
     int width = 0;
     int height = 0;
-    int channels = 0;          // 1 intensity, 2 intensity+alpha, 3 RGB, 4 RGBA (VRML's texture types)
-    std::vector<float> texels; // channels floats a texel, row 0 = BOTTOM of the image (VRML t = 0)
+    int channels = 0;  // 1 intensity, 2 intensity+alpha, 3 RGB, 4 RGBA (VRML's texture types)
+    std::vector<float> texels;  // channels floats a texel, row 0 = BOTTOM of the image (VRML t = 0)
     bool repeat_s = true;
     bool repeat_t = true;
 };
@@ -29,12 +30,13 @@ struct Material {
     double ambient_intensity = 0.2;
     double shininess = 0.2;
     double transparency = 0.0;
-    double reflectivity = 0.0;  // hint
-    double ior = 1.0;           // hint
-    int32_t texture = -1;       // index into FlatScene::textures
+    double reflectivity = 0.0;    // hint
+    double ior = 1.0;             // hint
+    int32_t texture = -1;         // index into FlatScene::textures
     Mat3 texture_transform{1.0};  // applied to (s, t, 1)
-    // Gas hints (SPEC section 6); negative/unset values mean "use the global option or the default".
-    int8_t sphere_mode = -1;    // -1 unset, else SphereMode
+    // Gas hints (SPEC section 6); negative/unset values mean "use the global option or the
+    // default".
+    int8_t sphere_mode = -1;  // -1 unset, else SphereMode
     double density = -1.0;
     Vec3 albedo{-1.0};
     Vec3 emission{-1.0};
@@ -53,13 +55,15 @@ struct Sphere {
     bool gas = false;  // resolved from hints and --spheres by flatten
 };
 
-// Box, Cylinder, Cone, or a sphere under a non-uniform scale (ellipsoid), kept analytic in object space.
+// Box, Cylinder, Cone, or a sphere under a non-uniform scale (ellipsoid), kept analytic in object
+// space.
 enum class QuadricKind : uint8_t { Box, Cylinder, Cone, Ellipsoid };
 struct Quadric {
     QuadricKind kind = QuadricKind::Box;
     Mat4 world_from_object{1.0};
     Mat4 object_from_world{1.0};
-    Vec3 size{2.0};          // Box: full size; Cylinder/Cone: (2*radius, height, 2*radius); Ellipsoid: 2*radius
+    Vec3 size{
+        2.0};  // Box: full size; Cylinder/Cone: (2*radius, height, 2*radius); Ellipsoid: 2*radius
     bool side = true, top = true, bottom = true;  // Cylinder/Cone parts
     uint32_t shading = 0;
 };
@@ -68,18 +72,18 @@ struct Quadric {
 struct Mesh {
     std::vector<Vec3> positions;      // world space
     std::vector<uint32_t> triangles;  // 3 position indices a triangle
-    std::vector<Vec3> normals;        // per corner, world space, unit; empty: flat (geometric) normals
-    std::vector<Vec2> uvs;            // per corner; empty: no texture coordinates
-    std::vector<Vec3> colors;         // per corner (Color node); empty: material colour
-    bool solid = true;                // false: both sides are lit (two-sided)
+    std::vector<Vec3> normals;  // per corner, world space, unit; empty: flat (geometric) normals
+    std::vector<Vec2> uvs;      // per corner; empty: no texture coordinates
+    std::vector<Vec3> colors;   // per corner (Color node); empty: material colour
+    bool solid = true;          // false: both sides are lit (two-sided)
     uint32_t shading = 0;
     size_t triangle_count() const { return triangles.size() / 3; }
 };
 
-// A mesh that the file places more than once (DEF/USE): its triangles are stored once, in object space
-// (FlatScene::prototypes, whose own `shading` is unused), and each placement is an instance with its
-// own transform and shading. The tracer gives each prototype a BVH of its own and each instance one
-// entry in the scene's BVH.
+// A mesh that the file places more than once (DEF/USE): its triangles are stored once, in object
+// space (FlatScene::prototypes, whose own `shading` is unused), and each placement is an instance
+// with its own transform and shading. The tracer gives each prototype a BVH of its own and each
+// instance one entry in the scene's BVH.
 struct MeshInstance {
     uint32_t prototype = 0;
     Mat4 world_from_object{1.0};
@@ -93,23 +97,25 @@ struct Light {
     Vec3 color{1.0};
     double intensity = 1.0;
     double ambient_intensity = 0.0;
-    Vec3 position{0.0};           // world (point, spot)
+    Vec3 position{0.0};              // world (point, spot)
     Vec3 direction{0.0, 0.0, -1.0};  // world, unit: the direction light travels (directional, spot)
     Vec3 attenuation{1.0, 0.0, 0.0};
-    double radius = 100.0;        // world units (point, spot)
+    double radius = 100.0;  // world units (point, spot)
     double beam_width = 1.570796;
     double cutoff_angle = 0.785398;
-    bool headlight = false;       // follows the camera: direction set per render, never shadowed
+    bool headlight = false;  // follows the camera: direction set per render, never shadowed
 };
 
 struct Viewpoint {
     std::string def_name;
     std::string description;
     bool ortho = false;
-    Vec3 position{0.0, 0.0, 10.0};   // world
-    Mat3 world_from_camera{1.0};      // columns: camera right (+x), up (+y), backward (+z); looks along -z
+    Vec3 position{0.0, 0.0, 10.0};  // world
+    Mat3 world_from_camera{
+        1.0};  // columns: camera right (+x), up (+y), backward (+z); looks along -z
     double field_of_view = 0.785398;  // perspective: angle spanning the smaller image dimension
-    // OrthoViewpoint: extents (min x, min y, max x, max y) in camera units; the smaller dimension is fit.
+    // OrthoViewpoint: extents (min x, min y, max x, max y) in camera units; the smaller dimension
+    // is fit.
     double ortho_extent[4] = {-1.0, -1.0, 1.0, 1.0};
 };
 
@@ -134,14 +140,20 @@ struct Bounds3 {
     Vec3 lo{kInf};
     Vec3 hi{-kInf};
     bool empty() const { return lo.x > hi.x; }
-    void extend(const Vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-    void extend(const Bounds3& b) { lo = glm::min(lo, b.lo); hi = glm::max(hi, b.hi); }
+    void extend(const Vec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void extend(const Bounds3& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
 };
 
 struct FlatScene {
     std::vector<Sphere> spheres;
     std::vector<Quadric> quadrics;
-    std::vector<Mesh> meshes;  // world space
+    std::vector<Mesh> meshes;      // world space
     std::vector<Mesh> prototypes;  // object space, placed by instances
     std::vector<MeshInstance> instances;
     std::vector<Material> materials;
@@ -153,7 +165,7 @@ struct FlatScene {
     std::vector<Viewpoint> viewpoints;              // in file order
     Background background;
     Fog fog;
-    Bounds3 bounds() const;                         // of all renderable primitives
+    Bounds3 bounds() const;                   // of all renderable primitives
     size_t triangle_count() const;            // in meshes (each stored once)
     size_t instanced_triangle_count() const;  // placed by instances, counted once a placement
 };

@@ -19,9 +19,10 @@ double one_minus_exp_over_x(double x) {
 
 namespace {
 
-// The part of the line o + t d inside the sphere: t in [t0, t1]. The discriminant is formed from the
-// closest-approach vector (the b'-form), which stays exact for far tiny spheres.
-bool sphere_interval(const Vec3& o, const Vec3& d, const Vec3& c, double r, double& t0, double& t1) {
+// The part of the line o + t d inside the sphere: t in [t0, t1]. The discriminant is formed from
+// the closest-approach vector (the b'-form), which stays exact for far tiny spheres.
+bool sphere_interval(const Vec3& o, const Vec3& d, const Vec3& c, double r, double& t0,
+                     double& t1) {
     const double a = glm::dot(d, d);
     const Vec3 oc = o - c;
     const double tca = -glm::dot(oc, d) / a;
@@ -69,31 +70,35 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
     const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
     const double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
     const double denom = 1.0 / (va + vb + vc);
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// Quadrature on a panel [x0, x1] of an interval's unit parameter (see gas.h for the substitution). A new
-// panel gets the 5-point Gauss-Lobatto rule (exact for degree 7) with Simpson's rule on its end and centre
-// values as the error estimate: three evaluations, since the end values are known (0 at the ends of the
-// interval, where the substitution's derivative vanishes; the parent's values after a bisection). When
-// that is not enough, the panel gets Gauss-Kronrod 7/15 (QUADPACK's qk15; 15 evaluations, an error
-// estimate of a degree-13 rule: the substituted integrand is smooth, so this usually settles it), and a
-// Gauss-Kronrod panel that is still not enough is halved into two Lobatto panels (a jump inside: an
-// opaque surface's shadow edge). Every estimate is the difference to a lower-order rule on the same
-// nodes, which overstates the error of the value used.
+// Quadrature on a panel [x0, x1] of an interval's unit parameter (see gas.h for the substitution).
+// A new panel gets the 5-point Gauss-Lobatto rule (exact for degree 7) with Simpson's rule on its
+// end and centre values as the error estimate: three evaluations, since the end values are known (0
+// at the ends of the interval, where the substitution's derivative vanishes; the parent's values
+// after a bisection). When that is not enough, the panel gets Gauss-Kronrod 7/15 (QUADPACK's qk15;
+// 15 evaluations, an error estimate of a degree-13 rule: the substituted integrand is smooth, so
+// this usually settles it), and a Gauss-Kronrod panel that is still not enough is halved into two
+// Lobatto panels (a jump inside: an opaque surface's shadow edge). Every estimate is the difference
+// to a lower-order rule on the same nodes, which overstates the error of the value used.
 constexpr double kLobattoX = 0.654653670707977143798292456246859;  // sqrt(3/7)
-constexpr double kX15[7] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-                            0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-                            0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-                            0.207784955007898467600689403773245};
-constexpr double kW15[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-                            0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-                            0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-                            0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+constexpr double kX15[7] = {
+    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+    0.207784955007898467600689403773245};
+constexpr double kW15[8] = {
+    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
 constexpr double kW7[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                           0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+                           0.381830050505118944950369775488975,
+                           0.417959183673469387755102040816327};
 
 struct Panel {
     double x0, x1, f0, fc, f1;  // ends, end and centre values
@@ -130,14 +135,14 @@ Panel kronrod(F&& f, const Panel& p) {
     return out;
 }
 
-// A sphere that may lie on the path from a point of a piece to one light, in a frame p(s) = point + s u
-// along the ray (s = t - mid), so that the optical depth at a quadrature node is a plain loop over a list
-// of these, with no BVH traversal.
-//   Directional light (unit direction l towards it): the sphere's chord along the half-line p + lambda l,
-//   lambda >= 0, has its centre at lambda = m(s) = c[3] + s c[4] and half length h(s) with
-//   h^2 = c[0] - s (c[1] + s c[2]) (where positive): chord = max(0, (m + h) - max(0, m - h)).
-//   Point and spot light: c[0..2] = point - centre, c[3] = r^2; the chord along the segment to the light
-//   is found with the same closest-approach form as sphere_interval.
+// A sphere that may lie on the path from a point of a piece to one light, in a frame p(s) = point +
+// s u along the ray (s = t - mid), so that the optical depth at a quadrature node is a plain loop
+// over a list of these, with no BVH traversal.
+//   Directional light (unit direction l towards it): the sphere's chord along the half-line p +
+//   lambda l, lambda >= 0, has its centre at lambda = m(s) = c[3] + s c[4] and half length h(s)
+//   with h^2 = c[0] - s (c[1] + s c[2]) (where positive): chord = max(0, (m + h) - max(0, m - h)).
+//   Point and spot light: c[0..2] = point - centre, c[3] = r^2; the chord along the segment to the
+//   light is found with the same closest-approach form as sphere_interval.
 struct Shadower {
     double c[5];
     double sigma;
@@ -145,18 +150,18 @@ struct Shadower {
 
 // The shadowing spheres of a window of pieces (a run of consecutive pieces sharing one frame): per
 // sphere where (in s) the path to the light can cross it at all (lo, hi: the shadow cylinder's
-// crossings; unbounded for point lights), where that path touches its silhouette with the sphere between
-// the point and the light (cut[0], cut[1]; NaN for none), its radius and its index.
+// crossings; unbounded for point lights), where that path touches its silhouette with the sphere
+// between the point and the light (cut[0], cut[1]; NaN for none), its radius and its index.
 struct WindowSphere {
     Shadower shadower;
     double lo, hi, cut[2], radius;
     uint32_t id;
 };
 
-// The window's entry for sphere g (frame point + s u, s in [s0, s1]); false when the path from no point
-// of the window to the light can cross it.
-bool window_sphere(const GasSphere& g, uint32_t index, const Light& light, const Vec3& point, const Vec3& u,
-                   double s0, double s1, WindowSphere& out) {
+// The window's entry for sphere g (frame point + s u, s in [s0, s1]); false when the path from no
+// point of the window to the light can cross it.
+bool window_sphere(const GasSphere& g, uint32_t index, const Light& light, const Vec3& point,
+                   const Vec3& u, double s0, double s1, WindowSphere& out) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const Vec3 q0 = point - g.center;
     const double r2 = g.radius * g.radius;
@@ -171,7 +176,8 @@ bool window_sphere(const GasSphere& g, uint32_t index, const Light& light, const
         const Vec3 to_light = -light.direction;
         const double z0 = glm::dot(q0, to_light), zu = glm::dot(u, to_light);
         const Vec3 q0p = q0 - z0 * to_light, up = u - zu * to_light;
-        const double k0 = r2 - glm::dot(q0p, q0p), k1 = 2.0 * glm::dot(q0p, up), k2 = glm::dot(up, up);
+        const double k0 = r2 - glm::dot(q0p, q0p), k1 = 2.0 * glm::dot(q0p, up),
+                     k2 = glm::dot(up, up);
         c[0] = k0, c[1] = k1, c[2] = k2, c[3] = -z0, c[4] = -zu;
         // Ahead of the window somewhere: m + r > 0 at one of its ends (m is linear in s).
         if (!(std::max(-z0 - zu * s0, -z0 - zu * s1) + g.radius > 0.0)) return false;
@@ -192,8 +198,9 @@ bool window_sphere(const GasSphere& g, uint32_t index, const Light& light, const
     const double k = glm::dot(m, m) - r2;
     if (k > 0.0) {  // else the light is inside: every path crosses the sphere
         const double mu = glm::dot(m, u), mw = glm::dot(m, w0);
-        const int n = quadratic_roots(k * glm::dot(u, u) - mu * mu, 2.0 * (k * glm::dot(w0, u) - mw * mu),
-                                      k * glm::dot(w0, w0) - mw * mw, roots);
+        const int n =
+            quadratic_roots(k * glm::dot(u, u) - mu * mu, 2.0 * (k * glm::dot(w0, u) - mw * mu),
+                            k * glm::dot(w0, w0) - mw * mw, roots);
         for (int i = 0; i < n; ++i) {
             const Vec3 p = point + roots[i] * u, d = light.position - p;
             const double lambda = glm::dot(g.center - p, d);
@@ -203,8 +210,9 @@ bool window_sphere(const GasSphere& g, uint32_t index, const Light& light, const
     return true;
 }
 
-// Shadowers four side by side, one array per coefficient, so that the optical depth at a node is found for
-// four spheres at once. Unused lanes have sigma = 0 and c[0] = c[3] = -1 (h^2 < 0, r^2 < 0: no chord).
+// Shadowers four side by side, one array per coefficient, so that the optical depth at a node is
+// found for four spheres at once. Unused lanes have sigma = 0 and c[0] = c[3] = -1 (h^2 < 0, r^2 <
+// 0: no chord).
 struct ShadowBlock {
     double c[5][4];
     double sigma[4];
@@ -239,8 +247,9 @@ double directional_depth(const ShadowBlock* blocks, size_t n, double s) {
     __m256d depth = zero;
     for (size_t i = 0; i < n; ++i) {
         const ShadowBlock& b = blocks[i];
-        const __m256d h2 = _mm256_fnmadd_pd(S, _mm256_fmadd_pd(S, _mm256_loadu_pd(b.c[2]), _mm256_loadu_pd(b.c[1])),
-                                            _mm256_loadu_pd(b.c[0]));
+        const __m256d h2 = _mm256_fnmadd_pd(
+            S, _mm256_fmadd_pd(S, _mm256_loadu_pd(b.c[2]), _mm256_loadu_pd(b.c[1])),
+            _mm256_loadu_pd(b.c[0]));
         const __m256d h = _mm256_sqrt_pd(_mm256_max_pd(h2, zero));  // max(NaN, 0) = 0
         const __m256d m = _mm256_fmadd_pd(S, _mm256_loadu_pd(b.c[4]), _mm256_loadu_pd(b.c[3]));
         const __m256d chord = _mm256_max_pd(
@@ -265,7 +274,8 @@ double directional_depth(const ShadowBlock* blocks, size_t n, double s) {
 }
 
 // `from` = p(s) - point is s u; `to_light` = light position - p(s), `len2` its squared length.
-double point_depth(const ShadowBlock* blocks, size_t n, const Vec3& from, const Vec3& to_light, double len2) {
+double point_depth(const ShadowBlock* blocks, size_t n, const Vec3& from, const Vec3& to_light,
+                   double len2) {
     const double inv = 1.0 / len2;
     double depth = 0.0;  // in units of the segment's length
     for (size_t i = 0; i < n; ++i)
@@ -283,8 +293,8 @@ double point_depth(const ShadowBlock* blocks, size_t n, const Vec3& from, const 
     return depth * std::sqrt(len2);
 }
 
-// Whether a ball (centre C, radius R) meets the triangle (light, A, B): the paths from the segment [A, B]
-// to a point light.
+// Whether a ball (centre C, radius R) meets the triangle (light, A, B): the paths from the segment
+// [A, B] to a point light.
 bool meets_point_fan(const Vec3& light, const Vec3& A, const Vec3& B, const Vec3& C, double R) {
     const Vec3 q = closest_on_triangle(C, light, A, B) - C;
     return glm::dot(q, q) <= R * R * (1.0 + 1e-9);
@@ -309,10 +319,12 @@ void GasVolume::build(const FlatScene& scene, const RenderOptions& options) {
         g.light_set = sh.light_set;
         if (!(g.sigma > 0.0)) continue;  // no extinction: invisible and casting nothing
         const Vec3 r(s.radius);
-        boxes.push_back(make_build_box(s.center - r, s.center + r, static_cast<uint32_t>(spheres_.size())));
+        boxes.push_back(
+            make_build_box(s.center - r, s.center + r, static_cast<uint32_t>(spheres_.size())));
         spheres_.push_back(g);
     }
-    // Pieces are gathered into windows about a sphere diameter long for the search of shadowing spheres.
+    // Pieces are gathered into windows about a sphere diameter long for the search of shadowing
+    // spheres.
     double radii = 0.0;
     for (const GasSphere& g : spheres_) radii += g.radius;
     window_length_ = spheres_.empty() ? 0.0 : 2.0 * radii / double(spheres_.size());
@@ -357,7 +369,8 @@ void GasVolume::collect_events(const Ray& ray, double t_end, std::vector<Event>&
         }
         return false;
     });
-    // Sorted by place, then sphere, so the order (and the result) never depends on the BVH's leaf order.
+    // Sorted by place, then sphere, so the order (and the result) never depends on the BVH's leaf
+    // order.
     std::sort(events.begin(), events.end(), [](const Event& x, const Event& y) {
         if (x.t != y.t) return x.t < y.t;
         if (x.sphere != y.sphere) return x.sphere < y.sphere;
@@ -365,8 +378,8 @@ void GasVolume::collect_events(const Ray& ray, double t_end, std::vector<Event>&
     });
 }
 
-double GasVolume::light_weight(const Light& light, const Vec3& p, bool ambient, const SurfaceTransmittance& surfaces,
-                               GasStats& stats) const {
+double GasVolume::light_weight(const Light& light, const Vec3& p, bool ambient,
+                               const SurfaceTransmittance& surfaces, GasStats& stats) const {
     const LightIncidence inc = light_incidence(light, p);
     if (!(inc.factor > 0.0)) return 0.0;
     double visibility = 1.0;
@@ -388,12 +401,14 @@ double GasVolume::light_weight(const Light& light, const Vec3& p, bool ambient, 
 }
 
 template <class Visit>
-void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B, Visit&& visit) const {
+void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B,
+                               Visit&& visit) const {
     if (bvh_.empty()) return;
-    // The fan lies within rho = |B - A| / 2 of the line from the segment's midpoint M towards the light
-    // (s in [-rho, inf) for a directional light, [0, 1] along M -> position for a point light): nodes are
-    // culled by a slab test of that line against their boxes grown by rho; spheres by their distance from the
-    // line (directional; window_sphere then looks closer) or by the fan itself (point and spot).
+    // The fan lies within rho = |B - A| / 2 of the line from the segment's midpoint M towards the
+    // light (s in [-rho, inf) for a directional light, [0, 1] along M -> position for a point
+    // light): nodes are culled by a slab test of that line against their boxes grown by rho;
+    // spheres by their distance from the line (directional; window_sphere then looks closer) or by
+    // the fan itself (point and spot).
     const Vec3 M = 0.5 * (A + B);
     const double rho = 0.5 * glm::length(B - A) * (1.0 + 1e-9);
     const bool directional = light.kind == LightKind::Directional;
@@ -408,7 +423,8 @@ void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B,
         const BvhNode& n = bvh_.nodes[stack[--top]];
         double t0 = s_lo, t1 = s_hi;
         for (int k = 0; k < 3; ++k) {
-            double a = (double(n.lo[k]) - rho - o[k]) * inv[k], b = (double(n.hi[k]) + rho - o[k]) * inv[k];
+            double a = (double(n.lo[k]) - rho - o[k]) * inv[k],
+                   b = (double(n.hi[k]) + rho - o[k]) * inv[k];
             if (inv[k] < 0.0) std::swap(a, b);
             // NaN (a line in a slab plane) keeps the node: the comparisons fail.
             if (a > t0) t0 = a;
@@ -426,7 +442,8 @@ void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B,
             if (directional) {  // within rho + r of the line and not behind its start
                 const Vec3 x = g.center - M;
                 const double z = glm::dot(x, d), reach = rho + g.radius;
-                if (glm::dot(x, x) - z * z <= reach * reach * (1.0 + 1e-9) && z + reach >= 0.0) visit(id);
+                if (glm::dot(x, x) - z * z <= reach * reach * (1.0 + 1e-9) && z + reach >= 0.0)
+                    visit(id);
             } else if (meets_point_fan(light.position, A, B, g.center, g.radius)) {
                 visit(id);
             }
@@ -438,8 +455,9 @@ struct GasVolume::Piece {  // a stretch of the ray inside the same spheres
     double a, b, T, sigma;
 };
 
-GasVolume::Result GasVolume::march_pieces(const Ray& ray, double t_end, const Lighting& lighting, GasStats& stats,
-                                          std::vector<Piece>& pieces, std::vector<Vec3>& coef) const {
+GasVolume::Result GasVolume::march_pieces(const Ray& ray, double t_end, const Lighting& lighting,
+                                          GasStats& stats, std::vector<Piece>& pieces,
+                                          std::vector<Vec3>& coef) const {
     thread_local std::vector<Event> events;
     thread_local std::vector<uint32_t> active;
     collect_events(ray, t_end, events);
@@ -463,10 +481,12 @@ GasVolume::Result GasVolume::march_pieces(const Ray& ray, double t_end, const Li
                 sigma_e += g.sigma_e;
                 sigma_rho += g.sigma_rho;
                 if (n_lights && (g.sigma_rho.x > 0.0 || g.sigma_rho.y > 0.0 || g.sigma_rho.z > 0.0))
-                    for (uint32_t l : (*lighting.light_sets)[g.light_set]) coef[base + l] += g.sigma_rho;
+                    for (uint32_t l : (*lighting.light_sets)[g.light_set])
+                        coef[base + l] += g.sigma_rho;
             }
             const double x = sigma * width;
-            const double exact = width * one_minus_exp_over_x(x);  // integral of exp(-sigma (t - a))
+            const double exact =
+                width * one_minus_exp_over_x(x);  // integral of exp(-sigma (t - a))
             // Emission, and every light term constant along the piece, in closed form.
             L += T * exact * sigma_e;
             if (lighting.headlight) {
@@ -475,7 +495,8 @@ GasVolume::Result GasVolume::march_pieces(const Ray& ray, double t_end, const Li
             }
             for (size_t li = 0; li < n_lights; ++li) {
                 const Light& light = (*lighting.lights)[li];
-                if (light.kind == LightKind::Directional)  // att = spot = 1: the ambient term is constant
+                if (light.kind ==
+                    LightKind::Directional)  // att = spot = 1: the ambient term is constant
                     L += T * exact * light.ambient_intensity * coef[base + li] * light.color;
             }
             ++stats.pieces;
@@ -504,7 +525,8 @@ struct GasVolume::LightScratch {
         double t0, width;
         uint32_t piece;
     };
-    struct Frame {  // a piece's frame (its window's): p(s) = point + s u, s = t - mid; its shadow spheres in the pool
+    struct Frame {  // a piece's frame (its window's): p(s) = point + s u, s = t - mid; its shadow
+                    // spheres in the pool
         Vec3 point;
         double mid;
         uint32_t begin, end;
@@ -526,8 +548,9 @@ struct GasVolume::LightScratch {
     std::vector<std::pair<double, uint32_t>> order;
 };
 
-// The part of one light's term that varies along a piece (shadows, attenuation, spot): integrated over the
-// whole ray at once, so that the error goes where the light is, to tolerance * the light's total.
+// The part of one light's term that varies along a piece (shadows, attenuation, spot): integrated
+// over the whole ray at once, so that the error goes where the light is, to tolerance * the light's
+// total.
 struct GasVolume::LightPass {
     using Scratch = LightScratch;
     const GasVolume& gas;
@@ -577,16 +600,22 @@ struct GasVolume::LightPass {
             }
             if (lighting.surfaces) visibility = lighting.surfaces(shadow);
             if (visibility > 0.0 && fr.end > fr.begin)
-                depth = directional ? directional_depth(k.pool.blocks.data() + fr.begin, fr.end - fr.begin, s)
-                                    : point_depth(k.pool.blocks.data() + fr.begin, fr.end - fr.begin, s * u, shadow.d,
-                                                  glm::dot(shadow.d, shadow.d));
+                depth =
+                    directional
+                        ? directional_depth(k.pool.blocks.data() + fr.begin, fr.end - fr.begin, s)
+                        : point_depth(k.pool.blocks.data() + fr.begin, fr.end - fr.begin, s * u,
+                                      shadow.d, glm::dot(shadow.d, shadow.d));
         }
-        // T(0, t) * sigma rho * att * spot * (ambient + intensity * V), with one exp where possible.
+        // T(0, t) * sigma rho * att * spot * (ambient + intensity * V), with one exp where
+        // possible.
         const double camera = pc.sigma * (t - pc.a);
         const double weight = pc.T * scale(p) * factor;
         if (!ambient_varies || !(light.ambient_intensity > 0.0))
-            return visibility > 0.0 ? weight * light.intensity * visibility * std::exp(-(camera + depth)) : 0.0;
-        return weight * std::exp(-camera) * (light.ambient_intensity + light.intensity * visibility * std::exp(-depth));
+            return visibility > 0.0
+                       ? weight * light.intensity * visibility * std::exp(-(camera + depth))
+                       : 0.0;
+        return weight * std::exp(-camera) *
+               (light.ambient_intensity + light.intensity * visibility * std::exp(-depth));
     }
 
     // The integrand of interval i in its unit parameter x: t = t0 + w g(x), g(x) = x^2 (3 - 2x).
@@ -606,16 +635,18 @@ struct GasVolume::LightPass {
             const double s = scale(p);
             if (!(s > 0.0)) continue;
             const Piece& pc = pieces[p];
-            const double bound = pc.T * s * w_max * (pc.b - pc.a) * one_minus_exp_over_x(pc.sigma * (pc.b - pc.a));
+            const double bound =
+                pc.T * s * w_max * (pc.b - pc.a) * one_minus_exp_over_x(pc.sigma * (pc.b - pc.a));
             k.order.push_back({bound, uint32_t(p)});
             remaining += bound;
         }
-        std::sort(k.order.begin(), k.order.end(), [](auto& x, auto& y) { return x.first > y.first; });
+        std::sort(k.order.begin(), k.order.end(),
+                  [](auto& x, auto& y) { return x.first > y.first; });
         return remaining;
     }
 
-    // Where the light's radius ends (the weight jumps to 0) and a spot light's cones, solved about the
-    // piece's midpoint so that a far camera costs no precision.
+    // Where the light's radius ends (the weight jumps to 0) and a spot light's cones, solved about
+    // the piece's midpoint so that a far camera costs no precision.
     void light_cuts(const Piece& pc) {
         double s[2];
         const double mid = 0.5 * (pc.a + pc.b), half = 0.5 * (pc.b - pc.a);
@@ -624,21 +655,23 @@ struct GasVolume::LightPass {
                 if (std::abs(s[i]) < half) k.cuts.push_back(mid + s[i]);
         };
         const Vec3 w0 = ray.at(mid) - light.position;
-        keep(quadratic_roots(glm::dot(u, u), 2.0 * glm::dot(w0, u), glm::dot(w0, w0) - light.radius * light.radius, s));
+        keep(quadratic_roots(glm::dot(u, u), 2.0 * glm::dot(w0, u),
+                             glm::dot(w0, w0) - light.radius * light.radius, s));
         if (light.kind != LightKind::Spot) return;
         const Vec3& D = light.direction;
         for (double angle : {light.cutoff_angle, light.beam_width}) {
             if (!(angle > 0.0 && angle < kPi)) continue;
             const double c2 = std::cos(angle) * std::cos(angle);
             const double uD = glm::dot(u, D), wD = glm::dot(w0, D);
-            keep(quadratic_roots(uD * uD - c2 * glm::dot(u, u), 2.0 * (wD * uD - c2 * glm::dot(w0, u)),
+            keep(quadratic_roots(uD * uD - c2 * glm::dot(u, u),
+                                 2.0 * (wD * uD - c2 * glm::dot(w0, u)),
                                  wD * wD - c2 * glm::dot(w0, w0), s));
         }
     }
 
     // A window: piece p and the next ones up to window_length_ further, whose shadowing spheres are
-    // gathered from the BVH at once, with their coefficients in the window's frame and the places where
-    // the path to the light touches their silhouettes.
+    // gathered from the BVH at once, with their coefficients in the window's frame and the places
+    // where the path to the light touches their silhouettes.
     void open_window(size_t p) {
         const Piece& pc = pieces[p];
         size_t q = p;
@@ -650,15 +683,16 @@ struct GasVolume::LightPass {
         const double s0 = pc.a - w.mid, s1 = pieces[q].b - w.mid;
         WindowSphere ws;
         gas.spheres_in_fan(light, ray.at(pc.a), ray.at(pieces[q].b), [&](uint32_t id) {
-            if (window_sphere(gas.spheres_[id], id, light, w.point, u, s0, s1, ws)) k.window.push_back(ws);
+            if (window_sphere(gas.spheres_[id], id, light, w.point, u, s0, s1, ws))
+                k.window.push_back(ws);
         });
         w.end = uint32_t(k.window.size());
         k.windows.push_back(w);
         for (size_t j = p; j <= q; ++j) k.window_of[j] = uint32_t(k.windows.size() - 1);
     }
 
-    // Piece p's frame becomes its window's; the spheres that can shadow it go to the pool, and their cuts
-    // inside it to `cuts`.
+    // Piece p's frame becomes its window's; the spheres that can shadow it go to the pool, and
+    // their cuts inside it to `cuts`.
     void shadow_cuts(size_t p, Scratch::Frame& fr) {
         if (k.window_of[p] == Scratch::kNoWindow) open_window(p);
         const Piece& pc = pieces[p];
@@ -674,7 +708,8 @@ struct GasVolume::LightPass {
                 // Wholly behind the piece: the chord's centre is more than a radius behind it.
                 const double* c = ws.shadower.c;
                 if (!(std::max(c[3] + a * c[4], c[3] + b * c[4]) + ws.radius > 0.0)) continue;
-            } else if (!meets_point_fan(light.position, A, B, gas.spheres_[ws.id].center, ws.radius)) {
+            } else if (!meets_point_fan(light.position, A, B, gas.spheres_[ws.id].center,
+                                        ws.radius)) {
                 continue;
             }
             k.pool.push(ws.shadower);
@@ -684,8 +719,8 @@ struct GasVolume::LightPass {
         fr.end = uint32_t(k.pool.blocks.size());
     }
 
-    // Piece p cut where the integrand has kinks or jumps, one first-order panel per interval; adds their
-    // values to `found`.
+    // Piece p cut where the integrand has kinks or jumps, one first-order panel per interval; adds
+    // their values to `found`.
     void start_panels(uint32_t p, double& found) {
         const Piece& pc = pieces[p];
         k.cuts.clear();
@@ -708,9 +743,9 @@ struct GasVolume::LightPass {
         ++stats.quadrature;
     }
 
-    // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance: the panel with
-    // the largest error estimate gets the higher-order rule or is halved (see Panel) until the estimates
-    // add up to little enough.
+    // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance: the
+    // panel with the largest error estimate gets the higher-order rule or is halved (see Panel)
+    // until the estimates add up to little enough.
     void refine(double tolerance) {
         std::vector<Panel>& panels = k.panels;
         auto by_error = [](const Panel& x, const Panel& y) { return x.error < y.error; };
@@ -723,7 +758,8 @@ struct GasVolume::LightPass {
                 // The running sums drift by rounding: decide on fresh ones.
                 value = error = 0.0;
                 for (const Panel& pn : panels) value += pn.value, error += pn.error;
-                if (error <= 0.75 * tolerance * std::abs(value) || panels.size() >= max_panels) break;
+                if (error <= 0.75 * tolerance * std::abs(value) || panels.size() >= max_panels)
+                    break;
             }
             if (panels.empty() || panels.front().error == 0.0) break;
             std::pop_heap(panels.begin(), panels.end(), by_error);
@@ -760,8 +796,9 @@ struct GasVolume::LightPass {
         k.window.clear();
         k.window_of.assign(pieces.size(), Scratch::kNoWindow);
         k.windows.clear();
-        // Pieces in order of their bound; once the bounds of all the rest are below a quarter of the
-        // tolerance times what has been found so far (a lower bound of the total), they are left out.
+        // Pieces in order of their bound; once the bounds of all the rest are below a quarter of
+        // the tolerance times what has been found so far (a lower bound of the total), they are
+        // left out.
         double found = 0.0;
         for (const auto& [bound, p] : k.order) {
             if (remaining <= 0.25 * tolerance * found) break;
@@ -777,23 +814,25 @@ struct GasVolume::LightPass {
     }
 };
 
-GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Lighting& lighting, double tolerance,
-                                       GasStats& stats) const {
+GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Lighting& lighting,
+                                       double tolerance, GasStats& stats) const {
     if (spheres_.empty()) return Result();
     thread_local std::vector<Piece> pieces;
-    thread_local std::vector<Vec3> coef;  // [piece * n_lights + light]: sigma*rho of the spheres it reaches
+    thread_local std::vector<Vec3>
+        coef;  // [piece * n_lights + light]: sigma*rho of the spheres it reaches
     thread_local LightScratch scratch;
     Result result = march_pieces(ray, t_end, lighting, stats, pieces, coef);
     const size_t n_lights = lighting.lights ? lighting.lights->size() : 0;
     for (size_t li = 0; li < n_lights; ++li) {
-        LightPass pass{*this, ray, lighting, (*lighting.lights)[li], li, n_lights, pieces, coef, stats, scratch};
+        LightPass pass{*this, ray,   lighting, (*lighting.lights)[li], li, n_lights, pieces,
+                       coef,  stats, scratch};
         pass.integrate(tolerance, result.radiance);
     }
     return result;
 }
 
-GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end, const Lighting& lighting,
-                                                 int steps) const {
+GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end,
+                                                 const Lighting& lighting, int steps) const {
     Result result;
     if (spheres_.empty()) return result;
     std::vector<Event> events;
@@ -826,7 +865,8 @@ GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end, c
                     if (!lighting.lights) continue;
                     for (uint32_t l : (*lighting.light_sets)[g.light_set]) {
                         const Light& light = (*lighting.lights)[l];
-                        L += T * w * light_weight(light, p, true, lighting.surfaces, stats) * g.sigma_rho * light.color;
+                        L += T * w * light_weight(light, p, true, lighting.surfaces, stats) *
+                             g.sigma_rho * light.color;
                     }
                 }
             }

@@ -1,29 +1,30 @@
-// Gas-volume spheres (SPEC section 6): spheres of constant extinction sigma, albedo rho and emission e,
-// whose extinctions add where they overlap. Along a ray up to the first opaque hit t_end:
+// Gas-volume spheres (SPEC section 6): spheres of constant extinction sigma, albedo rho and
+// emission e, whose extinctions add where they overlap. Along a ray up to the first opaque hit
+// t_end:
 //
 //   L = integral_0^t_end T(0,t) S(t) dt + T(0,t_end) L_end
 //   S(t) = sum_j sigma_j (e_j + rho_j (x) sum_l c_l att_l spot_l (a_l + i_l V_l))
 //
-// The ray is cut where it enters or leaves a sphere; inside each piece the set of spheres, and so sigma,
-// sigma*e and sigma*rho, is constant. The emission part and every light term that is constant along the
-// piece (the headlight, a directional light's ambient term) are integrated in closed form with expm1.
-// The rest (attenuation, spot falloff, visibility through other spheres and opaque surfaces) is
-// integrated numerically to the relative tolerance:
+// The ray is cut where it enters or leaves a sphere; inside each piece the set of spheres, and so
+// sigma, sigma*e and sigma*rho, is constant. The emission part and every light term that is
+// constant along the piece (the headlight, a directional light's ambient term) are integrated in
+// closed form with expm1. The rest (attenuation, spot falloff, visibility through other spheres and
+// opaque surfaces) is integrated numerically to the relative tolerance:
 //
 // * Per light, the spheres that can lie on the path from some point of a piece to the light (those
-//   meeting the piece's light fan) are gathered from the BVH once for a run of consecutive pieces about a
-//   sphere diameter long (a window). The optical depth to the light at a quadrature node is then the sum
-//   of their chords along that path, evaluated from per-sphere coefficients in the window's frame (four
-//   spheres at a time where AVX2 is there): no BVH traversal per node.
+//   meeting the piece's light fan) are gathered from the BVH once for a run of consecutive pieces
+//   about a sphere diameter long (a window). The optical depth to the light at a quadrature node is
+//   then the sum of their chords along that path, evaluated from per-sphere coefficients in the
+//   window's frame (four spheres at a time where AVX2 is there): no BVH traversal per node.
 // * The piece is cut where the path to the light starts or stops crossing one of those spheres (the
 //   camera ray meets the cylinder or cone the sphere sweeps away from the light, the sphere lying
-//   between the point and the light), where a point light's radius ends and at a spot light's cones.
-//   Between cuts the integrand is smooth except for square-root kinks at the cuts themselves (a chord
-//   grows like the root of the distance from the silhouette), which the substitution
-//   t = t0 + w x^2 (3 - 2x) makes smooth. Each interval first gets the 5-point Gauss-Lobatto rule (three
-//   evaluations: the substitution's derivative is 0 at the ends), then, where its error estimate is the
-//   largest, Gauss-Kronrod 7/15, then halving (opaque surfaces' shadow edges, near-singular ends), until
-//   the estimates over the whole ray add up to 3/4 of the tolerance.
+//   between the point and the light), where a point light's radius ends and at a spot light's
+//   cones. Between cuts the integrand is smooth except for square-root kinks at the cuts themselves
+//   (a chord grows like the root of the distance from the silhouette), which the substitution t =
+//   t0 + w x^2 (3 - 2x) makes smooth. Each interval first gets the 5-point Gauss-Lobatto rule
+//   (three evaluations: the substitution's derivative is 0 at the ends), then, where its error
+//   estimate is the largest, Gauss-Kronrod 7/15, then halving (opaque surfaces' shadow edges,
+//   near-singular ends), until the estimates over the whole ray add up to 3/4 of the tolerance.
 //
 // A scene without gas spheres builds nothing here and pays one branch per ray.
 #pragma once
@@ -41,17 +42,17 @@ namespace vr {
 struct GasSphere {
     Vec3 center;
     double radius = 1.0;
-    double sigma = 1.0;     // extinction per scene unit
-    Vec3 sigma_rho{0.0};    // sigma * albedo
-    Vec3 sigma_e{0.0};      // sigma * emission
+    double sigma = 1.0;      // extinction per scene unit
+    Vec3 sigma_rho{0.0};     // sigma * albedo
+    Vec3 sigma_e{0.0};       // sigma * emission
     uint32_t light_set = 0;  // which scene lights reach it (DirectionalLight scoping)
 };
 
 struct GasStats {
-    uint64_t pieces = 0;          // intervals of constant sphere membership
-    uint64_t closed_form = 0;     // light terms integrated exactly
-    uint64_t quadrature = 0;      // light terms integrated numerically
-    uint64_t visibility_rays = 0; // shadow evaluations inside the gas
+    uint64_t pieces = 0;           // intervals of constant sphere membership
+    uint64_t closed_form = 0;      // light terms integrated exactly
+    uint64_t quadrature = 0;       // light terms integrated numerically
+    uint64_t visibility_rays = 0;  // shadow evaluations inside the gas
     void add(const GasStats& o) {
         pieces += o.pieces;
         closed_form += o.closed_form;
@@ -65,24 +66,26 @@ struct GasStats {
 using SurfaceTransmittance = std::function<double(const Ray& ray)>;
 
 class GasVolume {
-public:
-    // Collects the scene's gas spheres (Sphere::gas) with their sigma/albedo/emission resolved from the
-    // material hints and the options. Empty when there are none.
+  public:
+    // Collects the scene's gas spheres (Sphere::gas) with their sigma/albedo/emission resolved from
+    // the material hints and the options. Empty when there are none.
     void build(const FlatScene& scene, const RenderOptions& options);
     bool empty() const { return spheres_.empty(); }
     size_t size() const { return spheres_.size(); }
     const std::vector<GasSphere>& spheres() const { return spheres_; }
 
-    // sum_j sigma_j * (length of the segment t in [0, ray.t_max) inside sphere j); d need not be unit.
+    // sum_j sigma_j * (length of the segment t in [0, ray.t_max) inside sphere j); d need not be
+    // unit.
     double optical_depth(const Ray& ray) const;
 
     struct Result {
-        Vec3 radiance{0.0};        // the integral term
+        Vec3 radiance{0.0};          // the integral term
         double transmittance = 1.0;  // T(0, t_end)
-        double optical_depth = 0.0;  // -log T, summed piece by piece: alpha = -expm1(-it) keeps thin gas's digits
+        double optical_depth =
+            0.0;  // -log T, summed piece by piece: alpha = -expm1(-it) keeps thin gas's digits
     };
-    // What lights the gas: the scene's lights (unit directions), which of them reach which sphere, and the
-    // headlight (never shadowed; null when off).
+    // What lights the gas: the scene's lights (unit directions), which of them reach which sphere,
+    // and the headlight (never shadowed; null when off).
     struct Lighting {
         const std::vector<Light>* lights = nullptr;
         const std::vector<std::vector<uint32_t>>* light_sets = nullptr;
@@ -95,30 +98,32 @@ public:
     Result integrate(const Ray& ray, double t_end, const Lighting& lighting, double tolerance,
                      GasStats& stats) const;
 
-    // The same integral by brute force: the midpoint rule with `steps` steps per piece and exact visibility
-    // at every step. For tests of the adaptive integrator.
-    Result integrate_reference(const Ray& ray, double t_end, const Lighting& lighting, int steps) const;
+    // The same integral by brute force: the midpoint rule with `steps` steps per piece and exact
+    // visibility at every step. For tests of the adaptive integrator.
+    Result integrate_reference(const Ray& ray, double t_end, const Lighting& lighting,
+                               int steps) const;
 
-private:
+  private:
     struct Event {
         double t;
         uint32_t sphere;
         bool enter;
     };
     void collect_events(const Ray& ray, double t_end, std::vector<Event>& events) const;
-    // integrate's parts (gas.cpp): the pieces of constant membership with their closed-form terms, then
-    // one LightPass per light for the terms that vary along a piece.
+    // integrate's parts (gas.cpp): the pieces of constant membership with their closed-form terms,
+    // then one LightPass per light for the terms that vary along a piece.
     struct Piece;
     struct LightScratch;
     struct LightPass;
     Result march_pieces(const Ray& ray, double t_end, const Lighting& lighting, GasStats& stats,
                         std::vector<Piece>& pieces, std::vector<Vec3>& coef) const;
-    // att * spot * (ambient + intensity * V) at p, V by a shadow ray through the BVH (with ambient = false:
-    // att * spot * intensity * V). For the brute-force reference.
-    double light_weight(const Light& light, const Vec3& p, bool ambient, const SurfaceTransmittance& surfaces,
-                        GasStats& stats) const;
-    // Calls visit(sphere index) for every gas sphere that meets the light fan of the segment [A, B]: the
-    // spheres that can lie on the path from a point of the segment to the light (a superset).
+    // att * spot * (ambient + intensity * V) at p, V by a shadow ray through the BVH (with ambient
+    // = false: att * spot * intensity * V). For the brute-force reference.
+    double light_weight(const Light& light, const Vec3& p, bool ambient,
+                        const SurfaceTransmittance& surfaces, GasStats& stats) const;
+    // Calls visit(sphere index) for every gas sphere that meets the light fan of the segment [A,
+    // B]: the spheres that can lie on the path from a point of the segment to the light (a
+    // superset).
     template <class Visit>
     void spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B, Visit&& visit) const;
 

@@ -99,7 +99,8 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                 visibility = accel_.transmittance(shadow);
                 // Gas spheres on the way dim the light by their transmittance (SPEC section 5).
                 if (gas_ && visibility > 0.0) visibility *= std::exp(-gas_->optical_depth(shadow));
-                if (std::isnan(visibility)) ++counters.nonfinite.light;  // dropped below, not hidden
+                if (std::isnan(visibility))
+                    ++counters.nonfinite.light;  // dropped below, not hidden
             }
             if (visibility > 0.0) {
                 Vec3 h = l + to_viewer;
@@ -176,14 +177,15 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
         out.color *= transmittance;
     }
     out.color += radiance;
-    // 1 - T * (1 - alpha behind) as a sum of non-negative terms; the gas's own share from its optical
-    // depth, not as 1 - T.
+    // 1 - T * (1 - alpha behind) as a sum of non-negative terms; the gas's own share from its
+    // optical depth, not as 1 - T.
     out.alpha = -std::expm1(-optical_depth) + transmittance * out.alpha;
     return out;
 }
 
 SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
-                                       RayCounters& counters, const std::optional<Hit>* known_hit) const {
+                                       RayCounters& counters,
+                                       const std::optional<Hit>* known_hit) const {
     SampleValue out;
     Hit hit;
     const bool found = known_hit ? known_hit->has_value() : accel_.intersect(ray, hit);
@@ -208,7 +210,8 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
     if (local_weight > 0.0)
         color += local_weight * shade_local(s, look, ng, ns, to_viewer, counters);
 
-    double alpha = 1.0;  // an opaque hit, unless the transmitted ray below brings background through
+    double alpha =
+        1.0;  // an opaque hit, unless the transmitted ray below brings background through
     if (depth + 1 < options_.max_depth && (kr > 0.0 || kt > 0.0)) {
         double w_reflect = kr, w_transmit = kt;
         Vec3 t_dir = d;

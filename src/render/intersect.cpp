@@ -172,14 +172,17 @@ SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t, bool want_u
     return hit;
 }
 
-void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p, Vec3& world_error) {
+void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p,
+                    Vec3& world_error) {
     for (int i = 0; i < 3; ++i) {
         double x = w[0][i] * p.x, y = w[1][i] * p.y, z = w[2][i] * p.z;
         world_p[i] = x + y + z + w[3][i];
-        world_error[i] = gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(w[3][i])) +
-                         (1.0 + gamma_bound(3)) * (std::fabs(w[0][i]) * p_error.x + std::fabs(w[1][i]) * p_error.y +
-                                                   std::fabs(w[2][i]) * p_error.z) +
-                         gamma_bound(32) * (std::fabs(world_p[i]) + std::fabs(w[3][i]));
+        world_error[i] =
+            gamma_bound(3) * (std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(w[3][i])) +
+            (1.0 + gamma_bound(3)) *
+                (std::fabs(w[0][i]) * p_error.x + std::fabs(w[1][i]) * p_error.y +
+                 std::fabs(w[2][i]) * p_error.z) +
+            gamma_bound(32) * (std::fabs(world_p[i]) + std::fabs(w[3][i]));
     }
 }
 

@@ -108,13 +108,16 @@ inline ObjectRay to_object_space(const double (&object_from_world)[3][4], const 
     out.o += out.dt * out.d;
     return out;
 }
-inline ObjectRay to_object_space(const QuadricGeom& q, const Ray& r) { return to_object_space(q.object_from_world, r); }
+inline ObjectRay to_object_space(const QuadricGeom& q, const Ray& r) {
+    return to_object_space(q.object_from_world, r);
+}
 
-// An object-space surface point p (error bound p_error) mapped to world space by the affine map w, with
-// the bound grown by the map's rounding (pbrt's Transform error propagation) and by object_from_world
-// being a computed inverse of w (a point mapped back lands a few ulps of the numbers in play off the
-// surface: seen on ellipsoids translated by 1e5).
-void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p, Vec3& world_error);
+// An object-space surface point p (error bound p_error) mapped to world space by the affine map w,
+// with the bound grown by the map's rounding (pbrt's Transform error propagation) and by
+// object_from_world being a computed inverse of w (a point mapped back lands a few ulps of the
+// numbers in play off the surface: seen on ellipsoids translated by 1e5).
+void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p,
+                    Vec3& world_error);
 
 // All surface crossings of the quadric in (0, t_max) (world t), unsorted; returns how many (0..4).
 int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t, uint8_t* part);
@@ -187,7 +190,6 @@ inline Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
     if (!(len2 > 0.0) || !std::isfinite(len2)) return fallback;
     return v / std::sqrt(len2);
 }
-
 
 struct SurfaceHit {
     double t = 0.0;

@@ -15,26 +15,27 @@ struct RenderOptions {
     int width = 640;
     int height = 480;
     SpheresOption spheres = SpheresOption::FromHints;  // hints win; otherwise opaque
-    std::string viewpoint;          // DEF name or description; empty: first in file order
-    bool fit = false;               // move the camera to frame the scene's bounds
+    std::string viewpoint;  // DEF name or description; empty: first in file order
+    bool fit = false;       // move the camera to frame the scene's bounds
     CameraMode camera = CameraMode::FromViewpoint;
     int spp = 1;
     std::string sampler = "center";
     double adaptive_threshold = 0.05;  // adaptive sampler: subdivide where taps differ by more
     int adaptive_depth = 3;            // adaptive sampler: subdivisions at most
-    double noise_threshold = 0.005;    // statistical sampler: target standard error of the pixel mean
-    double timeout = 0.0;              // seconds; 0: none. The render stops with an error when exceeded
+    double noise_threshold = 0.005;  // statistical sampler: target standard error of the pixel mean
+    double timeout = 0.0;  // seconds; 0: none. The render stops with an error when exceeded
     int max_depth = 8;
-    int threads = 0;                // 0: all cores
-    double tolerance = 1e-4;        // gas integrator, relative
-    double density = 1.0;           // gas extinction per scene unit
-    std::optional<Vec3> albedo;     // gas albedo where no hint says (default: the Material's diffuseColor)
-    std::optional<Vec3> emission;   // gas emission where no hint says (default: emissiveColor)
-    std::optional<Vec3> background; // overrides the scene's Background
+    int threads = 0;          // 0: all cores
+    double tolerance = 1e-4;  // gas integrator, relative
+    double density = 1.0;     // gas extinction per scene unit
+    std::optional<Vec3>
+        albedo;  // gas albedo where no hint says (default: the Material's diffuseColor)
+    std::optional<Vec3> emission;    // gas emission where no hint says (default: emissiveColor)
+    std::optional<Vec3> background;  // overrides the scene's Background
     bool srgb = false;
-    bool alpha = false;             // an alpha channel; the colour then leaves the background out (SPEC 9)
+    bool alpha = false;  // an alpha channel; the colour then leaves the background out (SPEC 9)
     uint64_t seed = 0;
-    double min_weight = 1e-3;       // a path whose weight drops below this stops (SPEC section 5)
+    double min_weight = 1e-3;  // a path whose weight drops below this stops (SPEC section 5)
 };
 
 }  // namespace vr

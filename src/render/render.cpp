@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "render/accel.h"
-#include "render/intersect.h"
 #include "render/integrator.h"
+#include "render/intersect.h"
 
 namespace vr {
 namespace {
@@ -38,9 +38,9 @@ float to_output(double v, uint64_t& nonfinite) {
 
 size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& options) {
     const double pixels = double(std::max(options.width, 0)) * double(std::max(options.height, 0));
-    // Per primitive: its packed geometry, a reference and a transparency entry, up to two 32-byte BVH
-    // nodes (one leaf per primitive at worst, and as many inner nodes) and the build's bounds and
-    // centroid (64 bytes); gas spheres are copied once more into the gas volume's own BVH.
+    // Per primitive: its packed geometry, a reference and a transparency entry, up to two 32-byte
+    // BVH nodes (one leaf per primitive at worst, and as many inner nodes) and the build's bounds
+    // and centroid (64 bytes); gas spheres are copied once more into the gas volume's own BVH.
     constexpr double kPerPrimitive = 12.0 + 64.0 + 64.0;
     size_t gas_spheres = 0;
     for (const Sphere& s : scene.spheres) gas_spheres += s.gas ? 1 : 0;
@@ -53,7 +53,8 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
     size_t prototype_triangles = 0;
     for (const Mesh& m : scene.prototypes) prototype_triangles += m.triangle_count();
     const double all = bytes + double(prototype_triangles) * (sizeof(TriangleGeom) + kPerPrimitive);
-    return all >= double(std::numeric_limits<size_t>::max()) ? std::numeric_limits<size_t>::max() : size_t(all);
+    return all >= double(std::numeric_limits<size_t>::max()) ? std::numeric_limits<size_t>::max()
+                                                             : size_t(all);
 }
 
 double RenderStats::rays_per_second() const {
@@ -99,8 +100,9 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     std::atomic<uint64_t> rays_done{0};
     std::atomic<bool> stop{false};  // --timeout passed: remaining tiles are skipped
     const bool has_deadline = options.timeout > 0.0;
-    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(has_deadline ? options.timeout : 0.0));
+    const auto deadline =
+        start + std::chrono::duration_cast<Clock::duration>(
+                    std::chrono::duration<double>(has_deadline ? options.timeout : 0.0));
     // One cache line per thread: the counters change on every ray.
     struct alignas(64) PerThread {
         RayCounters rays;
@@ -126,18 +128,23 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
             std::vector<float>& pixels = mine.tile;
             pixels.resize(size_t(x1 - x0) * size_t(y1 - y0) * 4);
             if (stop.load(std::memory_order_relaxed)) {
-                std::fill(pixels.begin(), pixels.end(), 0.0f);  // skipped: the sink still gets every tile
+                std::fill(pixels.begin(), pixels.end(),
+                          0.0f);  // skipped: the sink still gets every tile
             } else {
                 sample_tile(
                     camera.sampler, x0, y0, x1, y1, mine.scratch,
-                    [&](double px, double py) { return integrator.trace_camera_ray(camera_rays(px, py), c); },
+                    [&](double px, double py) {
+                        return integrator.trace_camera_ray(camera_rays(px, py), c);
+                    },
                     [&](int x, int y, const SampleValue& v) {
-                        float* out = &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
+                        float* out =
+                            &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
                         out[0] = to_output(v.color.x, bad);
                         out[1] = to_output(v.color.y, bad);
                         out[2] = to_output(v.color.z, bad);
                         if (!std::isfinite(v.alpha)) ++bad;
-                        out[3] = std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
+                        out[3] =
+                            std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
                     });
             }
             sink(x0, y0, x1, y1, pixels.data());
@@ -181,7 +188,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
 }
 
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
-                   const ProgressFn& progress, RenderStats& stats, std::vector<Sphere>* spheres_to_free) {
+                   const ProgressFn& progress, RenderStats& stats,
+                   std::vector<Sphere>* spheres_to_free) {
     // Every pixel comes from a tile, so the image is not zero-filled first: its pages are first
     // touched by the threads that trace them, in parallel.
     Image image = Image::unfilled(std::max(options.width, 0), std::max(options.height, 0));

@@ -22,8 +22,9 @@ struct RenderStats {
     uint64_t primary_rays = 0, shadow_rays = 0, secondary_rays = 0;
     size_t bvh_nodes = 0;
     size_t primitives = 0;
-    size_t tracer_bytes = 0;  // held by the opaque tracer's primitive copies and BVH while rendering
-    bool timed_out = false;         // options.timeout passed; the image is incomplete
+    size_t tracer_bytes =
+        0;                   // held by the opaque tracer's primitive copies and BVH while rendering
+    bool timed_out = false;  // options.timeout passed; the image is incomplete
     // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
     NonFiniteCounts nonfinite;
     double rays_per_second() const;
@@ -42,20 +43,22 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
 // Builds the acceleration structure and renders the whole image (options.width x options.height) on
 // options.threads threads (0: all cores) in 16x16 tiles. Deterministic for any thread count. Pixels
 // hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC
-// section 9); with options.alpha the colour leaves that background out (premultiplied); no NaN or infinity ever reaches the image. With options.timeout > 0, tiles not begun
-// when that many seconds (counted from this call) have passed are skipped and stats.timed_out is set.
-// `spheres_to_free`: as for render_tiles below.
+// section 9); with options.alpha the colour leaves that background out (premultiplied); no NaN or
+// infinity ever reaches the image. With options.timeout > 0, tiles not begun when that many seconds
+// (counted from this call) have passed are skipped and stats.timed_out is set. `spheres_to_free`:
+// as for render_tiles below.
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
-                   const ProgressFn& progress, RenderStats& stats, std::vector<Sphere>* spheres_to_free = nullptr);
-// A finished tile: pixels [x0, x1) x [y0, y1), `rgba` row by row (4 floats a pixel, as in Image). Called
-// once a tile from the tracing threads, concurrently for different tiles.
+                   const ProgressFn& progress, RenderStats& stats,
+                   std::vector<Sphere>* spheres_to_free = nullptr);
+// A finished tile: pixels [x0, x1) x [y0, y1), `rgba` row by row (4 floats a pixel, as in Image).
+// Called once a tile from the tracing threads, concurrently for different tiles.
 using TileSink = std::function<void(int x0, int y0, int x1, int y1, const float* rgba)>;
 
-// render_image without the float image: each tile goes to `sink` (vrmlray render keeps the 8-bit pixels
-// of a PNG or PPM, a quarter of the memory, encoded on the tracing threads). `spheres_to_free`
-// (normally &scene.spheres, for a caller that needs them no more) is emptied and its memory returned
-// once the tracer holds its own copies, before the first ray: 1M spheres are then held in 60 bytes
-// each, BVH included, instead of 100.
+// render_image without the float image: each tile goes to `sink` (vrmlray render keeps the 8-bit
+// pixels of a PNG or PPM, a quarter of the memory, encoded on the tracing threads).
+// `spheres_to_free` (normally &scene.spheres, for a caller that needs them no more) is emptied and
+// its memory returned once the tracer holds its own copies, before the first ray: 1M spheres are
+// then held in 60 bytes each, BVH included, instead of 100.
 void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
                   const ProgressFn& progress, RenderStats& stats, const TileSink& sink,
                   std::vector<Sphere>* spheres_to_free = nullptr);

@@ -10,7 +10,8 @@ namespace {
 // a row or a column of the 8 x 8 lattice). Both patterns are the ones graphics hardware uses for
 // 4x and 8x multisampling, shifted into [0, 16).
 constexpr int kRgss[4][2] = {{6, 2}, {14, 6}, {2, 10}, {10, 14}};
-constexpr int kRooks8[8][2] = {{9, 5}, {7, 11}, {13, 9}, {5, 3}, {3, 13}, {1, 7}, {11, 15}, {15, 1}};
+constexpr int kRooks8[8][2] = {{9, 5},  {7, 11}, {13, 9},  {5, 3},
+                               {3, 13}, {1, 7},  {11, 15}, {15, 1}};
 
 // m with m * m * base == spp, or 0.
 int tiling(int spp, int base) {
@@ -24,19 +25,25 @@ void tiled_pattern(const int (&pattern)[N][2], int m, std::vector<Vec2>& out) {
     const double cell = 1.0 / m;
     for (int b = 0; b < m; ++b)
         for (int a = 0; a < m; ++a)
-            for (const auto& p : pattern) out.emplace_back((a + p[0] / 16.0) * cell, (b + p[1] / 16.0) * cell);
+            for (const auto& p : pattern)
+                out.emplace_back((a + p[0] / 16.0) * cell, (b + p[1] / 16.0) * cell);
 }
 
 }  // namespace
 
 int PixelSampler::fixed_samples_per_pixel() const {
     switch (kind) {
-        case SamplerKind::Center: return 1;
+        case SamplerKind::Center:
+            return 1;
         case SamplerKind::Grid:
-        case SamplerKind::Jitter: return n * n;
-        case SamplerKind::Rgss: return 4 * n * n;
-        case SamplerKind::Rooks8: return 8 * n * n;
-        default: return 0;
+        case SamplerKind::Jitter:
+            return n * n;
+        case SamplerKind::Rgss:
+            return 4 * n * n;
+        case SamplerKind::Rooks8:
+            return 8 * n * n;
+        default:
+            return 0;
     }
 }
 
@@ -44,7 +51,9 @@ void fixed_offsets(const PixelSampler& s, int px, int py, std::vector<Vec2>& out
     out.clear();
     const double cell = 1.0 / s.n;
     switch (s.kind) {
-        case SamplerKind::Center: out.emplace_back(0.5, 0.5); break;
+        case SamplerKind::Center:
+            out.emplace_back(0.5, 0.5);
+            break;
         case SamplerKind::Grid:
             for (int b = 0; b < s.n; ++b)
                 for (int a = 0; a < s.n; ++a) out.emplace_back((a + 0.5) * cell, (b + 0.5) * cell);
@@ -53,16 +62,23 @@ void fixed_offsets(const PixelSampler& s, int px, int py, std::vector<Vec2>& out
             for (int b = 0; b < s.n; ++b) {
                 for (int a = 0; a < s.n; ++a) {
                     const uint64_t k = 2 * (uint64_t(b) * s.n + a);
-                    const double u = sample_uniform(s.seed, px, py, k), v = sample_uniform(s.seed, px, py, k + 1);
-                    // (a + u) * cell can round up to the cell's far edge; min() keeps the last one inside the pixel
+                    const double u = sample_uniform(s.seed, px, py, k),
+                                 v = sample_uniform(s.seed, px, py, k + 1);
+                    // (a + u) * cell can round up to the cell's far edge; min() keeps the last one
+                    // inside the pixel
                     out.emplace_back(std::min((a + u) * cell, std::nextafter(1.0, 0.0)),
                                      std::min((b + v) * cell, std::nextafter(1.0, 0.0)));
                 }
             }
             break;
-        case SamplerKind::Rgss: tiled_pattern(kRgss, s.n, out); break;
-        case SamplerKind::Rooks8: tiled_pattern(kRooks8, s.n, out); break;
-        default: break;
+        case SamplerKind::Rgss:
+            tiled_pattern(kRgss, s.n, out);
+            break;
+        case SamplerKind::Rooks8:
+            tiled_pattern(kRooks8, s.n, out);
+            break;
+        default:
+            break;
     }
 }
 
@@ -96,7 +112,8 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         error = "sampler '" + name + "' needs " + what + ", got --spp " + std::to_string(spp);
         return false;
     };
-    if (*kind == SamplerKind::Center || *kind == SamplerKind::Grid || *kind == SamplerKind::Jitter) {
+    if (*kind == SamplerKind::Center || *kind == SamplerKind::Grid ||
+        *kind == SamplerKind::Jitter) {
         if (*kind == SamplerKind::Center && spp == 1) {
             sampler.kind = SamplerKind::Center;
             return true;
@@ -124,18 +141,21 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
     if (*kind == SamplerKind::Quincunx || *kind == SamplerKind::Adaptive) {
         if (spp != 1)
             return need(std::string("no --spp (it ") +
-                        (*kind == SamplerKind::Quincunx ? "traces the centre and shares the corners, about 2 rays per pixel"
-                                            : "spends what --adaptive-threshold asks for") +
+                        (*kind == SamplerKind::Quincunx
+                             ? "traces the centre and shares the corners, about 2 rays per pixel"
+                             : "spends what --adaptive-threshold asks for") +
                         ")");
         if (!(options.adaptive_threshold >= 0.0)) {
             error = "--adaptive-threshold must be at least 0";
             return false;
         }
         if (options.adaptive_depth < 0 || options.adaptive_depth > 6) {
-            error = "--adaptive-depth must be between 0 and 6 (got " + std::to_string(options.adaptive_depth) + ")";
+            error = "--adaptive-depth must be between 0 and 6 (got " +
+                    std::to_string(options.adaptive_depth) + ")";
             return false;
         }
-        sampler.kind = *kind == SamplerKind::Quincunx ? SamplerKind::Quincunx : SamplerKind::Adaptive;
+        sampler.kind =
+            *kind == SamplerKind::Quincunx ? SamplerKind::Quincunx : SamplerKind::Adaptive;
         sampler.adaptive_threshold = options.adaptive_threshold;
         sampler.adaptive_depth = *kind == SamplerKind::Quincunx ? 0 : options.adaptive_depth;
         return true;

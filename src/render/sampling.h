@@ -27,11 +27,20 @@ struct SampleValue {
     double alpha = 0.0;
 };
 
-enum class SamplerKind : uint8_t { Center, Grid, Rgss, Rooks8, Quincunx, Jitter, Adaptive, Statistical };
+enum class SamplerKind : uint8_t {
+    Center,
+    Grid,
+    Rgss,
+    Rooks8,
+    Quincunx,
+    Jitter,
+    Adaptive,
+    Statistical
+};
 // The names --sampler takes, in SamplerKind order: the one table that make_sampler, the command
 // line's check and its --help read, so that they cannot disagree.
-inline constexpr std::array<const char*, 8> kSamplerNames = {"center",   "grid",   "rgss",     "rooks8",
-                                                             "quincunx", "jitter", "adaptive", "statistical"};
+inline constexpr std::array<const char*, 8> kSamplerNames = {
+    "center", "grid", "rgss", "rooks8", "quincunx", "jitter", "adaptive", "statistical"};
 // The kind named `name`, or nullopt when kSamplerNames lacks it.
 std::optional<SamplerKind> sampler_kind(const std::string& name);
 // kSamplerNames joined by `separator` ("center, grid, ...").
@@ -39,26 +48,31 @@ std::string sampler_names(const std::string& separator = ", ");
 
 struct PixelSampler {
     SamplerKind kind = SamplerKind::Center;
-    int n = 1;                        // grid, jitter: n x n cells; rgss, rooks8: the pattern tiled n x n
-    uint64_t seed = 0;                // jitter, statistical
-    double adaptive_threshold = 0.05; // adaptive: subdivide where corner and centre differ by more
-    int adaptive_depth = 3;           // adaptive: at most this many subdivisions (finest square 1/8 pixel)
-    double noise_threshold = 0.005;   // statistical: stop when the standard error of the mean is below
-    int min_samples = 16;             // statistical: samples before the first test, stratified 4 x 4
-    int max_samples = 256;            // statistical: the cap
+    int n = 1;          // grid, jitter: n x n cells; rgss, rooks8: the pattern tiled n x n
+    uint64_t seed = 0;  // jitter, statistical
+    double adaptive_threshold = 0.05;  // adaptive: subdivide where corner and centre differ by more
+    int adaptive_depth = 3;  // adaptive: at most this many subdivisions (finest square 1/8 pixel)
+    double noise_threshold =
+        0.005;              // statistical: stop when the standard error of the mean is below
+    int min_samples = 16;   // statistical: samples before the first test, stratified 4 x 4
+    int max_samples = 256;  // statistical: the cap
 
     // Samples of one pixel for the fixed patterns (center, grid, rgss, rooks8, jitter); 0 for the
-    // others, whose count varies (quincunx and adaptive share corners; statistical stops on its own).
+    // others, whose count varies (quincunx and adaptive share corners; statistical stops on its
+    // own).
     int fixed_samples_per_pixel() const;
-    bool shares_corners() const { return kind == SamplerKind::Quincunx || kind == SamplerKind::Adaptive; }
+    bool shares_corners() const {
+        return kind == SamplerKind::Quincunx || kind == SamplerKind::Adaptive;
+    }
 };
 
-// From options.sampler, options.spp and the sampler thresholds; false and a message when they do not
-// fit together (grid and jitter need a square spp, rgss 4 m^2, rooks8 8 m^2; quincunx and adaptive
-// take no --spp; statistical reads --spp as its cap).
+// From options.sampler, options.spp and the sampler thresholds; false and a message when they do
+// not fit together (grid and jitter need a square spp, rgss 4 m^2, rooks8 8 m^2; quincunx and
+// adaptive take no --spp; statistical reads --spp as its cap).
 bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::string& error);
 
-// Uniform numbers in [0, 1) from (seed, pixel, index): SplitMix64's finaliser over the combined key.
+// Uniform numbers in [0, 1) from (seed, pixel, index): SplitMix64's finaliser over the combined
+// key.
 inline uint64_t sample_hash(uint64_t seed, int px, int py, uint64_t index) {
     uint64_t z = seed * 0x9E3779B97F4A7C15ull ^ (uint64_t(uint32_t(px)) << 32 | uint32_t(py));
     z += (index + 1) * 0xBF58476D1CE4E5B9ull;
@@ -79,8 +93,8 @@ void fixed_offsets(const PixelSampler& sampler, int px, int py, std::vector<Vec2
 // Per-thread work space of the samplers.
 struct SamplerScratch {
     std::vector<Vec2> offsets;
-    std::vector<SampleValue> corners;      // quincunx, adaptive: the tile's (w+1) x (h+1) corner taps
-    std::vector<int> lattice_slot;         // adaptive: lattice point -> index in lattice_values, -1
+    std::vector<SampleValue> corners;  // quincunx, adaptive: the tile's (w+1) x (h+1) corner taps
+    std::vector<int> lattice_slot;     // adaptive: lattice point -> index in lattice_values, -1
     std::vector<int> lattice_touched;
     std::vector<SampleValue> lattice_values;
 };
@@ -110,8 +124,10 @@ SampleValue adaptive_square(const PixelSampler& s, At& at, int ci, int cj, int h
     for (int q = 0; q < 4; ++q) {
         const int di = (q & 1) ? h : -h, dj = (q & 2) ? h : -h;
         const SampleValue corner = at(ci + di, cj + dj);
-        if (depth < s.adaptive_depth && h >= 2 && difference(corner, centre) > s.adaptive_threshold) {
-            accumulate(sum, adaptive_square(s, at, ci + di / 2, cj + dj / 2, h / 2, depth + 1), 0.25);
+        if (depth < s.adaptive_depth && h >= 2 &&
+            difference(corner, centre) > s.adaptive_threshold) {
+            accumulate(sum, adaptive_square(s, at, ci + di / 2, cj + dj / 2, h / 2, depth + 1),
+                       0.25);
         } else {
             accumulate(sum, corner, 0.125);
             accumulate(sum, centre, 0.125);
@@ -123,17 +139,18 @@ SampleValue adaptive_square(const PixelSampler& s, At& at, int ci, int cj, int h
 }  // namespace sampling_detail
 
 // Renders the pixels [x0, x1) x [y0, y1) of a tile: eval(x, y) -> SampleValue traces the camera ray
-// through image point (x, y) (pixel units, y down); store(px, py, value) receives each pixel's value.
-// Corner taps of quincunx and adaptive are traced once per tile and shared by its pixels.
+// through image point (x, y) (pixel units, y down); store(px, py, value) receives each pixel's
+// value. Corner taps of quincunx and adaptive are traced once per tile and shared by its pixels.
 template <class Eval, class Store>
-void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerScratch& scratch, Eval&& eval,
-                 Store&& store) {
+void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerScratch& scratch,
+                 Eval&& eval, Store&& store) {
     using namespace sampling_detail;
     if (s.shares_corners()) {
         const int w = x1 - x0 + 1;
         scratch.corners.resize(size_t(w) * size_t(y1 - y0 + 1));
         for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) scratch.corners[size_t(y - y0) * w + size_t(x - x0)] = eval(x, y);
+            for (int x = x0; x <= x1; ++x)
+                scratch.corners[size_t(y - y0) * w + size_t(x - x0)] = eval(x, y);
         const int side = (1 << (s.adaptive_depth + 1)) + 1;  // lattice points across a pixel
         if (s.kind == SamplerKind::Adaptive && scratch.lattice_slot.size() != size_t(side) * side)
             scratch.lattice_slot.assign(size_t(side) * side, -1);
@@ -157,7 +174,8 @@ void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerS
                     if (slot < 0) {
                         slot = int(scratch.lattice_values.size());
                         scratch.lattice_touched.push_back(j * side + i);
-                        scratch.lattice_values.push_back(eval(x + double(i) / last, y + double(j) / last));
+                        scratch.lattice_values.push_back(
+                            eval(x + double(i) / last, y + double(j) / last));
                     }
                     return scratch.lattice_values[size_t(slot)];
                 };
@@ -176,7 +194,7 @@ void sample_tile(const PixelSampler& s, int x0, int y0, int x1, int y1, SamplerS
                 continue;
             }
             SampleValue sum;
-                    if (s.kind == SamplerKind::Statistical) {
+            if (s.kind == SamplerKind::Statistical) {
                 // Welford's running mean and variance per channel; stop once the standard error of
                 // the mean, sqrt(variance / n), is below the threshold in every channel.
                 double mean[4] = {0, 0, 0, 0}, m2[4] = {0, 0, 0, 0};

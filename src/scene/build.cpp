@@ -668,7 +668,8 @@ sg::Index Builder::make_viewpoint(NodeId id) {
             // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, pi or
             // more is taken as the widest sensible view; 0, negative or NaN as the default.
             const double given = v.field_of_view;
-            v.field_of_view = given >= kPi ? kPi - 0.01 : default_of("Viewpoint"_n, "fieldOfView"_n).numbers[0];
+            v.field_of_view =
+                given >= kPi ? kPi - 0.01 : default_of("Viewpoint"_n, "fieldOfView"_n).numbers[0];
             warn(id, "field-of-view",
                  "fieldOfView " + format_g(given) + " lies outside (0, pi); using " +
                      format_g(v.field_of_view));

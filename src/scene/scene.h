@@ -295,11 +295,12 @@ namespace vr {
 
 struct Scene {
     static constexpr sg::Index kRoot = 0;
-    std::vector<sg::Group> groups;  // groups[kRoot]: the main file's top-level nodes
+    std::vector<sg::Group> groups;         // groups[kRoot]: the main file's top-level nodes
     std::vector<sg::ChildRef> child_refs;  // every group's children, a block per group
     std::vector<Vec3> translations;        // GroupTransform::Translation
-    std::vector<Mat4> matrices;            // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
-    std::vector<Vec3> billboard_axes;      // GroupTransform::Billboard: axisOfRotation; (0,0,0): screen-aligned
+    std::vector<Mat4> matrices;  // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
+    std::vector<Vec3>
+        billboard_axes;  // GroupTransform::Billboard: axisOfRotation; (0,0,0): screen-aligned
     std::vector<sg::Shape> shapes;
     std::vector<sg::Geometry> geometries;
     std::vector<sg::Appearance> appearances;
@@ -329,7 +330,8 @@ struct Scene {
     }
 
     std::filesystem::path main_file;
-    std::vector<std::filesystem::path> allowed_roots;  // --sandbox: folders texture URLs may reach; empty: any
+    std::vector<std::filesystem::path>
+        allowed_roots;  // --sandbox: folders texture URLs may reach; empty: any
 };
 
 }  // namespace vr

@@ -44,8 +44,8 @@ Mat4 transform_matrix(const TransformFields& f) {
     const TransformFields identity;
     if (same_bits(f.rotation, identity.rotation) && same_bits(f.scale, identity.scale) &&
         same_bits(f.scale_orientation, identity.scale_orientation) &&
-        same_bits(f.center, identity.center) && f.translation.x != 0.0 &&
-        f.translation.y != 0.0 && f.translation.z != 0.0 && std::isfinite(f.translation.x) &&
+        same_bits(f.center, identity.center) && f.translation.x != 0.0 && f.translation.y != 0.0 &&
+        f.translation.z != 0.0 && std::isfinite(f.translation.x) &&
         std::isfinite(f.translation.y) && std::isfinite(f.translation.z))
         return translation4(f.translation);
     const Mat4 T = translation4(f.translation);

@@ -1,10 +1,11 @@
-// Where the tests find the outside corpus of real files (../shared/corpus/: exports nobody here wrote).
-// One setting, read at run time so that a user points the tests at a corpus without rebuilding:
+// Where the tests find the outside corpus of real files (../shared/corpus/: exports nobody here
+// wrote). One setting, read at run time so that a user points the tests at a corpus without
+// rebuilding:
 //   VRMLRAY_CORPUS=DIR    that folder (it must exist: a named corpus that is missing is a failure)
 //   VRMLRAY_CORPUS=none   no corpus: its tests are skipped
 //   unset                 ../shared/corpus beside the source tree, when it exists; else skipped
-// VRMLRAY_REQUIRE_CORPUS=1 (set by CI, where the folder is laid beside the clone) turns a skip into a failure,
-// so that the tests the project's claims rest on cannot quietly stop running.
+// VRMLRAY_REQUIRE_CORPUS=1 (set by CI, where the folder is laid beside the clone) turns a skip into
+// a failure, so that the tests the project's claims rest on cannot quietly stop running.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -48,7 +49,8 @@ inline CorpusLookup lookup_corpus(const std::string& subfolder = "") {
     }
     out.folder = subfolder.empty() ? root : root / subfolder;
     if (!fs::is_directory(out.folder)) {
-        // The corpus is there but lacks a folder the test reads: an incomplete corpus, not an absent one.
+        // The corpus is there but lacks a folder the test reads: an incomplete corpus, not an
+        // absent one.
         out.why_not = "the corpus at " + root.string() + " has no folder " + subfolder;
         out.must_fail = true;
         out.folder.clear();
@@ -59,12 +61,13 @@ inline CorpusLookup lookup_corpus(const std::string& subfolder = "") {
 
 }  // namespace vr::test
 
-// Declares `std::filesystem::path VAR` as the corpus folder SUBFOLDER, or ends the test: skipped with one
-// line saying where it looked and how to give it, or failed when the corpus was required or asked for.
-#define VR_CORPUS_FOLDER(VAR, SUBFOLDER)                                   \
+// Declares `std::filesystem::path VAR` as the corpus folder SUBFOLDER, or ends the test: skipped
+// with one line saying where it looked and how to give it, or failed when the corpus was required
+// or asked for.
+#define VR_CORPUS_FOLDER(VAR, SUBFOLDER)                                                \
     const ::vr::test::CorpusLookup VAR##_lookup = ::vr::test::lookup_corpus(SUBFOLDER); \
-    if (!VAR##_lookup.why_not.empty()) {                                    \
-        if (VAR##_lookup.must_fail) FAIL() << VAR##_lookup.why_not;         \
-        GTEST_SKIP() << VAR##_lookup.why_not;                               \
-    }                                                                       \
+    if (!VAR##_lookup.why_not.empty()) {                                                \
+        if (VAR##_lookup.must_fail) FAIL() << VAR##_lookup.why_not;                     \
+        GTEST_SKIP() << VAR##_lookup.why_not;                                           \
+    }                                                                                   \
     const std::filesystem::path VAR = VAR##_lookup.folder

@@ -2,17 +2,16 @@
 // from optical depth with expm1 so that dense gas gives 1 and ultrathin gas keeps its digits; with
 // options.alpha the colour leaves the background out, so that compositing gives the opaque colour.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <tuple>
 
+#include "flatten/flatten.h"
 #include "image/image.h"
 #include "parser/load.h"
 #include "render/accel.h"
-#include "flatten/flatten.h"
 #include "render/integrator.h"
 #include "render/render.h"
 #include "scene/build.h"
@@ -25,8 +24,8 @@ using testing::add_shading;
 using testing::add_sphere;
 using testing::empty_scene;
 
-// A gas sphere of radius 1 and extinction sigma at the origin, optionally behind a see-through sheet
-// of transparency kt at z = 2, seen from z = 3 on a grey background.
+// A gas sphere of radius 1 and extinction sigma at the origin, optionally behind a see-through
+// sheet of transparency kt at z = 2, seen from z = 3 on a grey background.
 FlatScene gas_scene(double sigma, double kt = -1.0) {
     FlatScene scene = empty_scene();
     Material gas;
@@ -77,8 +76,8 @@ Traced trace(const FlatScene& scene, bool alpha) {
 double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
 TEST(Alpha, DenseGasIsOpaque) {
-    // sigma r = 1e3: T = exp(-2000) underflows to 0; the background is hidden, alpha is 1 (it was 0:
-    // a fully absorbed path kept the default "background reaches the pixel").
+    // sigma r = 1e3: T = exp(-2000) underflows to 0; the background is hidden, alpha is 1 (it was
+    // 0: a fully absorbed path kept the default "background reaches the pixel").
     const Traced t = trace(gas_scene(1000.0), false);
     EXPECT_EQ(t.centre.alpha, 1.0);
     EXPECT_EQ(t.miss.alpha, 0.0);
@@ -129,10 +128,10 @@ TEST(Alpha, ColourLeavesTheBackgroundOutSoCompositingGivesTheOpaqueColour) {
     }
 }
 
-// The whole chain on real exports, on a coloured background: Jmol's spacefill (opaque atoms), PyMOL's
-// spheres in gas mode (their edges give every alpha between 0 and 1) and PyMOL's figure with a surface
-// of transparency 0.4. Rendered without and with alpha, written as EXR and PNG and read back, the alpha
-// image composited over the background must give the opaque image.
+// The whole chain on real exports, on a coloured background: Jmol's spacefill (opaque atoms),
+// PyMOL's spheres in gas mode (their edges give every alpha between 0 and 1) and PyMOL's figure
+// with a surface of transparency 0.4. Rendered without and with alpha, written as EXR and PNG and
+// read back, the alpha image composited over the background must give the opaque image.
 TEST(Alpha, CompositingOverTheBackgroundGivesTheOpaqueImageOnMolecularExports) {
     const Vec3 sky(0.2, 0.4, 0.6);
     const std::filesystem::path dir =
@@ -174,9 +173,12 @@ TEST(Alpha, CompositingOverTheBackgroundGivesTheOpaqueImageOnMolecularExports) {
         for (const char* ext : {"exr", "png"}) {
             Image back[2];
             for (int alpha = 0; alpha < 2; ++alpha) {
-                const std::string name = (dir / (std::string("pept") + char('0' + alpha) + "." + ext)).string();
+                const std::string name =
+                    (dir / (std::string("pept") + char('0' + alpha) + "." + ext)).string();
                 std::string error;
-                ASSERT_TRUE(write_image(name, rendered[alpha], WriteOptions{false, alpha == 1}, error)) << error;
+                ASSERT_TRUE(
+                    write_image(name, rendered[alpha], WriteOptions{false, alpha == 1}, error))
+                    << error;
                 ASSERT_TRUE(read_image(name, back[alpha], error)) << error;
             }
             const bool exr = std::string(ext) == "exr";
@@ -198,16 +200,17 @@ TEST(Alpha, CompositingOverTheBackgroundGivesTheOpaqueImageOnMolecularExports) {
                     // EXR holds premultiplied colour, PNG straight colour.
                     const double colour = exr ? with_alpha[c] : with_alpha[c] * a;
                     const double composite = colour + (1.0 - a) * sky[c];
-                    worst = std::max(worst, std::abs(composite - opaque[c]) / std::max(1.0, std::abs(double(opaque[c]))));
+                    worst = std::max(worst, std::abs(composite - opaque[c]) /
+                                                std::max(1.0, std::abs(double(opaque[c]))));
                 }
             }
-            // EXR: three float roundings (2^-24 each) of values up to about 1, so 1e-6. PNG: the straight
-            // colour and alpha are each within half a code of the exact values, so the composite is within
-            // (a + 1) / 2 <= 1 code of the exact opaque colour, which is itself stored within half a code:
-            // 1.5 codes, plus float slack.
+            // EXR: three float roundings (2^-24 each) of values up to about 1, so 1e-6. PNG: the
+            // straight colour and alpha are each within half a code of the exact values, so the
+            // composite is within (a + 1) / 2 <= 1 code of the exact opaque colour, which is itself
+            // stored within half a code: 1.5 codes, plus float slack.
             EXPECT_LT(worst, exr ? 1e-6 : 1.5 / 255 + 1e-6) << ext << " " << name;
-            // Most pixels must be checked (pept_spheres in gas mode, headlight plus a light of its own:
-            // 628 of 3072 are brighter than white).
+            // Most pixels must be checked (pept_spheres in gas mode, headlight plus a light of its
+            // own: 628 of 3072 are brighter than white).
             EXPECT_LT(overexposed, int(back[0].rgba.size() / 4 / 3)) << ext << " " << name;
         }
         EXPECT_GE(partial, 2 * min_partial) << name;  // counted over both formats

@@ -195,8 +195,8 @@ TEST(Bvh, DepthLimitTakesOver) {
     EXPECT_LT(max_depth, 128);
 }
 
-// The collapse keeps the binary tree's leaves: every primitive lies in exactly one leaf, under boxes
-// that contain its own.
+// The collapse keeps the binary tree's leaves: every primitive lies in exactly one leaf, under
+// boxes that contain its own.
 TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> pos(-100.0, 100.0), size(0.01, 5.0);
@@ -214,7 +214,8 @@ TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
             uint32_t node;
             float lo[3], hi[3];
         };
-        std::vector<Todo> todo = {{0, {-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}}};
+        std::vector<Todo> todo = {
+            {0, {-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}}};
         while (!todo.empty()) {
             const Todo t = todo.back();
             todo.pop_back();
@@ -242,8 +243,9 @@ TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
             }
         }
         for (size_t i = 0; i < count; ++i) ASSERT_EQ(seen[i], 1) << count << " boxes, box " << i;
-        // A binary tree of L leaves has 2L nodes (L - 1 interior); the collapse leaves about 0.5L (most
-        // nodes four lanes wide, those over two leaves two): fewer than a third of the binary count.
+        // A binary tree of L leaves has 2L nodes (L - 1 interior); the collapse leaves about 0.5L
+        // (most nodes four lanes wide, those over two leaves two): fewer than a third of the binary
+        // count.
         if (count >= 1000) {
             EXPECT_LT(wide.nodes.size(), binary.nodes.size() / 3);
         }

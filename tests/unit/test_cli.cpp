@@ -1,6 +1,6 @@
-// The command line (src/app/cli.cpp) on parsed argvs: each render option lands in the settings it names
-// and, where it changes the image, a tiny render shows that change. Every check compares against the
-// same command without the option, so it fails if the option were ignored.
+// The command line (src/app/cli.cpp) on parsed argvs: each render option lands in the settings it
+// names and, where it changes the image, a tiny render shows that change. Every check compares
+// against the same command without the option, so it fails if the option were ignored.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -18,9 +18,9 @@ namespace fs = std::filesystem;
 namespace vr {
 namespace {
 
-// A grey sphere at the origin and, out of the front view, a red box at x = 3. "Front" looks along -z
-// from z = 10 (half-width of view tan(0.2) * 10 = 2.03, so the box at 2.5..3.5 is outside it); "Side"
-// looks along -x from x = 10 and sees the box in front of the sphere.
+// A grey sphere at the origin and, out of the front view, a red box at x = 3. "Front" looks along
+// -z from z = 10 (half-width of view tan(0.2) * 10 = 2.03, so the box at 2.5..3.5 is outside it);
+// "Side" looks along -x from x = 10 and sees the box in front of the sphere.
 constexpr const char* kScene = R"(#VRML V2.0 utf8
 NavigationInfo { headlight FALSE }
 DEF Front Viewpoint { position 0 0 10 fieldOfView 0.4 description "front view" }
@@ -66,22 +66,28 @@ struct Rendered {
     Image image;
     nlohmann::json stats;
     std::string err;
-    const float* at(int x, int y) const { return &image.rgba[4 * (size_t(y) * size_t(image.width) + size_t(x))]; }
+    const float* at(int x, int y) const {
+        return &image.rgba[4 * (size_t(y) * size_t(image.width) + size_t(x))];
+    }
     int center_x() const { return image.width / 2; }
 };
 
 // render SCENE ARGS... at `size` to OUT (png unless `ext` says), with --stats; reads both back.
-Rendered render(const std::string& scene, std::vector<std::string> args, const std::string& ext = "png",
-                std::pair<int, int> size = {32, 32}) {
+Rendered render(const std::string& scene, std::vector<std::string> args,
+                const std::string& ext = "png", std::pair<int, int> size = {32, 32}) {
     static int counter = 0;
     const fs::path dir = fs::temp_directory_path() / "vrmlray_cli_out";
     fs::create_directories(dir);
-    // The process id: ctest runs tests in parallel processes. (The name starts with a number: GCC 12
-    // misreads "r" + std::string as an overlapping copy, -Wrestrict.)
+    // The process id: ctest runs tests in parallel processes. (The name starts with a number: GCC
+    // 12 misreads "r" + std::string as an overlapping copy, -Wrestrict.)
     const std::string stem = std::to_string(getpid()) + "_" + std::to_string(counter++);
     const std::string out = (dir / (stem + "." + ext)).string();
     const std::string stats = (dir / (stem + ".json")).string();
-    std::vector<std::string> full = {"render", scene, "-W", std::to_string(size.first), "-H", std::to_string(size.second), "-o", out, "--stats", stats};
+    std::vector<std::string> full = {"render",  scene,
+                                     "-W",      std::to_string(size.first),
+                                     "-H",      std::to_string(size.second),
+                                     "-o",      out,
+                                     "--stats", stats};
     full.insert(full.end(), args.begin(), args.end());
     Rendered r;
     const CommandLine cmd = parse(full);
@@ -98,7 +104,9 @@ Rendered render(const std::string& scene, std::vector<std::string> args, const s
     return r;
 }
 
-bool same_pixels(const Image& a, const Image& b) { return a.width == b.width && a.height == b.height && a.rgba == b.rgba; }
+bool same_pixels(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgba == b.rgba;
+}
 
 // Pixels whose red clearly exceeds green: the box (the sphere is grey, the background black).
 int red_pixels(const Image& image) {
@@ -126,13 +134,60 @@ TEST(Cli, DefaultsWhenNoOptionIsGiven) {
 }
 
 TEST(Cli, EveryRenderOptionLandsInItsSetting) {
-    const CommandLine cmd = parse({"render", "s.wrl", "-W", "7", "-H", "9", "--spheres", "gas", "--fit", "--camera",
-                                   "ortho", "--srgb", "--tolerance", "0.01", "--density", "2.5", "--albedo", "0.1,0.2,0.3",
-                                   "--emission", "1,2,3", "--background", "0,1,0.5", "--viewpoint", "Side",
-                                   "--max-depth", "3", "--sampler", "rgss", "--spp", "16", "--seed", "42", "--alpha",
-                                   "--threads", "3", "--recover-spheres", "--timeout", "12", "--adaptive-threshold",
-                                   "0.2", "--adaptive-depth", "2", "--noise-threshold", "0.01", "--stats", "x.json",
-                                   "--strict", "--limit", "primitives=5", "--max-memory", "1.5", "-q", "-o", "o.exr"});
+    const CommandLine cmd = parse({"render",
+                                   "s.wrl",
+                                   "-W",
+                                   "7",
+                                   "-H",
+                                   "9",
+                                   "--spheres",
+                                   "gas",
+                                   "--fit",
+                                   "--camera",
+                                   "ortho",
+                                   "--srgb",
+                                   "--tolerance",
+                                   "0.01",
+                                   "--density",
+                                   "2.5",
+                                   "--albedo",
+                                   "0.1,0.2,0.3",
+                                   "--emission",
+                                   "1,2,3",
+                                   "--background",
+                                   "0,1,0.5",
+                                   "--viewpoint",
+                                   "Side",
+                                   "--max-depth",
+                                   "3",
+                                   "--sampler",
+                                   "rgss",
+                                   "--spp",
+                                   "16",
+                                   "--seed",
+                                   "42",
+                                   "--alpha",
+                                   "--threads",
+                                   "3",
+                                   "--recover-spheres",
+                                   "--timeout",
+                                   "12",
+                                   "--adaptive-threshold",
+                                   "0.2",
+                                   "--adaptive-depth",
+                                   "2",
+                                   "--noise-threshold",
+                                   "0.01",
+                                   "--stats",
+                                   "x.json",
+                                   "--strict",
+                                   "--limit",
+                                   "primitives=5",
+                                   "--max-memory",
+                                   "1.5",
+                                   "-q",
+                                   "-o",
+                                   "o.exr"});
     const RenderOptions& o = cmd.render.options;
     EXPECT_EQ(o.width, 7);
     EXPECT_EQ(o.height, 9);
@@ -167,16 +222,22 @@ TEST(Cli, EveryRenderOptionLandsInItsSetting) {
 }
 
 TEST(Cli, EnumLabelsMapToTheirValues) {
-    EXPECT_EQ(parse({"render", "s", "--spheres", "opaque"}).render.options.spheres, SpheresOption::Opaque);
-    EXPECT_EQ(parse({"render", "s", "--spheres", "hints"}).render.options.spheres, SpheresOption::FromHints);
-    EXPECT_EQ(parse({"render", "s", "--camera", "perspective"}).render.options.camera, CameraMode::Perspective);
-    EXPECT_EQ(parse({"render", "s", "--camera", "viewpoint"}).render.options.camera, CameraMode::FromViewpoint);
-    EXPECT_EQ(parse({"render", "s", "--no-recover-spheres"}).render.recover_spheres, std::optional<bool>(false));
+    EXPECT_EQ(parse({"render", "s", "--spheres", "opaque"}).render.options.spheres,
+              SpheresOption::Opaque);
+    EXPECT_EQ(parse({"render", "s", "--spheres", "hints"}).render.options.spheres,
+              SpheresOption::FromHints);
+    EXPECT_EQ(parse({"render", "s", "--camera", "perspective"}).render.options.camera,
+              CameraMode::Perspective);
+    EXPECT_EQ(parse({"render", "s", "--camera", "viewpoint"}).render.options.camera,
+              CameraMode::FromViewpoint);
+    EXPECT_EQ(parse({"render", "s", "--no-recover-spheres"}).render.recover_spheres,
+              std::optional<bool>(false));
     EXPECT_EQ(parse({"bench", "s", "--spheres", "gas"}).bench.options.spheres, SpheresOption::Gas);
 }
 
 TEST(Cli, EverySamplerNameIsAcceptedAndUnknownOnesAreUsageErrors) {
-    for (const char* name : kSamplerNames) EXPECT_EQ(parse({"render", "s", "--sampler", name}).render.options.sampler, name);
+    for (const char* name : kSamplerNames)
+        EXPECT_EQ(parse({"render", "s", "--sampler", name}).render.options.sampler, name);
     parse({"render", "s", "--sampler", "box"}, kExitUsage);
     parse({"render", "s", "--spheres", "foam"}, kExitUsage);
     parse({"render", "s", "--background", "1,2"}, kExitUsage);
@@ -190,7 +251,8 @@ TEST(Cli, SandboxWithAndWithoutFolder) {
     const CommandLine bare = parse({"render", "--sandbox", "--", "s.wrl"});
     EXPECT_TRUE(bare.render.common.sandbox);
     EXPECT_TRUE(bare.render.common.sandbox_dir.empty());
-    const CommandLine with = parse({"info", "--sandbox", d.path.string(), "--allow-path", "/tmp", "s.wrl"});
+    const CommandLine with =
+        parse({"info", "--sandbox", d.path.string(), "--allow-path", "/tmp", "s.wrl"});
     EXPECT_EQ(with.command, Subcommand::Info);
     EXPECT_TRUE(with.common.sandbox);
     EXPECT_EQ(with.common.sandbox_dir, d.path);
@@ -198,7 +260,8 @@ TEST(Cli, SandboxWithAndWithoutFolder) {
 }
 
 TEST(Cli, CompareAndConvertOptions) {
-    const CommandLine c = parse({"compare", "a.png", "b.png", "--max-rmse", "0.5", "--fail", "0.1", "--json"});
+    const CommandLine c =
+        parse({"compare", "a.png", "b.png", "--max-rmse", "0.5", "--fail", "0.1", "--json"});
     EXPECT_EQ(c.command, Subcommand::Compare);
     EXPECT_EQ(c.compare.max_rmse, std::optional<double>(0.5));
     EXPECT_EQ(c.compare.fail, std::optional<double>(0.1));
@@ -214,12 +277,13 @@ TEST_F(CliRender, SizeAndStatsKeys) {
     ASSERT_EQ(r.code, kExitOk) << r.err;
     EXPECT_EQ(r.image.width, 20);
     EXPECT_EQ(r.image.height, 10);
-    for (const char* key : {"scene", "width", "height", "seconds", "primitives", "rays", "tracer_bytes", "peak_memory_mb"})
+    for (const char* key : {"scene", "width", "height", "seconds", "primitives", "rays",
+                            "tracer_bytes", "peak_memory_mb"})
         EXPECT_TRUE(r.stats.contains(key)) << key;
     for (const char* key : {"parse", "scene", "build", "render", "write", "total"})
         EXPECT_TRUE(r.stats["seconds"].contains(key)) << key;
-    for (const char* key : {"spheres", "quadrics", "meshes", "triangles", "instances", "instanced_triangles",
-                            "materials", "lights", "bvh_nodes"})
+    for (const char* key : {"spheres", "quadrics", "meshes", "triangles", "instances",
+                            "instanced_triangles", "materials", "lights", "bvh_nodes"})
         EXPECT_TRUE(r.stats["primitives"].contains(key)) << key;
     for (const char* key : {"primary", "shadow", "secondary", "per_pixel", "per_second"})
         EXPECT_TRUE(r.stats["rays"].contains(key)) << key;
@@ -256,9 +320,9 @@ TEST_F(CliRender, BackgroundSrgbAndAlpha) {
     const Rendered green = render(scene, {"--background", "0,1,0"});
     EXPECT_EQ(green.at(0, 0)[1], 1.0f);
     EXPECT_EQ(green.at(0, 0)[0], 0.0f);
-    // The sphere's centre, lit head-on, is a mid grey: --srgb stores the sRGB encoding of the linear
-    // value. Tolerance: the linear value is itself rounded to 8 bits (half a step, times the encoding's
-    // slope there, about 0.9) plus the rounding of the encoded value (half a step).
+    // The sphere's centre, lit head-on, is a mid grey: --srgb stores the sRGB encoding of the
+    // linear value. Tolerance: the linear value is itself rounded to 8 bits (half a step, times the
+    // encoding's slope there, about 0.9) plus the rounding of the encoded value (half a step).
     const Rendered srgb = render(scene, {"--srgb"});
     const double linear = plain.at(16, 16)[0];
     ASSERT_GT(linear, 0.2);
@@ -276,7 +340,8 @@ TEST_F(CliRender, GasOptions) {
     ASSERT_EQ(opaque.code, kExitOk) << opaque.err;
     const Rendered gas = render(scene, {"--alpha", "--spheres", "gas"});
     ASSERT_EQ(gas.code, kExitOk) << gas.err;
-    EXPECT_LT(gas.at(16, 16)[3], 0.99f);  // gas lets the background through; the opaque sphere does not
+    EXPECT_LT(gas.at(16, 16)[3],
+              0.99f);  // gas lets the background through; the opaque sphere does not
     EXPECT_EQ(opaque.at(16, 16)[3], 1.0f);
     const Rendered thin = render(scene, {"--alpha", "--spheres", "gas", "--density", "0.05"});
     EXPECT_LT(thin.at(16, 16)[3], gas.at(16, 16)[3] - 0.1f);
@@ -295,12 +360,14 @@ TEST_F(CliRender, GasOptions) {
 TEST_F(CliRender, SamplersSppAndSeed) {
     const Rendered center = render(scene, {});
     ASSERT_EQ(center.code, kExitOk) << center.err;
-    for (auto [sampler, spp, per_pixel] : {std::tuple{"grid", "4", 4.0}, std::tuple{"rgss", "4", 4.0},
-                                           std::tuple{"rooks8", "8", 8.0}, std::tuple{"jitter", "9", 9.0}}) {
+    for (auto [sampler, spp, per_pixel] :
+         {std::tuple{"grid", "4", 4.0}, std::tuple{"rgss", "4", 4.0},
+          std::tuple{"rooks8", "8", 8.0}, std::tuple{"jitter", "9", 9.0}}) {
         const Rendered r = render(scene, {"--sampler", sampler, "--spp", spp});
         ASSERT_EQ(r.code, kExitOk) << r.err;
         EXPECT_EQ(r.stats["rays"]["per_pixel"], per_pixel) << sampler;
-        EXPECT_FALSE(same_pixels(r.image, center.image)) << sampler;  // the sphere's rim is anti-aliased
+        EXPECT_FALSE(same_pixels(r.image, center.image))
+            << sampler;  // the sphere's rim is anti-aliased
     }
     const Rendered grid = render(scene, {"--spp", "4"});  // --spp alone: the grid
     EXPECT_EQ(grid.stats["rays"]["per_pixel"], 4.0);
@@ -310,8 +377,10 @@ TEST_F(CliRender, SamplersSppAndSeed) {
     EXPECT_TRUE(same_pixels(a.image, a2.image));
     EXPECT_FALSE(same_pixels(a.image, b.image));
     const Rendered fine = render(scene, {"--sampler", "adaptive", "--adaptive-threshold", "0"});
-    const Rendered coarse = render(scene, {"--sampler", "adaptive", "--adaptive-threshold", "1000"});
-    const Rendered shallow = render(scene, {"--sampler", "adaptive", "--adaptive-threshold", "0", "--adaptive-depth", "1"});
+    const Rendered coarse =
+        render(scene, {"--sampler", "adaptive", "--adaptive-threshold", "1000"});
+    const Rendered shallow = render(
+        scene, {"--sampler", "adaptive", "--adaptive-threshold", "0", "--adaptive-depth", "1"});
     EXPECT_GT(fine.stats["rays"]["primary"], shallow.stats["rays"]["primary"]);
     EXPECT_GT(shallow.stats["rays"]["primary"], coarse.stats["rays"]["primary"]);
     const Rendered noisy = render(scene, {"--sampler", "statistical", "--noise-threshold", "0.5"});
@@ -323,11 +392,13 @@ TEST_F(CliRender, ThreadsLeaveTheImageAlone) {
     const Rendered one = render(scene, {"--threads", "1", "--spp", "4"});
     const Rendered two = render(scene, {"--threads", "2", "--spp", "4"});
     ASSERT_EQ(one.code, kExitOk) << one.err;
-    EXPECT_TRUE(same_pixels(one.image, two.image));  // tiles are independent of which thread takes them
+    EXPECT_TRUE(
+        same_pixels(one.image, two.image));  // tiles are independent of which thread takes them
 }
 
 TEST(CliRenderCorpus, MaxDepthCutsReflections) {
-    const std::string scene = std::string(VRMLRAY_SOURCE_DIR) + "/scenes/seeds/000_scene4_mirror_spheres.wrl";
+    const std::string scene =
+        std::string(VRMLRAY_SOURCE_DIR) + "/scenes/seeds/000_scene4_mirror_spheres.wrl";
     const Rendered deep = render(scene, {});
     const Rendered flat = render(scene, {"--max-depth", "0"});
     ASSERT_EQ(deep.code, kExitOk) << deep.err;
@@ -337,7 +408,8 @@ TEST(CliRenderCorpus, MaxDepthCutsReflections) {
 }
 
 TEST(CliRenderCorpus, RecoverSpheresOnJmolAtoms) {
-    const std::string scene = std::string(VRMLRAY_CORPUS_DIR) + "/molecular/jmol/pept_spacefill.wrl";
+    const std::string scene =
+        std::string(VRMLRAY_CORPUS_DIR) + "/molecular/jmol/pept_spacefill.wrl";
     if (!fs::exists(scene)) GTEST_SKIP() << "no corpus at " << scene;
     const Rendered meshes = render(scene, {"-q"});
     const Rendered spheres = render(scene, {"-q", "--recover-spheres"});
@@ -352,19 +424,23 @@ TEST(CliRenderCorpus, RecoverSpheresOnJmolAtoms) {
 TEST(CliRenderUrls, SandboxStrictAndLimits) {
     TempDir d("sandbox");
     d.write("outside/part.wrl", "#VRML V2.0 utf8\nShape { geometry Sphere { radius 0.5 } }\n");
-    const std::string scene = d.write("scene/main.wrl", std::string(kScene) + "Inline { url \"../outside/part.wrl\" }\n");
+    const std::string scene =
+        d.write("scene/main.wrl", std::string(kScene) + "Inline { url \"../outside/part.wrl\" }\n");
     const Rendered open = render(scene, {});
     ASSERT_EQ(open.code, kExitOk) << open.err;
     EXPECT_EQ(open.stats["primitives"]["spheres"], 2);
     const Rendered boxed = render(scene, {"--sandbox"});
     ASSERT_EQ(boxed.code, kExitOk) << boxed.err;
-    EXPECT_EQ(boxed.stats["primitives"]["spheres"], 1);  // the Inline outside the scene's folder is refused
+    EXPECT_EQ(boxed.stats["primitives"]["spheres"],
+              1);  // the Inline outside the scene's folder is refused
     EXPECT_NE(boxed.err.find("outside the --sandbox folder"), std::string::npos) << boxed.err;
-    const Rendered allowed = render(scene, {"--sandbox", "--allow-path", (d.path / "outside").string()});
+    const Rendered allowed =
+        render(scene, {"--sandbox", "--allow-path", (d.path / "outside").string()});
     EXPECT_EQ(allowed.stats["primitives"]["spheres"], 2);
     // The refused Inline is a warning: --strict makes it exit 3.
     EXPECT_EQ(render(scene, {"--sandbox", "--strict"}).code, kExitBadInput);
-    EXPECT_EQ(render(scene, {"--limit", "primitives=1"}).code, kExitBadInput);  // sphere, box, Inline's sphere
+    EXPECT_EQ(render(scene, {"--limit", "primitives=1"}).code,
+              kExitBadInput);  // sphere, box, Inline's sphere
     EXPECT_EQ(render(scene, {"--limit", "primitives=3"}).code, kExitOk);
     EXPECT_EQ(render(scene, {"--max-memory", "1e-9"}).code, kExitBadInput);
 }

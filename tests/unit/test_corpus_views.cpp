@@ -5,12 +5,12 @@
 
 #include <filesystem>
 
+#include "flatten/flatten.h"
+#include "image/texture_file.h"
 #include "parser/load.h"
 #include "render/camera.h"
-#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
-#include "image/texture_file.h"
 #include "test_render_util.h"
 
 namespace vr {

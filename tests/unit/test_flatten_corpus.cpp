@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "corpus.h"
-#include "parser/load.h"
 #include "flatten/flatten.h"
+#include "parser/load.h"
 #include "scene/build.h"
 
 namespace vr {

@@ -1,5 +1,5 @@
-// Gas-volume spheres (SPEC section 6): closed forms, the adaptive integrator against brute force, and
-// the hard cases of SPEC section 8.
+// Gas-volume spheres (SPEC section 6): closed forms, the adaptive integrator against brute force,
+// and the hard cases of SPEC section 8.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -124,8 +124,8 @@ TEST(Gas, OpaqueHitEndsTheIntegral) {
 }
 
 TEST(Gas, HeadlightIsClosedFormScattering) {
-    // Headlight: never shadowed, att = spot = 1, so S = sigma*rho*(ambient + intensity) is constant:
-    // L = rho (1 - exp(-sigma c)).
+    // Headlight: never shadowed, att = spot = 1, so S = sigma*rho*(ambient + intensity) is
+    // constant: L = rho (1 - exp(-sigma c)).
     GasScene s;
     s.add(Vec3(0.0), 1.0, 1.3, Vec3(0.5, 0.25, 1.0), Vec3(0.0));
     Light h;
@@ -136,14 +136,14 @@ TEST(Gas, HeadlightIsClosedFormScattering) {
     EXPECT_LT(rel(r.radiance.x, 0.5 * -std::expm1(-2.6)), 1e-12);
 }
 
-// Adaptive against brute force on lit cases with self-shadowing; the achieved error must stay below the
-// tolerance asked for. The reference (midpoint rule, 40000 steps per piece, exact visibility at each step)
-// is itself accurate to about 1e-8 relative here, far below the tolerances tested.
-// `floor`: the reference's own error (the midpoint rule is O(h^1.5) at the square-root kinks where a shadow
-// starts, O(h) at a jump).
+// Adaptive against brute force on lit cases with self-shadowing; the achieved error must stay below
+// the tolerance asked for. The reference (midpoint rule, 40000 steps per piece, exact visibility at
+// each step) is itself accurate to about 1e-8 relative here, far below the tolerances tested.
+// `floor`: the reference's own error (the midpoint rule is O(h^1.5) at the square-root kinks where
+// a shadow starts, O(h) at a jump).
 void expect_matches_reference(const GasScene& s, const Ray& ray, const char* what,
-                              std::initializer_list<double> tolerances = {1e-2, 1e-4, 1e-6}, double floor = 2e-7,
-                              const SurfaceTransmittance& surfaces = nullptr) {
+                              std::initializer_list<double> tolerances = {1e-2, 1e-4, 1e-6},
+                              double floor = 2e-7, const SurfaceTransmittance& surfaces = nullptr) {
     GasVolume::Lighting lighting = s.lighting();
     lighting.surfaces = surfaces;
     const GasVolume::Result ref = s.gas.integrate_reference(ray, kInf, lighting, 40000);
@@ -153,7 +153,8 @@ void expect_matches_reference(const GasScene& s, const Ray& ray, const char* wha
         const GasVolume::Result got = s.gas.integrate(ray, kInf, lighting, tol, stats);
         for (int k = 0; k < 3; ++k) {
             if (ref.radiance[k] == 0.0) continue;
-            EXPECT_LT(rel(got.radiance[k], ref.radiance[k]), std::max(tol, floor)) << what << " tol " << tol;
+            EXPECT_LT(rel(got.radiance[k], ref.radiance[k]), std::max(tol, floor))
+                << what << " tol " << tol;
         }
         EXPECT_LT(rel(got.transmittance, ref.transmittance), 1e-12) << what;
     }
@@ -167,7 +168,8 @@ TEST(Gas, AdaptiveMatchesBruteForceDirectional) {
     d.ambient_intensity = 0.1;
     s.lights.push_back(d);
     s.finish();
-    expect_matches_reference(s, ray_from(Vec3(0.2, 0.1, 5), Vec3(0, 0, -1)), "self-shadowed sphere");
+    expect_matches_reference(s, ray_from(Vec3(0.2, 0.1, 5), Vec3(0, 0, -1)),
+                             "self-shadowed sphere");
 }
 
 TEST(Gas, AdaptiveMatchesBruteForcePointLightAndFiveSpheres) {
@@ -188,7 +190,8 @@ TEST(Gas, AdaptiveMatchesBruteForcePointLightAndFiveSpheres) {
     d.direction = glm::normalize(Vec3(1, -0.3, -0.2));
     s.lights.push_back(d);
     s.finish();
-    for (double x : {-0.5, 0.05, 0.6}) expect_matches_reference(s, ray_from(Vec3(x, 0.2, 6), Vec3(0.02, 0, -1)), "five");
+    for (double x : {-0.5, 0.05, 0.6})
+        expect_matches_reference(s, ray_from(Vec3(x, 0.2, 6), Vec3(0.02, 0, -1)), "five");
 }
 
 TEST(Gas, SpotLightConesAndRadius) {
@@ -233,8 +236,8 @@ TEST(Gas, LightInsideASphereAndNoNaN) {
     p.radius = 10.0;
     s.lights.push_back(p);
     s.finish();
-    for (const Ray& r : {ray_from(Vec3(0, 0, 5), Vec3(0, 0, -1)),   // through the light itself
-                         ray_from(Vec3(2, 0, 5), Vec3(0, 0, -1)),   // tangent
+    for (const Ray& r : {ray_from(Vec3(0, 0, 5), Vec3(0, 0, -1)),    // through the light itself
+                         ray_from(Vec3(2, 0, 5), Vec3(0, 0, -1)),    // tangent
                          ray_from(Vec3(0, 0, 1), Vec3(1, 0, 0))}) {  // camera inside
         auto g = s.run(r, 1e-4);
         EXPECT_TRUE(std::isfinite(g.radiance.x) && std::isfinite(g.transmittance));
@@ -242,11 +245,12 @@ TEST(Gas, LightInsideASphereAndNoNaN) {
     expect_matches_reference(s, ray_from(Vec3(0.3, 0.1, 5), Vec3(0, 0, -1)), "light inside");
 }
 
-// Regression: the integrator finds the spheres shadowing a piece once (from the BVH, by the piece's light
-// fan) and evaluates their chords at every node. The old search walked the BVH's children wrongly and
-// missed some, so cuts where their shadows begin were missing and the error estimate was fooled: on this
-// scene (a chain of 200 overlapping spheres, like the harness's S4) it erred by 4.8e-6 at tolerance 1e-6
-// (and by 1.0e-4 at 1e-4 on a second ray); on S4 itself by 3e-4 at 1e-5. (The reference takes seconds.)
+// Regression: the integrator finds the spheres shadowing a piece once (from the BVH, by the piece's
+// light fan) and evaluates their chords at every node. The old search walked the BVH's children
+// wrongly and missed some, so cuts where their shadows begin were missing and the error estimate
+// was fooled: on this scene (a chain of 200 overlapping spheres, like the harness's S4) it erred
+// by 4.8e-6 at tolerance 1e-6 (and by 1.0e-4 at 1e-4 on a second ray); on S4 itself by 3e-4 at
+// 1e-5. (The reference takes seconds.)
 TEST(Gas, ChainOfOverlappingSpheresShadowingEachOther) {
     GasScene s;
     std::mt19937 rng(7);
@@ -308,8 +312,9 @@ TEST(Gas, RayAlongTheLightDirection) {
 }
 
 TEST(Gas, OpaqueShadowEdgeInsideTheGas) {
-    // An opaque wall (x > 0.25 seen from the light) casts a shadow edge that no cut knows of: the adaptive
-    // refinement must find the jump. The reference's midpoint rule is only O(h) there, hence the floor.
+    // An opaque wall (x > 0.25 seen from the light) casts a shadow edge that no cut knows of: the
+    // adaptive refinement must find the jump. The reference's midpoint rule is only O(h) there,
+    // hence the floor.
     GasScene s;
     s.add(Vec3(0.0), 1.5, 0.7, Vec3(0.8, 0.5, 0.3), Vec3(0.0));
     s.add(Vec3(0.5, 0.8, 0.2), 0.7, 1.5, Vec3(0.5), Vec3(0.0));
@@ -323,8 +328,8 @@ TEST(Gas, OpaqueShadowEdgeInsideTheGas) {
     s.lights.push_back(p);
     s.finish();
     const SurfaceTransmittance wall = [](const Ray& r) { return r.o.x > 0.25 ? 0.0 : 1.0; };
-    expect_matches_reference(s, ray_from(Vec3(-3.2, 0.3, 5), Vec3(0.6, -0.05, -1)), "wall", {1e-2, 1e-3, 1e-4},
-                             5e-5, wall);
+    expect_matches_reference(s, ray_from(Vec3(-3.2, 0.3, 5), Vec3(0.6, -0.05, -1)), "wall",
+                             {1e-2, 1e-3, 1e-4}, 5e-5, wall);
 }
 
 // The same shadow edge at tolerance 1e-6. The midpoint reference is only O(h) across the jump, so
@@ -389,7 +394,8 @@ TEST(Gas, TranslatingTheSceneBy1e5ChangesNothing) {
 }
 
 TEST(Gas, FarTinySphere) {
-    // r = 1e-4 seen from 1e4 away: the chord must come out right (the textbook discriminant loses it).
+    // r = 1e-4 seen from 1e4 away: the chord must come out right (the textbook discriminant loses
+    // it).
     GasScene s;
     s.add(Vec3(0.0), 1e-4, 1e3, Vec3(0.0), Vec3(1.0));
     s.finish();

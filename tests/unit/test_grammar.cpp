@@ -13,15 +13,60 @@ namespace {
 TEST(Grammar, TablesParse) { EXPECT_NO_THROW(Registry::builtin()); }
 
 TEST(Grammar, AllVrml97NodesOfChapter6) {
-    const char* names[] = {
-        "Anchor", "Appearance", "AudioClip", "Background", "Billboard", "Box", "Collision", "Color",
-        "ColorInterpolator", "Cone", "Coordinate", "CoordinateInterpolator", "Cylinder", "CylinderSensor",
-        "DirectionalLight", "ElevationGrid", "Extrusion", "Fog", "FontStyle", "Group", "ImageTexture",
-        "IndexedFaceSet", "IndexedLineSet", "Inline", "LOD", "Material", "MovieTexture", "NavigationInfo", "Normal",
-        "NormalInterpolator", "OrientationInterpolator", "PixelTexture", "PlaneSensor", "PointLight", "PointSet",
-        "PositionInterpolator", "ProximitySensor", "ScalarInterpolator", "Script", "Shape", "Sound", "Sphere",
-        "SphereSensor", "SpotLight", "Switch", "Text", "TextureCoordinate", "TextureTransform", "TimeSensor",
-        "TouchSensor", "Transform", "Viewpoint", "VisibilitySensor", "WorldInfo"};
+    const char* names[] = {"Anchor",
+                           "Appearance",
+                           "AudioClip",
+                           "Background",
+                           "Billboard",
+                           "Box",
+                           "Collision",
+                           "Color",
+                           "ColorInterpolator",
+                           "Cone",
+                           "Coordinate",
+                           "CoordinateInterpolator",
+                           "Cylinder",
+                           "CylinderSensor",
+                           "DirectionalLight",
+                           "ElevationGrid",
+                           "Extrusion",
+                           "Fog",
+                           "FontStyle",
+                           "Group",
+                           "ImageTexture",
+                           "IndexedFaceSet",
+                           "IndexedLineSet",
+                           "Inline",
+                           "LOD",
+                           "Material",
+                           "MovieTexture",
+                           "NavigationInfo",
+                           "Normal",
+                           "NormalInterpolator",
+                           "OrientationInterpolator",
+                           "PixelTexture",
+                           "PlaneSensor",
+                           "PointLight",
+                           "PointSet",
+                           "PositionInterpolator",
+                           "ProximitySensor",
+                           "ScalarInterpolator",
+                           "Script",
+                           "Shape",
+                           "Sound",
+                           "Sphere",
+                           "SphereSensor",
+                           "SpotLight",
+                           "Switch",
+                           "Text",
+                           "TextureCoordinate",
+                           "TextureTransform",
+                           "TimeSensor",
+                           "TouchSensor",
+                           "Transform",
+                           "Viewpoint",
+                           "VisibilitySensor",
+                           "WorldInfo"};
     for (const char* n : names) EXPECT_NE(Registry::builtin().find(Spec::Vrml97, n), nullptr) << n;
     // And nothing else: the VRML97 table is exactly chapter 6's 54 nodes (our hints and the
     // browsers' extensions live in their own tables, so a node added here by mistake would change
@@ -34,18 +79,21 @@ TEST(Grammar, AllVrml97NodesOfChapter6) {
 }
 
 TEST(Grammar, X3dNodesTheSpecNames) {
-    for (const char* n : {"MetadataSet", "MetadataString", "MetadataFloat", "MetadataDouble", "MetadataInteger",
-                          "MetadataBoolean", "OrthoViewpoint", "PhysicalMaterial", "IndexedTriangleSet",
-                          "TriangleSet", "IndexedTriangleFanSet", "IndexedTriangleStripSet", "IndexedQuadSet",
-                          "QuadSet", "ColorRGBA", "TextureBackground", "CoordinateDouble"}) {
+    for (const char* n :
+         {"MetadataSet", "MetadataString", "MetadataFloat", "MetadataDouble", "MetadataInteger",
+          "MetadataBoolean", "OrthoViewpoint", "PhysicalMaterial", "IndexedTriangleSet",
+          "TriangleSet", "IndexedTriangleFanSet", "IndexedTriangleStripSet", "IndexedQuadSet",
+          "QuadSet", "ColorRGBA", "TextureBackground", "CoordinateDouble"}) {
         EXPECT_NE(Registry::builtin().find(Spec::X3d, n), nullptr) << n;
     }
 }
 
 TEST(Grammar, KnownDefaults) {
     LoadedScene s = load_scene_text(
-        "#VRML V2.0 utf8\nTransform {} Material {} Viewpoint {} NavigationInfo {} Cylinder {} Cone {} "
-        "SpotLight {} Background {}", "defaults.wrl");
+        "#VRML V2.0 utf8\nTransform {} Material {} Viewpoint {} NavigationInfo {} Cylinder {} Cone "
+        "{} "
+        "SpotLight {} Background {}",
+        "defaults.wrl");
     ASSERT_TRUE(s.ok()) << s.diagnostics.format(s.sources);
     const NodeTree& t = s.tree;
     auto r = t.roots;
@@ -64,10 +112,12 @@ TEST(Grammar, KnownDefaults) {
     EXPECT_EQ(t.get(r[7], "skyColor").numbers.size(), 3u);  // [0 0 0]
 }
 
-// Every node type of every table can be written as `Type {}` in a file of its encoding and read back.
+// Every node type of every table can be written as `Type {}` in a file of its encoding and read
+// back.
 TEST(Grammar, EveryNodeTypeReads) {
     for (Spec spec : {Spec::Vrml97, Spec::X3d}) {
-        std::string text = spec == Spec::Vrml97 ? "#VRML V2.0 utf8\n" : "#X3D V3.3 utf8\nPROFILE Full\n";
+        std::string text =
+            spec == Spec::Vrml97 ? "#VRML V2.0 utf8\n" : "#X3D V3.3 utf8\nPROFILE Full\n";
         size_t count = 0;
         for (const NodeTypeDecl& d : Registry::builtin().nodes(spec)) {
             text += std::string(name_text(d.name)) + " {}\n";
@@ -85,7 +135,8 @@ TEST(Grammar, FieldsAreUniqueAndEventsHaveNoDefault) {
         for (const NodeTypeDecl& d : Registry::builtin().nodes(spec)) {
             std::set<Name> seen;
             for (const FieldDecl& f : d.fields) {
-                EXPECT_TRUE(seen.insert(f.name).second) << name_text(d.name) << "." << name_text(f.name);
+                EXPECT_TRUE(seen.insert(f.name).second)
+                    << name_text(d.name) << "." << name_text(f.name);
                 EXPECT_EQ(has_value(f.access), f.default_field != UINT32_MAX)
                     << name_text(d.name) << "." << name_text(f.name);
             }

@@ -32,7 +32,8 @@ class ImageIoTest : public ::testing::Test {
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
     // Writes then reads back; fails the test on any error.
-    Image round_trip(const Image& image, const std::string& name, bool srgb = false, bool alpha = false) {
+    Image round_trip(const Image& image, const std::string& name, bool srgb = false,
+                     bool alpha = false) {
         std::string error;
         EXPECT_TRUE(write_image(path(name), image, WriteOptions{srgb, alpha}, error)) << error;
         Image back;
@@ -69,7 +70,8 @@ TEST_F(ImageIoTest, PngStoresExactEightBitCodes) {
         p[3] = float((i * 13) % 256) / 255.0f;  // no alpha channel by default: read back as 1
     }
     Image back = round_trip(im, "codes.png");
-    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : im.rgba[i]) << i;
+    for (size_t i = 0; i < im.rgba.size(); ++i)
+        EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : im.rgba[i]) << i;
 }
 
 TEST_F(ImageIoTest, PngRoundsToNearestAndClamps) {
@@ -114,7 +116,8 @@ TEST_F(ImageIoTest, ExrKeepsFloatsExactly) {
     Image back = round_trip(im, "floats.exr", false, /*alpha=*/true);
     for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], im.rgba[i]) << i;
     Image rgb = round_trip(im, "rgb.exr");
-    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(rgb.rgba[i], i % 4 == 3 ? 1.0f : im.rgba[i]) << i;
+    for (size_t i = 0; i < im.rgba.size(); ++i)
+        EXPECT_EQ(rgb.rgba[i], i % 4 == 3 ? 1.0f : im.rgba[i]) << i;
 }
 
 TEST_F(ImageIoTest, NonFiniteValuesNeverReachTheFile) {
@@ -210,7 +213,8 @@ TEST_F(ImageIoTest, ReadsGreyAndGreyAlphaFiles) {
 TEST_F(ImageIoTest, ExtensionIsCaseInsensitive) {
     Image im = ramp_image(0.0f, 1.0f);
     Image back = round_trip(im, "UPPER.PNG");
-    for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : code8(im.rgba[i]));
+    for (size_t i = 0; i < im.rgba.size(); ++i)
+        EXPECT_EQ(back.rgba[i], i % 4 == 3 ? 1.0f : code8(im.rgba[i]));
 }
 
 TEST_F(ImageIoTest, WriteErrorsNameTheFile) {
@@ -266,7 +270,8 @@ TEST_F(ImageIoTest, AlphaIsStraightInPngAndTiffPremultipliedInExr) {
             EXPECT_EQ(back.pixel(x, 0)[2], 1.0f) << name << " " << x;
             EXPECT_NEAR(back.pixel(x, 0)[3], alphas[x], 0.5 / 255 + 1e-6) << name << " " << x;
         }
-        for (int c = 0; c < 4; ++c) EXPECT_EQ(back.pixel(2, 0)[c], 0.0f) << name;  // alpha 0: colour 0
+        for (int c = 0; c < 4; ++c)
+            EXPECT_EQ(back.pixel(2, 0)[c], 0.0f) << name;  // alpha 0: colour 0
     }
     Image exr = round_trip(im, "a.exr", false, true);
     for (size_t i = 0; i < im.rgba.size(); ++i) EXPECT_EQ(exr.rgba[i], im.rgba[i]) << i;
@@ -278,7 +283,8 @@ TEST_F(ImageIoTest, AlphaIsStraightInPngAndTiffPremultipliedInExr) {
     }
 }
 
-// What vrmlray render asks before it reads the scene: nothing is created, and each failure says why.
+// What vrmlray render asks before it reads the scene: nothing is created, and each failure says
+// why.
 TEST_F(ImageIoTest, OutputIsCheckedBeforeWriting) {
     std::string error;
     EXPECT_EQ(check_output(path("ok.png"), false, error), OutputCheck::kOk) << error;

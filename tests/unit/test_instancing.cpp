@@ -1,7 +1,7 @@
-// DEF/USE of meshes: a mesh of 16 triangles or more placed twice or more is stored once in object space
-// (FlatScene::prototypes) and placed by instances, each with its own transform and shading; the tracer
-// gives each prototype its own BVH. What a user sees must not change: the image is that of world-space
-// copies.
+// DEF/USE of meshes: a mesh of 16 triangles or more placed twice or more is stored once in object
+// space (FlatScene::prototypes) and placed by instances, each with its own transform and shading;
+// the tracer gives each prototype its own BVH. What a user sees must not change: the image is that
+// of world-space copies.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,9 +10,9 @@
 #include <random>
 #include <sstream>
 
+#include "flatten/flatten.h"
 #include "parser/load.h"
 #include "render/accel.h"
-#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 #include "scene/transform.h"
@@ -21,8 +21,9 @@
 namespace vr {
 namespace {
 
-// A torus of nu x nv quads (2 nu nv triangles) as an IndexedFaceSet with smooth normals (creaseAngle),
-// per-vertex colours and texture coordinates: every per-corner attribute an instance must carry.
+// A torus of nu x nv quads (2 nu nv triangles) as an IndexedFaceSet with smooth normals
+// (creaseAngle), per-vertex colours and texture coordinates: every per-corner attribute an instance
+// must carry.
 std::string torus(int nu, int nv) {
     std::ostringstream points, colors, uvs, index;
     for (int i = 0; i < nu; ++i)
@@ -32,13 +33,13 @@ std::string torus(int nu, int nv) {
                    << (1.0 + 0.35 * std::cos(v)) * std::sin(u) << ", ";
             colors << 0.5 + 0.5 * std::cos(u) << ' ' << 0.5 + 0.5 * std::sin(v) << " 0.5, ";
             uvs << double(i) / nu << ' ' << double(j) / nv << ", ";
-            const int a = i * nv + j, b = ((i + 1) % nu) * nv + j, c = ((i + 1) % nu) * nv + (j + 1) % nv,
-                      d = i * nv + (j + 1) % nv;
+            const int a = i * nv + j, b = ((i + 1) % nu) * nv + j,
+                      c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
             index << a << ' ' << d << ' ' << c << ' ' << b << " -1 ";
         }
     return "IndexedFaceSet { creaseAngle 1.0 coord Coordinate { point [" + points.str() +
-           "] } color Color { color [" + colors.str() + "] } texCoord TextureCoordinate { point [" + uvs.str() +
-           "] } coordIndex [" + index.str() + "] }";
+           "] } color Color { color [" + colors.str() + "] } texCoord TextureCoordinate { point [" +
+           uvs.str() + "] } coordIndex [" + index.str() + "] }";
 }
 
 // The placements: a translation, a non-uniform scale, a rotation, a mirror, a tiny and a far one.
@@ -51,16 +52,18 @@ const char* const kPlacements[] = {
     "translation 0.3 0.2 1.5 rotation 0 0.6 0.8 1.2 scale 0.4 0.5 0.3",
 };
 
-// Each placement a Shape of its own colour; `use` places one DEF'd geometry, else each Shape has a copy.
+// Each placement a Shape of its own colour; `use` places one DEF'd geometry, else each Shape has a
+// copy.
 std::string placements_scene(const std::string& geometry, bool use) {
-    std::string s = "Viewpoint { position 0 0 9 }\nDirectionalLight { direction -0.3 -0.5 -1 }\n"
-                    "PointLight { location 3 3 3 }\n";
+    std::string s =
+        "Viewpoint { position 0 0 9 }\nDirectionalLight { direction -0.3 -0.5 -1 }\n"
+        "PointLight { location 3 3 3 }\n";
     for (size_t i = 0; i < std::size(kPlacements); ++i) {
         const std::string g = !use ? geometry : i == 0 ? "DEF T " + geometry : "USE T";
         s += std::string("Transform { ") + kPlacements[i] +
              " children Shape { appearance Appearance { material Material { diffuseColor " +
-             std::to_string(0.2 + 0.1 * double(i)) + " 0.5 0.7 specularColor 0.5 0.5 0.5 shininess 0.3 } } geometry " +
-             g + " } }\n";
+             std::to_string(0.2 + 0.1 * double(i)) +
+             " 0.5 0.7 specularColor 0.5 0.5 0.5 shininess 0.3 } } geometry " + g + " } }\n";
     }
     return s;
 }
@@ -104,17 +107,19 @@ TEST(Instancing, FlattenStoresAUsedMeshOnce) {
     const FlatScene copies = flatten_text(placements_scene(torus(12, 6), false), stats);
     EXPECT_EQ(copies.meshes.size(), std::size(kPlacements));
     EXPECT_TRUE(copies.instances.empty());
-    const FlatScene small = flatten_text(placements_scene(torus(4, 2), true), stats);  // 8 quads, 16 triangles
+    const FlatScene small =
+        flatten_text(placements_scene(torus(4, 2), true), stats);  // 8 quads, 16 triangles
     EXPECT_EQ(small.instances.size(), std::size(kPlacements));
-    const FlatScene tiny = flatten_text(placements_scene(torus(3, 2), true), stats);  // 12 triangles
+    const FlatScene tiny =
+        flatten_text(placements_scene(torus(3, 2), true), stats);  // 12 triangles
     EXPECT_TRUE(tiny.instances.empty());
     EXPECT_EQ(tiny.meshes.size(), std::size(kPlacements));
 }
 
 // The image of instances is that of world-space copies: the same hit points (the barycentric point
-// mapped to world space), normals (the corners' normals mapped and made unit, then interpolated, as the
-// copies do), colours and texture coordinates. The tolerance is float output rounding: the two paths
-// round positions differently in the last bits, which moves shading by ~1e-15.
+// mapped to world space), normals (the corners' normals mapped and made unit, then interpolated, as
+// the copies do), colours and texture coordinates. The tolerance is float output rounding: the two
+// paths round positions differently in the last bits, which moves shading by ~1e-15.
 TEST(Instancing, InstancesRenderAsTheirWorldCopies) {
     FlattenStats stats;
     const FlatScene used = flatten_text(placements_scene(torus(24, 12), true), stats);
@@ -132,14 +137,15 @@ TEST(Instancing, InstancesRenderAsTheirWorldCopies) {
     EXPECT_GT(lit, 1000u);  // the tori cover a good part of the image
 }
 
-// Closest hits through the instance's own BVH equal a test of every triangle, over instances mixed with
-// spheres and world triangles; shadow queries agree.
+// Closest hits through the instance's own BVH equal a test of every triangle, over instances mixed
+// with spheres and world triangles; shadow queries agree.
 TEST(Instancing, ClosestHitEqualsBruteForce) {
     FlattenStats stats;
-    FlatScene scene = flatten_text(placements_scene(torus(24, 12), true) +
-                                       "Shape { geometry " + torus(8, 4) + " }\n"
-                                       "Transform { translation 0.5 0 0 children Shape { geometry Sphere { radius 0.6 } } }",
-                                   stats);
+    FlatScene scene = flatten_text(
+        placements_scene(torus(24, 12), true) + "Shape { geometry " + torus(8, 4) +
+            " }\n"
+            "Transform { translation 0.5 0 0 children Shape { geometry Sphere { radius 0.6 } } }",
+        stats);
     ASSERT_EQ(scene.instances.size(), std::size(kPlacements));
     ASSERT_EQ(scene.meshes.size(), 1u);
     Accel accel;
@@ -169,17 +175,20 @@ TEST(Instancing, ClosestHitEqualsBruteForce) {
     EXPECT_GT(hits, instance_hits);
 }
 
-// A see-through instanced torus dims a shadow ray by its transparency once a crossing, as copies do.
+// A see-through instanced torus dims a shadow ray by its transparency once a crossing, as copies
+// do.
 TEST(Instancing, SeeThroughInstancesCountEveryCrossing) {
     FlattenStats stats;
-    const std::string glass = "Shape { appearance Appearance { material Material { transparency 0.5 } } geometry ";
-    const FlatScene scene = flatten_text("Transform { children " + glass + "DEF T " + torus(24, 12) +
-                                             " } }\nTransform { translation 0 0 -5 children " + glass + "USE T } }",
-                                         stats);
+    const std::string glass =
+        "Shape { appearance Appearance { material Material { transparency 0.5 } } geometry ";
+    const FlatScene scene =
+        flatten_text("Transform { children " + glass + "DEF T " + torus(24, 12) +
+                         " } }\nTransform { translation 0 0 -5 children " + glass + "USE T } }",
+                     stats);
     ASSERT_EQ(scene.instances.size(), 2u);
     Accel accel;
     accel.build(scene, 1);
-    Ray ray;  // down through the tube of both tori: four crossings
+    Ray ray;                        // down through the tube of both tori: four crossings
     ray.o = Vec3(1.02, 0.05, 3.0);  // off the tessellation's edges, which two triangles share
     ray.d = Vec3(0.0, 0.0, -1.0);
     EXPECT_DOUBLE_EQ(accel.transmittance(ray), 0.0625);

@@ -30,8 +30,8 @@ Mat4 random_rotation(Rng& rng) {
 }
 
 // One random primitive of the given kind (0 sphere, 1 box, 2 cylinder, 3 cone, 4 ellipsoid,
-// 5 triangle, 6 triangle of a mesh instance under a random rotation and non-uniform scale) at scale `s`
-// around `centre`.
+// 5 triangle, 6 triangle of a mesh instance under a random rotation and non-uniform scale) at scale
+// `s` around `centre`.
 FlatScene random_primitive(int kind, double s, const Vec3& centre, Rng& rng) {
     FlatScene scene = testing::empty_scene();
     testing::add_shading(scene, Material());
@@ -75,7 +75,8 @@ FlatScene random_primitive(int kind, double s, const Vec3& centre, Rng& rng) {
 }
 
 constexpr int kKinds = 7;
-const char* kKindNames[kKinds] = {"sphere", "box", "cylinder", "cone", "ellipsoid", "triangle", "instance"};
+const char* kKindNames[kKinds] = {"sphere",    "box",      "cylinder", "cone",
+                                  "ellipsoid", "triangle", "instance"};
 
 // pbrt-v4's shapes_test idea: rays leaving a surface point on the side they arrived from never hit
 // that surface again. 14,000 random transformed primitives at scales 1e-3 .. 1e5, some translated

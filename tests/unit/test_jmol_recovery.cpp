@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "corpus.h"
+#include "flatten/flatten.h"
 #include "geometry/cylinder_fit.h"
 #include "geometry/sphere_fit.h"
 #include "parser/load.h"
 #include "render/camera.h"
-#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 
@@ -223,10 +223,11 @@ TEST(JmolRecovery, GasRenderEqualsTheAtomsWrittenAsSphereNodes) {
 }
 
 // Opaque, with recovery, the image keeps the mesh's silhouettes: the mesh is inscribed in the exact
-// shapes (the faces of Jmol's 162-vertex sphere lie up to 1.8% of the radius inside it, the 36-gon's
-// 0.4%). Atoms here are about 4 pixels in radius, so outlines move by under 0.1 pixel and only pixels
-// whose centre lies that close to an outline change coverage: a ring of 0.1 pixel round a 4-pixel disc
-// is 5% of its area, overlaps hide most of it; 2% of the covered pixels is the bound (1.1% measured).
+// shapes (the faces of Jmol's 162-vertex sphere lie up to 1.8% of the radius inside it, the
+// 36-gon's 0.4%). Atoms here are about 4 pixels in radius, so outlines move by under 0.1 pixel and
+// only pixels whose centre lies that close to an outline change coverage: a ring of 0.1 pixel round
+// a 4-pixel disc is 5% of its area, overlaps hide most of it; 2% of the covered pixels is the bound
+// (1.1% measured).
 TEST(JmolRecovery, OpaqueRecoveryKeepsTheMeshSilhouette) {
     VR_CORPUS_FOLDER(jmol_dir, "molecular/jmol");
     const fs::path file = jmol_dir / "pept_ballstick.wrl";
@@ -359,8 +360,8 @@ TEST(JmolRecovery, OpenEndsStayOpenAndPartialCapsAreRefused) {
     EXPECT_EQ(why, FitFailure::NotAllAround);
 }
 
-// A tube along x or z (the Jmol tube with its coordinates turned cyclically) is recovered along that
-// axis, its capped end staying at +axis: the quadric maps its top (object 0 h/2 0) there.
+// A tube along x or z (the Jmol tube with its coordinates turned cyclically) is recovered along
+// that axis, its capped end staying at +axis: the quadric maps its top (object 0 h/2 0) there.
 TEST(JmolRecovery, CylindersAlongOtherAxesKeepTheirEnds) {
     const Tube tube = jmol_tube(1);  // capped at +y only
     for (int axis : {0, 2}) {
@@ -368,13 +369,16 @@ TEST(JmolRecovery, CylindersAlongOtherAxesKeepTheirEnds) {
         std::string points, faces;
         for (const Vec3& p : tube.points) {
             const Vec3 q = axis == 0 ? Vec3(p.y, p.z, p.x) : Vec3(p.z, p.x, p.y);
-            points += std::to_string(q.x) + " " + std::to_string(q.y) + " " + std::to_string(q.z) + ", ";
+            points +=
+                std::to_string(q.x) + " " + std::to_string(q.y) + " " + std::to_string(q.z) + ", ";
         }
         for (size_t t = 0; t < tube.triangles.size(); t += 3)
-            faces += std::to_string(tube.triangles[t]) + " " + std::to_string(tube.triangles[t + 1]) +
-                     " " + std::to_string(tube.triangles[t + 2]) + " -1 ";
-        const std::string text = "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord Coordinate { point [" +
-                                 points + "] } coordIndex [" + faces + "] } }\n";
+            faces += std::to_string(tube.triangles[t]) + " " +
+                     std::to_string(tube.triangles[t + 1]) + " " +
+                     std::to_string(tube.triangles[t + 2]) + " -1 ";
+        const std::string text =
+            "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord Coordinate { point [" +
+            points + "] } coordIndex [" + faces + "] } }\n";
         FlattenStats stats;
         const FlatScene flat = flatten_text(text, "tube.wrl", SpheresOption::Opaque, true, stats);
         ASSERT_EQ(stats.recovered_cylinders, 1u);

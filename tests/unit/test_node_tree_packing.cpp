@@ -51,11 +51,12 @@ TEST(NodeTreePacking, FieldTypeInOneByteKeepsEveryKind) {
 }
 
 TEST(NodeTreePacking, NodesOfOneKindShareAnEntry) {
-    LoadedScene s = load_scene_text("#VRML V2.0 utf8\n"
-                                    "Transform { children [ Shape { geometry Sphere {} } ] }\n"
-                                    "Transform { children [ Shape { geometry Sphere {} } ] }\n"
-                                    "Shape { geometry Box {} }\n",
-                                    (fs::temp_directory_path() / "kinds.wrl").string());
+    LoadedScene s = load_scene_text(
+        "#VRML V2.0 utf8\n"
+        "Transform { children [ Shape { geometry Sphere {} } ] }\n"
+        "Transform { children [ Shape { geometry Sphere {} } ] }\n"
+        "Shape { geometry Box {} }\n",
+        (fs::temp_directory_path() / "kinds.wrl").string());
     ASSERT_TRUE(s.ok()) << s.diagnostics.format(s.sources);
     EXPECT_EQ(s.tree.nodes.size(), 8u);
     EXPECT_EQ(s.tree.kinds.size(), 5u);  // (none), Sphere, Shape, Transform, Box
@@ -78,8 +79,9 @@ TEST(NodeTreePacking, FieldPlaceInSecondInlineFileIsExact) {
     write("a.wrl", "#VRML V2.0 utf8\nShape { geometry Sphere { radius 1 } }\n");
     write("b.wrl", "#VRML V2.0 utf8\n\n\nShape {\n  geometry Sphere {\n      radius 2.5 } }\n");
     write("c.wrl", "#VRML V2.0 utf8\nShape { geometry Sphere { radius 3 } }\n");
-    write("main.wrl", "#VRML V2.0 utf8\nInline { url \"a.wrl\" }\nInline { url \"b.wrl\" }\n"
-                      "Inline { url \"c.wrl\" }\n");
+    write("main.wrl",
+          "#VRML V2.0 utf8\nInline { url \"a.wrl\" }\nInline { url \"b.wrl\" }\n"
+          "Inline { url \"c.wrl\" }\n");
     LoadedScene s = load_scene(dir / "main.wrl");
     ASSERT_TRUE(s.ok()) << s.diagnostics.format(s.sources);
     ASSERT_EQ(s.sources.size(), 4u);

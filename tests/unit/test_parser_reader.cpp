@@ -23,7 +23,8 @@ std::string errors(const LoadedScene& s) { return s.diagnostics.format(s.sources
 // A folder of its own for tests that write files.
 struct TempDir {
     fs::path path;
-    explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("vrmlray_test_" + name)) {
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() / ("vrmlray_test_" + name)) {
         fs::remove_all(path);
         fs::create_directories(path);
     }
@@ -53,7 +54,9 @@ TEST(ParserReader, MinimalSceneAndDefaults) {
 
 TEST(ParserReader, HeaderVariants) {
     EXPECT_TRUE(read("#VRML V2.0 utf8 CosmoWorlds V1.0\nGroup {}").ok());
-    EXPECT_TRUE(read("#X3D V3.3 utf8\nPROFILE Interactive\nCOMPONENT Core:1\nMETA \"a\" \"b\"\nGroup {}").ok());
+    EXPECT_TRUE(
+        read("#X3D V3.3 utf8\nPROFILE Interactive\nCOMPONENT Core:1\nMETA \"a\" \"b\"\nGroup {}")
+            .ok());
     EXPECT_TRUE(read("#X3D V4.0 utf8\nPROFILE Full\nGroup {}").ok());
     LoadedScene bad = read("Group {}");
     EXPECT_FALSE(bad.ok());
@@ -64,7 +67,8 @@ TEST(ParserReader, HeaderVariants) {
 TEST(ParserReader, ExporterQuirks) {
     // No space before '{', trailing commas, non-unit rotation axes, commas everywhere.
     LoadedScene s = read(
-        "#VRML V2.0 utf8\nTransform{rotation 0 2 0 1.5707963 translation 1,2,3, children[Shape{geometry Box{}},]}");
+        "#VRML V2.0 utf8\nTransform{rotation 0 2 0 1.5707963 translation 1,2,3, "
+        "children[Shape{geometry Box{}},]}");
     ASSERT_TRUE(s.ok()) << errors(s);
     FieldView r = s.tree.get(s.tree.roots[0], "rotation");
     EXPECT_DOUBLE_EQ(r.numbers[1], 1.0);
@@ -73,7 +77,8 @@ TEST(ParserReader, ExporterQuirks) {
 
 TEST(ParserReader, DefUseSharesOneNode) {
     LoadedScene s = read(
-        "#VRML V2.0 utf8\nDEF S Shape { geometry Sphere {} }\nTransform { children USE S }\nTransform { children [USE S USE S] }");
+        "#VRML V2.0 utf8\nDEF S Shape { geometry Sphere {} }\nTransform { children USE S "
+        "}\nTransform { children [USE S USE S] }");
     ASSERT_TRUE(s.ok()) << errors(s);
     NodeId def = s.tree.roots[0];
     EXPECT_EQ(s.tree.get(s.tree.roots[1], "children").nodes[0], def);
@@ -93,11 +98,15 @@ TEST(ParserReader, UseBeforeDefIsAnErrorWithPlace) {
 TEST(ParserReader, UnknownFieldIsAnErrorNamingNodeAndField) {
     LoadedScene s = read("#VRML V2.0 utf8\nSphere { radius 1 wrong 2 }", "f.wrl");
     EXPECT_FALSE(s.ok());
-    EXPECT_NE(errors(s).find("f.wrl:2:19: error: unknown field 'wrong' in node Sphere"), std::string::npos) << errors(s);
+    EXPECT_NE(errors(s).find("f.wrl:2:19: error: unknown field 'wrong' in node Sphere"),
+              std::string::npos)
+        << errors(s);
 }
 
 TEST(ParserReader, UnknownNodeIsSkippedWithOneWarningPerType) {
-    LoadedScene s = read("#VRML V2.0 utf8\nGroup { children [ Foo { a [1 2] b \"}\" c Bar { } } Foo {} Shape {} ] }");
+    LoadedScene s = read(
+        "#VRML V2.0 utf8\nGroup { children [ Foo { a [1 2] b \"}\" c Bar { } } Foo {} Shape {} ] "
+        "}");
     ASSERT_TRUE(s.ok()) << errors(s);
     EXPECT_EQ(s.tree.get(s.tree.roots[0], "children").nodes.size(), 1u);
     EXPECT_EQ(s.stats.skipped_nodes.at("Foo"), 2u);
@@ -107,7 +116,8 @@ TEST(ParserReader, UnknownNodeIsSkippedWithOneWarningPerType) {
 
 TEST(ParserReader, X3dFieldsAcceptedInVrml97Files) {
     LoadedScene s = read(
-        "#VRML V2.0 utf8\nShape { geometry Sphere { metadata MetadataSet { name \"vrmlray\" value [ MetadataString "
+        "#VRML V2.0 utf8\nShape { geometry Sphere { metadata MetadataSet { name \"vrmlray\" value "
+        "[ MetadataString "
         "{ name \"sphereMode\" value \"gas\" } ] } } }");
     ASSERT_TRUE(s.ok()) << errors(s);
 }
@@ -146,10 +156,14 @@ Pair {}
 }
 
 TEST(ParserReader, ProtoErrors) {
-    EXPECT_FALSE(read("#VRML V2.0 utf8\nGroup { children IS x }").ok());                   // IS outside PROTO
-    EXPECT_FALSE(read("#VRML V2.0 utf8\nPROTO P [] { Sphere { radius IS nope } } P {}").ok());  // unknown IS
-    EXPECT_FALSE(read("#VRML V2.0 utf8\nPROTO P [ field SFInt32 r 1 ] { Sphere { radius IS r } } P {}").ok());
-    EXPECT_FALSE(read("#VRML V2.0 utf8\nPROTO P [] { Sphere {} } P { radius 2 }").ok());  // unknown field
+    EXPECT_FALSE(read("#VRML V2.0 utf8\nGroup { children IS x }").ok());  // IS outside PROTO
+    EXPECT_FALSE(
+        read("#VRML V2.0 utf8\nPROTO P [] { Sphere { radius IS nope } } P {}").ok());  // unknown IS
+    EXPECT_FALSE(
+        read("#VRML V2.0 utf8\nPROTO P [ field SFInt32 r 1 ] { Sphere { radius IS r } } P {}")
+            .ok());
+    EXPECT_FALSE(
+        read("#VRML V2.0 utf8\nPROTO P [] { Sphere {} } P { radius 2 }").ok());  // unknown field
     // A PROTO that instantiates itself stops at the depth limit with an error, not a crash.
     LoadedScene rec = read("#VRML V2.0 utf8\nPROTO P [] { Group { children P {} } } P {}");
     EXPECT_FALSE(rec.ok());
@@ -180,8 +194,10 @@ TEST(ParserReader, NestingDepthIsBounded) {
 
 TEST(ParserReader, TruncatedFilesGiveErrorsNotCrashes) {
     const std::string full =
-        "#VRML V2.0 utf8\nDEF A Transform { translation 1 2 3 children [ Shape { appearance Appearance { material "
-        "Material { diffuseColor 1 0 0 } } geometry IndexedFaceSet { coord Coordinate { point [0 0 0, 1 0 0, 0 1 0] "
+        "#VRML V2.0 utf8\nDEF A Transform { translation 1 2 3 children [ Shape { appearance "
+        "Appearance { material "
+        "Material { diffuseColor 1 0 0 } } geometry IndexedFaceSet { coord Coordinate { point [0 0 "
+        "0, 1 0 0, 0 1 0] "
         "} coordIndex [0 1 2 -1] } } ] }\nPROTO P [ field SFString s \"x\" ] { Group {} }\n";
     ASSERT_TRUE(read(full).ok());
     // A prefix that leaves a { or [ open (outside the string) cuts a node or a list: it must be an
@@ -216,17 +232,20 @@ TEST(ParserReader, GzipByMagicBytesNotName) {
 
 TEST(ParserReader, InlineRelativeCyclesAndEscapes) {
     TempDir dir("inline");
-    dir.write("sub/child.wrl", "#VRML V2.0 utf8\nShape { geometry Box {} }\nInline { url \"../main.wrl\" }\n");
-    fs::path main = dir.write("main.wrl",
-                              "#VRML V2.0 utf8\nInline { url [\"missing.wrl\" \"sub/child.wrl\"] }\n"
-                              "Inline { url \"http://example.com/x.wrl\" }\nInline { url \"../../etc/passwd\" }\n");
+    dir.write("sub/child.wrl",
+              "#VRML V2.0 utf8\nShape { geometry Box {} }\nInline { url \"../main.wrl\" }\n");
+    fs::path main = dir.write(
+        "main.wrl",
+        "#VRML V2.0 utf8\nInline { url [\"missing.wrl\" \"sub/child.wrl\"] }\n"
+        "Inline { url \"http://example.com/x.wrl\" }\nInline { url \"../../etc/passwd\" }\n");
     LoadOptions sandbox;  // without it, ../../etc/passwd is read (and is no VRML file)
     sandbox.sandbox = true;
     LoadedScene s = load_scene(main, sandbox);
     ASSERT_TRUE(s.ok()) << errors(s);
     std::string e = errors(s);
     ASSERT_EQ(s.tree.inline_roots.size(), 1u);  // the cycle back to main.wrl is refused
-    EXPECT_EQ(s.tree.inline_roots.begin()->second.size(), 2u);  // Shape + the cyclic Inline node itself
+    EXPECT_EQ(s.tree.inline_roots.begin()->second.size(),
+              2u);  // Shape + the cyclic Inline node itself
     for (const auto& [inline_node, roots] : s.tree.inline_roots) EXPECT_EQ(roots.size(), 2u);
     EXPECT_NE(e.find("cycle"), std::string::npos) << e;
     EXPECT_NE(e.find("never fetched"), std::string::npos) << e;
@@ -236,7 +255,8 @@ TEST(ParserReader, InlineRelativeCyclesAndEscapes) {
 TEST(ParserReader, BrokenInlineIsAWarningAndTheSceneLoads) {
     TempDir dir("inline_broken");
     dir.write("bad.wrl", "#VRML V2.0 utf8\nShape { geometry Box { size 1 } }\n");
-    fs::path main = dir.write("main.wrl", "#VRML V2.0 utf8\nInline { url \"bad.wrl\" }\nShape { geometry Box {} }\n");
+    fs::path main = dir.write(
+        "main.wrl", "#VRML V2.0 utf8\nInline { url \"bad.wrl\" }\nShape { geometry Box {} }\n");
     LoadedScene s = load_scene(main);
     EXPECT_TRUE(s.ok()) << errors(s);
     EXPECT_NE(errors(s).find("warning: Inline file not used"), std::string::npos);
@@ -244,7 +264,9 @@ TEST(ParserReader, BrokenInlineIsAWarningAndTheSceneLoads) {
 
 TEST(ParserReader, ExternProtoFromLocalFileAndBuiltinUrn) {
     TempDir dir("externproto");
-    dir.write("lib.wrl", "#VRML V2.0 utf8\nPROTO Other [] { Group {} }\nPROTO Ball [ field SFFloat r 1 ] { Sphere { radius IS r } }\n");
+    dir.write("lib.wrl",
+              "#VRML V2.0 utf8\nPROTO Other [] { Group {} }\nPROTO Ball [ field SFFloat r 1 ] { "
+              "Sphere { radius IS r } }\n");
     fs::path main = dir.write("main.wrl", R"(#VRML V2.0 utf8
 EXTERNPROTO Ball [ field SFFloat r ] "lib.wrl#Ball"
 EXTERNPROTO MyShape [ exposedField SFNode geometry ] [ "urn:web3d:vrml97:node:Shape" ]
@@ -265,12 +287,13 @@ Gone { r 2 }
 }
 
 TEST(ParserReader, LargeExportsLoad) {
-    // PyMOL writes a Transform + Shape + Appearance + Material + Sphere per atom; Jmol USEs one mesh
-    // thousands of times under scaled Transforms.
+    // PyMOL writes a Transform + Shape + Appearance + Material + Sphere per atom; Jmol USEs one
+    // mesh thousands of times under scaled Transforms.
     std::string text = "#VRML V2.0 utf8\nDEF ATOM Shape { geometry Sphere { radius 1 } }\n";
     for (int i = 0; i < 60000; ++i) {
         text += "Transform { translation " + std::to_string(i % 97) + " " + std::to_string(i % 89) +
-                " 0 children [ Shape { appearance Appearance { material Material { diffuseColor 1 0 0 } } "
+                " 0 children [ Shape { appearance Appearance { material Material { diffuseColor 1 "
+                "0 0 } } "
                 "geometry Sphere { radius 0.5 } } ] }\n";
     }
     for (int i = 0; i < 10000; ++i) text += "Transform { scale 0.5 0.5 0.5 children USE ATOM }\n";

@@ -40,8 +40,8 @@ TEST(ParserValues, NumberSpellings) {
     struct Case {
         const char* text;
         double value;
-    } cases[] = {{"1.", 1.0},  {".5", 0.5},   {"-0", 0.0},     {"1E+5", 1e5},   {"+.25", 0.25},
-                 {"-1e-3", -1e-3}, {"3", 3.0}, {"0x10", 16.0}, {"1.5e300", 1.5e300}};
+    } cases[] = {{"1.", 1.0},      {".5", 0.5}, {"-0", 0.0},    {"1E+5", 1e5},       {"+.25", 0.25},
+                 {"-1e-3", -1e-3}, {"3", 3.0},  {"0x10", 16.0}, {"1.5e300", 1.5e300}};
     for (const Case& c : cases) {
         Parsed p = parse(c.text, SF(ValueKind::Float));
         ASSERT_EQ(p.error, "") << c.text;
@@ -78,7 +78,11 @@ TEST(ParserValues, StringEscapes) {
     ASSERT_EQ(p.error, "");
     EXPECT_EQ(p.view().strings[0], "a\"b\\c");
     EXPECT_EQ(parse(R"("multi
-line")", SF(ValueKind::String)).view().strings[0], "multi\nline");
+line")",
+                    SF(ValueKind::String))
+                  .view()
+                  .strings[0],
+              "multi\nline");
     EXPECT_NE(parse(R"("open)", SF(ValueKind::String)).error, "");
 }
 
@@ -113,7 +117,9 @@ TEST(ParserValues, AllVectorKinds) {
     EXPECT_EQ(parse("1 2 3", SF(ValueKind::Vec3d)).view().numbers.size(), 3u);
     EXPECT_EQ(parse("1 0 0 1", SF(ValueKind::ColorRGBA)).view().numbers.size(), 4u);
     EXPECT_EQ(parse("1 0 0 0 1 0 0 0 1", SF(ValueKind::Matrix3f)).view().numbers.size(), 9u);
-    EXPECT_EQ(parse("1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1", SF(ValueKind::Matrix4d)).view().numbers.size(), 16u);
+    EXPECT_EQ(
+        parse("1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1", SF(ValueKind::Matrix4d)).view().numbers.size(),
+        16u);
     EXPECT_EQ(parse("12.5", SF(ValueKind::Time)).view().numbers[0], 12.5);
     EXPECT_EQ(parse("0.25", SF(ValueKind::Double)).view().numbers[0], 0.25);
 }

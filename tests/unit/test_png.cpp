@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
+#include "flatten/flatten.h"
 #include "image/image.h"
 #include "image/oiio_module.h"
 #include "image/png.h"
 #include "image/texture_file.h"
 #include "parser/load.h"
-#include "flatten/flatten.h"
 #include "scene/build.h"
 
 namespace vr {

@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "parser/load.h"
 #include "flatten/flatten.h"
+#include "parser/load.h"
 #include "render/render.h"
 #include "scene/build.h"
 

@@ -1,5 +1,5 @@
-// render_tiles (what vrmlray render uses to encode 8-bit files as it traces), freeing the scene's sphere
-// records before the first ray, and the tracer's memory per sphere.
+// render_tiles (what vrmlray render uses to encode 8-bit files as it traces), freeing the scene's
+// sphere records before the first ray, and the tracer's memory per sphere.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +27,8 @@ FlatScene mixed_scene() {
     glass.transparency = 0.6;
     Material gas;
     gas.diffuse = Vec3(0.3, 0.5, 0.9);
-    const uint32_t a = add_shading(scene, red), b = add_shading(scene, glass), c = add_shading(scene, gas);
+    const uint32_t a = add_shading(scene, red), b = add_shading(scene, glass),
+                   c = add_shading(scene, gas);
     add_sphere(scene, Vec3(-1.0, 0.0, 0.0), 0.8, a);
     add_sphere(scene, Vec3(1.0, 0.3, 0.5), 0.6, b);
     add_sphere(scene, Vec3(0.2, -0.6, 1.0), 0.5, c);
@@ -41,7 +42,8 @@ FlatScene mixed_scene() {
     return scene;
 }
 
-RenderOptions options_for(const FlatScene& scene, Camera& camera, const std::string& sampler, int threads) {
+RenderOptions options_for(const FlatScene& scene, Camera& camera, const std::string& sampler,
+                          int threads) {
     RenderOptions o;
     o.width = 37;  // not a multiple of the 16-pixel tiles
     o.height = 23;
@@ -52,8 +54,8 @@ RenderOptions options_for(const FlatScene& scene, Camera& camera, const std::str
     return o;
 }
 
-// The sink sees every pixel exactly once, and the tiles put together are render_image's image, bit for
-// bit, for a sampler that traces one ray a pixel and one that shares corners between pixels.
+// The sink sees every pixel exactly once, and the tiles put together are render_image's image, bit
+// for bit, for a sampler that traces one ray a pixel and one that shares corners between pixels.
 TEST(RenderTiles, EveryPixelOnceAndTheSameAsTheImage) {
     const FlatScene scene = mixed_scene();
     for (const char* sampler : {"center", "quincunx"}) {
@@ -62,22 +64,25 @@ TEST(RenderTiles, EveryPixelOnceAndTheSameAsTheImage) {
         RenderStats stats;
         const Image reference = render_image(scene, camera, o, nullptr, stats);
         Image assembled(o.width, o.height);
-        std::vector<int> seen(size_t(o.width) * o.height, 0);  // tiles are disjoint: no two threads share one
-        render_tiles(scene, camera, o, nullptr, stats, [&](int x0, int y0, int x1, int y1, const float* rgba) {
-            ASSERT_TRUE(0 <= x0 && x0 < x1 && x1 <= o.width && 0 <= y0 && y0 < y1 && y1 <= o.height);
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x, rgba += 4) {
-                    ++seen[size_t(y) * o.width + x];
-                    std::copy(rgba, rgba + 4, assembled.pixel(x, y));
-                }
-        });
+        std::vector<int> seen(size_t(o.width) * o.height,
+                              0);  // tiles are disjoint: no two threads share one
+        render_tiles(scene, camera, o, nullptr, stats,
+                     [&](int x0, int y0, int x1, int y1, const float* rgba) {
+                         ASSERT_TRUE(0 <= x0 && x0 < x1 && x1 <= o.width && 0 <= y0 && y0 < y1 &&
+                                     y1 <= o.height);
+                         for (int y = y0; y < y1; ++y)
+                             for (int x = x0; x < x1; ++x, rgba += 4) {
+                                 ++seen[size_t(y) * o.width + x];
+                                 std::copy(rgba, rgba + 4, assembled.pixel(x, y));
+                             }
+                     });
         for (int count : seen) ASSERT_EQ(count, 1);
         EXPECT_TRUE(assembled.rgba == reference.rgba) << sampler;
     }
 }
 
-// Past --timeout the remaining tiles still reach the sink, as zeros, so a caller never holds pixels that
-// nothing wrote.
+// Past --timeout the remaining tiles still reach the sink, as zeros, so a caller never holds pixels
+// that nothing wrote.
 TEST(RenderTiles, TilesSkippedAtTheTimeoutAreZero) {
     const FlatScene scene = mixed_scene();
     Camera camera;
@@ -85,18 +90,19 @@ TEST(RenderTiles, TilesSkippedAtTheTimeoutAreZero) {
     o.timeout = 1e-9;
     RenderStats stats;
     size_t pixels = 0, nonzero = 0;
-    render_tiles(scene, camera, o, nullptr, stats, [&](int x0, int y0, int x1, int y1, const float* rgba) {
-        const size_t n = size_t(x1 - x0) * size_t(y1 - y0);
-        pixels += n;
-        for (size_t i = 0; i < 4 * n; ++i) nonzero += rgba[i] != 0.0f;
-    });
+    render_tiles(scene, camera, o, nullptr, stats,
+                 [&](int x0, int y0, int x1, int y1, const float* rgba) {
+                     const size_t n = size_t(x1 - x0) * size_t(y1 - y0);
+                     pixels += n;
+                     for (size_t i = 0; i < 4 * n; ++i) nonzero += rgba[i] != 0.0f;
+                 });
     EXPECT_TRUE(stats.timed_out);
     EXPECT_EQ(pixels, size_t(o.width) * o.height);
     EXPECT_EQ(nonzero, 0u);
 }
 
-// vrmlray render frees the scene's 40-byte sphere records once the tracer and the gas volume hold their
-// copies: the image must not change (shading, surfaces and gas no longer read them).
+// vrmlray render frees the scene's 40-byte sphere records once the tracer and the gas volume hold
+// their copies: the image must not change (shading, surfaces and gas no longer read them).
 TEST(RenderTiles, FreeingTheSphereRecordsChangesNoPixel) {
     const FlatScene scene = mixed_scene();
     Camera camera;
@@ -119,12 +125,14 @@ TEST(RenderTiles, TracerHoldsASphereInUnder100Bytes) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     const size_t n = 200000;
-    for (size_t i = 0; i < n; ++i) add_sphere(scene, Vec3(u(rng), u(rng), u(rng)) * 50.0, 0.3, shading);
+    for (size_t i = 0; i < n; ++i)
+        add_sphere(scene, Vec3(u(rng), u(rng), u(rng)) * 50.0, 0.3, shading);
     Accel accel;
     accel.build(scene, 2);
     const double per_sphere = double(accel.held_bytes()) / double(n);
     EXPECT_LT(per_sphere, 100.0);
-    EXPECT_GT(per_sphere, 40.0);  // the geometry alone is 40: a smaller figure would not count it all
+    EXPECT_GT(per_sphere,
+              40.0);  // the geometry alone is 40: a smaller figure would not count it all
 }
 
 }  // namespace

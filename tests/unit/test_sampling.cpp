@@ -1,6 +1,6 @@
-// The pixel samplers (SPEC section 7): where each puts its samples, how it weighs them, and how fast
-// its error falls on pixels whose exact value is known (a half-plane edge through the pixel, a disc
-// of known area).
+// The pixel samplers (SPEC section 7): where each puts its samples, how it weighs them, and how
+// fast its error falls on pixels whose exact value is known (a half-plane edge through the pixel, a
+// disc of known area).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -96,7 +96,8 @@ TEST(Sampling, FixedPatternsCountAndPlace) {
     EXPECT_DOUBLE_EQ(p[0].x, 1.0 / 6.0);
     EXPECT_DOUBLE_EQ(p[8].y, 5.0 / 6.0);
 
-    for (auto [name, spp] : {std::pair{"rgss", 4}, {"rgss", 16}, {"rooks8", 8}, {"rooks8", 72}, {"jitter", 64}}) {
+    for (auto [name, spp] :
+         {std::pair{"rgss", 4}, {"rgss", 16}, {"rooks8", 8}, {"rooks8", 72}, {"jitter", 64}}) {
         const PixelSampler s = sampler_for(name, spp, 7);
         fixed_offsets(s, 3, 5, p);
         ASSERT_EQ(int(p.size()), spp) << name;
@@ -110,8 +111,9 @@ TEST(Sampling, FixedPatternsCountAndPlace) {
 }
 
 // rgss and rooks8: inside every tile cell each row and each column of the pattern's lattice (4 x 4
-// and 8 x 8) holds exactly one sample -- the property that smooths near-horizontal and near-vertical
-// edges as well as a 4 x 4 (8 x 8) grid would with a quarter (an eighth) of the samples.
+// and 8 x 8) holds exactly one sample -- the property that smooths near-horizontal and
+// near-vertical edges as well as a 4 x 4 (8 x 8) grid would with a quarter (an eighth) of the
+// samples.
 TEST(Sampling, RooksPatternsHaveOneSamplePerRowAndColumn) {
     for (auto [name, base] : {std::pair{"rgss", 4}, {"rooks8", 8}}) {
         for (int m : {1, 2, 3}) {
@@ -158,14 +160,22 @@ TEST(Sampling, QuincunxSharesCornersWithWeightsOneEighth) {
     int rays = 0;
     // f = 1 only at the top-left corner tap, 3 at the centre
     SampleValue v = one_pixel(
-        s, [](double x, double y) { return x == 0 && y == 0 ? 1.0 : (x == 0.5 && y == 0.5 ? 3.0 : 0.0); }, &rays);
+        s,
+        [](double x, double y) {
+            return x == 0 && y == 0 ? 1.0 : (x == 0.5 && y == 0.5 ? 3.0 : 0.0);
+        },
+        &rays);
     EXPECT_EQ(rays, 5);
     EXPECT_DOUBLE_EQ(v.color.x, 0.125 + 1.5);
 
     SamplerScratch scratch;
     int count = 0;
     sample_tile(
-        s, 0, 0, 16, 16, scratch, [&](double, double) { ++count; return value(0.25); },
+        s, 0, 0, 16, 16, scratch,
+        [&](double, double) {
+            ++count;
+            return value(0.25);
+        },
         [&](int, int, const SampleValue& p) { EXPECT_DOUBLE_EQ(p.color.x, 0.25); });
     EXPECT_EQ(count, 256 + 17 * 17);
 }
@@ -179,7 +189,8 @@ TEST(Sampling, AdaptiveSubdividesOnlyWhereTapsDiffer) {
     std::string error;
     ASSERT_TRUE(make_sampler(o, s, error));
     int rays = 0;
-    SampleValue flat = one_pixel(s, [](double, double) { return 0.7; }, &rays);
+    SampleValue flat = one_pixel(
+        s, [](double, double) { return 0.7; }, &rays);
     EXPECT_EQ(rays, 5);
     EXPECT_DOUBLE_EQ(flat.color.x, 0.7);
 
@@ -225,7 +236,8 @@ struct Edge {
 };
 
 // Random lines through the pixel, offset so that the line crosses the square; direction uniform, or
-// within `spread` radians of the axes (the near-horizontal and near-vertical edges that stair-step).
+// within `spread` radians of the axes (the near-horizontal and near-vertical edges that
+// stair-step).
 std::vector<Edge> random_edges(int count, double spread = kPi) {
     std::mt19937_64 rng(12345);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -246,7 +258,8 @@ std::pair<double, double> edge_errors(const PixelSampler& s, const std::vector<E
     for (size_t i = 0; i < edges.size(); ++i) {
         const Edge& e = edges[i];
         const SampleValue v = one_pixel(
-            s, [&](double x, double y) { return glm::dot(e.n, Vec2(x, y)) < e.c ? 1.0 : 0.0; }, nullptr, int(i), 3);
+            s, [&](double x, double y) { return glm::dot(e.n, Vec2(x, y)) < e.c ? 1.0 : 0.0; },
+            nullptr, int(i), 3);
         const double err = v.color.x - covered_area(e.n, e.c);
         sum2 += err * err;
         sum += err;
@@ -277,9 +290,10 @@ TEST(Sampling, EdgeCoverageConvergesAsExpected) {
     EXPECT_LT(std::abs(bias256), 4 * j256 / std::sqrt(2000.0));
 
     // The seed's claim for RGSS and 8 rooks: on near-horizontal and near-vertical edges they beat a
-    // grid of as many or more samples, because every sample has its own row and column (a 2 x 2 grid
-    // can only say 0, 1/2 or 1 for a vertical edge, RGSS quarters). Measured on edges within 10
-    // degrees of the axes: rgss (4) against the 2 x 2 grid, the 8 rooks against the 3 x 3 grid (9).
+    // grid of as many or more samples, because every sample has its own row and column (a 2 x 2
+    // grid can only say 0, 1/2 or 1 for a vertical edge, RGSS quarters). Measured on edges within
+    // 10 degrees of the axes: rgss (4) against the 2 x 2 grid, the 8 rooks against the 3 x 3 grid
+    // (9).
     const std::vector<Edge> axis_edges = random_edges(2000, 10.0 * kPi / 180.0);
     EXPECT_LT(edge_errors(sampler_for("rgss", 4), axis_edges).first,
               0.75 * edge_errors(sampler_for("grid", 4), axis_edges).first);
@@ -287,8 +301,8 @@ TEST(Sampling, EdgeCoverageConvergesAsExpected) {
               0.75 * edge_errors(sampler_for("grid", 9), axis_edges).first);
 }
 
-// Statistical: stops once the standard error of the mean is below the threshold. A pixel cut in half
-// by an edge gives Bernoulli(0.5) samples, standard deviation 0.5: it needs about (0.5 / t)^2
+// Statistical: stops once the standard error of the mean is below the threshold. A pixel cut in
+// half by an edge gives Bernoulli(0.5) samples, standard deviation 0.5: it needs about (0.5 / t)^2
 // samples, and its mean lies within a few standard errors of 0.5 (the first 16 samples are
 // stratified over a 4 x 4 grid, so the edge is always seen). A flat pixel stops after the minimum;
 // an unreachable threshold stops at the cap.
@@ -325,12 +339,14 @@ TEST(Sampling, StatisticalStopsAtItsThreshold) {
     EXPECT_NEAR(total / 50, 100.0, 25.0);  // the rule estimates the variance, so the count scatters
 
     int rays = 0;
-    one_pixel(s, [](double, double) { return 0.3; }, &rays);
+    one_pixel(
+        s, [](double, double) { return 0.3; }, &rays);
     EXPECT_EQ(rays, s.min_samples);
 }
 
 // A disc of known area: an emissive unit sphere seen orthographically fills pi/(pixel area) pixels'
-// worth of value; the image sum converges to it as the grid refines, and every sampler lands near it.
+// worth of value; the image sum converges to it as the grid refines, and every sampler lands near
+// it.
 TEST(Sampling, DiscAreaConverges) {
     FlatScene scene = testing::empty_scene();
     Material m;
@@ -362,11 +378,16 @@ TEST(Sampling, DiscAreaConverges) {
             for (int x = 0; x < 40; ++x) sum += img.pixel(x, y)[0];
         return std::abs(sum / (16.0 * 16.0) - kPi) / kPi;
     };
-    const double e1 = area_error("grid", 1), e16 = area_error("grid", 16), e256 = area_error("grid", 256);
+    const double e1 = area_error("grid", 1), e16 = area_error("grid", 16),
+                 e256 = area_error("grid", 256);
     EXPECT_LT(e16, e1);
     EXPECT_LT(e256, 2e-3);  // about 2 pi r / pixel edge pixels, each off by far less than 1/16
-    for (auto [name, spp] : {std::pair{"rgss", 16}, {"rooks8", 32}, {"jitter", 64}, {"quincunx", 1},
-                             {"adaptive", 1}, {"statistical", 1}})
+    for (auto [name, spp] : {std::pair{"rgss", 16},
+                             {"rooks8", 32},
+                             {"jitter", 64},
+                             {"quincunx", 1},
+                             {"adaptive", 1},
+                             {"statistical", 1}})
         EXPECT_LT(area_error(name, spp), 1e-2) << name;
 }
 
@@ -378,7 +399,8 @@ TEST(Sampling, SameImageForAnyThreadCount) {
     m.emissive = Vec3(0.5, 0.2, 0.9);
     testing::add_sphere(scene, Vec3(0.3, 0.1, 0.0), 1.0, testing::add_shading(scene, m));
     scene.viewpoints.push_back(testing::look_from(Vec3(0.0, 0.0, 6.0), 0.6));
-    for (auto [name, spp] : {std::pair{"jitter", 16}, {"statistical", 1}, {"adaptive", 1}, {"quincunx", 1}}) {
+    for (auto [name, spp] :
+         {std::pair{"jitter", 16}, {"statistical", 1}, {"adaptive", 1}, {"quincunx", 1}}) {
         Image img[2];
         for (int t = 0; t < 2; ++t) {
             RenderOptions o;

@@ -166,7 +166,8 @@ TEST(SceneBuild, ChildrenKeepTheirOrderAcrossNestedGroups) {
         if (std::holds_alternative<sg::Box>(g)) return "box";
         if (std::holds_alternative<sg::Cone>(g)) return "cone";
         if (std::holds_alternative<sg::Cylinder>(g)) return "cylinder";
-        if (const auto* sphere = std::get_if<sg::Sphere>(&g)) return "sphere " + std::to_string(int(sphere->radius));
+        if (const auto* sphere = std::get_if<sg::Sphere>(&g))
+            return "sphere " + std::to_string(int(sphere->radius));
         return "?";
     };
     auto list = [&](sg::Index g) {
@@ -228,8 +229,9 @@ TEST(SceneBuild, ContentEqualMaterialsAppearancesAndSpheresMerge) {
     for (int i = 0; i < 4; ++i) {
         const char* colour = i % 2 ? "0.2 0.3 1" : "0.5 0.5 0.5";
         body += "Transform { translation " + std::to_string(i) +
-                " 0 0 children Shape { appearance Appearance { material Material { diffuseColor " + colour +
-                " specularColor 0.3 0.3 0.3 } } geometry Sphere { radius " + (i < 3 ? "0.5" : "0.7") + " } } }\n";
+                " 0 0 children Shape { appearance Appearance { material Material { diffuseColor " +
+                colour + " specularColor 0.3 0.3 0.3 } } geometry Sphere { radius " +
+                (i < 3 ? "0.5" : "0.7") + " } } }\n";
     }
     const Built b = build(body);
     const Scene& s = b.scene;

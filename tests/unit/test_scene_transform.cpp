@@ -53,8 +53,9 @@ TEST(SceneTransform, TranslationOnlyShortcutMatchesTheProductsExactly) {
         S[0][0] = f.scale.x;
         S[1][1] = f.scale.y;
         S[2][2] = f.scale.z;
-        return translation4(f.translation) * translation4(f.center) * Mat4(rotation_matrix(f.rotation)) *
-               Mat4(sr) * S * Mat4(glm::transpose(sr)) * translation4(-f.center);
+        return translation4(f.translation) * translation4(f.center) *
+               Mat4(rotation_matrix(f.rotation)) * Mat4(sr) * S * Mat4(glm::transpose(sr)) *
+               translation4(-f.center);
     };
     uint64_t state = 12345;
     auto next = [&] {
@@ -66,7 +67,8 @@ TEST(SceneTransform, TranslationOnlyShortcutMatchesTheProductsExactly) {
     for (int i = 0; i < 2000; ++i) {
         TransformFields f;
         f.translation = Vec3(next(), next(), next());
-        if (i < 343) f.translation = Vec3(specials[i % 7], specials[i / 7 % 7], specials[i / 49 % 7]);
+        if (i < 343)
+            f.translation = Vec3(specials[i % 7], specials[i / 7 % 7], specials[i / 49 % 7]);
         const Mat4 fast = transform_matrix(f), slow = by_products(f);
         ASSERT_EQ(std::memcmp(&fast, &slow, sizeof(Mat4)), 0)
             << f.translation.x << " " << f.translation.y << " " << f.translation.z;

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "flatten/flatten.h"
 #include "image/image.h"
 #include "parser/load.h"
 #include "render/camera.h"
-#include "flatten/flatten.h"
 #include "render/render.h"
 #include "scene/build.h"
 

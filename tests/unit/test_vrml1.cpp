@@ -72,18 +72,18 @@ TEST(Vrml1, EveryCorpusFileLoads) {
     size_t files = 0;
     // RasMol's exports (molecular/rasmol) are VRML 1.0 too.
     for (const fs::path& root : {corpus / "vrml1", corpus / "molecular/rasmol"})
-    for (const auto& entry : fs::recursive_directory_iterator(root)) {
-        if (entry.path().extension() != ".wrl") continue;
-        ++files;
-        vr::LoadedScene scene = vr::load_scene(entry.path());
-        EXPECT_TRUE(scene.ok()) << entry.path() << "\n" << errors(scene);
-        EXPECT_EQ(scene.encoding, vr::Encoding::Vrml1) << entry.path();
-        EXPECT_FALSE(scene.tree.roots.empty()) << entry.path();
-        // The upgraded tree holds VRML97 nodes only.
-        for (const vr::Node& n : scene.tree.nodes)
-            EXPECT_NE(scene.tree.kinds[n.kind].decl->spec, vr::Spec::Vrml1)
-                << entry.path() << ": " << vr::name_text(scene.tree.kinds[n.kind].type);
-    }
+        for (const auto& entry : fs::recursive_directory_iterator(root)) {
+            if (entry.path().extension() != ".wrl") continue;
+            ++files;
+            vr::LoadedScene scene = vr::load_scene(entry.path());
+            EXPECT_TRUE(scene.ok()) << entry.path() << "\n" << errors(scene);
+            EXPECT_EQ(scene.encoding, vr::Encoding::Vrml1) << entry.path();
+            EXPECT_FALSE(scene.tree.roots.empty()) << entry.path();
+            // The upgraded tree holds VRML97 nodes only.
+            for (const vr::Node& n : scene.tree.nodes)
+                EXPECT_NE(scene.tree.kinds[n.kind].decl->spec, vr::Spec::Vrml1)
+                    << entry.path() << ": " << vr::name_text(scene.tree.kinds[n.kind].type);
+        }
     EXPECT_GE(files, 11u);  // 9 in vrml1/, 2 RasMol exports
 }
 

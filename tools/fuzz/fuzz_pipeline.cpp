@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string>
 
-#include "parser/load.h"
 #include "flatten/flatten.h"
+#include "parser/load.h"
 #include "render/render.h"
 #include "scene/build.h"
 
@@ -14,7 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!text.empty() && (text[0] & 1)) text = "#VRML V2.0 utf8\n" + text;
     vr::LoadOptions options;
     options.limits.max_nodes = 20000;
-    vr::LoadedScene loaded = vr::load_scene_text(std::move(text), "/nonexistent/fuzz/input.wrl", options);
+    vr::LoadedScene loaded =
+        vr::load_scene_text(std::move(text), "/nonexistent/fuzz/input.wrl", options);
     if (!loaded.ok()) return 0;
     vr::Diagnostics diagnostics;
     vr::Scene scene = vr::build_scene(loaded, diagnostics);

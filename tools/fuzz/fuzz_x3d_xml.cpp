@@ -10,7 +10,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (text.empty() || text[0] != '<') text = "<?xml version=\"1.0\"?>\n" + text;
     vr::LoadOptions options;
     options.limits.max_nodes = 200000;
-    vr::LoadedScene scene = vr::load_scene_text(std::move(text), "/nonexistent/fuzz/input.x3d", options);
+    vr::LoadedScene scene =
+        vr::load_scene_text(std::move(text), "/nonexistent/fuzz/input.x3d", options);
     (void)scene.diagnostics.format(scene.sources);
     return 0;
 }
