@@ -2,30 +2,11 @@
 # The command line on every file of the outside corpus of real files (../shared/corpus, or VRMLRAY_CORPUS):
 # broken files fail cleanly, every other file loads and renders with no non-finite value.
 # Usage: run_cli_corpus.sh VRMLRAY_BINARY SOURCE_DIR WORK_DIR. Exit 77 (skipped) when there is no corpus.
-set -u
-bin=$1
-src=$2
-work=$3
+# shellcheck source=tests/cli/common.sh
+. "$(dirname "$0")/common.sh"
 # shellcheck source=tests/cli/corpus_lookup.sh
 . "$src/tests/cli/corpus_lookup.sh"
-rm -rf "$work"
-mkdir -p "$work"
-passed=0
-failed=0
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-pass() { passed=$((passed + 1)); }
 
-# expect CODE DESCRIPTION -- COMMAND...: the command must exit with CODE.
-expect() {
-    local code=$1 what=$2
-    shift 3
-    "$@" >"$work/out.txt" 2>"$work/err.txt"
-    local got=$?
-    if [ "$got" -eq "$code" ]; then pass; else fail "$what: exit $got, expected $code"; sed 's/^/    /' "$work/err.txt" | head -5; fi
-}
-
-# A broken corpus file lives under a folder named bad, warnings or errors.
-is_broken() { case "$1" in */bad/*|*/warnings/*|*/errors/*) return 0;; *) return 1;; esac; }
 scene_files() {
     find "$corpus" -type f \( -name '*.wrl' -o -name '*.wrl.gz' -o -name '*.wrz' -o -name '*.x3dv' -o -name '*.x3d' \
         -o -name '*.x3dz' -o -name '*.x3dvz' \) -print0 | sort -z

@@ -2,34 +2,8 @@
 # Whole-program tests of the vrmlray command line: exit codes, messages, tests/corpus, golden images.
 # The outside corpus of real files is tested by run_cli_corpus.sh.
 # Usage: run_cli_tests.sh VRMLRAY_BINARY SOURCE_DIR WORK_DIR
-set -u
-bin=$1
-src=$2
-work=$3
-# Start clean: a rerun must never compare files an earlier run left behind.
-rm -rf "$work"
-mkdir -p "$work"
-passed=0
-failed=0
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-pass() { passed=$((passed + 1)); }
-
-# expect CODE DESCRIPTION -- COMMAND...: the command must exit with CODE.
-expect() {
-    local code=$1 what=$2
-    shift 3
-    "$@" >"$work/out.txt" 2>"$work/err.txt"
-    local got=$?
-    if [ "$got" -eq "$code" ]; then pass; else fail "$what: exit $got, expected $code"; sed 's/^/    /' "$work/err.txt" | head -5; fi
-}
-
-# expect_stderr PATTERN DESCRIPTION: the last command's stderr matches the extended regex.
-expect_stderr() {
-    if grep -Eq -- "$1" "$work/err.txt"; then pass; else fail "$2: stderr lacks /$1/"; sed 's/^/    /' "$work/err.txt" | head -5; fi
-}
-
-# A broken corpus file lives under a folder named bad, warnings or errors.
-is_broken() { case "$1" in */bad/*|*/warnings/*|*/errors/*) return 0;; *) return 1;; esac; }
+# shellcheck source=tests/cli/common.sh
+. "$(dirname "$0")/common.sh"
 
 # --- exit codes and messages (SPEC section 1) ---------------------------------------------------------
 expect 2 "no subcommand" -- "$bin"
