@@ -4,7 +4,7 @@
 # removes the package again. Usage: tools/test_deb.sh [BUILD_DIR] (default build/, configured and built).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-build=${1:-$root/build}
+build=$(realpath "${1:-$root/build}")
 (cd "$build" && rm -f vrmlray_*.deb && cpack -G DEB >/dev/null)
 deb=$(ls "$build"/vrmlray_*.deb)
 export DEBIAN_FRONTEND=noninteractive
