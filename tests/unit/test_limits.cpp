@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "temp_path.h"
+
 namespace vr {
 namespace {
 
@@ -23,7 +25,7 @@ struct Outcome {
 
 class Limits : public ::testing::Test {
   protected:
-    fs::path dir = fs::temp_directory_path() / "vrmlray_test_limits";
+    fs::path dir = vr::test::temp_path("vrmlray_test_limits");
     void SetUp() override {
         fs::remove_all(dir);
         fs::create_directories(dir);

@@ -8,6 +8,7 @@
 
 #include "parser/load.h"
 #include "parser/registry.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -56,7 +57,7 @@ TEST(NodeTreePacking, NodesOfOneKindShareAnEntry) {
         "Transform { children [ Shape { geometry Sphere {} } ] }\n"
         "Transform { children [ Shape { geometry Sphere {} } ] }\n"
         "Shape { geometry Box {} }\n",
-        (fs::temp_directory_path() / "kinds.wrl").string());
+        (vr::test::temp_path("kinds") / "kinds.wrl").string());
     ASSERT_TRUE(s.ok()) << s.diagnostics.format(s.sources);
     EXPECT_EQ(s.tree.nodes.size(), 8u);
     EXPECT_EQ(s.tree.kinds.size(), 5u);  // (none), Sphere, Shape, Transform, Box
@@ -70,7 +71,7 @@ TEST(NodeTreePacking, NodesOfOneKindShareAnEntry) {
 // Regression guard for the packed place: a field read from the second of three Inline files
 // reports that file and its own line and column.
 TEST(NodeTreePacking, FieldPlaceInSecondInlineFileIsExact) {
-    const fs::path dir = fs::temp_directory_path() / "vrmlray_test_packing";
+    const fs::path dir = vr::test::temp_path("vrmlray_test_packing");
     fs::remove_all(dir);
     fs::create_directories(dir);
     auto write = [&](const std::string& name, const std::string& text) {

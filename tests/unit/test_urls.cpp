@@ -12,6 +12,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -28,8 +29,7 @@ size_t count_of(const std::string& text, const std::string& what) {
 
 struct TempDir {
     fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() / ("vrmlray_urls_" + name)) {
+    explicit TempDir(const std::string& name) : path(vr::test::temp_path("vrmlray_urls_" + name)) {
         fs::remove_all(path);
         fs::create_directories(path);
         path = fs::canonical(path);

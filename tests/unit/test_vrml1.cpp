@@ -6,6 +6,7 @@
 
 #include "corpus.h"
 #include "parser/load.h"
+#include "temp_path.h"
 #include "test_vrml1_support.h"
 
 namespace fs = std::filesystem;
@@ -434,7 +435,7 @@ Separator {
 }
 
 TEST(Vrml1, WwwInlineAndAnchor) {
-    const fs::path dir = fs::temp_directory_path() / "vrmlray_vrml1_inline";
+    const fs::path dir = vr::test::temp_path("vrmlray_vrml1_inline");
     fs::create_directories(dir);
     std::ofstream(dir / "part.wrl") << "#VRML V1.0 ascii\nSeparator { Cube { } }\n";
     std::ofstream(dir / "main.wrl")

@@ -9,6 +9,7 @@
 #include "corpus.h"
 #include "parser/load.h"
 #include "parser/tree_compare.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -214,7 +215,7 @@ TEST(X3dXml, ProtoInstanceGoesWhereItsFirstNodeBelongs) {
 }
 
 TEST(X3dXml, ExternProtoAndInlineResolveLocalFiles) {
-    const fs::path dir = fs::temp_directory_path() / "vrmlray_x3d_extern";
+    const fs::path dir = vr::test::temp_path("vrmlray_x3d_extern");
     fs::create_directories(dir);
     std::ofstream(dir / "lib.x3d") << scene_xml(R"(
 <ProtoDeclare name='Pillar'>
@@ -505,7 +506,7 @@ TEST(X3dXmlErrors, ExternalEntitiesAndDtdsAreNeverRead) {
     for (const std::string& str : s.tree.strings) EXPECT_EQ(str.find("root:"), std::string::npos);
     EXPECT_EQ(messages(s).find("root:"), std::string::npos);
     // A parameter entity naming a local DTD: refused before anything is loaded.
-    const fs::path dtd = fs::temp_directory_path() / "vrmlray_evil.dtd";
+    const fs::path dtd = vr::test::temp_path("vrmlray_evil.dtd");
     std::ofstream(dtd) << "<!ENTITY leak 'LEAKED'>\n<!this is not a DTD>\n";
     EXPECT_FALSE(read_xml("<?xml version='1.0'?>\n<!DOCTYPE X3D [ <!ENTITY % p SYSTEM 'file://" +
                           dtd.string() + "'> %p; ]>\n<X3D><Scene/></X3D>")

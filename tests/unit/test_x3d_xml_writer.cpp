@@ -10,6 +10,7 @@
 #include "parser/load.h"
 #include "parser/tree_compare.h"
 #include "parser/xml_writer.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -72,7 +73,7 @@ TEST(X3dXmlWriter, OutputValidatesWithXmllint) {
     if (!xmllint_available())
         GTEST_SKIP() << "xmllint not installed (apt-get install libxml2-utils)";
     VR_CORPUS_FOLDER(corpus, "");
-    const fs::path out = fs::temp_directory_path() / "vrmlray_xmllint";
+    const fs::path out = vr::test::temp_path("vrmlray_xmllint");
     fs::create_directories(out);
     size_t written = 0;
     for (const char* folder : {"vrml97", "x3dv", "x3d"}) {
