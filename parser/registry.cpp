@@ -60,7 +60,8 @@ std::string_view next_word(std::string_view& rest) {
 
 }  // namespace
 
-Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTree) {
+Registry::Registry(const std::vector<GrammarText>& texts)
+    : defaults_(std::make_unique<NodeTree>()) {
     for (const GrammarText& g : texts) {
         Spec spec = spec_of_file(g.file);
         auto& table = tables_[static_cast<int>(spec)];
@@ -165,7 +166,7 @@ Registry::Registry(const std::vector<GrammarText>& texts) : defaults_(new NodeTr
     }
 }
 
-Registry::~Registry() { delete defaults_; }
+Registry::~Registry() = default;
 
 const Registry& Registry::builtin() {
     static const Registry registry(embedded_grammar());

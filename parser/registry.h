@@ -2,6 +2,7 @@
 // The tables are the only place that knows field types and defaults.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -76,7 +77,8 @@ class Registry {
     // The same index as a table by Name (names are small dense integers): 1 + position, 0 for none.
     // Readers look a node type up for every node they read.
     std::vector<uint32_t> by_name_[5];
-    NodeTree* defaults_;  // owns the parsed default values
+    std::unique_ptr<NodeTree>
+        defaults_;  // the parsed default values (freed if the constructor throws)
 };
 
 }  // namespace vr

@@ -7,6 +7,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/tools/setup.sh"
 build=${VRMLRAY_BUILD:-$root/build}
+case "$build" in /*) ;; *) build=$root/$build ;; esac  # the summary reads $build/ctest-last.log after cd
 # shellcheck disable=SC2086
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release ${VRMLRAY_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build" -j"$(nproc)"
