@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <thread>
+#include <vector>
 
 namespace vr {
 namespace {
@@ -229,30 +231,37 @@ PngStatus read_png(const std::string& path, size_t max_pixels, PngPixels& pixels
 
 namespace {
 
+// One encoding of the image into memory.
+struct Encoding {
+    std::vector<uint8_t> bytes;
+    Messages messages;
+    bool ok = false;
+};
+
 struct Writer {
     png_structp png = nullptr;
     png_infop info = nullptr;
-    Messages messages;
     ~Writer() { png_destroy_write_struct(&png, info ? &info : nullptr); }
 };
 
+void append_bytes(png_structp png, png_bytep data, size_t count) {
+    auto* out = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(png));
+    out->insert(out->end(), data, data + count);
+}
+
+void no_flush(png_structp) {}
+
 // Filters: libpng's default for 8- and 16-bit images tries all five per row and keeps the one with
-// the smallest sum of absolute filtered bytes.
-bool write_rows(Writer& w, FILE* file, int width, int height, int channels, int bit_depth,
-                const uint8_t* samples, bool srgb, std::string& error) {
+// the smallest sum of absolute filtered bytes (the hand-written writer's rule too).
+bool encode_rows(Writer& w, Encoding& out, int width, int height, int channels, int bit_depth,
+                 const uint8_t* samples, bool srgb, int strategy) {
     static constexpr int kColourType[] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
                                           PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
     static char kKey[] = "Software", kValue[] = "vrmlray";
-    if (setjmp(png_jmpbuf(w.png))) {
-        error = w.messages.error;
-        return false;
-    }
-    png_init_io(w.png, file);
-    // zlib level 6 with its default strategy: on the golden images 4% fewer bytes than the
-    // filtered strategy libpng picks for filtered rows (and than the hand-written writer), at the
-    // same speed; level 9 saves 2% more but triples the encoding time of a 1920x1080 image.
-    png_set_compression_level(w.png, 6);
-    png_set_compression_strategy(w.png, Z_DEFAULT_STRATEGY);
+    if (setjmp(png_jmpbuf(w.png))) return false;
+    png_set_write_fn(w.png, &out.bytes, append_bytes, no_flush);
+    png_set_compression_level(w.png, 6);  // level 9 saves 2% more but triples the time
+    png_set_compression_strategy(w.png, strategy);
     png_set_IHDR(w.png, w.info, png_uint_32(width), png_uint_32(height), bit_depth,
                  kColourType[channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
@@ -272,6 +281,18 @@ bool write_rows(Writer& w, FILE* file, int width, int height, int channels, int 
     return true;
 }
 
+void encode(Encoding& out, int width, int height, int channels, int bit_depth,
+            const uint8_t* samples, bool srgb, int strategy) {
+    Writer w;
+    w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &out.messages, on_error, on_warning);
+    if (w.png) w.info = png_create_info_struct(w.png);
+    if (!w.info) {
+        std::snprintf(out.messages.error, sizeof out.messages.error, "out of memory");
+        return;
+    }
+    out.ok = encode_rows(w, out, width, height, channels, bit_depth, samples, srgb, strategy);
+}
+
 }  // namespace
 
 bool write_png(const std::string& path, int width, int height, int channels, int bit_depth,
@@ -286,20 +307,26 @@ bool write_png(const std::string& path, int width, int height, int channels, int
         error = std::strerror(errno);
         return false;
     }
-    bool ok = false;
-    {
-        Writer w;
-        w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &w.messages, on_error, on_warning);
-        if (w.png) w.info = png_create_info_struct(w.png);
-        if (!w.info)
-            error = "out of memory";
-        else
-            ok = write_rows(w, f.get(), width, height, channels, bit_depth,
-                            static_cast<const uint8_t*>(samples), srgb, error);
-    }
+    // zlib's filtered strategy (the hand-written writer's) and its default strategy each win on
+    // some images: the default is 4% smaller over the golden images, the filtered one up to 6%
+    // smaller on gas images. Both are encoded, one per core, and the smaller is kept, so a file
+    // is never larger than the hand-written writer's and the wall time stays that of one.
+    const auto* bytes = static_cast<const uint8_t*>(samples);
+    Encoding filtered, plain;
+    std::thread other(
+        [&] { encode(filtered, width, height, channels, bit_depth, bytes, srgb, Z_FILTERED); });
+    encode(plain, width, height, channels, bit_depth, bytes, srgb, Z_DEFAULT_STRATEGY);
+    other.join();
+    const Encoding& best = !filtered.ok || (plain.ok && plain.bytes.size() <= filtered.bytes.size())
+                               ? plain
+                               : filtered;
+    bool ok = best.ok;
+    if (!ok) error = best.messages.error;
+    if (ok && std::fwrite(best.bytes.data(), 1, best.bytes.size(), f.get()) != best.bytes.size())
+        ok = false;
     const bool flushed = std::fflush(f.get()) == 0 && !std::ferror(f.get());
     const bool closed = std::fclose(f.release()) == 0;
-    if (ok && (!flushed || !closed)) {
+    if (best.ok && (!ok || !flushed || !closed)) {
         error = std::string("write error: ") + std::strerror(errno);
         ok = false;
     }
