@@ -50,48 +50,49 @@ enum class Kind : uint8_t {
     Silent,
 };
 
-// The node's role in grammar/vrml1.nodes ("Name : Role {") as the upgrade's kind.
+// The roles of grammar/vrml1.nodes ("Name : Role {") as the upgrade's kinds.
+constexpr std::pair<const char*, Kind> kRoles[] = {
+    {"Separator", Kind::Separator},
+    {"Group", Kind::Group},
+    {"TransformSeparator", Kind::TransformSeparator},
+    {"Switch", Kind::Switch},
+    {"LOD", Kind::LOD},
+    {"Anchor", Kind::Anchor},
+    {"Inline", Kind::Inline},
+    {"Material", Kind::Material},
+    {"MaterialBinding", Kind::MaterialBinding},
+    {"NormalBinding", Kind::NormalBinding},
+    {"Coordinate3", Kind::Coordinate3},
+    {"Normal", Kind::Normal},
+    {"TextureCoordinate2", Kind::TextureCoordinate2},
+    {"Texture2", Kind::Texture2},
+    {"Texture2Transform", Kind::Texture2Transform},
+    {"ShapeHints", Kind::ShapeHints},
+    {"Translation", Kind::Translation},
+    {"Rotation", Kind::Rotation},
+    {"Scale", Kind::Scale},
+    {"Transform", Kind::Transform},
+    {"MatrixTransform", Kind::MatrixTransform},
+    {"Sphere", Kind::Sphere},
+    {"Cube", Kind::Cube},
+    {"Cylinder", Kind::Cylinder},
+    {"Cone", Kind::Cone},
+    {"IndexedFaceSet", Kind::IndexedFaceSet},
+    {"IndexedLineSet", Kind::IndexedLineSet},
+    {"PointSet", Kind::PointSet},
+    {"AsciiText", Kind::AsciiText},
+    {"DirectionalLight", Kind::DirectionalLight},
+    {"PointLight", Kind::PointLight},
+    {"SpotLight", Kind::SpotLight},
+    {"PerspectiveCamera", Kind::PerspectiveCamera},
+    {"OrthographicCamera", Kind::OrthographicCamera},
+    {"Silent", Kind::Silent},
+};
+
 Kind kind_of(Name type) {
     static const std::unordered_map<Name, Kind> by_role = [] {
         std::unordered_map<Name, Kind> t;
-        const std::pair<const char*, Kind> entries[] = {
-            {"Separator", Kind::Separator},
-            {"Group", Kind::Group},
-            {"TransformSeparator", Kind::TransformSeparator},
-            {"Switch", Kind::Switch},
-            {"LOD", Kind::LOD},
-            {"Anchor", Kind::Anchor},
-            {"Inline", Kind::Inline},
-            {"Material", Kind::Material},
-            {"MaterialBinding", Kind::MaterialBinding},
-            {"NormalBinding", Kind::NormalBinding},
-            {"Coordinate3", Kind::Coordinate3},
-            {"Normal", Kind::Normal},
-            {"TextureCoordinate2", Kind::TextureCoordinate2},
-            {"Texture2", Kind::Texture2},
-            {"Texture2Transform", Kind::Texture2Transform},
-            {"ShapeHints", Kind::ShapeHints},
-            {"Translation", Kind::Translation},
-            {"Rotation", Kind::Rotation},
-            {"Scale", Kind::Scale},
-            {"Transform", Kind::Transform},
-            {"MatrixTransform", Kind::MatrixTransform},
-            {"Sphere", Kind::Sphere},
-            {"Cube", Kind::Cube},
-            {"Cylinder", Kind::Cylinder},
-            {"Cone", Kind::Cone},
-            {"IndexedFaceSet", Kind::IndexedFaceSet},
-            {"IndexedLineSet", Kind::IndexedLineSet},
-            {"PointSet", Kind::PointSet},
-            {"AsciiText", Kind::AsciiText},
-            {"DirectionalLight", Kind::DirectionalLight},
-            {"PointLight", Kind::PointLight},
-            {"SpotLight", Kind::SpotLight},
-            {"PerspectiveCamera", Kind::PerspectiveCamera},
-            {"OrthographicCamera", Kind::OrthographicCamera},
-            {"Silent", Kind::Silent},
-        };
-        for (const auto& [role, kind] : entries) t[intern(role)] = kind;
+        for (const auto& [role, kind] : kRoles) t[intern(role)] = kind;
         return t;
     }();
     const NodeTypeDecl* decl = Registry::builtin().find(Spec::Vrml1, type);
@@ -111,6 +112,12 @@ Binding parse_binding(std::string_view w) {
 }
 
 }  // namespace
+
+std::vector<std::string_view> upgrade_roles() {
+    std::vector<std::string_view> out;
+    for (const auto& [role, kind] : kRoles) out.push_back(role);
+    return out;
+}
 
 Upgrader::Upgrader(LoadedScene& scene, const V1File& file, const LoadLimits& limits)
     : scene_(scene),

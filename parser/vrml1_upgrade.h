@@ -15,6 +15,10 @@
 
 namespace vr::vrml1 {
 
+// The roles of grammar/vrml1.nodes the upgrade models (a test checks that every role the grammar
+// gives is one of them, and each of them is used).
+std::vector<std::string_view> upgrade_roles();
+
 enum class Binding : uint8_t {
     Default,
     Overall,

@@ -49,6 +49,7 @@ sg::IndexedFaceSet composed_faces(const sg::ComposedSet& set, NodeReport& report
     faces.data = set.data;
     faces.ccw = set.ccw;
     faces.solid = set.solid;
+    faces.convex = true;  // triangles, and quads X3D 11.4.3 requires to be convex
     faces.color_per_vertex = set.color_per_vertex;
     faces.normal_per_vertex = set.normal_per_vertex;
     faces.smooth_all = set.normal_per_vertex && set.data.normals.empty();

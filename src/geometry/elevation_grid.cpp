@@ -10,6 +10,7 @@ sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want
     sg::IndexedFaceSet faces;
     faces.ccw = grid.ccw;
     faces.solid = grid.solid;
+    faces.convex = true;  // a grid cell is one quad, split along a diagonal like any convex face
     faces.color_per_vertex = grid.color_per_vertex;
     faces.normal_per_vertex = grid.normal_per_vertex;
     faces.crease_angle = grid.crease_angle;

@@ -39,27 +39,28 @@ enum class ChildKind : uint8_t {
     NotModelled,
 };
 
-// The node's role in the grammar ("Name : Role {" in grammar/*.nodes) as the builder's kind.
+// The grammar's roles ("Name : Role {" in grammar/*.nodes) of child nodes, as the builder's kinds.
+constexpr std::pair<const char*, ChildKind> kChildRoles[] = {
+    {"Group", ChildKind::Group},
+    {"Transform", ChildKind::Transform},
+    {"Billboard", ChildKind::Billboard},
+    {"Switch", ChildKind::Switch},
+    {"LOD", ChildKind::LOD},
+    {"Inline", ChildKind::Inline},
+    {"CADFace", ChildKind::CADFace},
+    {"Shape", ChildKind::Shape},
+    {"Light", ChildKind::Light},
+    {"Viewpoint", ChildKind::Viewpoint},
+    {"Background", ChildKind::Background},
+    {"Fog", ChildKind::Fog},
+    {"NavigationInfo", ChildKind::NavigationInfo},
+    {"Silent", ChildKind::Silent},  // draws nothing at time 0 (SPEC section 2)
+};
+
 ChildKind child_kind(const NodeTypeDecl* decl) {
     static const std::unordered_map<Name, ChildKind> by_role = [] {
         std::unordered_map<Name, ChildKind> t;
-        const std::pair<const char*, ChildKind> roles[] = {
-            {"Group", ChildKind::Group},
-            {"Transform", ChildKind::Transform},
-            {"Billboard", ChildKind::Billboard},
-            {"Switch", ChildKind::Switch},
-            {"LOD", ChildKind::LOD},
-            {"Inline", ChildKind::Inline},
-            {"CADFace", ChildKind::CADFace},
-            {"Shape", ChildKind::Shape},
-            {"Light", ChildKind::Light},
-            {"Viewpoint", ChildKind::Viewpoint},
-            {"Background", ChildKind::Background},
-            {"Fog", ChildKind::Fog},
-            {"NavigationInfo", ChildKind::NavigationInfo},
-            {"Silent", ChildKind::Silent},  // draws nothing at time 0 (SPEC section 2)
-        };
-        for (const auto& [role, kind] : roles) t[intern(role)] = kind;
+        for (const auto& [role, kind] : kChildRoles) t[intern(role)] = kind;
         return t;
     }();
     if (!decl) return ChildKind::NotModelled;
@@ -68,6 +69,12 @@ ChildKind child_kind(const NodeTypeDecl* decl) {
 }
 
 }  // namespace
+
+std::vector<std::string_view> child_roles() {
+    std::vector<std::string_view> out;
+    for (const auto& [role, kind] : kChildRoles) out.push_back(role);
+    return out;
+}
 
 // ------------------------------------------------------------------------------------------------
 // Field readers

@@ -32,29 +32,36 @@ struct GeometryType {
     sg::ComposedKind composed = sg::ComposedKind::TriangleSet;
 };
 
-// The node's role in the grammar ("Name : Role {" in grammar/*.nodes) as the builder's kind.
+// The grammar's roles ("Name : Role {" in grammar/*.nodes) of geometry nodes, as the builder's
+// kinds.
+using C = sg::ComposedKind;
+struct GeometryRole {
+    const char* role;
+    GeometryType type;
+};
+constexpr GeometryRole kGeometryRoles[] = {
+    {"Sphere", {GeometryKind::Sphere}},
+    {"Box", {GeometryKind::Box}},
+    {"Cylinder", {GeometryKind::Cylinder}},
+    {"Cone", {GeometryKind::Cone}},
+    {"IndexedFaceSet", {GeometryKind::IndexedFaceSet}},
+    {"ElevationGrid", {GeometryKind::ElevationGrid}},
+    {"Extrusion", {GeometryKind::Extrusion}},
+    {"NoArea", {GeometryKind::NoArea}},
+    {"IndexedTriangleSet", {GeometryKind::Composed, C::IndexedTriangleSet}},
+    {"TriangleSet", {GeometryKind::Composed, C::TriangleSet}},
+    {"IndexedTriangleFanSet", {GeometryKind::Composed, C::IndexedTriangleFanSet}},
+    {"TriangleFanSet", {GeometryKind::Composed, C::TriangleFanSet}},
+    {"IndexedTriangleStripSet", {GeometryKind::Composed, C::IndexedTriangleStripSet}},
+    {"TriangleStripSet", {GeometryKind::Composed, C::TriangleStripSet}},
+    {"IndexedQuadSet", {GeometryKind::Composed, C::IndexedQuadSet}},
+    {"QuadSet", {GeometryKind::Composed, C::QuadSet}},
+};
+
 GeometryType geometry_type(const NodeTypeDecl* decl) {
     static const std::unordered_map<Name, GeometryType> by_role = [] {
         std::unordered_map<Name, GeometryType> t;
-        t[intern("Sphere")] = {GeometryKind::Sphere};
-        t[intern("Box")] = {GeometryKind::Box};
-        t[intern("Cylinder")] = {GeometryKind::Cylinder};
-        t[intern("Cone")] = {GeometryKind::Cone};
-        t[intern("IndexedFaceSet")] = {GeometryKind::IndexedFaceSet};
-        t[intern("ElevationGrid")] = {GeometryKind::ElevationGrid};
-        t[intern("Extrusion")] = {GeometryKind::Extrusion};
-        t[intern("NoArea")] = {GeometryKind::NoArea};
-        using C = sg::ComposedKind;
-        const std::pair<const char*, C> composed[] = {
-            {"IndexedTriangleSet", C::IndexedTriangleSet},
-            {"TriangleSet", C::TriangleSet},
-            {"IndexedTriangleFanSet", C::IndexedTriangleFanSet},
-            {"TriangleFanSet", C::TriangleFanSet},
-            {"IndexedTriangleStripSet", C::IndexedTriangleStripSet},
-            {"TriangleStripSet", C::TriangleStripSet},
-            {"IndexedQuadSet", C::IndexedQuadSet},
-            {"QuadSet", C::QuadSet}};
-        for (const auto& [role, kind] : composed) t[intern(role)] = {GeometryKind::Composed, kind};
+        for (const GeometryRole& r : kGeometryRoles) t[intern(r.role)] = r.type;
         return t;
     }();
     if (!decl) return GeometryType{};
@@ -63,6 +70,12 @@ GeometryType geometry_type(const NodeTypeDecl* decl) {
 }
 
 }  // namespace
+
+std::vector<std::string_view> geometry_roles() {
+    std::vector<std::string_view> out;
+    for (const GeometryRole& r : kGeometryRoles) out.push_back(r.role);
+    return out;
+}
 
 sg::Index Builder::geometry(NodeId id) {
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;

@@ -14,6 +14,11 @@
 
 namespace vr::detail {
 
+// The grammar roles the builder models as child nodes and as geometry (tests check that every role
+// in grammar/*.nodes is one of them, and each of them is used).
+std::vector<std::string_view> child_roles();
+std::vector<std::string_view> geometry_roles();
+
 // A field or node type name, interned once per spelling: `"translation"_n`. No list of the names
 // the builder reads: the grammar sweep test builds every modelled node type and checks that each
 // field read exists in the registry with the type it is read as (Builder::misreads).

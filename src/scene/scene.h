@@ -1,6 +1,11 @@
 // The typed scene graph: the node tree's nodes that vrmlray models, as plain structs with resolved
-// values. It knows nothing of rendering (the flattening step in src/render/flatten.* turns it into
+// values. It knows nothing of rendering (the flattening step in src/flatten/ turns it into
 // primitives).
+//
+// Node facts live in grammar/ only: the scene build sets every field of these structs from the
+// node's value (the grammar's default where the file gives none), so the initial values here are
+// neutral (zero, false, empty), never a restated VRML default. Code that makes a struct itself
+// (src/geometry's rewrites, tests) sets every flag it relies on.
 //
 // Shape of the graph: arenas of typed nodes referring to each other by index. A node DEF'd once and
 // USEd many times is built once and referenced from every place it is used (the graph is a DAG,
@@ -135,8 +140,8 @@ struct IndexedFaceSet {
     VertexData data;
     std::vector<int32_t> coord_index;  // faces separated by -1
     std::vector<int32_t> normal_index, color_index, texcoord_index;
-    bool ccw = true, solid = true, convex = true;
-    bool color_per_vertex = true, normal_per_vertex = true;
+    bool ccw = false, solid = false, convex = false;
+    bool color_per_vertex = false, normal_per_vertex = false;
     double crease_angle = 0.0;  // radians
     // X3D composed geometry without normals: smooth over faces sharing a vertex index, whatever the
     // angle.
@@ -148,8 +153,8 @@ struct ElevationGrid {
     double x_spacing = 0.0, z_spacing = 0.0;
     std::vector<double> height;  // x_dimension * z_dimension, row by row along x
     VertexData data;             // normals, colors, texcoords (no coords)
-    bool ccw = true, solid = true;
-    bool color_per_vertex = true, normal_per_vertex = true;
+    bool ccw = false, solid = false;
+    bool color_per_vertex = false, normal_per_vertex = false;
     double crease_angle = 0.0;
 };
 
@@ -158,8 +163,8 @@ struct Extrusion {
     std::vector<Vec3> spine;
     std::vector<Vec2> scale;
     std::vector<Vec4> orientation;  // axis xyz, angle w (radians)
-    bool begin_cap = true, end_cap = true;
-    bool ccw = true, solid = true, convex = true;
+    bool begin_cap = false, end_cap = false;
+    bool ccw = false, solid = false, convex = false;
     double crease_angle = 0.0;
 };
 
@@ -180,8 +185,8 @@ struct ComposedSet {
     VertexData data;
     std::vector<int32_t> index;   // Indexed*: vertex indices (fans/strips separated by -1)
     std::vector<int32_t> counts;  // fanCount / stripCount
-    bool ccw = true, solid = true;
-    bool color_per_vertex = true, normal_per_vertex = true;
+    bool ccw = false, solid = false;
+    bool color_per_vertex = false, normal_per_vertex = false;
 };
 
 // The polygon nodes are held out of line so that the many primitives stay small.

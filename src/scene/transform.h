@@ -13,6 +13,8 @@ inline Mat3 rotation_matrix(const Vec4& axis_angle) {
     return rotation_matrix(Vec3(axis_angle), axis_angle.w);
 }
 
+// Starts as the identity transform (the neutral value of a transform, which is also the grammar's
+// default); the scene build sets every field from the node.
 struct TransformFields {
     Vec3 translation{0.0};
     Vec4 rotation{0.0, 0.0, 1.0, 0.0};

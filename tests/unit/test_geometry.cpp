@@ -36,6 +36,30 @@ double triangle_area(std::span<const Vec3> p, const uint32_t* t) {
     return 0.5 * glm::length(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
 }
 
+// The typed structs start neutral (scene.h): these give the flags the specifications default to
+// (VRML97 6.23, 6.17, 6.18; X3D 11.4), as the scene build reads them from the grammar.
+sg::IndexedFaceSet face_set() {
+    sg::IndexedFaceSet f;
+    f.ccw = f.solid = f.convex = f.color_per_vertex = f.normal_per_vertex = true;
+    return f;
+}
+sg::Extrusion extrusion() {
+    sg::Extrusion e;
+    e.begin_cap = e.end_cap = e.ccw = e.solid = e.convex = true;
+    return e;
+}
+sg::ElevationGrid elevation_grid() {
+    sg::ElevationGrid g;
+    g.ccw = g.solid = g.color_per_vertex = g.normal_per_vertex = true;
+    return g;
+}
+sg::ComposedSet composed_set(sg::ComposedKind kind) {
+    sg::ComposedSet c;
+    c.kind = kind;
+    c.ccw = c.solid = c.color_per_vertex = c.normal_per_vertex = true;
+    return c;
+}
+
 TEST(Geometry, EarClippingConcaveLShape) {
     // An L of area 3, in a tilted plane so the projection matters.
     const Mat3 tilt = rotation_matrix(Vec3(1, 2, 3), 0.7);
@@ -73,7 +97,7 @@ TEST(Geometry, DegeneratePolygonsHaveNoTriangles) {
 }
 
 TEST(Geometry, IndexedFaceSetConcaveLArea) {
-    sg::IndexedFaceSet f;
+    sg::IndexedFaceSet f = face_set();
     f.data.coords = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0),
                      Vec3(1, 1, 0), Vec3(1, 2, 0), Vec3(0, 2, 0)};
     f.coord_index = {0, 1, 2, 3, 4, 5, -1};
@@ -95,7 +119,7 @@ TEST(Geometry, IndexedFaceSetConcaveLArea) {
 }
 
 TEST(Geometry, IndexedFaceSetSkipsBadFacesAndWarnsOnce) {
-    sg::IndexedFaceSet f;
+    sg::IndexedFaceSet f = face_set();
     f.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(NAN, 0, 0)};
     f.coord_index = {0, 1, 2, -1, 0, 2, 9, -1, 0, 2, 4, -1, 0, 1, -1, 0, 2, 3};
     FaceSetRun run("IndexedFaceSet");
@@ -108,7 +132,7 @@ TEST(Geometry, IndexedFaceSetSkipsBadFacesAndWarnsOnce) {
 
 // A unit cube as six quads, outward.
 sg::IndexedFaceSet cube() {
-    sg::IndexedFaceSet f;
+    sg::IndexedFaceSet f = face_set();
     for (int i = 0; i < 8; ++i)
         f.data.coords.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1) - Vec3(0.5));
     f.coord_index = {0, 2, 3, 1, -1, 4, 5, 7, 6, -1, 0, 1, 5, 4, -1,
@@ -151,7 +175,7 @@ TEST(Geometry, CreaseAngleZeroIsFlatAndPiIsSmooth) {
 }
 
 TEST(Geometry, ExplicitNormalsColorsAndIndices) {
-    sg::IndexedFaceSet f;
+    sg::IndexedFaceSet f = face_set();
     f.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
     f.coord_index = {0, 1, 2, -1, 0, 2, 3, -1};
     f.data.normals = {Vec3(0, 0, 2), Vec3(0, 1, 1)};
@@ -178,7 +202,7 @@ TEST(Geometry, ExplicitNormalsColorsAndIndices) {
 TEST(Geometry, DefaultTextureMappingUsesTwoLargestDimensions) {
     // A 4 x 2 rectangle in the XZ plane: s along X (0..1), t along Z (0..0.5: divided by the larger
     // size).
-    sg::IndexedFaceSet f;
+    sg::IndexedFaceSet f = face_set();
     f.data.coords = {Vec3(0, 0, 0), Vec3(0, 0, 2), Vec3(4, 0, 2), Vec3(4, 0, 0)};
     f.coord_index = {0, 1, 2, 3, -1};
     FaceSetRun run("IndexedFaceSet");
@@ -196,7 +220,8 @@ TEST(Geometry, DefaultTextureMappingUsesTwoLargestDimensions) {
 }
 
 TEST(Geometry, ExtrusionOfASquareAlongAStraightSpineIsABox) {
-    sg::Extrusion e;  // the specification's defaults: a 2 x 2 square along 0 0 0 -> 0 1 0
+    sg::Extrusion e =
+        extrusion();  // the specification's defaults: a 2 x 2 square along 0 0 0 -> 0 1 0
     e.cross_section = {Vec2(1, 1), Vec2(1, -1), Vec2(-1, -1), Vec2(-1, 1), Vec2(1, 1)};
     e.spine = {Vec3(0, 0, 0), Vec3(0, 1, 0)};
     e.scale = {Vec2(1, 1)};
@@ -227,7 +252,7 @@ TEST(Geometry, ExtrusionOfASquareAlongAStraightSpineIsABox) {
 
 TEST(Geometry, ExtrusionAroundABendKeepsCrossSectionArea) {
     // A circle-ish hexagon swept along a quarter circle; each cap's area equals the hexagon's.
-    sg::Extrusion e;
+    sg::Extrusion e = extrusion();
     for (int k = 0; k <= 6; ++k)
         e.cross_section.push_back(Vec2(std::cos(-k * kPi / 3), std::sin(-k * kPi / 3)));
     for (int k = 0; k <= 8; ++k)
@@ -249,7 +274,7 @@ TEST(Geometry, ExtrusionAroundABendKeepsCrossSectionArea) {
 }
 
 TEST(Geometry, ElevationGridTriangleCountAndArea) {
-    sg::ElevationGrid g;
+    sg::ElevationGrid g = elevation_grid();
     g.x_dimension = 4;
     g.z_dimension = 3;
     g.x_spacing = 0.5;
@@ -281,8 +306,7 @@ TEST(Geometry, X3DTriangleAndQuadSets) {
     Diagnostics diagnostics;
     const sg::Origin origin = test_origin("TriangleStripSet");
     NodeReport report(diagnostics, origin);
-    sg::ComposedSet strip;
-    strip.kind = sg::ComposedKind::TriangleStripSet;
+    sg::ComposedSet strip = composed_set(sg::ComposedKind::TriangleStripSet);
     strip.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), Vec3(0, 2, 0)};
     strip.counts = {5};
     const TriMesh s = triangulate_face_set(composed_faces(strip, report), false, report);
@@ -299,8 +323,7 @@ TEST(Geometry, X3DTriangleAndQuadSets) {
         EXPECT_GT(glm::cross(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]).z * first, 0.0);
     }
 
-    sg::ComposedSet fan;
-    fan.kind = sg::ComposedKind::IndexedTriangleFanSet;
+    sg::ComposedSet fan = composed_set(sg::ComposedKind::IndexedTriangleFanSet);
     fan.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
     fan.index = {0, 1, 2, 3, -1};
     const TriMesh f = triangulate_face_set(composed_faces(fan, report), false, report);
@@ -311,8 +334,7 @@ TEST(Geometry, X3DTriangleAndQuadSets) {
     ASSERT_EQ(f.normals.size(), 6u);
     for (const Vec3& n : f.normals) EXPECT_NEAR(n.z, 1.0, kTight);
 
-    sg::ComposedSet quads;
-    quads.kind = sg::ComposedKind::QuadSet;
+    sg::ComposedSet quads = composed_set(sg::ComposedKind::QuadSet);
     quads.data.coords = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0),
                          Vec3(0, 1, 0), Vec3(5, 5, 5), Vec3(6, 6, 6)};
     const TriMesh q = triangulate_face_set(composed_faces(quads, report), false, report);

@@ -7,11 +7,13 @@
 #include <filesystem>
 #include <limits>
 #include <numbers>
+#include <set>
 
 #include "corpus.h"
 #include "parser/field_range.h"
 #include "parser/load.h"
 #include "parser/registry.h"
+#include "parser/vrml1_upgrade.h"
 #include "scene/build.h"
 #include "scene/build_internal.h"
 
@@ -307,6 +309,40 @@ TEST(GrammarSweep, ANodeHasOneRoleInEveryTable) {
     EXPECT_EQ(name_text(r.find(Spec::X3d, "TimeSensor")->role), "Silent");
     EXPECT_EQ(name_text(r.find(Spec::Vrml1, "WWWInline")->role), "Inline");
     EXPECT_EQ(r.find(Spec::X3d, "Material")->role, kNoName);  // not a child node
+}
+
+// Every role a grammar file gives names a kind of the code that reads it (else the node would be
+// dropped as "not modelled" although the grammar says what it is), and every kind of that code is
+// the role of some node (else the table holds a dead name). VRML97 and X3D roles go to the scene
+// build, whose child and geometry tables are disjoint; VRML 1.0 roles to the upgrade.
+TEST(GrammarSweep, EveryRoleMapsToAKindAndEveryKindIsARole) {
+    const Registry& r = Registry::builtin();
+    std::set<std::string_view> scene_kinds, upgrade_kinds;
+    for (std::string_view role : detail::child_roles())
+        EXPECT_TRUE(scene_kinds.insert(role).second) << role;
+    for (std::string_view role : detail::geometry_roles())
+        EXPECT_TRUE(scene_kinds.insert(role).second) << role;
+    for (std::string_view role : vrml1::upgrade_roles())
+        EXPECT_TRUE(upgrade_kinds.insert(role).second) << role;
+    std::set<std::string_view> used_scene, used_upgrade;
+    for (Spec spec : {Spec::Vrml97, Spec::X3d}) {
+        for (const NodeTypeDecl& d : r.nodes(spec)) {
+            if (d.role == kNoName) continue;
+            EXPECT_TRUE(scene_kinds.count(name_text(d.role)))
+                << name_text(d.name) << " : " << name_text(d.role);
+            used_scene.insert(name_text(d.role));
+        }
+    }
+    for (const NodeTypeDecl& d : r.nodes(Spec::Vrml1)) {
+        if (d.role == kNoName) continue;
+        EXPECT_TRUE(upgrade_kinds.count(name_text(d.role)))
+            << name_text(d.name) << " : " << name_text(d.role);
+        used_upgrade.insert(name_text(d.role));
+    }
+    for (std::string_view kind : scene_kinds)
+        EXPECT_TRUE(used_scene.count(kind)) << "unused scene kind " << kind;
+    for (std::string_view kind : upgrade_kinds)
+        EXPECT_TRUE(used_upgrade.count(kind)) << "unused upgrade kind " << kind;
 }
 
 TEST(GrammarSweep, AMalformedRoleIsRejected) {
