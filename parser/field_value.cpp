@@ -81,28 +81,6 @@ namespace {
     throw SyntaxError{t.offset, std::move(message)};
 }
 
-std::string describe(Lexer& lex, const Token& t) {
-    switch (t.kind) {
-        case TokenKind::End:
-            return "end of file";
-        case TokenKind::LBrace:
-            return "'{'";
-        case TokenKind::RBrace:
-            return "'}'";
-        case TokenKind::LBracket:
-            return "'['";
-        case TokenKind::RBracket:
-            return "']'";
-        case TokenKind::BadString:
-            return "an unterminated string";
-        default: {
-            std::string_view w = lex.text(t);
-            if (w.size() > 40) return "'" + std::string(w.substr(0, 40)) + "...'";
-            return "'" + std::string(w) + "'";
-        }
-    }
-}
-
 double read_number(ValueContext& ctx, ValueKind kind) {
     Decimal d;
     Token t = kind == ValueKind::Bool ? ctx.lexer.next() : ctx.lexer.next_number(d);
@@ -115,7 +93,7 @@ double read_number(ValueContext& ctx, ValueKind kind) {
         const int64_t v = static_cast<int64_t>(d.digits);
         return static_cast<double>(d.negative ? -v : v);
     }
-    if (t.kind != TokenKind::Word) fail(t, "expected a number, found " + describe(ctx.lexer, t));
+    if (t.kind != TokenKind::Word) fail(t, "expected a number, found " + ctx.lexer.describe(t));
     std::string_view w = ctx.lexer.text(t);
     if (kind == ValueKind::Int32) {
         int64_t v;
@@ -128,7 +106,7 @@ double read_number(ValueContext& ctx, ValueKind kind) {
                                          "int-as-float");
             return d;
         }
-        fail(t, "expected an integer, found " + describe(ctx.lexer, t));
+        fail(t, "expected an integer, found " + ctx.lexer.describe(t));
     }
     if (kind == ValueKind::Bool) {
         if (w == "TRUE" || (ctx.xml && w == "true")) return 1.0;
@@ -140,13 +118,13 @@ double read_number(ValueContext& ctx, ValueKind kind) {
                                          "lower-case-bool");
             return w == "true" ? 1.0 : 0.0;
         }
-        fail(t, "expected TRUE or FALSE, found " + describe(ctx.lexer, t));
+        fail(t, "expected TRUE or FALSE, found " + ctx.lexer.describe(t));
     }
     double v;
     if (parse_double(w, v)) return v;
     if (w == "nan" || w == "NaN" || w == "inf" || w == "-inf" || w == "INF")
         fail(t, "number is not finite: " + std::string(w));
-    fail(t, "expected a number, found " + describe(ctx.lexer, t));
+    fail(t, "expected a number, found " + ctx.lexer.describe(t));
 }
 
 void check_size(ValueContext& ctx, size_t count, const Token& t) {
@@ -175,7 +153,7 @@ void read_image(ValueContext& ctx, const Token& at) {
         int64_t v;
         std::string_view word = ctx.lexer.text(t);
         if (!parse_int32(word, v))
-            fail(t, "expected a pixel value, found " + describe(ctx.lexer, t));
+            fail(t, "expected a pixel value, found " + ctx.lexer.describe(t));
         nums.push_back(static_cast<double>(v < 0 ? v + 4294967296LL : v));
     }
 }
@@ -187,7 +165,7 @@ void read_string(ValueContext& ctx) {
         return;
     }
     if (t.kind == TokenKind::BadString) fail(t, "string is not closed before the end of the file");
-    fail(t, "expected a string, found " + describe(ctx.lexer, t));
+    fail(t, "expected a string, found " + ctx.lexer.describe(t));
 }
 
 void read_single(ValueContext& ctx, ValueKind kind, const Token& at) {

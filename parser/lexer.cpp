@@ -14,10 +14,9 @@ std::string Lexer::describe(const Token& t) const {
             return "'['";
         case TokenKind::RBracket:
             return "']'";
-        case TokenKind::String:
-            return "a string";
         case TokenKind::BadString:
             return "an unterminated string";
+        case TokenKind::String:  // quoted as written: '"two"' says both what and which
         case TokenKind::Word: {
             std::string_view w = text(t);
             return "'" + std::string(w.substr(0, 40)) + (w.size() > 40 ? "...'" : "'");
