@@ -371,4 +371,4 @@ def test_the_documented_example_runs(tmp_path):
     run = subprocess.run([sys.executable, SOURCE / "docs" / "python_example.py", corpus, tmp_path],
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
-    assert "exact spheres" in run.stdout and (tmp_path / "python_c551.png").stat().st_size > 10000
+    assert "1216 of 1216 meshes are exact spheres" in run.stdout and (tmp_path / "python_c551.png").stat().st_size > 10000
