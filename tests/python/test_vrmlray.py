@@ -208,7 +208,7 @@ def test_a_loaded_scene_renders_again_without_its_file(tmp_path):
     assert scene.render(40, 30, spp=4, sampler="rgss").shape == (30, 40, 3)
 
 
-def test_bad_keywords_raise_usage_errors_as_the_command_line_exits_2():
+def test_bad_keywords_raise_usage_errors_as_the_command_line_exits_2(tmp_path):
     scene = vrmlray.load(SPHERE)
     for options, pattern in [({"spp": 0}, "spp"), ({"sampler": "best"}, "sampler"),
                              ({"frobnicate": 1}, "frobnicate"), ({"background": (1, 2)}, "R,G,B"),
@@ -218,6 +218,11 @@ def test_bad_keywords_raise_usage_errors_as_the_command_line_exits_2():
         assert raised.value.exit_code == 2 and isinstance(raised.value, ValueError)
     with pytest.raises(vrmlray.UsageError, match="width"):
         scene.render(0, 8)
+    # An unknown viewpoint is found only once the scene is flattened, without the GIL.
+    run = cli("render", SPHERE, "--viewpoint", "nowhere", "-o", tmp_path / "x.png", check=False)
+    with pytest.raises(vrmlray.UsageError, match="nowhere") as raised:
+        scene.render(8, 8, viewpoint="nowhere")
+    assert raised.value.exit_code == run.returncode
 
 
 def test_progress_is_reported_and_its_exceptions_raised():
