@@ -171,7 +171,6 @@ void append_keywords(const py::kwargs& keywords, const std::map<std::string, std
     }
 }
 
-
 // A loaded scene: what `vrmlray info` reports, and the typed scene graph each render flattens.
 struct SceneData {
     std::string name;                // the file, or "<string>.wrl" for scene text
@@ -228,16 +227,18 @@ void add_flat_figures(nlohmann::ordered_json& j, const FlatScene& flat, const Fl
     j["textures"] = flat.textures.size();
     j["skipped_shapes"] = fs.skipped_shapes;
     const Bounds3 b = flat.bounds();
-    j["bounds"] = b.empty() ? nlohmann::ordered_json(nullptr)
-                            : nlohmann::ordered_json{{b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}};
+    j["bounds"] = b.empty()
+                      ? nlohmann::ordered_json(nullptr)
+                      : nlohmann::ordered_json{{b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}};
     j["lights"] = flat.lights.size();
     j["headlight"] = flat.headlight;
     j["viewpoints"] = flat.viewpoints.size();
     Camera camera;
     std::string error;
     const RenderOptions defaults;
-    j["camera"] = make_camera(flat, defaults, camera, error) ? describe_camera(flat, defaults, camera)
-                                                             : "none: " + error;
+    j["camera"] = make_camera(flat, defaults, camera, error)
+                      ? describe_camera(flat, defaults, camera)
+                      : "none: " + error;
 }
 
 // Builds and flattens the scene as `vrmlray info` does, keeping the typed scene for renders.
@@ -253,7 +254,8 @@ void build(SceneData& s, const CommonOptions& common) {
     common.limits.apply(s.info_flatten);
     FlattenStats fs;
     s.flat = flatten_scene(s.scene, s.info_flatten, diagnostics, fs);
-    for (const Diagnostic& d : diagnostics.all()) s.diagnostics.push_back(row_of(d, s.loaded.sources));
+    for (const Diagnostic& d : diagnostics.all())
+        s.diagnostics.push_back(row_of(d, s.loaded.sources));
     const std::string empty_scene = nothing_to_render(s.loaded, s.flat, fs);
     if (!empty_scene.empty()) s.diagnostics.push_back({s.name, 0, 0, "warning", empty_scene});
     add_flat_figures(s.figures, s.flat, fs);
@@ -272,8 +274,8 @@ void build(SceneData& s, const CommonOptions& common) {
 bool looks_like_text(const std::string& s) {
     if (s.find('\n') != std::string::npos) return true;
     const size_t p = s.find_first_not_of(" \t\r");
-    return p != std::string::npos && (s.compare(p, 5, "#VRML") == 0 || s.compare(p, 4, "#X3D") == 0 ||
-                                      s[p] == '<');
+    return p != std::string::npos &&
+           (s.compare(p, 5, "#VRML") == 0 || s.compare(p, 4, "#X3D") == 0 || s[p] == '<');
 }
 
 // encoding= names: the file's encoding must be that one.
@@ -305,8 +307,9 @@ std::shared_ptr<SceneData> load(py::object source, std::optional<std::string> en
     const std::optional<Encoding> wanted =
         encoding ? std::optional<Encoding>(encoding_named(*encoding)) : std::nullopt;
     static const char* kExtensions[] = {".wrl", ".x3dv", ".x3d", ".wrl"};
-    s->name = is_text ? std::string("<string>") + kExtensions[int(wanted.value_or(Encoding::Vrml97))]
-                      : text;
+    s->name = is_text
+                  ? std::string("<string>") + kExtensions[int(wanted.value_or(Encoding::Vrml97))]
+                  : text;
     std::vector<std::string> words{"info"};
     append_keywords(keywords,
                     {{"quiet", "the module prints nothing; messages are in Scene.diagnostics"}},
@@ -324,18 +327,21 @@ std::shared_ptr<SceneData> load(py::object source, std::optional<std::string> en
     }
     if (!s->loaded.ok()) {
         std::vector<DiagnosticRow> rows;
-        for (const Diagnostic& d : s->loaded.diagnostics.all()) rows.push_back(row_of(d, s->loaded.sources));
+        for (const Diagnostic& d : s->loaded.diagnostics.all())
+            rows.push_back(row_of(d, s->loaded.sources));
         throw input_failure(rows);
     }
     for (const DiagnosticRow& r : s->diagnostics)
         if (r.severity == "error") throw input_failure(s->diagnostics);
     if (wanted && *wanted != s->loaded.encoding)
         throw Failure{kExitBadInput,
-                      s->name + ": is " + std::string(encoding_name(s->loaded.encoding)) + ", not " +
-                          std::string(encoding_name(*wanted)) + " (encoding='" + *encoding + "')",
+                      s->name + ": is " + std::string(encoding_name(s->loaded.encoding)) +
+                          ", not " + std::string(encoding_name(*wanted)) + " (encoding='" +
+                          *encoding + "')",
                       s->diagnostics};
-    const auto warning = std::find_if(s->diagnostics.begin(), s->diagnostics.end(),
-                                      [](const DiagnosticRow& r) { return r.severity == "warning"; });
+    const auto warning =
+        std::find_if(s->diagnostics.begin(), s->diagnostics.end(),
+                     [](const DiagnosticRow& r) { return r.severity == "warning"; });
     if (cmd.common.strict && warning != s->diagnostics.end())
         throw Failure{kExitBadInput,
                       "strict: " + std::to_string(s->figures["warnings"].get<size_t>()) +
@@ -358,11 +364,13 @@ const std::map<std::string, std::string> kRenderRefused = {
     {"version", "see vrmlray.__version__"}};
 
 py::array_t<float> to_array(const Image& image, int channels) {
-    py::array_t<float> out({py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(channels)});
+    py::array_t<float> out(
+        {py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(channels)});
     float* dst = out.mutable_data();
     const size_t pixels = size_t(image.width) * size_t(image.height);
     for (size_t k = 0; k < pixels; ++k)
-        for (int c = 0; c < channels; ++c) dst[k * size_t(channels) + size_t(c)] = image.rgba[4 * k + size_t(c)];
+        for (int c = 0; c < channels; ++c)
+            dst[k * size_t(channels) + size_t(c)] = image.rgba[4 * k + size_t(c)];
     return out;
 }
 
@@ -372,7 +380,8 @@ Image trace(const SceneData& s, const CommandLine& cmd, const ProgressFn& progre
     Diagnostics diagnostics;
     FlattenStats fs;
     FlatScene flat = flatten_scene(
-        s.scene, flatten_options(s.loaded, rc.options, rc.recover_spheres, cmd.common), diagnostics, fs);
+        s.scene, flatten_options(s.loaded, rc.options, rc.recover_spheres, cmd.common), diagnostics,
+        fs);
     if (diagnostics.has_errors()) {
         std::vector<DiagnosticRow> rows;
         for (const Diagnostic& d : diagnostics.all()) rows.push_back(row_of(d, s.loaded.sources));
@@ -380,14 +389,18 @@ Image trace(const SceneData& s, const CommandLine& cmd, const ProgressFn& progre
     }
     if (!check_render_memory(s.name, flat, rc.options, cmd.common))
         throw Failure{kExitBadInput,
-                      s.name + ": the render needs more memory than allowed (max_memory=, in GB)", {}};
+                      s.name + ": the render needs more memory than allowed (max_memory=, in GB)",
+                      {}};
     Camera camera;
     std::string error;
     if (!make_camera(flat, rc.options, camera, error)) throw Failure{kExitUsage, error, {}};
     RenderStats stats;
     Image image = render_image(flat, camera, rc.options, progress, stats, &flat.spheres);
     if (stats.timed_out)
-        throw Failure{kExitBadInput, s.name + ": the render passed timeout=" + std::to_string(rc.options.timeout) + " s", {}};
+        throw Failure{
+            kExitBadInput,
+            s.name + ": the render passed timeout=" + std::to_string(rc.options.timeout) + " s",
+            {}};
     return image;
 }
 
@@ -506,7 +519,8 @@ Image from_array(py::handle object) {
     const float* src = a.data();
     const size_t pixels = size_t(image.width) * size_t(image.height);
     for (size_t k = 0; k < pixels; ++k) {
-        for (int c = 0; c < channels; ++c) image.rgba[4 * k + size_t(c)] = src[k * size_t(channels) + size_t(c)];
+        for (int c = 0; c < channels; ++c)
+            image.rgba[4 * k + size_t(c)] = src[k * size_t(channels) + size_t(c)];
         if (channels == 3) image.rgba[4 * k + 3] = 1.0f;
     }
     return image;
@@ -556,9 +570,10 @@ py::dict compare_py(py::handle a, py::handle b, const py::kwargs& keywords) {
     std::string name_a, name_b;
     const Image image_a = image_of(a, name_a), image_b = image_of(b, name_b);
     std::vector<std::string> words{"compare"};
-    append_keywords(keywords, {{"json", "compare() always gives the figures"},
-                               {"help", "see help(vrmlray.compare) and docs/manual.md"},
-                               {"version", "see vrmlray.__version__"}},
+    append_keywords(keywords,
+                    {{"json", "compare() always gives the figures"},
+                     {"help", "see help(vrmlray.compare) and docs/manual.md"},
+                     {"version", "see vrmlray.__version__"}},
                     words);
     words.insert(words.end(), {"--", name_a, name_b});
     const CompareCommand c = parse_words(words).compare;
@@ -577,11 +592,13 @@ py::dict compare_py(py::handle a, py::handle b, const py::kwargs& keywords) {
     t.pixel_threshold = c.pixel_threshold;
     CompareMetrics metrics;
     std::string error;
-    if (!compare_images(image_a, image_b, t, metrics, error)) throw Failure{kExitBadInput, error, {}};
-    if (!c.diff_path.empty() && !write_image(c.diff_path, difference_heatmap(image_a, image_b), false, error))
+    if (!compare_images(image_a, image_b, t, metrics, error))
+        throw Failure{kExitBadInput, error, {}};
+    if (!c.diff_path.empty() &&
+        !write_image(c.diff_path, difference_heatmap(image_a, image_b), false, error))
         throw Failure{kExitOutput, error, {}};
-    const std::string text = format_metrics_json(metrics, failed_thresholds(metrics, t),
-                                                 warned_thresholds(metrics, t));
+    const std::string text =
+        format_metrics_json(metrics, failed_thresholds(metrics, t), warned_thresholds(metrics, t));
     py::dict out = py::module_::import("json").attr("loads")(text);
     // JSON has no infinity or NaN (PSNR of equal images): the text says which, Python has floats.
     for (auto [key, value] : out)
@@ -611,31 +628,36 @@ PYBIND11_MODULE(vrmlray, m) {
             raise_failure(f);
         }
     });
-    py::class_<SceneData, std::shared_ptr<SceneData>>(m, "Scene",
-                                                      "A loaded scene; render() it as often as wanted")
+    py::class_<SceneData, std::shared_ptr<SceneData>>(
+        m, "Scene", "A loaded scene; render() it as often as wanted")
         .def("render", &render, py::arg("width") = 640, py::arg("height") = 480, py::kw_only(),
              py::arg("progress") = py::none(),
              "An H x W x 3 float32 array of linear RGB (x 4, premultiplied RGBA, with alpha=True). "
-             "Keywords: every option of `vrmlray render` (spp, sampler, spheres, density, viewpoint, "
+             "Keywords: every option of `vrmlray render` (spp, sampler, spheres, density, "
+             "viewpoint, "
              "fit, camera, background=(r, g, b), threads, seed, ...); progress(fraction, rays) is "
              "called about 10 times a second. The GIL is released while tracing.")
         .def("info", &info, "The figures `vrmlray info` prints, as a dict")
-        .def_property_readonly("bounds", [](const SceneData& s) -> py::object {
-            if (s.bounds.empty()) return py::none();
-            const Bounds3& b = s.bounds;
-            return py::make_tuple(py::make_tuple(b.lo.x, b.lo.y, b.lo.z), py::make_tuple(b.hi.x, b.hi.y, b.hi.z));
-        })
+        .def_property_readonly("bounds",
+                               [](const SceneData& s) -> py::object {
+                                   if (s.bounds.empty()) return py::none();
+                                   const Bounds3& b = s.bounds;
+                                   return py::make_tuple(py::make_tuple(b.lo.x, b.lo.y, b.lo.z),
+                                                         py::make_tuple(b.hi.x, b.hi.y, b.hi.z));
+                               })
         .def_property_readonly("lights", &lights_of)
         .def_property_readonly("headlight", [](const SceneData& s) { return s.flat.headlight; })
         .def_property_readonly("viewpoints", &viewpoints_of)
-        .def_property_readonly("diagnostics", &diagnostics_of,
-                               "(file, line, column, severity, message) for each message of the readers")
+        .def_property_readonly(
+            "diagnostics", &diagnostics_of,
+            "(file, line, column, severity, message) for each message of the readers")
         .def_property_readonly("path", [](const SceneData& s) { return s.name; })
         .def("__repr__", [](const SceneData& s) { return "<vrmlray.Scene " + s.name + ">"; });
-    m.def("load", &load, py::arg("source"), py::arg("encoding") = py::none(),
-          "A scene file (str or os.PathLike), or scene text (bytes, or a str with a line break or "
-          "starting #VRML, #X3D or <). encoding='vrml97', 'x3dv', 'x3d' or 'vrml1' insists on it. "
-          "Keywords: sandbox=True or a folder, allow_path=[...], limit=['NAME=VALUE'], strict=True.");
+    m.def(
+        "load", &load, py::arg("source"), py::arg("encoding") = py::none(),
+        "A scene file (str or os.PathLike), or scene text (bytes, or a str with a line break or "
+        "starting #VRML, #X3D or <). encoding='vrml97', 'x3dv', 'x3d' or 'vrml1' insists on it. "
+        "Keywords: sandbox=True or a folder, allow_path=[...], limit=['NAME=VALUE'], strict=True.");
     m.def("compare", &compare_py, py::arg("a"), py::arg("b"),
           "Compare two images (paths or arrays) as `vrmlray compare --json` does; keywords are its "
           "thresholds (max_rmse, min_psnr, min_ssim, max_abs, max_fail_percent, pixel_threshold, "
