@@ -304,12 +304,10 @@ std::shared_ptr<SceneData> load(py::object source, std::optional<std::string> en
     } else {
         text = py::str(py::module_::import("os").attr("fspath")(source));
     }
-    const std::optional<Encoding> wanted =
-        encoding ? std::optional<Encoding>(encoding_named(*encoding)) : std::nullopt;
-    static const char* kExtensions[] = {".wrl", ".x3dv", ".x3d", ".wrl"};
-    s->name = is_text
-                  ? std::string("<string>") + kExtensions[int(wanted.value_or(Encoding::Vrml97))]
-                  : text;
+    // Unknown: none asked for (a plain enum, not an optional, which GCC 12 warns on).
+    const Encoding wanted = encoding ? encoding_named(*encoding) : Encoding::Unknown;
+    static const char* kExtensions[] = {".wrl", ".x3dv", ".x3d", ".wrl", ".wrl"};
+    s->name = is_text ? std::string("<string>") + kExtensions[int(wanted)] : text;
     std::vector<std::string> words{"info"};
     append_keywords(keywords,
                     {{"quiet", "the module prints nothing; messages are in Scene.diagnostics"}},
@@ -333,10 +331,10 @@ std::shared_ptr<SceneData> load(py::object source, std::optional<std::string> en
     }
     for (const DiagnosticRow& r : s->diagnostics)
         if (r.severity == "error") throw input_failure(s->diagnostics);
-    if (wanted && *wanted != s->loaded.encoding)
+    if (wanted != Encoding::Unknown && wanted != s->loaded.encoding)
         throw Failure{kExitBadInput,
                       s->name + ": is " + std::string(encoding_name(s->loaded.encoding)) +
-                          ", not " + std::string(encoding_name(*wanted)) + " (encoding='" +
+                          ", not " + std::string(encoding_name(wanted)) + " (encoding='" +
                           *encoding + "')",
                       s->diagnostics};
     const auto warning =
