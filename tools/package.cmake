@@ -29,5 +29,10 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # libxml2 is loaded with dlopen, so shlibdeps cannot see it.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libxml2")
+# The Python module (python/CMakeLists.txt installs it) imports numpy at run time, which shlibdeps
+# cannot see either.
+if(VRMLRAY_PYTHON)
+    set(CPACK_DEBIAN_PACKAGE_DEPENDS "libxml2, python3, python3-numpy")
+endif()
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 include(CPack)

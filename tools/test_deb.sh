@@ -22,6 +22,12 @@ status=0
 for f in /usr/share/man/man1/vrmlray.1 /usr/share/bash-completion/completions/vrmlray /usr/lib/vrmlray/vrmlray_oiio.so /usr/lib/vrmlray/vrmlray_exr.so; do
     [ -s "$f" ] || { echo "deb: $f missing"; status=1; }
 done
+# The Python module, when the build has one: Debian's python3 imports it and writes the same PNG.
+if ls "$build"/python/vrmlray*.so >/dev/null 2>&1; then
+    (cd "$work" && /usr/bin/python3 -c "import vrmlray, sys; s = vrmlray.load(sys.argv[1]); vrmlray.write_image('py.png', s.render(320, 240))" \
+        "$root/scenes/seeds/001_sphere.wrl") || { echo "deb: the Python module does not import or render"; status=1; }
+    cmp -s "$work/py.png" "$work/sphere.png" || { echo "deb: the Python module's PNG differs from the binary's"; status=1; }
+fi
 rm -rf "$work"
 [ $status -eq 0 ] && echo "deb: 1 passed, 0 failed ($(basename "$deb") installs, renders PNG and EXR, matches the golden)" \
                   || echo "deb: 0 passed, 1 failed"

@@ -36,26 +36,25 @@ void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sour
     }
 }
 
-bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene) {
+LoadOptions load_options(const CommonOptions& common) {
     LoadOptions options;
     options.sandbox = common.sandbox;
     options.sandbox_dir = common.sandbox_dir;
     options.allowed_roots = common.allow_paths;
     options.limits = common.limits.load;
-    scene = load_scene(path, options);
+    return options;
+}
+
+bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene) {
+    scene = load_scene(path, load_options(common));
     print_diagnostics(scene.diagnostics, scene.sources, common.quiet);
     return scene.ok();
 }
 
 void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }
 
-bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
-                       std::optional<bool> recover_spheres, const CommonOptions& common,
-                       FlatScene& flat, FlattenStats& stats) {
-    const bool quiet = common.quiet;
-    Diagnostics diagnostics;
-    Scene scene = build_scene(loaded, diagnostics);
-    release_tree(loaded);
+FlattenOptions flatten_options(const LoadedScene& loaded, const RenderOptions& options,
+                               std::optional<bool> recover_spheres, const CommonOptions& common) {
     FlattenOptions fo;
     fo.spheres = options.spheres;
     fo.density = options.density;
@@ -66,7 +65,18 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
     fo.scene_file = loaded.main_file;
     fo.allowed_roots = loaded.allowed_roots;
     common.limits.apply(fo);
-    flat = flatten_scene(scene, fo, diagnostics, stats);
+    return fo;
+}
+
+bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
+                       std::optional<bool> recover_spheres, const CommonOptions& common,
+                       FlatScene& flat, FlattenStats& stats) {
+    const bool quiet = common.quiet;
+    Diagnostics diagnostics;
+    Scene scene = build_scene(loaded, diagnostics);
+    release_tree(loaded);
+    flat = flatten_scene(scene, flatten_options(loaded, options, recover_spheres, common),
+                         diagnostics, stats);
     scene = Scene{};  // before the diagnostics are printed and the caller builds its BVH
     print_diagnostics(diagnostics, loaded.sources, quiet);
     return !diagnostics.has_errors();

@@ -14,10 +14,15 @@ namespace vr {
 void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet);
 // Prints "FILE: warning: MESSAGE" for a warning with no source position, and counts it.
 void report_warning(const std::string& file, const std::string& message, bool quiet);
+// The reader's settings from the command line's --sandbox, --allow-path and --limit.
+LoadOptions load_options(const CommonOptions& common);
 // Loads `path`, prints its diagnostics; false when it has errors.
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
 // Gives the node tree's memory back (build_scene has copied what it needs).
 void release_tree(LoadedScene& loaded);
+// The flattening settings a render with `options` uses (build_and_flatten's; the Python module's).
+FlattenOptions flatten_options(const LoadedScene& loaded, const RenderOptions& options,
+                               std::optional<bool> recover_spheres, const CommonOptions& common);
 // Builds the typed scene and flattens it with the render options' sphere and gas settings; prints
 // the diagnostics; false when there are errors. The node tree is released once the typed scene is
 // built and the typed scene once it is flattened, so that their peaks do not stack (`loaded` keeps
