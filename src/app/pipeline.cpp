@@ -51,11 +51,11 @@ void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }
 
 bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
                        std::optional<bool> recover_spheres, const CommonOptions& common,
-                       FlatScene& flat, FlattenStats& stats) {
+                       FlatScene& flat, FlattenStats& stats, bool keep_tree) {
     const bool quiet = common.quiet;
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
-    release_tree(loaded);
+    if (!keep_tree) release_tree(loaded);
     FlattenOptions fo;
     fo.spheres = options.spheres;
     fo.density = options.density;

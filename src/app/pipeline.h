@@ -21,10 +21,10 @@ void release_tree(LoadedScene& loaded);
 // Builds the typed scene and flattens it with the render options' sphere and gas settings; prints
 // the diagnostics; false when there are errors. The node tree is released once the typed scene is
 // built and the typed scene once it is flattened, so that their peaks do not stack (`loaded` keeps
-// its sources, diagnostics and statistics).
+// its sources, diagnostics and statistics); `keep_tree` keeps the tree for a later frame.
 bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
                        std::optional<bool> recover_spheres, const CommonOptions& common,
-                       FlatScene& flat, FlattenStats& stats);
+                       FlatScene& flat, FlattenStats& stats, bool keep_tree = false);
 
 // Why the flattened scene has nothing to render ("" when it has something): every Inline failed,
 // every shape was skipped, or the file holds no geometry. For the one warning of an empty image.
