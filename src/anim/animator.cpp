@@ -77,8 +77,18 @@ bool Animator::field_end(NodeId node, Name event, bool input, RouteEnd& end) con
         end = {node, f->name, f->type, f->access};
         return true;
     };
-    if (accept(reg.lookup_field(decl->spec, *decl, event), false)) return true;
     const std::string_view text = name_text(event);
+    if (accept(reg.lookup_field(decl->spec, *decl, event), false)) {
+        // VRML97's set_x eventIns of plain fields (Extrusion set_spine, IndexedFaceSet
+        // set_coordIndex): the event replaces the field's value.
+        const FieldDecl* plain =
+            end.access == Access::EventIn && text.starts_with("set_")
+                ? reg.lookup_field(decl->spec, *decl, intern(text.substr(4)))
+                : nullptr;
+        if (plain && plain->access == Access::Field && plain->type == end.type)
+            end = {node, plain->name, plain->type, Access::Field};
+        return true;
+    }
     if (input && text.starts_with("set_"))
         return accept(reg.lookup_field(decl->spec, *decl, intern(text.substr(4))), true);
     if (!input && text.ends_with("_changed"))
@@ -152,7 +162,7 @@ void Animator::resolve(const Route& route) {
             }
             routes_from_[key_of(a.node, a.field)].push_back(uint32_t(routes_.size()));
             routes_.push_back({a, b, route.loc});
-            if (b.access == Access::ExposedField) own_entry(b.node, b.field);
+            if (has_value(b.access)) own_entry(b.node, b.field);
         }
     }
 }
@@ -219,7 +229,7 @@ void Animator::send(NodeId node, Name field, const FieldType& type, std::vector<
 void Animator::deliver(const RouteEnd& to, const FieldType& type,
                        const std::vector<double>& numbers, const std::vector<std::string>& strings,
                        const std::vector<NodeId>& nodes) {
-    if (to.access == Access::ExposedField) {
+    if (has_value(to.access)) {
         FieldEntry& e = tree_.fields[entries_.at(key_of(to.node, to.field))];
         if (type.kind == ValueKind::String) {
             e.begin = uint32_t(tree_.strings.size());
@@ -234,7 +244,8 @@ void Animator::deliver(const RouteEnd& to, const FieldType& type,
             tree_.numbers.insert(tree_.numbers.end(), numbers.begin(), numbers.end());
             e.count = uint32_t(numbers.size());
         }
-        send(to.node, to.field, type, numbers, strings, nodes);  // x_changed
+        if (to.access == Access::ExposedField)
+            send(to.node, to.field, type, numbers, strings, nodes);  // x_changed
         return;
     }
     Blend blend;

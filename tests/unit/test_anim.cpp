@@ -303,6 +303,21 @@ ROUTE Clock.fraction_changed TO M1.set_f
     EXPECT_EQ(w.field("Body", "translation", 1), (std::vector<double>{0, 0, 0}));  // not routed
 }
 
+TEST(Routes, SetEventsOfPlainFieldsReplaceTheField) {
+    // VRML97 Extrusion: `eventIn set_spine` and `field spine` (freewrl test 41 wiggles a snake so);
+    // fraction 0.5 of a 2 s loop at t = 1: half way, spine (1 0 0, 1 2 0).
+    World w(R"(
+DEF Clock TimeSensor { loop TRUE cycleInterval 2 }
+DEF Wiggle CoordinateInterpolator { key [0 1] keyValue [0 0 0, 0 1 0,  2 0 0, 2 3 0] }
+Shape { geometry DEF Snake Extrusion { spine [0 0 0, 0 1 0] } }
+ROUTE Clock.fraction_changed TO Wiggle.set_fraction
+ROUTE Wiggle.value_changed TO Snake.set_spine
+)");
+    EXPECT_TRUE(w.messages().empty()) << w.messages();
+    EXPECT_TRUE(w.animator->evaluate(1.0));
+    EXPECT_EQ(w.field("Snake", "spine"), (std::vector<double>{1, 0, 0, 1, 2, 0}));
+}
+
 TEST(Routes, PauseTimeIsIgnoredWithAWarning) {
     World w(R"(
 DEF Clock TimeSensor { loop TRUE pauseTime 0.25 }
