@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "anim/animator.h"
 #include "render/render.h"
 #include "scene/build.h"
 
@@ -45,6 +46,18 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
     scene = load_scene(path, options);
     print_diagnostics(scene.diagnostics, scene.sources, common.quiet);
     return scene.ok();
+}
+
+bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common,
+                   size_t* routes_used, bool* animated) {
+    Diagnostics diagnostics;
+    Animator animator(loaded.tree, diagnostics);
+    print_diagnostics(diagnostics, loaded.sources, common.quiet);
+    if (diagnostics.has_errors()) return false;
+    animator.evaluate(time);
+    if (routes_used) *routes_used = animator.routes().size();
+    if (animated) *animated = animator.animated();
+    return true;
 }
 
 void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }

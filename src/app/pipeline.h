@@ -16,6 +16,11 @@ void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sour
 void report_warning(const std::string& file, const std::string& message, bool quiet);
 // Loads `path`, prints its diagnostics; false when it has errors.
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
+// Evaluates the scene's TimeSensors, interpolators and ROUTEs at `time` into the node tree and
+// prints what the ROUTE check said; false when a ROUTE is an error. `routes_used`, when given, gets
+// the number of ROUTEs that connect fields and `animated` whether a TimeSensor drives any.
+bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common,
+                   size_t* routes_used = nullptr, bool* animated = nullptr);
 // Gives the node tree's memory back (build_scene has copied what it needs).
 void release_tree(LoadedScene& loaded);
 // Builds the typed scene and flattens it with the render options' sphere and gas settings; prints
