@@ -44,7 +44,7 @@ std::string output_path(const RenderCommand& cmd) {
 int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
                  const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
                  const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
-                 RenderTimings timings);
+                 std::chrono::steady_clock::time_point frame_t0, RenderTimings timings);
 
 nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
                                          size_t sphere_count, const RenderStats& stats,
@@ -165,9 +165,11 @@ int run_render(const RenderCommand& cmd) {
     FlattenStats flatten_stats;
     double scene_seconds = 0.0;
     for (int k = 0; k < cmd.frames; ++k) {
-        // T0 + k / F, as one product so that frame k of a sequence is the render at that time.
+        // Each frame's line of timings covers that frame: the first one's the reading too.
+        const auto frame_t0 = k == 0 ? t0 : std::chrono::steady_clock::now();
         const double time = cmd.time + double(k) / cmd.fps;
         const bool changed = animator.evaluate(time);
+        scene_seconds = 0.0;
         if (k == 0 || changed) {
             auto t1 = std::chrono::steady_clock::now();
             flat = FlatScene{};
@@ -184,8 +186,9 @@ int run_render(const RenderCommand& cmd) {
         bool unused = false;
         const std::string path = frame_path(output, k, unused, error);
         const bool last = k + 1 == cmd.frames;
-        const int code = render_frame(cmd, options, loaded, flat, flatten_stats, path, last, t0,
-                                      {parse_seconds, scene_seconds, 0.0, 0.0});
+        const int code =
+            render_frame(cmd, options, loaded, flat, flatten_stats, path, last, t0, frame_t0,
+                         {k == 0 ? parse_seconds : 0.0, scene_seconds, 0.0, 0.0});
         if (code != kExitOk) return code;
     }
     return kExitOk;
@@ -194,7 +197,7 @@ int run_render(const RenderCommand& cmd) {
 int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
                  const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
                  const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
-                 RenderTimings timings) {
+                 std::chrono::steady_clock::time_point frame_t0, RenderTimings timings) {
     const double parse_seconds = timings.parse, scene_seconds = timings.scene;
     std::string error;
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
@@ -302,7 +305,7 @@ int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
         return kExitOutput;
     }
     const double write_seconds = seconds_since(t3);
-    const double total = seconds_since(t0);
+    const double total = seconds_since(frame_t0);
 
     if (!cmd.common.quiet) {
         std::fprintf(stderr,
