@@ -51,6 +51,7 @@ Animator::Animator(NodeTree& tree, Diagnostics& diagnostics)
             sensors_.push_back(r.from.node);
     std::sort(sensors_.begin(), sensors_.end());  // node order is file order
     animated_ = !sensors_.empty();
+    pool_marks_ = {tree_.numbers.size(), tree_.strings.size(), tree_.node_refs.size()};
     for (NodeId s : sensors_)
         for (const char* paused : {"pauseTime", "resumeTime"})
             if (!tree_.get(s, paused).is_default)
@@ -284,7 +285,15 @@ void Animator::deliver(const RouteEnd& to, const FieldType& type,
 }
 
 bool Animator::evaluate(double now) {
+    // Without a TimeSensor no event is ever sent: nothing to restore or change (and the caller
+    // may have released the tree after building it once).
+    if (!animated_) return false;
     for (const auto& [k, original] : originals_) tree_.fields[entries_.at(k)] = original;
+    // What earlier calls appended is referenced by no entry now: the pools shrink back, so that a
+    // long sequence holds one frame's values, not all of them.
+    tree_.numbers.resize(pool_marks_[0]);
+    tree_.strings.resize(pool_marks_[1]);
+    tree_.node_refs.resize(pool_marks_[2]);
     fired_.assign(routes_.size(), 0);
     queue_.clear();
     static const Name fraction = intern("fraction_changed"), active = intern("isActive"),

@@ -5,6 +5,7 @@
 //     Animator animator(loaded.tree, loaded.diagnostics);  // checks every ROUTE
 //     animator.evaluate(t);                                // fields hold their values at t
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -42,7 +43,8 @@ class Animator {
     const std::vector<ResolvedRoute>& routes() const { return routes_; }
 
     // Gives every field ROUTEs reach its file value back, then runs the event cascade of time `now`
-    // (seconds on the world's clock): each TimeSensor's last events, then every event through the
+    // (seconds on the world's clock; the tree must still be there when animated() is true): each
+    // TimeSensor's last events, then every event through the
     // ROUTEs from it in ROUTE order, each ROUTE at most once (which also ends loops). Returns
     // true when some field now holds another value than after the previous call (the first call:
     // than in the file).
@@ -79,6 +81,7 @@ class Animator {
     };
     std::vector<Pending> queue_;
     std::vector<char> fired_;
+    std::array<size_t, 3> pool_marks_{};  // numbers, strings, node_refs sizes before any event
     std::unordered_set<NodeId> warned_scripts_;
     bool animated_ = false;
     bool evaluated_ = false;

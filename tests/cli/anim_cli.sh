@@ -18,3 +18,8 @@ grep -q "nothing of the scene" "$work/err.txt" && fail "a camera looking at the 
 printf '#VRML V2.0 utf8\nDEF C TimeSensor {}\nDEF T Transform {}\nROUTE C.fraction_changed TO T.set_translation\n' >"$work/bad_route.wrl"
 expect 3 "ROUTE of mismatched types" -- "$bin" render "$work/bad_route.wrl" -W 8 -H 8 -o "$work/x.png"
 expect_stderr "bad_route.wrl:4:1: error: ROUTE from TimeSensor 'C'.fraction_changed \(SFFloat\) to Transform 'T'.set_translation \(SFVec3f\): the types differ" "route type error names the place"
+# A ROUTE no TimeSensor drives (a TouchSensor's) over several frames: the tree is released after
+# the first frame's build, and later frames must not touch it (this crashed).
+printf '#VRML V2.0 utf8\nDEF S TouchSensor {}\nDEF T Transform { children Shape { geometry Box {} } }\nROUTE S.hitPoint_changed TO T.set_translation\n' >"$work/touch.wrl"
+expect 0 "frames of a scene whose ROUTEs no TimeSensor drives" -- "$bin" render "$work/touch.wrl" -W 16 -H 12 -q --frames 3 -o "$work/touch_%d.png"
+cmp -s "$work/touch_0.png" "$work/touch_2.png" && pass || fail "a static scene renders the same frames"

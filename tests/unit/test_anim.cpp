@@ -318,6 +318,24 @@ ROUTE Wiggle.value_changed TO Snake.set_spine
     EXPECT_EQ(w.field("Snake", "spine"), (std::vector<double>{1, 0, 0, 1, 2, 0}));
 }
 
+TEST(Routes, ManyFramesHoldOneFramesValues) {
+    // A sequence evaluates the tree once a frame: the pools must not grow with the frame count.
+    World w(R"(
+DEF Clock TimeSensor { loop TRUE }
+DEF P CoordinateInterpolator { key [0 1] keyValue [0 0 0, 1 1 1,  5 5 5, 6 6 6] }
+DEF C Coordinate { point [0 0 0, 0 0 0] }
+ROUTE Clock.fraction_changed TO P.set_fraction
+ROUTE P.value_changed TO C.set_point
+)");
+    w.animator->evaluate(0.0);
+    const size_t numbers = w.loaded.tree.numbers.size();
+    for (int k = 1; k <= 100; ++k) w.animator->evaluate(k / 128.0);
+    EXPECT_EQ(w.loaded.tree.numbers.size(), numbers);
+    // 100/128 of the way: 5 * 100/128 = 3.90625 (a binary fraction, exact).
+    EXPECT_EQ(w.field("C", "point"), (std::vector<double>{3.90625, 3.90625, 3.90625, 4.90625,
+                                                          4.90625, 4.90625}));
+}
+
 TEST(Routes, PauseTimeIsIgnoredWithAWarning) {
     World w(R"(
 DEF Clock TimeSensor { loop TRUE pauseTime 0.25 }
