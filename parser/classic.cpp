@@ -766,13 +766,14 @@ class Reader {
         for (size_t i = links_mark; i < links.size(); ++i)
             if (links[i].instance == kNullNode) links[i].instance = first;
         if (first == kNullNode)
-            links.erase(std::remove_if(links.begin() + static_cast<ptrdiff_t>(links_mark),
-                                       links.end(),
-                                       [](const IsLink& l) { return l.instance == kNullNode; }),
-                        links.end());
+            links.erase(
+                std::remove_if(links.begin() + static_cast<ptrdiff_t>(links_mark), links.end(),
+                               [](const IsLink& l) { return l.instance == kNullNode; }),
+                links.end());
         // `field IS outer` on this instance: the enclosing instance's events reach this one.
         if (first != kNullNode)
-            for (const auto& [field, outer] : events) links.push_back({kNullNode, outer, first, field});
+            for (const auto& [field, outer] : events)
+                links.push_back({kNullNode, outer, first, field});
         return first;
     }
 

@@ -68,8 +68,8 @@ struct FieldView {
 };
 
 // A ROUTE as written. Its nodes are resolved in the DEF scope it stands in (the file, or one PROTO
-// instance's body, so that a PROTO's internal ROUTEs connect that instance's nodes); its event names
-// are kept as written (set_x, x_changed), for the evaluator (src/anim/) to match to fields.
+// instance's body, so that a PROTO's internal ROUTEs connect that instance's nodes); its event
+// names are kept as written (set_x, x_changed), for the evaluator (src/anim/) to match to fields.
 struct Route {
     NodeId from = kNullNode;
     Name from_event = kNoName;

@@ -426,8 +426,9 @@ void XmlReader::route(const XmlElement& e) {
         if (it != frame().defs.end() && it->second == kNullNode) return;  // skipped, said so
         if (it == frame().defs.end()) {
             warn(e.file, e.offset,
-                 "ROUTE names '" + *name + "', which no DEF before it names here; the ROUTE is "
-                 "ignored",
+                 "ROUTE names '" + *name +
+                     "', which no DEF before it names here; the ROUTE is "
+                     "ignored",
                  "route-unknown-node");
             return;
         }

@@ -22,10 +22,14 @@ bool interpolator_blend(std::string_view type, Blend& blend) {
         blend = Blend::Linear;
         return true;
     }
-    if (type == "ColorInterpolator") blend = Blend::Hsv;
-    else if (type == "OrientationInterpolator") blend = Blend::Rotation;
-    else if (type == "NormalInterpolator") blend = Blend::UnitVector;
-    else return false;
+    if (type == "ColorInterpolator")
+        blend = Blend::Hsv;
+    else if (type == "OrientationInterpolator")
+        blend = Blend::Rotation;
+    else if (type == "NormalInterpolator")
+        blend = Blend::UnitVector;
+    else
+        return false;
     return true;
 }
 
@@ -82,10 +86,9 @@ bool Animator::field_end(NodeId node, Name event, bool input, RouteEnd& end) con
     if (accept(reg.lookup_field(decl->spec, *decl, event), false)) {
         // VRML97's set_x eventIns of plain fields (Extrusion set_spine, IndexedFaceSet
         // set_coordIndex): the event replaces the field's value.
-        const FieldDecl* plain =
-            end.access == Access::EventIn && text.starts_with("set_")
-                ? reg.lookup_field(decl->spec, *decl, intern(text.substr(4)))
-                : nullptr;
+        const FieldDecl* plain = end.access == Access::EventIn && text.starts_with("set_")
+                                     ? reg.lookup_field(decl->spec, *decl, intern(text.substr(4)))
+                                     : nullptr;
         if (plain && plain->access == Access::Field && plain->type == end.type)
             end = {node, plain->name, plain->type, Access::Field};
         return true;
@@ -153,9 +156,9 @@ void Animator::resolve(const Route& route) {
         for (const RouteEnd& b : to) {
             if (a.type != b.type) {
                 diagnostics_.error(route.loc, "ROUTE from " + describe(tree_, route.from) + "." +
-                                                  std::string(name_text(route.from_event)) +
-                                                  " (" + std::string(type_name(a.type)) +
-                                                  ") to " + describe(tree_, route.to) + "." +
+                                                  std::string(name_text(route.from_event)) + " (" +
+                                                  std::string(type_name(a.type)) + ") to " +
+                                                  describe(tree_, route.to) + "." +
                                                   std::string(name_text(route.to_event)) + " (" +
                                                   std::string(type_name(b.type)) +
                                                   "): the types differ");
@@ -250,8 +253,7 @@ void Animator::deliver(const RouteEnd& to, const FieldType& type,
         return;
     }
     Blend blend;
-    if (to.access != Access::EventIn || name_text(to.field) != "set_fraction" ||
-        numbers.empty())
+    if (to.access != Access::EventIn || name_text(to.field) != "set_fraction" || numbers.empty())
         return;  // other eventIns (set_bind, addChildren, ...) change nothing drawn here
     if (!interpolator_blend(tree_.type_name(to.node), blend)) {
         warn_once(to.node,

@@ -65,8 +65,8 @@ class Animator {
     Diagnostics& diagnostics_;
     std::vector<ResolvedRoute> routes_;
     std::unordered_map<uint64_t, std::vector<uint32_t>> routes_from_;  // (node, field) -> routes
-    std::unordered_map<uint64_t, std::vector<uint32_t>> is_index_;  // (instance, field) -> links
-    std::vector<NodeId> sensors_;                                    // TimeSensors, in file order
+    std::unordered_map<uint64_t, std::vector<uint32_t>> is_index_;     // (instance, field) -> links
+    std::vector<NodeId> sensors_;                                      // TimeSensors, in file order
     // Entries (into tree.fields) that ROUTEs write, with the value each had in the file.
     std::unordered_map<uint64_t, uint32_t> entries_;
     std::vector<std::pair<uint64_t, FieldEntry>> originals_;  // (node, field) -> file value

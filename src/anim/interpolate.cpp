@@ -108,7 +108,8 @@ void blend_hsv(const double* a, const double* b, double t, double* out) {
     double dh = hb[0] - ha[0];
     if (dh > 0.5) dh -= 1.0;  // the shorter way round the hue circle
     if (dh < -0.5) dh += 1.0;
-    const double hsv[3] = {ha[0] + t * dh, ha[1] + t * (hb[1] - ha[1]), ha[2] + t * (hb[2] - ha[2])};
+    const double hsv[3] = {ha[0] + t * dh, ha[1] + t * (hb[1] - ha[1]),
+                           ha[2] + t * (hb[2] - ha[2])};
     hsv_to_rgb(hsv, out);
 }
 

@@ -13,10 +13,10 @@ struct TimeSensorFields {
 };
 
 struct TimeSensorState {
-    bool sent = false;       // false: no event yet (before startTime, disabled): fields keep values
-    bool active = false;     // isActive's last value
-    double fraction = 0.0;   // fraction_changed's last value
-    double time = 0.0;       // the last `time` event: now while active, else when it stopped
+    bool sent = false;      // false: no event yet (before startTime, disabled): fields keep values
+    bool active = false;    // isActive's last value
+    double fraction = 0.0;  // fraction_changed's last value
+    double time = 0.0;      // the last `time` event: now while active, else when it stopped
     double cycle_time = 0.0;  // the start of the cycle the last events belong to
 };
 

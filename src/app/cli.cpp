@@ -133,9 +133,11 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
         ->check(CLI::IsMember(label_names(kSpheresLabels)));
     r->add_option("--viewpoint", o.viewpoint, "Viewpoint to use: DEF name or description");
     r->add_flag("--fit", o.fit, "Move the camera to frame the scene's bounds");
-    r->add_option("--position", texts.position, "Camera position X,Y,Z (overrides the viewpoint's)");
+    r->add_option("--position", texts.position,
+                  "Camera position X,Y,Z (overrides the viewpoint's)");
     r->add_option("--look-at", texts.look_at, "Point the camera at X,Y,Z");
-    r->add_option("--up", texts.up, "World direction X,Y,Z shown upwards (default: the viewpoint's)");
+    r->add_option("--up", texts.up,
+                  "World direction X,Y,Z shown upwards (default: the viewpoint's)");
     r->add_option("--fov", o.fov, "Field of view in radians across the smaller image dimension");
     r->add_option("--time", render.time,
                   "Render the scene as it is at T seconds after loading (TimeSensors, "

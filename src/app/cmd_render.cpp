@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "anim/animator.h"
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
@@ -16,7 +17,6 @@
 #include "flatten/flatten.h"
 #include "image/image.h"
 #include "render/render.h"
-#include "anim/animator.h"
 
 namespace vr {
 namespace {
@@ -86,7 +86,8 @@ namespace {
 
 // The path of frame k: OUT with its printf pattern (%d, %04d, ...) filled in; OUT as it is when it
 // has none. `pattern_error` says what is wrong with a pattern ("" when it is fine).
-std::string frame_path(const std::string& out, int k, bool& has_pattern, std::string& pattern_error) {
+std::string frame_path(const std::string& out, int k, bool& has_pattern,
+                       std::string& pattern_error) {
     has_pattern = false;
     pattern_error.clear();
     std::string result;
@@ -257,9 +258,11 @@ int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
                     rgba, n, image8.channels, cmd.options.srgb,
                     &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
         };
-        render_tiles(flat, camera, options, progress, stats, encode, last ? &flat.spheres : nullptr);
+        render_tiles(flat, camera, options, progress, stats, encode,
+                     last ? &flat.spheres : nullptr);
     } else {
-        image = render_image(flat, camera, options, progress, stats, last ? &flat.spheres : nullptr);
+        image =
+            render_image(flat, camera, options, progress, stats, last ? &flat.spheres : nullptr);
         count_covered(size_t(image.width) * size_t(image.height), image.rgba.data());
     }
     bar.finish();

@@ -65,9 +65,9 @@ bool apply_overrides(const RenderOptions& options, Camera& camera, std::string& 
         }
         camera.field_of_view = *options.fov;
     }
-    for (const auto& [v, name] : {std::pair{&options.camera_position, "--position"},
-                                  std::pair{&options.look_at, "--look-at"},
-                                  std::pair{&options.up, "--up"}})
+    for (const auto& [v, name] :
+         {std::pair{&options.camera_position, "--position"},
+          std::pair{&options.look_at, "--look-at"}, std::pair{&options.up, "--up"}})
         if (*v && !finite3(**v)) {
             error = std::string(name) + " must be three finite numbers";
             return false;

@@ -55,19 +55,18 @@ TEST(Interpolate, EqualKeysJumpAtTheKey) {
 TEST(Interpolate, OrientationTakesTheShortestArc) {
     // About +Y from 0 to pi/2: half way is pi/4 about +Y. Tolerance: sin/cos/atan2 each round
     // once, a few ulps of pi/4.
-    const std::vector<double> r = at({0, 1}, {0, 1, 0, 0, 0, 1, 0, kPiD / 2}, 4,
-                                     Blend::Rotation, 0.5);
+    const std::vector<double> r =
+        at({0, 1}, {0, 1, 0, 0, 0, 1, 0, kPiD / 2}, 4, Blend::Rotation, 0.5);
     EXPECT_NEAR(r[0], 0.0, 1e-15);
     EXPECT_NEAR(r[1], 1.0, 1e-15);
     EXPECT_NEAR(r[3], kPiD / 4, 1e-15);
     // 0.1 rad to 6.0 rad about +Z: 6.0 is -0.28319 rad, so the short way passes through 0 and the
     // midpoint is (0.1 - 0.28319) / 2 = -0.091593 rad about +Z (not (0.1 + 6) / 2 = 3.05).
-    const std::vector<double> s =
-        at({0, 1}, {0, 0, 1, 0.1, 0, 0, 1, 6.0}, 4, Blend::Rotation, 0.5);
+    const std::vector<double> s = at({0, 1}, {0, 0, 1, 0.1, 0, 0, 1, 6.0}, 4, Blend::Rotation, 0.5);
     EXPECT_NEAR(s[2] * s[3], (0.1 + (6.0 - 2 * kPiD)) / 2, 1e-14);
     // An axis that is not unit length is normalised (SPEC section 2): same as above.
-    const std::vector<double> u = at({0, 1}, {0, 3, 0, 0, 0, 2, 0, kPiD / 2}, 4,
-                                     Blend::Rotation, 0.5);
+    const std::vector<double> u =
+        at({0, 1}, {0, 3, 0, 0, 0, 2, 0, kPiD / 2}, 4, Blend::Rotation, 0.5);
     EXPECT_NEAR(u[1], 1.0, 1e-15);
     EXPECT_NEAR(u[3], kPiD / 4, 1e-15);
 }
@@ -332,8 +331,8 @@ ROUTE P.value_changed TO C.set_point
     for (int k = 1; k <= 100; ++k) w.animator->evaluate(k / 128.0);
     EXPECT_EQ(w.loaded.tree.numbers.size(), numbers);
     // 100/128 of the way: 5 * 100/128 = 3.90625 (a binary fraction, exact).
-    EXPECT_EQ(w.field("C", "point"), (std::vector<double>{3.90625, 3.90625, 3.90625, 4.90625,
-                                                          4.90625, 4.90625}));
+    EXPECT_EQ(w.field("C", "point"),
+              (std::vector<double>{3.90625, 3.90625, 3.90625, 4.90625, 4.90625, 4.90625}));
 }
 
 TEST(Routes, PauseTimeIsIgnoredWithAWarning) {
