@@ -163,8 +163,7 @@ TEST(Camera, OverridesComposeWithFit) {
     o.up = Vec3(0.0, 0.0, 1.0);
     ASSERT_TRUE(make_camera(scene, o, cam, error)) << error;
     EXPECT_NEAR(angle_between(cam.forward(), Vec3(1.0, 0.0, 0.0)), 0.0, kAngleTolerance);
-    EXPECT_NEAR(angle_between(cam.world_from_camera[1], Vec3(0.0, 0.0, 1.0)), 0.0,
-                kAngleTolerance);
+    EXPECT_NEAR(angle_between(cam.world_from_camera[1], Vec3(0.0, 0.0, 1.0)), 0.0, kAngleTolerance);
     // --fit keeps that direction and frames the sphere with the new fov: the sphere's box face
     // (half size 2) fills tan(0.25) at distance d - 2 (1e-12: order-1 roundings).
     o.fit = true;
