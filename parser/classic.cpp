@@ -215,12 +215,38 @@ class Reader {
     }
 
     void route(Frame& f) {
-        f.lexer.next();
-        expect_word(f, "the source of a ROUTE (node.event)");
+        const Token keyword = f.lexer.next();
+        const Token from = expect(f, TokenKind::Word, "the source of a ROUTE (node.event)");
         std::string_view to = expect_word(f, "TO");
         if (to != "TO") fail(f, f.lexer.peek(), "expected TO in ROUTE");
-        expect_word(f, "the destination of a ROUTE (node.event)");
+        const Token dest = expect(f, TokenKind::Word, "the destination of a ROUTE (node.event)");
         ++scene_.stats.routes;
+        Route r;
+        r.loc = {f.file, keyword.offset};
+        if (!route_end(f, from, r.from, r.from_event) || !route_end(f, dest, r.to, r.to_event))
+            return;
+        tree_.routes.push_back(r);
+    }
+
+    // "NODE.event" of a ROUTE: the node its DEF name has in this scope. A name no DEF before the
+    // ROUTE gives is a warning (the ROUTE is dropped), as browsers take it.
+    bool route_end(Frame& f, const Token& t, NodeId& node, Name& event) {
+        const std::string_view text = f.lexer.text(t);
+        const size_t dot = text.rfind('.');
+        if (dot == std::string_view::npos || dot == 0 || dot + 1 == text.size())
+            fail(f, t, "expected NODE.event in ROUTE, found " + describe(f, t));
+        auto it = f.defs.find(intern(text.substr(0, dot)));
+        if (it != f.defs.end() && it->second == kNullNode) return false;  // skipped, said so
+        if (it == f.defs.end()) {
+            warn(f, t.offset,
+                 "ROUTE names '" + std::string(text.substr(0, dot)) +
+                     "', which no DEF before it names here; the ROUTE is ignored",
+                 "route-unknown-node");
+            return false;
+        }
+        node = it->second;
+        event = intern(text.substr(dot + 1));
+        return true;
     }
 
     // DEF name node | USE name | node
@@ -303,6 +329,7 @@ class Reader {
 
         const size_t mark = scratch_.size();
         std::vector<std::pair<Name, FieldType>> dynamic_fields;  // declared in a Script's body
+        std::vector<std::pair<Name, Name>> events;  // (field, PROTO field) of `field IS name`
         for (;;) {
             Token t = f.lexer.peek();
             if (t.kind == TokenKind::RBrace) {
@@ -358,7 +385,7 @@ class Reader {
                      "extension-field:" + std::string(type) + "." + std::string(w));
             if (peek_word(f, "IS")) {
                 f.lexer.next();
-                is_mapping(f, field->name, field->type, field->access, mark);
+                is_mapping(f, field->name, field->type, field->access, mark, events);
                 continue;
             }
             if (!has_value(field->access))
@@ -370,7 +397,10 @@ class Reader {
             field_value(f, field->type, entry, depth);
             push_field(f, mark, entry, t);
         }
-        return make_node(f, decl, type_name, type_token, mark);
+        const NodeId id = make_node(f, decl, type_name, type_token, mark);
+        for (const auto& [field, proto_field] : events)
+            tree_.is_links.push_back({kNullNode, proto_field, id, field});
+        return id;
     }
 
     // True when the word at the lexer is an access keyword but also the name of a real field
@@ -511,7 +541,8 @@ class Reader {
     }
 
     // `field IS protoField` inside a PROTO body: the node's field takes the instance's value.
-    void is_mapping(Frame& f, Name field, FieldType type, Access access, size_t mark) {
+    void is_mapping(Frame& f, Name field, FieldType type, Access access, size_t mark,
+                    std::vector<std::pair<Name, Name>>& events) {
         Token t = f.lexer.next();
         if (t.kind != TokenKind::Word) fail(f, t, "expected a PROTO field name after IS");
         if (!f.is_values) fail(f, t, "IS may only be used inside a PROTO body");
@@ -526,6 +557,7 @@ class Reader {
                  "IS connects a " + std::string(type_name(type)) + " field to PROTO field '" +
                      std::string(name_text(pf->name)) + "' of type " +
                      std::string(type_name(pf->type)));
+        if (access != Access::Field) events.emplace_back(field, proto_field);
         if (!has_value(access)) return;  // events carry no value at time 0
         auto it = f.is_values->find(proto_field);
         if (it == f.is_values->end()) return;  // PROTO event: the node keeps its default
@@ -636,6 +668,7 @@ class Reader {
     NodeId proto_instance(Frame& f, const Token& type_token, const ProtoDecl& proto, size_t depth) {
         expect(f, TokenKind::LBrace, "'{' after PROTO instance type");
         std::unordered_map<Name, FieldEntry> values;
+        std::vector<std::pair<Name, Name>> events;  // (field, enclosing PROTO's field) of IS
         for (;;) {
             Token t = f.lexer.next();
             if (t.kind == TokenKind::RBrace) break;
@@ -661,6 +694,7 @@ class Reader {
                              " does not have");
                 if (opf->type != pf->type)
                     fail(f, is_name, "IS connects fields of different types");
+                if (pf->access != Access::Field) events.emplace_back(field_name, outer);
                 auto it = f.is_values->find(outer);
                 if (it != f.is_values->end()) values[field_name] = it->second;
                 continue;
@@ -718,6 +752,7 @@ class Reader {
         body.protos->parent = impl->scope.lock();
         NodeId first = kNullNode;
         bool have_first = false;
+        const size_t links_mark = tree_.is_links.size();
         while (body.lexer.peek().kind != TokenKind::End) {
             NodeId id = statement(body, depth + 1);
             if (!have_first && id != kNullNode) {
@@ -725,6 +760,20 @@ class Reader {
                 have_first = true;
             }
         }
+        // This body's IS events belong to this instance, which the first body node stands for;
+        // nested instances set theirs before.
+        auto& links = tree_.is_links;
+        for (size_t i = links_mark; i < links.size(); ++i)
+            if (links[i].instance == kNullNode) links[i].instance = first;
+        if (first == kNullNode)
+            links.erase(
+                std::remove_if(links.begin() + static_cast<ptrdiff_t>(links_mark), links.end(),
+                               [](const IsLink& l) { return l.instance == kNullNode; }),
+                links.end());
+        // `field IS outer` on this instance: the enclosing instance's events reach this one.
+        if (first != kNullNode)
+            for (const auto& [field, outer] : events)
+                links.push_back({kNullNode, outer, first, field});
         return first;
     }
 

@@ -67,6 +67,27 @@ struct FieldView {
     size_t size() const;
 };
 
+// A ROUTE as written. Its nodes are resolved in the DEF scope it stands in (the file, or one PROTO
+// instance's body, so that a PROTO's internal ROUTEs connect that instance's nodes); its event
+// names are kept as written (set_x, x_changed), for the evaluator (src/anim/) to match to fields.
+struct Route {
+    NodeId from = kNullNode;
+    Name from_event = kNoName;
+    NodeId to = kNullNode;
+    Name to_event = kNoName;
+    PackedLoc loc;  // the ROUTE keyword
+};
+
+// `field IS protoField` inside a PROTO body, kept for events: what is routed to the instance's
+// protoField reaches node.field, and what node.field sends leaves as the instance's protoField.
+// `instance` is the node that stands for the instance (the first node of its body).
+struct IsLink {
+    NodeId instance = kNullNode;
+    Name proto_field = kNoName;
+    NodeId node = kNullNode;
+    Name field = kNoName;
+};
+
 struct NodeTree {
     Pool<Node> nodes;
     std::vector<NodeKind> kinds{NodeKind{}};  // distinct (decl, type) pairs; 0 is (none, no name)
@@ -77,6 +98,9 @@ struct NodeTree {
 
     std::vector<NodeId> roots;                         // top-level nodes of the main file, in order
     std::unordered_map<NodeId, uint32_t> many_fields;  // field counts of Node::kManyFields or more
+
+    std::vector<Route> routes;     // in file order (PROTO bodies' where each instance stands)
+    std::vector<IsLink> is_links;  // PROTO interface events, for routes into and out of instances
 
     // Inline nodes that were resolved: the top-level nodes of the file they name.
     std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;

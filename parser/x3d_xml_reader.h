@@ -103,7 +103,9 @@ struct Names {
     Name def = intern("DEF"), use = intern("USE"), container = intern("containerField"),
          cls = intern("class"), id = intern("id"), style = intern("style"), name = intern("name"),
          type = intern("type"), access = intern("accessType"), value = intern("value"),
-         url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField");
+         url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField"),
+         from_node = intern("fromNode"), from_field = intern("fromField"),
+         to_node = intern("toNode"), to_field = intern("toField");
     // Elements of the encoding.
     Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"),
          proto_interface = intern("ProtoInterface"), proto_body = intern("ProtoBody"),
@@ -275,6 +277,7 @@ class XmlReader {
     // ---- values ---------------------------------------------------------------------------------
     std::string attr_text(const XmlElement& e, const XmlAttr& a) const;
     std::string required(const XmlElement& e, Name attr, const char* what);
+    void route(const XmlElement& e);
     void read_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
                     const What& what);
     void lex_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,

@@ -92,7 +92,7 @@ void XmlReader::content_element(const XmlElement& e) {
     if (tag == n_.extern_proto_declare) return extern_start(e);
     if (tag == n_.proto_instance) return instance_start(e);
     if (tag == n_.route || tag == n_.import || tag == n_.export_) {
-        if (tag == n_.route) ++scene_.stats.routes;
+        if (tag == n_.route) route(e);
         return push(make_open(Role::Leaf, e));
     }
     Open& parent = stack_.back();
@@ -410,6 +410,31 @@ void XmlReader::field_value_start(const XmlElement& e) {
     Open o = make_open(Role::FieldValue, e);
     o.field = *pf;
     push(std::move(o));
+}
+
+// <ROUTE fromNode fromField toNode toField>, its nodes resolved in this scope's DEF names.
+void XmlReader::route(const XmlElement& e) {
+    ++scene_.stats.routes;
+    Route r;
+    r.loc = {e.file, e.offset};
+    const std::string from(trim(required(e, n_.from_node, "ROUTE")));
+    const std::string to(trim(required(e, n_.to_node, "ROUTE")));
+    r.from_event = intern(trim(required(e, n_.from_field, "ROUTE")));
+    r.to_event = intern(trim(required(e, n_.to_field, "ROUTE")));
+    for (const std::string* name : {&from, &to}) {
+        auto it = frame().defs.find(intern(*name));
+        if (it != frame().defs.end() && it->second == kNullNode) return;  // skipped, said so
+        if (it == frame().defs.end()) {
+            warn(e.file, e.offset,
+                 "ROUTE names '" + *name +
+                     "', which no DEF before it names here; the ROUTE is "
+                     "ignored",
+                 "route-unknown-node");
+            return;
+        }
+        (name == &from ? r.from : r.to) = it->second;
+    }
+    tree_.routes.push_back(r);
 }
 
 // <connect nodeField protoField>: the enclosing node (or PROTO instance) field takes the instance's

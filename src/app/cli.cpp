@@ -88,6 +88,7 @@ struct Texts {
     std::vector<std::string> limits;
     std::vector<CLI::Option*> sandbox_options;
     std::string spheres = "hints", camera = "viewpoint", background, albedo, emission;
+    std::string position, look_at, up;  // camera overrides, X,Y,Z
     bool recover = false, no_recover = false;
     std::string bench_spheres = "hints";
 };
@@ -132,6 +133,23 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
         ->check(CLI::IsMember(label_names(kSpheresLabels)));
     r->add_option("--viewpoint", o.viewpoint, "Viewpoint to use: DEF name or description");
     r->add_flag("--fit", o.fit, "Move the camera to frame the scene's bounds");
+    r->add_option("--position", texts.position,
+                  "Camera position X,Y,Z (overrides the viewpoint's)");
+    r->add_option("--look-at", texts.look_at, "Point the camera at X,Y,Z");
+    r->add_option("--up", texts.up,
+                  "World direction X,Y,Z shown upwards (default: the viewpoint's)");
+    r->add_option("--fov", o.fov, "Field of view in radians across the smaller image dimension");
+    r->add_option("--time", render.time,
+                  "Render the scene as it is at T seconds after loading (TimeSensors, "
+                  "interpolators, ROUTEs; default 0)");
+    r->add_option("--frames", render.frames,
+                  "Render N frames at --time + k / --fps into -o NAME_%04d.png (a printf pattern)")
+        ->check(CLI::Range(1, 1000000));
+    r->add_option("--fps", render.fps, "Frames per second of --frames (default 25)")
+        ->check(CLI::PositiveNumber);
+    r->add_option("--orbit", render.orbit_degrees,
+                  "Turn the camera by DEG degrees about the scene's centre over the frames "
+                  "(a turntable about the viewpoint's up axis)");
     r->add_option("--camera", texts.camera,
                   "perspective, ortho, or viewpoint (as the viewpoint says)")
         ->check(CLI::IsMember(label_names(kCameraLabels)));
@@ -302,6 +320,18 @@ bool map_render(const Texts& texts, RenderCommand& render) {
         if (!*target) {
             std::cerr << "vrmlray: error: " << name
                       << " wants R,G,B (three numbers separated by commas)\n";
+            return false;
+        }
+    }
+    for (auto [text, target, name] :
+         {std::tuple{&texts.position, &render.options.camera_position, "--position"},
+          std::tuple{&texts.look_at, &render.options.look_at, "--look-at"},
+          std::tuple{&texts.up, &render.options.up, "--up"}}) {
+        if (text->empty()) continue;
+        *target = parse_rgb(*text);
+        if (!*target) {
+            std::cerr << "vrmlray: error: " << name
+                      << " wants X,Y,Z (three numbers separated by commas)\n";
             return false;
         }
     }

@@ -142,7 +142,8 @@ bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
 
 int run_bench(const BenchCommand& cmd) {
     LoadedScene loaded;
-    if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
+    if (!load_and_report(cmd.scene, cmd.common, loaded) || !evaluate_time(loaded, 0.0, cmd.common))
+        return kExitBadInput;
     FlatScene flat;
     FlattenStats fs;
     if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common, flat, fs))

@@ -61,7 +61,12 @@ int run_info(const std::string& path, const CommonOptions& common) {
     std::printf("PROTO       %zu declared, %zu EXTERNPROTO, %zu instances\n", s.proto_declarations,
                 s.externproto_declarations, s.proto_instances);
     std::printf("Inline      %zu files loaded\n", s.inline_files);
-    std::printf("ROUTE       %zu (ignored: the scene is rendered at time 0)\n", s.routes);
+    // What follows (bounds, lights, camera) is the world at time 0, as `render` draws it.
+    size_t routes_used = 0;
+    bool animated = false;
+    if (!evaluate_time(loaded, 0.0, common, &routes_used, &animated)) return kExitBadInput;
+    std::printf("ROUTE       %zu, %zu connecting fields; %s\n", s.routes, routes_used,
+                animated ? "TimeSensors drive some (render --time T)" : "no TimeSensor drives any");
     if (!s.skipped_nodes.empty()) {
         std::printf("skipped     unknown or unresolved node types:\n");
         for (auto& [type, count] : s.skipped_nodes)

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "anim/animator.h"
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
@@ -39,6 +40,11 @@ std::string output_path(const RenderCommand& cmd) {
 }
 
 }  // namespace
+
+int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
+                 const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
+                 const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
+                 std::chrono::steady_clock::time_point frame_t0, RenderTimings timings);
 
 nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
                                          size_t sphere_count, const RenderStats& stats,
@@ -76,12 +82,68 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
     return j;
 }
 
+namespace {
+
+// The path of frame k: OUT with its printf pattern (%d, %04d, ...) filled in; OUT as it is when it
+// has none. `pattern_error` says what is wrong with a pattern ("" when it is fine).
+std::string frame_path(const std::string& out, int k, bool& has_pattern,
+                       std::string& pattern_error) {
+    has_pattern = false;
+    pattern_error.clear();
+    std::string result;
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (out[i] != '%') {
+            result += out[i];
+            continue;
+        }
+        if (i + 1 < out.size() && out[i + 1] == '%') {
+            result += '%';
+            ++i;
+            continue;
+        }
+        size_t j = i + 1;
+        bool zero = j < out.size() && out[j] == '0';
+        if (zero) ++j;
+        int width = 0;
+        while (j < out.size() && std::isdigit((unsigned char)out[j]) && width < 100)
+            width = width * 10 + (out[j++] - '0');
+        if (j >= out.size() || out[j] != 'd' || has_pattern) {
+            pattern_error = "-o " + out +
+                            ": the frame number pattern must be one %d, %0Nd or %Nd (a literal "
+                            "% is written %%)";
+            return out;
+        }
+        char number[128];
+        std::snprintf(number, sizeof number, zero ? "%0*d" : "%*d", width, k);
+        result += number;
+        has_pattern = true;
+        i = j;
+    }
+    return result;
+}
+
+}  // namespace
+
 int run_render(const RenderCommand& cmd) {
     auto t0 = std::chrono::steady_clock::now();
     // Before anything is read or traced: a render whose file cannot be written is lost time.
     const std::string output = output_path(cmd);
+    bool has_pattern = false;
     std::string error;
-    switch (check_output(output, cmd.options.alpha, error)) {
+    const std::string first_output = frame_path(output, 0, has_pattern, error);
+    if (!error.empty() || (cmd.frames > 1 && !has_pattern)) {
+        std::cerr << "vrmlray: error: "
+                  << (error.empty() ? "--frames " + std::to_string(cmd.frames) + " needs -o " +
+                                          "with a frame number pattern, e.g. -o frame_%04d.png"
+                                    : error)
+                  << "\n";
+        return kExitUsage;
+    }
+    if (!(cmd.fps > 0.0) || !std::isfinite(cmd.time)) {
+        std::cerr << "vrmlray: error: --fps must be positive and --time finite\n";
+        return kExitUsage;
+    }
+    switch (check_output(first_output, cmd.options.alpha, error)) {
         case OutputCheck::kOk:
             break;
         case OutputCheck::kNoAlpha:
@@ -94,21 +156,65 @@ int run_render(const RenderCommand& cmd) {
     const auto t_load = std::chrono::steady_clock::now();
     LoadedScene loaded;
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
+    Diagnostics anim_diagnostics;
+    Animator animator(loaded.tree, anim_diagnostics);
+    print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);
+    if (anim_diagnostics.has_errors()) return kExitBadInput;
     const double parse_seconds = seconds_since(t_load);
 
-    auto t1 = std::chrono::steady_clock::now();
     FlatScene flat;
     FlattenStats flatten_stats;
-    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
-                           flatten_stats))
-        return kExitBadInput;
-    const double scene_seconds = seconds_since(t1);
+    double scene_seconds = 0.0;
+    for (int k = 0; k < cmd.frames; ++k) {
+        // Each frame's line of timings covers that frame: the first one's the reading too.
+        const auto frame_t0 = k == 0 ? t0 : std::chrono::steady_clock::now();
+        const double time = cmd.time + double(k) / cmd.fps;
+        const bool changed = animator.evaluate(time);
+        scene_seconds = 0.0;
+        if (k == 0 || changed) {
+            auto t1 = std::chrono::steady_clock::now();
+            flat = FlatScene{};
+            // The tree stays while later frames may change it; otherwise its memory goes.
+            const bool keep_tree = animator.animated() && k + 1 < cmd.frames;
+            if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
+                                   flatten_stats, keep_tree))
+                return kExitBadInput;
+            scene_seconds = seconds_since(t1);
+        }
+        RenderOptions options = cmd.options;
+        if (cmd.orbit_degrees)
+            options.orbit_angle = double(k) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
+        bool unused = false;
+        const std::string path = frame_path(output, k, unused, error);
+        const bool last = k + 1 == cmd.frames;
+        const int code =
+            render_frame(cmd, options, loaded, flat, flatten_stats, path, last, t0, frame_t0,
+                         {k == 0 ? parse_seconds : 0.0, scene_seconds, 0.0, 0.0});
+        if (code != kExitOk) return code;
+    }
+    return kExitOk;
+}
 
+int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
+                 const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
+                 const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
+                 std::chrono::steady_clock::time_point frame_t0, RenderTimings timings) {
+    const double parse_seconds = timings.parse, scene_seconds = timings.scene;
+    std::string error;
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
     Camera camera;
-    if (!make_camera(flat, cmd.options, camera, error)) {
+    if (!make_camera(flat, frame_options, camera, error)) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitUsage;
+    }
+    if (frame_options.orbit_angle && !cmd.common.quiet) {
+        // Full precision: these three options render this frame alone, bit for bit.
+        const Vec3 &p = camera.position, &c = camera.orbit_centre, &u = camera.orbit_axis;
+        std::fprintf(stderr,
+                     "%s: note: %s: --position %.17g,%.17g,%.17g --look-at %.17g,%.17g,%.17g "
+                     "--up %.17g,%.17g,%.17g\n",
+                     cmd.scene.c_str(), output.c_str(), p.x, p.y, p.z, c.x, c.y, c.z, u.x, u.y,
+                     u.z);
     }
     const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
     if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
@@ -118,7 +224,7 @@ int run_render(const RenderCommand& cmd) {
 
     // --timeout counts from the start of the command; loading is bounded by the reader's limits
     // instead, so what is left of it goes to the tracer, which stops at its next tile.
-    RenderOptions options = cmd.options;
+    RenderOptions options = frame_options;
     if (options.timeout > 0.0) {
         options.timeout -= seconds_since(t0);
         if (options.timeout <= 0.0) options.timeout = 1e-9;
@@ -152,9 +258,11 @@ int run_render(const RenderCommand& cmd) {
                     rgba, n, image8.channels, cmd.options.srgb,
                     &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
         };
-        render_tiles(flat, camera, options, progress, stats, encode, &flat.spheres);
+        render_tiles(flat, camera, options, progress, stats, encode,
+                     last ? &flat.spheres : nullptr);
     } else {
-        image = render_image(flat, camera, options, progress, stats, &flat.spheres);
+        image =
+            render_image(flat, camera, options, progress, stats, last ? &flat.spheres : nullptr);
         count_covered(size_t(image.width) * size_t(image.height), image.rgba.data());
     }
     bar.finish();
@@ -200,7 +308,7 @@ int run_render(const RenderCommand& cmd) {
         return kExitOutput;
     }
     const double write_seconds = seconds_since(t3);
-    const double total = seconds_since(t0);
+    const double total = seconds_since(frame_t0);
 
     if (!cmd.common.quiet) {
         std::fprintf(stderr,

@@ -35,6 +35,10 @@ struct RenderCommand {
     std::string output;  // empty: the scene's stem + ".png" in the current folder
     RenderOptions options;
     std::string stats_path;
+    double time = 0.0;                    // --time: the world's clock of the first frame, seconds
+    int frames = 1;                       // --frames: images at time + k / fps
+    double fps = 25.0;                    // --fps
+    std::optional<double> orbit_degrees;  // --orbit: the camera's turn over the whole sequence
     std::optional<bool>
         recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
     CommonOptions common;

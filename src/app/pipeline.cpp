@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "anim/animator.h"
 #include "render/render.h"
 #include "scene/build.h"
 
@@ -51,6 +52,18 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
     return scene.ok();
 }
 
+bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common,
+                   size_t* routes_used, bool* animated) {
+    Diagnostics diagnostics;
+    Animator animator(loaded.tree, diagnostics);
+    print_diagnostics(diagnostics, loaded.sources, common.quiet);
+    if (diagnostics.has_errors()) return false;
+    animator.evaluate(time);
+    if (routes_used) *routes_used = animator.routes().size();
+    if (animated) *animated = animator.animated();
+    return true;
+}
+
 void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }
 
 FlattenOptions flatten_options(const LoadedScene& loaded, const RenderOptions& options,
@@ -70,11 +83,11 @@ FlattenOptions flatten_options(const LoadedScene& loaded, const RenderOptions& o
 
 bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
                        std::optional<bool> recover_spheres, const CommonOptions& common,
-                       FlatScene& flat, FlattenStats& stats) {
+                       FlatScene& flat, FlattenStats& stats, bool keep_tree) {
     const bool quiet = common.quiet;
     Diagnostics diagnostics;
     Scene scene = build_scene(loaded, diagnostics);
-    release_tree(loaded);
+    if (!keep_tree) release_tree(loaded);
     flat = flatten_scene(scene, flatten_options(loaded, options, recover_spheres, common),
                          diagnostics, stats);
     scene = Scene{};  // before the diagnostics are printed and the caller builds its BVH

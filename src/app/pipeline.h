@@ -18,6 +18,11 @@ void report_warning(const std::string& file, const std::string& message, bool qu
 LoadOptions load_options(const CommonOptions& common);
 // Loads `path`, prints its diagnostics; false when it has errors.
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene);
+// Evaluates the scene's TimeSensors, interpolators and ROUTEs at `time` into the node tree and
+// prints what the ROUTE check said; false when a ROUTE is an error. `routes_used`, when given, gets
+// the number of ROUTEs that connect fields and `animated` whether a TimeSensor drives any.
+bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common,
+                   size_t* routes_used = nullptr, bool* animated = nullptr);
 // Gives the node tree's memory back (build_scene has copied what it needs).
 void release_tree(LoadedScene& loaded);
 // The flattening settings a render with `options` uses (build_and_flatten's; the Python module's).
@@ -26,10 +31,10 @@ FlattenOptions flatten_options(const LoadedScene& loaded, const RenderOptions& o
 // Builds the typed scene and flattens it with the render options' sphere and gas settings; prints
 // the diagnostics; false when there are errors. The node tree is released once the typed scene is
 // built and the typed scene once it is flattened, so that their peaks do not stack (`loaded` keeps
-// its sources, diagnostics and statistics).
+// its sources, diagnostics and statistics); `keep_tree` keeps the tree for a later frame.
 bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
                        std::optional<bool> recover_spheres, const CommonOptions& common,
-                       FlatScene& flat, FlattenStats& stats);
+                       FlatScene& flat, FlattenStats& stats, bool keep_tree = false);
 
 // Why the flattened scene has nothing to render ("" when it has something): every Inline failed,
 // every shape was skipped, or the file holds no geometry. For the one warning of an empty image.

@@ -47,6 +47,63 @@ double fit_distance(const Bounds3& b, const Camera& cam, double tan_x, double ta
     return d;
 }
 
+// The basis of a camera at `from` looking at `to` with `up` shown upwards (the viewpoint's up
+// when `up` is parallel to the view). False when from == to.
+bool look_at_basis(const Vec3& from, const Vec3& to, const Vec3& up, Mat3& basis) {
+    const Vec3 back = from - to;
+    if (!(glm::dot(back, back) > 0.0) || !finite3(back)) return false;
+    basis = orthonormal(Mat3(Vec3(0.0), up, back));
+    return true;
+}
+
+// --position, --look-at, --up and --fov on the viewpoint's camera.
+bool apply_overrides(const RenderOptions& options, Camera& camera, std::string& error) {
+    if (options.fov) {
+        if (!(*options.fov > 0.0 && *options.fov < kPi)) {
+            error = "--fov must lie in (0, pi) radians, got " + format_g(*options.fov);
+            return false;
+        }
+        camera.field_of_view = *options.fov;
+    }
+    for (const auto& [v, name] :
+         {std::pair{&options.camera_position, "--position"},
+          std::pair{&options.look_at, "--look-at"}, std::pair{&options.up, "--up"}})
+        if (*v && !finite3(**v)) {
+            error = std::string(name) + " must be three finite numbers";
+            return false;
+        }
+    if (options.up && !(glm::dot(*options.up, *options.up) > 0.0)) {
+        error = "--up must not be 0,0,0";
+        return false;
+    }
+    if (options.camera_position) camera.position = *options.camera_position;
+    const Vec3 up = options.up ? *options.up : camera.world_from_camera[1];
+    if (options.look_at) {
+        if (!look_at_basis(camera.position, *options.look_at, up, camera.world_from_camera)) {
+            error = "--look-at is the camera position itself: no direction to look in";
+            return false;
+        }
+    } else if (options.up) {
+        camera.world_from_camera = orthonormal(Mat3(Vec3(0.0), up, camera.world_from_camera[2]));
+    }
+    return true;
+}
+
+// --orbit: the camera turned by `angle` about `centre` around its up axis, looking at the centre
+// with that axis up. Rodrigues' rotation of the offset, so that angle 0 keeps it as it is.
+void orbit_camera(const Vec3& centre, double angle, Camera& camera) {
+    const Vec3 axis = glm::normalize(camera.world_from_camera[1]);
+    const Vec3 offset = camera.position - centre;
+    const double c = std::cos(angle), s = std::sin(angle);
+    const Vec3 turned =
+        offset * c + glm::cross(axis, offset) * s + axis * (glm::dot(axis, offset) * (1.0 - c));
+    camera.position = centre + turned;
+    camera.orbit_centre = centre;
+    camera.orbit_axis = axis;
+    Mat3 basis;
+    if (look_at_basis(camera.position, centre, axis, basis)) camera.world_from_camera = basis;
+}
+
 }  // namespace
 
 CameraRays::CameraRays(const Camera& c, int width, int height)
@@ -133,6 +190,10 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.field_of_view = vp.field_of_view;
     }
 
+    if (!apply_overrides(options, camera, error)) return false;
+    // A camera placed by --position is where the user put it: no framing of a default view.
+    if (options.camera_position) camera.framed_default = false;
+
     const Bounds3 bounds = scene.bounds();
     const bool have_bounds = !bounds.empty();
     const Vec3 centre = have_bounds ? 0.5 * (bounds.lo + bounds.hi) : Vec3(0.0);
@@ -177,6 +238,7 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
             if (d > 0.0) camera.position = centre - fwd * d;
         }
     }
+    if (options.orbit_angle) orbit_camera(centre, *options.orbit_angle, camera);
     return true;
 }
 

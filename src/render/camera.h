@@ -23,6 +23,9 @@ struct Camera {
     // The scene has no Viewpoint: the camera looks along -Z from the VRML default orientation and
     // fieldOfView, moved back to frame the scene's bounds as --fit does (SPEC section 4).
     bool framed_default = false;
+    // --orbit: the point looked at and the axis turned about (with the position, the --position,
+    // --look-at and --up that give this camera).
+    Vec3 orbit_centre{0.0}, orbit_axis{0.0};
 
     Vec3 forward() const { return glm::normalize(-world_from_camera[2]); }
 

@@ -17,6 +17,14 @@ struct RenderOptions {
     SpheresOption spheres = SpheresOption::FromHints;  // hints win; otherwise opaque
     std::string viewpoint;  // DEF name or description; empty: first in file order
     bool fit = false;       // move the camera to frame the scene's bounds
+    // Camera overrides (SPEC section 12), applied to the chosen viewpoint before --fit.
+    std::optional<Vec3> camera_position;  // --position, world
+    std::optional<Vec3> look_at;          // --look-at: the view points at it
+    std::optional<Vec3> up;               // --up: world direction shown upwards
+    std::optional<double> fov;            // --fov, radians across the smaller image dimension
+    // --orbit: the camera turns by orbit_angle (radians) about the scene's centre around its up
+    // axis and looks at that centre; set per frame of a sequence.
+    std::optional<double> orbit_angle;
     CameraMode camera = CameraMode::FromViewpoint;
     int spp = 1;
     std::string sampler = "center";

@@ -57,5 +57,8 @@ done
 expect 0 "info on car.x3d" -- "$bin" info "$corpus/x3d/castle-engine-demo-models/x3d/car/car.x3d"
 grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fieldOfView 0.785398$' "$work/out.txt" && pass || fail "info names the framing camera of car.x3d"
 
+# shellcheck source=tests/cli/anim_corpus.sh
+. "$src/tests/cli/anim_corpus.sh"
+
 echo "cli corpus ($corpus): $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

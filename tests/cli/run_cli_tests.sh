@@ -273,5 +273,8 @@ while read -r name scene w h extra; do
         --pixel-threshold 0 --max-fail-percent 0.1 --max-abs 0.004
 done <"$src/tests/render/golden/golden.txt"
 
+# shellcheck source=tests/cli/anim_cli.sh
+. "$src/tests/cli/anim_cli.sh"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -142,6 +142,63 @@ TEST(Camera, FitFramesTheBounds) {
     EXPECT_NEAR(cam.ortho_size, 4.0, 1e-12);
 }
 
+// --position, --look-at, --up, --fov (SPEC section 12) on the viewpoint, then --fit and --orbit.
+TEST(Camera, OverridesComposeWithFit) {
+    FlatScene scene = testing::empty_scene();
+    testing::add_shading(scene, Material());
+    testing::add_sphere(scene, Vec3(100.0, 50.0, -20.0), 2.0, 0);
+    scene.viewpoints.push_back(testing::look_from(Vec3(0.0), 0.6));
+    RenderOptions o = sized(64, 64);
+    o.camera_position = Vec3(100.0, 50.0, 40.0);
+    o.look_at = Vec3(100.0, 50.0, -20.0);
+    o.fov = 0.5;
+    Camera cam;
+    std::string error;
+    ASSERT_TRUE(make_camera(scene, o, cam, error)) << error;
+    EXPECT_EQ(cam.position, Vec3(100.0, 50.0, 40.0));
+    EXPECT_EQ(cam.forward(), Vec3(0.0, 0.0, -1.0));
+    EXPECT_EQ(cam.field_of_view, 0.5);
+    // From the side with --up +Z: looking along +X, the image's up is world +Z.
+    o.camera_position = Vec3(0.0, 50.0, -20.0);
+    o.up = Vec3(0.0, 0.0, 1.0);
+    ASSERT_TRUE(make_camera(scene, o, cam, error)) << error;
+    EXPECT_NEAR(angle_between(cam.forward(), Vec3(1.0, 0.0, 0.0)), 0.0, kAngleTolerance);
+    EXPECT_NEAR(angle_between(cam.world_from_camera[1], Vec3(0.0, 0.0, 1.0)), 0.0, kAngleTolerance);
+    // --fit keeps that direction and frames the sphere with the new fov: the sphere's box face
+    // (half size 2) fills tan(0.25) at distance d - 2 (1e-12: order-1 roundings).
+    o.fit = true;
+    ASSERT_TRUE(make_camera(scene, o, cam, error)) << error;
+    EXPECT_NEAR(angle_between(cam.forward(), Vec3(1.0, 0.0, 0.0)), 0.0, kAngleTolerance);
+    const double d = 100.0 - cam.position.x;
+    EXPECT_NEAR(2.0 / (d - 2.0), std::tan(0.25), 1e-12);
+    // Bad overrides are errors, not a NaN camera.
+    o.fov = 3.5;
+    EXPECT_FALSE(make_camera(scene, o, cam, error));
+    o.fov = 0.5;
+    o.look_at = Vec3(0.0, 50.0, -20.0);  // the position itself
+    o.fit = false;
+    EXPECT_FALSE(make_camera(scene, o, cam, error));
+}
+
+TEST(Camera, OrbitTurnsAboutTheCentreAroundUp) {
+    FlatScene scene = testing::empty_scene();
+    testing::add_shading(scene, Material());
+    testing::add_sphere(scene, Vec3(1.0, 2.0, 3.0), 1.0, 0);
+    scene.viewpoints.push_back(testing::look_from(Vec3(1.0, 2.0, 13.0), 0.6));
+    RenderOptions o = sized(32, 32);
+    o.orbit_angle = kPi / 2;  // a quarter turn about +Y: from +Z of the centre to +X of it
+    Camera cam;
+    std::string error;
+    ASSERT_TRUE(make_camera(scene, o, cam, error)) << error;
+    // 1e-12: cos(pi/2) is 6e-17, times the distance 10.
+    EXPECT_NEAR(cam.position.x, 11.0, 1e-12);
+    EXPECT_NEAR(cam.position.y, 2.0, 1e-12);
+    EXPECT_NEAR(cam.position.z, 3.0, 1e-12);
+    EXPECT_NEAR(angle_between(cam.forward(), Vec3(-1.0, 0.0, 0.0)), 0.0, kAngleTolerance);
+    EXPECT_EQ(cam.orbit_centre, Vec3(1.0, 2.0, 3.0));
+    EXPECT_EQ(cam.orbit_axis, Vec3(0.0, 1.0, 0.0));
+}
+
 TEST(Camera, OrthoFromPerspectiveKeepsTheSizeAtTheSceneCentre) {
     FlatScene scene = testing::empty_scene();
     testing::add_shading(scene, Material());
