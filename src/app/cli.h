@@ -2,6 +2,7 @@
 // subcommand, the mapping of its text to the commands' settings, and the running of the one named.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 
@@ -22,6 +23,10 @@ struct CommandLine {
 // at once: 0 after --help or --version (printed to stdout), kExitUsage after an error (printed to
 // stderr as "vrmlray: error: ..." with where to read more).
 int parse_command_line(int argc, const char* const* argv, CommandLine& cmd);
+// A --list line: `args` are the words after "render" (the scene and its options), parsed into
+// `render` as by parse_command_line, except that an option given twice takes its last value (the
+// line's own options follow the command line's). Same return values; errors printed likewise.
+int parse_render_words(const std::vector<std::string>& args, RenderCommand& render);
 // Runs the parsed command and gives its exit code (--strict applied).
 int run_command_line(const CommandLine& cmd);
 
