@@ -20,6 +20,7 @@ struct BatchJob {
     std::string where;  // "LIST:LINE" for a --list line, else the scene argument
     RenderCommand cmd;  // scene and output resolved
     std::string error;  // set: the job fails before rendering (bad line, clashing output)
+    std::string named;  // the scene as written, when the output is named after it (no -o NAME)
 };
 
 // A --list line's words: split at blanks, "double" or 'single' quotes keep blanks in a word, and a
@@ -64,12 +65,26 @@ fs::path strip_scene_extension(fs::path p) {
 
 // DIR/<the scene's path as written>.FORMAT; the file name alone when that path is absolute or leaves
 // its base folder (".."), so that no output lands outside DIR.
-fs::path batch_output(const fs::path& dir, const std::string& scene, const std::string& format) {
+// With keep_extension (two scenes of one stem, a.wrl and a.x3d), DIR/a.wrl.FORMAT.
+fs::path batch_output(const fs::path& dir, const std::string& scene, const std::string& format,
+                      bool keep_extension = false) {
     fs::path p = fs::path(scene).lexically_normal();
     if (p.is_absolute() || (!p.empty() && *p.begin() == "..")) p = p.filename();
-    p = strip_scene_extension(p);
+    if (!keep_extension) p = strip_scene_extension(p);
     p += "." + format;
     return dir / p;
+}
+
+// Scenes of one stem in one batch (pept.wrl and pept.x3d) keep their extensions in the output
+// name, whatever their order, so that neither overwrites the other.
+void name_apart(std::vector<BatchJob>& jobs, const fs::path& dir, const std::string& format) {
+    std::map<std::string, int> uses;
+    auto key = [](const BatchJob& j) { return fs::path(j.cmd.output).lexically_normal().string(); };
+    for (const BatchJob& job : jobs)
+        if (!job.named.empty()) ++uses[key(job)];
+    for (BatchJob& job : jobs)
+        if (!job.named.empty() && uses[key(job)] > 1)
+            job.cmd.output = batch_output(dir, job.named, format, true).string();
 }
 
 // The command line's words less the scenes' destination and the list, which a line replaces.
@@ -113,9 +128,12 @@ bool list_jobs(const RenderCommand& cmd, const fs::path& dir, std::vector<BatchJ
             const std::string written = job.cmd.scene;
             if (fs::path(written).is_relative()) job.cmd.scene = (list_dir / written).string();
             // The line's own -o names the output inside DIR (a golden image's name).
-            job.cmd.output = job.cmd.output.empty()
-                                 ? batch_output(dir, written, cmd.format).string()
-                                 : (dir / job.cmd.output).string();
+            if (job.cmd.output.empty()) {
+                job.named = written;
+                job.cmd.output = batch_output(dir, written, cmd.format).string();
+            } else {
+                job.cmd.output = (dir / job.cmd.output).string();
+            }
         }
         jobs.push_back(std::move(job));
     }
@@ -125,7 +143,7 @@ bool list_jobs(const RenderCommand& cmd, const fs::path& dir, std::vector<BatchJ
 std::vector<BatchJob> argument_jobs(const RenderCommand& cmd, const fs::path& dir) {
     std::vector<BatchJob> jobs;
     for (const std::string& scene : cmd.scenes) {
-        BatchJob job{scene, cmd, ""};
+        BatchJob job{scene, cmd, "", scene};
         job.cmd.scene = scene;
         job.cmd.output = batch_output(dir, scene, cmd.format).string();
         jobs.push_back(std::move(job));
@@ -171,6 +189,7 @@ int run_render_batch(const RenderCommand& cmd) {
     else if (!list_jobs(cmd, dir, jobs))
         return kExitBadInput;
 
+    name_apart(jobs, dir, cmd.format);
     // Two jobs writing one file would leave the later image under the earlier one's name.
     std::map<std::string, std::string> first_writer;
     for (BatchJob& job : jobs) {

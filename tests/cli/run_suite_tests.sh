@@ -33,6 +33,12 @@ expect 3 "a bad scene in a batch" -- "$bin" render "$seeds/001_flat.wrl" "$src/t
 grep -q '^batch: 3 scenes, 2 rendered, 1 failed' "$work/out.txt" && grep -q '^FAILED .*binary_garbage.wrl (exit 3)' \
     "$work/out.txt" && pass || fail "the summary names the failed scene"
 expect_stderr 'binary_garbage.wrl:1:1: error' "the bad scene's own message"
+# Two scenes of one stem (the corpus has pept_spacefill.wrl and .x3d) keep their extensions apart.
+mkdir -p "$work/stem"
+cp "$seeds/001_sphere.wrl" "$work/stem/a.wrl" && gzip -c "$seeds/001_flat.wrl" >"$work/stem/a.wrl.gz"
+(cd "$work/stem" && "$bin" render a.wrl a.wrl.gz -W 8 -H 6 -q -o out/) >/dev/null 2>&1
+[ -f "$work/stem/out/a.wrl.png" ] && [ -f "$work/stem/out/a.wrl.gz.png" ] && [ ! -e "$work/stem/out/a.png" ] && pass ||
+    fail "scenes of one stem keep their extensions in the batch's output names"
 expect 0 "batch with --format exr" -- "$bin" render "$seeds/001_flat.wrl" -W 8 -H 6 -q --format exr -o "$work/exr/"
 expect 0 "the batch's EXR reads back" -- "$bin" compare "$work/exr/001_flat.exr" "$work/exr/001_flat.exr"
 
