@@ -408,9 +408,9 @@ int parse_render_words(const std::vector<std::string>& args, RenderCommand& rend
 int run_command_line(const CommandLine& cmd) {
     switch (cmd.command) {
         case Subcommand::Render:
-            return strict_exit(is_batch(cmd.render) ? run_render_batch(cmd.render)
-                                                    : run_render(cmd.render),
-                               cmd.common);
+            return strict_exit(
+                is_batch(cmd.render) ? run_render_batch(cmd.render) : run_render(cmd.render),
+                cmd.common);
         case Subcommand::Bench:
             return run_bench(cmd.bench);
         case Subcommand::Info:

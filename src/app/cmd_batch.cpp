@@ -51,9 +51,8 @@ fs::path strip_scene_extension(fs::path p) {
     static const char* const kScene[] = {".wrl", ".wrz", ".x3d", ".x3dv", ".x3dz", ".x3dvz"};
     auto lower_ext = [&] {
         std::string e = p.extension().string();
-        std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) {
-            return char(std::tolower(c));
-        });
+        std::transform(e.begin(), e.end(), e.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
         return e;
     };
     if (lower_ext() == ".gz") p.replace_extension();
@@ -63,9 +62,9 @@ fs::path strip_scene_extension(fs::path p) {
     return p;
 }
 
-// DIR/<the scene's path as written>.FORMAT; the file name alone when that path is absolute or leaves
-// its base folder (".."), so that no output lands outside DIR.
-// With keep_extension (two scenes of one stem, a.wrl and a.x3d), DIR/a.wrl.FORMAT.
+// DIR/<the scene's path as written>.FORMAT; the file name alone when that path is absolute or
+// leaves its base folder (".."), so that no output lands outside DIR. With keep_extension (two
+// scenes of one stem, a.wrl and a.x3d), DIR/a.wrl.FORMAT.
 fs::path batch_output(const fs::path& dir, const std::string& scene, const std::string& format,
                       bool keep_extension = false) {
     fs::path p = fs::path(scene).lexically_normal();

@@ -108,9 +108,9 @@ int run_compare(const CompareCommand& cmd) {
                   << "' is a folder and the other is not: compare two images or two folders\n";
         return kExitUsage;
     }
-    for (auto [set, name] : {std::pair{!cmd.junit_path.empty(), "--junit"},
-                             std::pair{!cmd.report_dir.empty(), "--report"},
-                             std::pair{cmd.update, "--update"}})
+    for (auto [set, name] :
+         {std::pair{!cmd.junit_path.empty(), "--junit"},
+          std::pair{!cmd.report_dir.empty(), "--report"}, std::pair{cmd.update, "--update"}})
         if (set) {
             std::cerr << "vrmlray: error: " << name << " compares folders: give two folders\n";
             return kExitUsage;

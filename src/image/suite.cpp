@@ -42,9 +42,8 @@ bool is_image_name(const fs::path& p) {
     std::string ext = p.extension().string();
     if (ext.empty()) return false;
     ext.erase(0, 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) {
-        return char(std::tolower(c));
-    });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     return std::find(std::begin(kExtensions), std::end(kExtensions), ext) != std::end(kExtensions);
 }
 
@@ -146,8 +145,8 @@ std::vector<SuitePair> compare_folders(const fs::path& reference_dir, const fs::
 std::string format_suite_table(const std::vector<SuitePair>& pairs) {
     std::string text;
     char line[160];
-    std::snprintf(line, sizeof line, "%-7s %10s %8s %10s %8s %7s  %s\n", "status", "rmse",
-                  "psnr", "max_abs", "ssim", "fail%", "image");
+    std::snprintf(line, sizeof line, "%-7s %10s %8s %10s %8s %7s  %s\n", "status", "rmse", "psnr",
+                  "max_abs", "ssim", "fail%", "image");
     text += line;
     size_t counts[int(PairStatus::kPass) + 1] = {};
     for (const SuitePair& p : pairs) {
@@ -162,7 +161,8 @@ std::string format_suite_table(const std::vector<SuitePair>& pairs) {
         text += line + p.name;
         std::string why = p.message;
         for (const std::string& f : p.failures) why += (why.empty() ? "" : "; ") + f;
-        for (const std::string& w : p.warnings) why += (why.empty() ? "" : "; ") + ("warning: " + w);
+        for (const std::string& w : p.warnings)
+            why += (why.empty() ? "" : "; ") + ("warning: " + w);
         text += why.empty() ? "\n" : "  (" + why + ")\n";
     }
     size_t failed = 0;

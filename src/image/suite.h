@@ -31,7 +31,7 @@ struct SuitePair {
     std::string name;  // the relative path, '/'-separated (the same in both folders)
     std::filesystem::path reference, result;  // empty for the side that lacks the file
     PairStatus status = PairStatus::kPass;
-    bool compared = false;    // metrics are set (kFail, kWarn, kPass)
+    bool compared = false;  // metrics are set (kFail, kWarn, kPass)
     CompareMetrics metrics;
     std::vector<std::string> failures, warnings;  // the thresholds' lines
     std::string message;  // why a pair was not compared (missing, extra, size, unreadable)

@@ -117,8 +117,8 @@ std::string format_junit(const std::vector<SuitePair>& pairs, const std::string&
         seconds += p.seconds;
     }
     const std::string counts = "tests=\"" + std::to_string(pairs.size()) + "\" failures=\"" +
-                               std::to_string(failures) + "\" errors=\"" +
-                               std::to_string(errors) + "\"";
+                               std::to_string(failures) + "\" errors=\"" + std::to_string(errors) +
+                               "\"";
     std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     x += "<testsuites name=\"vrmlray compare\" " + counts + " time=\"" + fmt("%.6f", seconds) +
          "\">\n";
@@ -134,7 +134,8 @@ bool write_report_images(const fs::path& dir, const SuitePair& pair, const Image
     const std::string png = pair.name + ".png";
     if (reference.width > 0 && !write_png(dir / "ref" / png, reference, error)) return false;
     if (result.width > 0 && !write_png(dir / "out" / png, result, error)) return false;
-    if (pair.compared && !write_png(dir / "diff" / png, difference_heatmap(result, reference), error))
+    if (pair.compared &&
+        !write_png(dir / "diff" / png, difference_heatmap(result, reference), error))
         return false;
     return true;
 }
@@ -196,10 +197,10 @@ std::string figure_html(const std::string& src, const std::string& caption) {
 std::string pair_html(const SuitePair& p) {
     const std::string png = url_path(p.name) + ".png";
     const std::string ref = "ref/" + png, out = "out/" + png;
-    std::string h = "<section class=\"pair\" data-status=\"" +
-                    std::string(pair_status_name(p.status)) + "\"" +
-                    (pair_failed(p.status) ? " data-failed" : "") + ">\n<h2><span class=\"status\">" +
-                    pair_status_name(p.status) + "</span>" + escape(p.name) + "</h2>\n";
+    std::string h =
+        "<section class=\"pair\" data-status=\"" + std::string(pair_status_name(p.status)) + "\"" +
+        (pair_failed(p.status) ? " data-failed" : "") + ">\n<h2><span class=\"status\">" +
+        pair_status_name(p.status) + "</span>" + escape(p.name) + "</h2>\n";
     if (p.compared) h += "<div class=\"figs\">" + escape(figures(p)) + "</div>\n";
     std::string why = p.message;
     for (const std::string& f : p.failures) why += (why.empty() ? "" : "; ") + f;
@@ -231,9 +232,9 @@ bool write_report_html(const fs::path& dir, const std::vector<SuitePair>& pairs,
     std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
                     escape(title) + "</title>\n<style>" + kStyle + "</style>\n<script>" + kScript +
                     "</script></head><body>\n<h1>" + escape(title) + "</h1>\n";
-    h += "<p id=\"summary\">" + std::to_string(pairs.size()) + " images: " +
-         std::to_string(pairs.size() - failed) + " passed, " + std::to_string(failed) +
-         " failed</p>\n<div id=\"filter\">show: ";
+    h += "<p id=\"summary\">" + std::to_string(pairs.size()) +
+         " images: " + std::to_string(pairs.size() - failed) + " passed, " +
+         std::to_string(failed) + " failed</p>\n<div id=\"filter\">show: ";
     for (int s = 0; s <= int(PairStatus::kPass); ++s) {
         if (counts[s] == 0) continue;
         const std::string name = pair_status_name(PairStatus(s));

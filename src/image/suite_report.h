@@ -23,10 +23,11 @@ std::string format_junit(const std::vector<SuitePair>& pairs, const std::string&
 bool write_report_images(const std::filesystem::path& dir, const SuitePair& pair,
                          const Image& reference, const Image& result, std::string& error);
 
-// dir/index.html: counts, a filter by status (also from the address: index.html#status=fail,missing),
-// then per pair, worst first, its status, figures and failed thresholds, the reference, the result and
-// the heat-map side by side with the heat-map's colour legend, and a flip view (click to swap
-// reference and result in place). No network: styles and script are inline, images relative.
+// dir/index.html: counts, a filter by status (also from the address:
+// index.html#status=fail,missing), then per pair, worst first, its status, figures and failed
+// thresholds, the reference, the result and the heat-map side by side with the heat-map's colour
+// legend, and a flip view (click to swap reference and result in place). No network: styles and
+// script are inline, images relative.
 bool write_report_html(const std::filesystem::path& dir, const std::vector<SuitePair>& pairs,
                        const std::string& title, std::string& error);
 

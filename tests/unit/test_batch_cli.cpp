@@ -43,8 +43,8 @@ TEST(BatchCli, ASceneOrAListIsRequiredNotBoth) {
 
 TEST(BatchCli, AListLinesOptionsWinOverTheCommandLines) {
     RenderCommand render;
-    ASSERT_EQ(parse_render_words({"-W", "64", "--spheres", "gas", "a.wrl", "--width", "20"}, render),
-              -1);
+    ASSERT_EQ(
+        parse_render_words({"-W", "64", "--spheres", "gas", "a.wrl", "--width", "20"}, render), -1);
     EXPECT_EQ(render.options.width, 20);
     EXPECT_EQ(render.options.spheres, SpheresOption::Gas);
     EXPECT_EQ(render.scene, "a.wrl");

@@ -70,8 +70,8 @@ TEST_F(SuiteFolders, EachPairGetsItsStatusAndTextFilesAreNotImages) {
     EXPECT_EQ(find(pairs, "new.png").status, PairStatus::kExtra);
     EXPECT_EQ(find(pairs, "size.png").status, PairStatus::kSizeMismatch);
     EXPECT_NE(find(pairs, "size.png").message.find("8x6"), std::string::npos);
-    // 10 8-bit codes on every colour sample (codes 100 and 110, exact in 8 bits): max abs 10/255, to
-    // the float rounding of the PNG reader's code / 255.
+    // 10 8-bit codes on every colour sample (codes 100 and 110, exact in 8 bits): max abs 10/255,
+    // to the float rounding of the PNG reader's code / 255.
     EXPECT_NEAR(find(pairs, "sub/changed.png").metrics.max_abs, 10.0 / 255, 1e-6);
 }
 
@@ -115,8 +115,8 @@ TEST_F(SuiteFolders, ReportWritesItsPagesImagesAndLegend) {
     const fs::path report = root / "report";
     std::string error;
     bool images_ok = true;
-    const std::vector<SuitePair> pairs = compare_folders(
-        ref, out, {}, 2, [&](const SuitePair& p, const Image& a, const Image& b) {
+    const std::vector<SuitePair> pairs =
+        compare_folders(ref, out, {}, 2, [&](const SuitePair& p, const Image& a, const Image& b) {
             std::string e;
             if (!write_report_images(report, p, a, b, e)) images_ok = false;
         });
@@ -125,10 +125,10 @@ TEST_F(SuiteFolders, ReportWritesItsPagesImagesAndLegend) {
     EXPECT_TRUE(fs::exists(report / "ref/sub/changed.png.png"));
     EXPECT_TRUE(fs::exists(report / "out/sub/changed.png.png"));
     EXPECT_TRUE(fs::exists(report / "diff/sub/changed.png.png"));
-    EXPECT_TRUE(fs::exists(report / "ref/gone.png.png"));  // a lone reference is still shown
+    EXPECT_TRUE(fs::exists(report / "ref/gone.png.png"));    // a lone reference is still shown
     EXPECT_FALSE(fs::exists(report / "diff/size.png.png"));  // no heat-map across sizes
     const std::string html = read_text(report / "index.html");
-    EXPECT_EQ(html.find("http"), std::string::npos);  // nothing from the network
+    EXPECT_EQ(html.find("http"), std::string::npos);                   // nothing from the network
     EXPECT_LT(html.find("sub/changed.png"), html.find(">same.png<"));  // failures first
     EXPECT_NE(html.find("linear-gradient"), std::string::npos);        // the legend
 }
