@@ -25,7 +25,7 @@ expect_usage_error "missing value" "--width: 1 required INT:INT in [1 - 65536] m
 expect_usage_error "missing image" "b is required" "vrmlray compare --help" -- "$bin" compare "$work/a.png"
 expect_usage_error "no subcommand" "a subcommand is required" "vrmlray --help" -- "$bin"
 "$bin" --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray [OPTIONS] SUBCOMMAND" ] && pass || fail "--help starts with the usage naming vrmlray"
-"$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] scene" ] && pass || fail "render --help starts with its usage"
+"$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] [scene...]" ] && pass || fail "render --help starts with its usage"
 # --stats is valid JSON whatever the scene's name, with figures at full precision: per_pixel must be
 # exactly primary / pixels as Python's double division gives it (the statistical sampler's ray count
 # is not a multiple of the 35 pixels, so six digits would not do).
