@@ -1,6 +1,7 @@
 // JUnit XML and the offline HTML report of a folder comparison.
 #include "image/suite_report.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -106,6 +107,21 @@ bool write_png(const fs::path& path, const Image& image, std::string& error) {
     return write_image(path.string(), image, false, error);
 }
 
+// A PNG is copied as it is (every browser shows it, and encoding is most of the report's time);
+// other formats are converted.
+bool show_png(const fs::path& source, const fs::path& path, const Image& image,
+              std::string& error) {
+    std::string ext = source.extension().string();
+    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    if (ext != ".png") return write_png(path, image, error);
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    fs::copy_file(source, path, fs::copy_options::overwrite_existing, ec);
+    if (!ec) return true;
+    error = "cannot copy '" + source.string() + "' to '" + path.string() + "': " + ec.message();
+    return false;
+}
+
 }  // namespace
 
 std::string format_junit(const std::vector<SuitePair>& pairs, const std::string& suite_name) {
@@ -132,8 +148,9 @@ std::string format_junit(const std::vector<SuitePair>& pairs, const std::string&
 bool write_report_images(const fs::path& dir, const SuitePair& pair, const Image& reference,
                          const Image& result, std::string& error) {
     const std::string png = pair.name + ".png";
-    if (reference.width > 0 && !write_png(dir / "ref" / png, reference, error)) return false;
-    if (result.width > 0 && !write_png(dir / "out" / png, result, error)) return false;
+    if (reference.width > 0 && !show_png(pair.reference, dir / "ref" / png, reference, error))
+        return false;
+    if (result.width > 0 && !show_png(pair.result, dir / "out" / png, result, error)) return false;
     if (pair.compared &&
         !write_png(dir / "diff" / png, difference_heatmap(result, reference), error))
         return false;

@@ -16,10 +16,10 @@ namespace vr {
 // to <system-out>. Text is escaped; characters XML 1.0 forbids become '?'.
 std::string format_junit(const std::vector<SuitePair>& pairs, const std::string& suite_name);
 
-// The report's pictures of one pair, written under `dir` as 8-bit PNGs (colour clamped to [0,1],
-// as stored, no alpha): ref/NAME.png, out/NAME.png and, when compared, diff/NAME.png (the --diff
-// heat-map). Safe to call from several threads for different pairs. False with `error` set when
-// a file cannot be written.
+// The report's pictures of one pair under `dir`: ref/NAME.png and out/NAME.png (a PNG copied as it
+// is, another format written as an 8-bit PNG, colour clamped to [0,1] as stored, no alpha) and,
+// when compared, diff/NAME.png (the --diff heat-map). Safe to call from several threads for
+// different pairs. False with `error` set when a file cannot be written.
 bool write_report_images(const std::filesystem::path& dir, const SuitePair& pair,
                          const Image& reference, const Image& result, std::string& error);
 
