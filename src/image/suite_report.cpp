@@ -167,9 +167,11 @@ h1{font-size:1.3em}.pair{background:#fff;margin:1em 0;padding:.6em 1em;border-le
 .why{color:#a00;font-family:monospace}.imgs{display:flex;flex-wrap:wrap;gap:.6em}
 figure{margin:0}figcaption{font-size:.85em;color:#555}img{image-rendering:pixelated;
 max-width:48vw;border:1px solid #ccc;min-width:192px}.flip img{cursor:pointer}
-.legendbox{display:inline-block;vertical-align:top;margin-left:.5em}
-.legend{display:block;width:16em;height:1em;border:1px solid #888}
-.ticks{display:flex;justify-content:space-between;width:16.5em;font-size:.8em}
+.legendbox{display:inline-block;vertical-align:top;margin:.2em .5em}
+.legend{display:block;width:256px;height:1em;border:1px solid #888}
+.ticks{display:block;position:relative;width:256px;height:1.3em;font-size:.8em}
+.ticks span{position:absolute;transform:translateX(-50%);white-space:nowrap}
+figcaption .legendbox{display:block;margin:.2em 0}figcaption .legend,figcaption .ticks{width:auto}
 #filter label{margin-right:1em}
 )";
 
@@ -187,8 +189,9 @@ window.addEventListener('DOMContentLoaded',function(){
  applyFilter();});
 )";
 
-// The heat-map's ramp as a CSS gradient from the same colours the PNGs use, one stop a decade.
-std::string legend_html() {
+// The heat-map's ramp as a CSS gradient from the same colours the PNGs use, one stop a decade,
+// with each decade's label under its stop.
+std::string legend_bar() {
     std::string stops;
     for (int k = 0; k <= 4; ++k) {
         float rgb[3];
@@ -198,12 +201,13 @@ std::string legend_html() {
                       int(rgb[1] * 255 + 0.5f), int(rgb[2] * 255 + 0.5f));
         stops += buf;
     }
-    return "<div id=\"legend\">heat-map: largest channel difference per pixel <span "
-           "class=\"legendbox\"><span class=\"legend\" style=\"background:linear-gradient(to "
+    static const char* const kLabels[] = {"&le;1e-4", "1e-3", "1e-2", "1e-1", "&ge;1"};
+    std::string ticks;
+    for (int k = 0; k <= 4; ++k)
+        ticks += "<span style=\"left:" + std::to_string(25 * k) + "%\">" + kLabels[k] + "</span>";
+    return "<span class=\"legendbox\"><span class=\"legend\" style=\"background:linear-gradient(to "
            "right," +
-           stops +
-           ")\"></span><span class=\"ticks\"><span>&le;1e-4</span><span>1e-3</span>"
-           "<span>1e-2</span><span>1e-1</span><span>&ge;1</span></span></span></div>\n";
+           stops + ")\"></span><span class=\"ticks\">" + ticks + "</span></span>";
 }
 
 std::string figure_html(const std::string& src, const std::string& caption) {
@@ -228,7 +232,9 @@ std::string pair_html(const SuitePair& p) {
         h += figure_html(ref, "reference");
     if (!p.result.empty() && p.status != PairStatus::kUnreadable) h += figure_html(out, "result");
     if (p.compared) {
-        h += figure_html("diff/" + png, "heat-map");
+        static const std::string legend = legend_bar();
+        h += "<figure><img loading=\"lazy\" src=\"" + escape("diff/" + png) +
+             "\" alt=\"heat-map\"><figcaption>heat-map<br>" + legend + "</figcaption></figure>";
         h += "<figure class=\"flip\"><img loading=\"lazy\" onclick=\"flip(this)\" src=\"" +
              escape(ref) + "\" data-a=\"" + escape(ref) + "\" data-b=\"" + escape(out) +
              "\" data-an=\"flip: reference (click for the result)\" data-bn=\"flip: result "
@@ -258,7 +264,8 @@ bool write_report_html(const fs::path& dir, const std::vector<SuitePair>& pairs,
         h += "<label><input type=\"checkbox\" value=\"" + name + "\" checked> " + name + " (" +
              std::to_string(counts[s]) + ")</label>";
     }
-    h += "</div>\n" + legend_html();
+    h += "</div>\n<div id=\"legend\">heat-map: largest channel difference per pixel " +
+         legend_bar() + "</div>\n";
     for (const SuitePair& p : pairs) h += pair_html(p);
     h += "</body></html>\n";
     std::error_code ec;
