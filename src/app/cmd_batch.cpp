@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -121,8 +122,19 @@ bool list_jobs(const RenderCommand& cmd, const fs::path& dir, std::vector<BatchJ
         job.where = cmd.list_path + ":" + std::to_string(number);
         std::vector<std::string> all = base;
         all.insert(all.end(), words.begin(), words.end());
-        if (parse_render_words(all, job.cmd) != -1 || job.cmd.scenes.size() != 1) {
-            job.error = job.cmd.scenes.size() > 1 ? "a line names one scene" : "bad options";
+        // The parser's message, taken to be printed at the line's place ("LIST:LINE: error: ...").
+        std::ostringstream message;
+        std::streambuf* const cerr_buffer = std::cerr.rdbuf(message.rdbuf());
+        const int code = parse_render_words(all, job.cmd);
+        std::cerr.rdbuf(cerr_buffer);
+        if (code != -1) {
+            std::string text = message.str();
+            text = text.substr(0, text.find('\n'));
+            const std::string prefix = "vrmlray: error: ";
+            if (text.rfind(prefix, 0) == 0) text.erase(0, prefix.size());
+            job.error = text.empty() ? "bad options" : text;
+        } else if (job.cmd.scenes.size() != 1) {
+            job.error = "a line names one scene";
         } else {
             const std::string written = job.cmd.scene;
             if (fs::path(written).is_relative()) job.cmd.scene = (list_dir / written).string();

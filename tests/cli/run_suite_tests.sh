@@ -64,6 +64,7 @@ grep -q '^batch: 5 scenes, 3 rendered, 2 failed' "$work/out.txt" && grep -q "^FA
     "$work/out.txt" && grep -q "^FAILED .*suite.txt:7 (exit 2)" "$work/out.txt" && pass ||
     { fail "list summary: the bad line and the clashing output fail"; cat "$work/out.txt"; }
 expect_stderr 'suite.txt:7: error: its output .*wide.png is also .*suite.txt:4' "a clashing output is named"
+expect_stderr 'suite.txt:6: error: --width: Value 0 not in range 1 to 65536; scene not rendered' "a bad line's message has its place"
 expect 2 "scenes and --list together" -- "$bin" render "$seeds/001_flat.wrl" --list "$work/list/suite.txt" -o "$work/x/"
 expect 3 "an unreadable --list" -- "$bin" render --list "$work/no_such_list.txt" -o "$work/x/"
 
