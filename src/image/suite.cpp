@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -90,7 +90,10 @@ bool worse(const SuitePair& a, const SuitePair& b) {
 std::vector<std::string> list_suite_images(const fs::path& dir) {
     std::vector<std::string> names;
     std::error_code ec;
-    for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    // An unreadable subfolder is skipped: its references then show as missing, not as a crash.
+    const auto options = fs::directory_options::skip_permission_denied;
+    for (fs::recursive_directory_iterator it(dir, options, ec), end; !ec && it != end;
+         it.increment(ec)) {
         if (!it->is_regular_file(ec) || !is_image_name(it->path())) continue;
         names.push_back(it->path().lexically_relative(dir).generic_string());
     }

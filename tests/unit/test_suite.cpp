@@ -75,6 +75,17 @@ TEST_F(SuiteFolders, EachPairGetsItsStatusAndTextFilesAreNotImages) {
     EXPECT_NEAR(find(pairs, "sub/changed.png").metrics.max_abs, 10.0 / 255, 1e-6);
 }
 
+TEST_F(SuiteFolders, AnUnreadableImageIsAnErrorOfItsOwnAndAJUnitError) {
+    std::ofstream(ref / "broken.png") << "not a PNG";
+    std::ofstream(out / "broken.png") << "not a PNG either";
+    const std::vector<SuitePair> pairs = compare_folders(ref, out, CompareThresholds{}, 2);
+    EXPECT_EQ(find(pairs, "broken.png").status, PairStatus::kUnreadable);
+    EXPECT_FALSE(find(pairs, "broken.png").message.empty());
+    const std::string x = format_junit(pairs, "suite");
+    EXPECT_NE(x.find("tests=\"6\" failures=\"4\" errors=\"1\""), std::string::npos) << x;
+    EXPECT_NE(x.find("<error type=\"error\""), std::string::npos);
+}
+
 TEST_F(SuiteFolders, WorstFirstStructuralFailuresThenThresholdsThenPasses) {
     const std::vector<SuitePair> pairs = compare_folders(ref, out, CompareThresholds{}, 2);
     for (size_t k = 1; k < pairs.size(); ++k)
