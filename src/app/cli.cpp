@@ -233,6 +233,8 @@ CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
                   "Folders: copy each failing or extra result over its reference, printing each");
     cmp->add_option("--threads", compare.threads, "Folders: threads (0: all cores)")
         ->check(CLI::Range(0, 1024));
+    cmp->add_option("--thresholds", compare.thresholds_path,
+                    "Folders: per-image thresholds, a line each: GLOB OPTIONS (first match wins)");
     return cmp;
 }
 
@@ -322,6 +324,13 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     return true;
 }
 
+// The words after the subcommand's name.
+std::vector<std::string> words_after(int argc, const char* const* argv, const char* name) {
+    int k = 1;
+    while (k < argc && std::string(argv[k]) != name) ++k;
+    return std::vector<std::string>(argv + std::min(k + 1, argc), argv + argc);
+}
+
 // The scene arguments against --list, and the words a --list line extends; false after printing
 // why not.
 bool map_render_scenes(int argc, const char* const* argv, RenderCommand& render) {
@@ -333,9 +342,7 @@ bool map_render_scenes(int argc, const char* const* argv, RenderCommand& render)
         return false;
     }
     if (!render.scenes.empty()) render.scene = render.scenes.front();
-    int k = 1;
-    while (k < argc && std::string(argv[k]) != "render") ++k;
-    render.args.assign(argv + std::min(k + 1, argc), argv + argc);
+    render.args = words_after(argc, argv, "render");
     return true;
 }
 
@@ -383,6 +390,7 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
         if (!map_render(texts, cmd.render)) return kExitUsage;
         if (!map_render_scenes(argc, argv, cmd.render)) return kExitUsage;
     }
+    if (cmd.command == Subcommand::Compare) cmd.compare.args = words_after(argc, argv, "compare");
     if (cmd.command == Subcommand::Bench) {
         cmd.bench.common = cmd.common;
         cmd.bench.options.spheres = label_value(kSpheresLabels, texts.bench_spheres);
@@ -394,6 +402,36 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
 
 int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
     return parse_impl(argc, argv, cmd, false);
+}
+
+int parse_compare_words(const std::vector<std::string>& args, CompareCommand& compare) {
+    std::vector<const char*> argv = {"vrmlray", "compare"};
+    for (const std::string& a : args) argv.push_back(a.c_str());
+    CommandLine cmd;
+    const int code = parse_impl(int(argv.size()), argv.data(), cmd, true);
+    compare = cmd.compare;
+    return code;
+}
+
+std::vector<std::string> split_line_words(const std::string& line) {
+    std::vector<std::string> words;
+    size_t k = 0;
+    while (k < line.size()) {
+        while (k < line.size() && std::isspace((unsigned char)line[k])) ++k;
+        if (k >= line.size() || line[k] == '#') break;
+        std::string word;
+        while (k < line.size() && !std::isspace((unsigned char)line[k])) {
+            const char c = line[k++];
+            if (c != '"' && c != '\'') {
+                word += c;
+                continue;
+            }
+            while (k < line.size() && line[k] != c) word += line[k++];
+            ++k;  // the closing quote (or the end of an unterminated one)
+        }
+        words.push_back(word);
+    }
+    return words;
 }
 
 int parse_render_words(const std::vector<std::string>& args, RenderCommand& render) {

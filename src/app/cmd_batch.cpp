@@ -24,29 +24,6 @@ struct BatchJob {
     std::string named;  // the scene as written, when the output is named after it (no -o NAME)
 };
 
-// A --list line's words: split at blanks, "double" or 'single' quotes keep blanks in a word, and a
-// word starting with # begins a comment.
-std::vector<std::string> split_words(const std::string& line) {
-    std::vector<std::string> words;
-    size_t k = 0;
-    while (k < line.size()) {
-        while (k < line.size() && std::isspace((unsigned char)line[k])) ++k;
-        if (k >= line.size() || line[k] == '#') break;
-        std::string word;
-        while (k < line.size() && !std::isspace((unsigned char)line[k])) {
-            const char c = line[k++];
-            if (c != '"' && c != '\'') {
-                word += c;
-                continue;
-            }
-            while (k < line.size() && line[k] != c) word += line[k++];
-            ++k;  // the closing quote (or the end of an unterminated one)
-        }
-        words.push_back(word);
-    }
-    return words;
-}
-
 // "a/b.wrl.gz" -> "a/b": only scene extensions go, so "1.5_mol.wrl" keeps its first dot.
 fs::path strip_scene_extension(fs::path p) {
     static const char* const kScene[] = {".wrl", ".wrz", ".x3d", ".x3dv", ".x3dz", ".x3dvz"};
@@ -116,7 +93,7 @@ bool list_jobs(const RenderCommand& cmd, const fs::path& dir, std::vector<BatchJ
     const fs::path list_dir = fs::path(cmd.list_path).parent_path();
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
-        std::vector<std::string> words = split_words(line);
+        std::vector<std::string> words = split_line_words(line);
         if (words.empty()) continue;
         BatchJob job;
         job.where = cmd.list_path + ":" + std::to_string(number);

@@ -5,7 +5,9 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <sstream>
 
+#include "app/cli.h"
 #include "app/commands.h"
 #include "image/compare.h"
 #include "image/image.h"
@@ -59,6 +61,38 @@ bool update_references(const CompareCommand& cmd, std::vector<SuitePair>& pairs)
     return ok;
 }
 
+// --thresholds FILE: a glob and options a line, the options after the command line's. False after
+// printing why not (FILE:LINE: error: MESSAGE).
+bool read_threshold_rules(const CompareCommand& cmd, SuiteThresholds& thresholds) {
+    std::ifstream in(cmd.thresholds_path);
+    if (!in) {
+        std::cerr << cmd.thresholds_path << ": error: cannot read the thresholds file\n";
+        return false;
+    }
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        std::vector<std::string> words = split_line_words(line);
+        if (words.empty()) continue;
+        std::vector<std::string> all = cmd.args;
+        all.insert(all.end(), words.begin() + 1, words.end());
+        std::ostringstream message;  // the parser's, printed at the line's place
+        std::streambuf* const cerr_buffer = std::cerr.rdbuf(message.rdbuf());
+        CompareCommand line_cmd;
+        const int code = parse_compare_words(all, line_cmd);
+        std::cerr.rdbuf(cerr_buffer);
+        if (code != -1) {
+            std::string text = message.str().substr(0, message.str().find('\n'));
+            const std::string prefix = "vrmlray: error: ";
+            if (text.rfind(prefix, 0) == 0) text.erase(0, prefix.size());
+            std::cerr << cmd.thresholds_path << ":" << number
+                      << ": error: " << (text.empty() ? "bad options" : text) << "\n";
+            return false;
+        }
+        thresholds.rules.push_back({words.front(), thresholds_of(line_cmd)});
+    }
+    return true;
+}
+
 // Reference folder A against result folder B: the table, the JUnit file, the report, --update.
 int run_compare_folders(const CompareCommand& cmd) {
     std::string error;
@@ -72,8 +106,9 @@ int run_compare_folders(const CompareCommand& cmd) {
             std::lock_guard<std::mutex> lock(error_mutex);
             if (report_error.empty()) report_error = e;
         };
-    std::vector<SuitePair> pairs =
-        compare_folders(cmd.a, cmd.b, thresholds_of(cmd), cmd.threads, visit);
+    SuiteThresholds thresholds(thresholds_of(cmd));
+    if (!cmd.thresholds_path.empty() && !read_threshold_rules(cmd, thresholds)) return kExitUsage;
+    std::vector<SuitePair> pairs = compare_folders(cmd.a, cmd.b, thresholds, cmd.threads, visit);
     std::cout << format_suite_table(pairs);
     if (!report_error.empty() ||
         (!cmd.report_dir.empty() &&
@@ -110,7 +145,8 @@ int run_compare(const CompareCommand& cmd) {
     }
     for (auto [set, name] :
          {std::pair{!cmd.junit_path.empty(), "--junit"},
-          std::pair{!cmd.report_dir.empty(), "--report"}, std::pair{cmd.update, "--update"}})
+          std::pair{!cmd.report_dir.empty(), "--report"}, std::pair{cmd.update, "--update"},
+          std::pair{!cmd.thresholds_path.empty(), "--thresholds"}})
         if (set) {
             std::cerr << "vrmlray: error: " << name << " compares folders: give two folders\n";
             return kExitUsage;

@@ -55,7 +55,9 @@ struct CompareCommand {
     // Folders only (SPEC section 10): the JUnit file, the HTML report's folder, --update, threads.
     std::string junit_path, report_dir;
     bool update = false;
-    int threads = 0;  // 0: all cores
+    int threads = 0;                // 0: all cores
+    std::string thresholds_path;    // --thresholds: per-image thresholds, a glob and options a line
+    std::vector<std::string> args;  // the words after "compare", which those lines extend
 };
 
 struct BenchCommand {

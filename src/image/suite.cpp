@@ -1,6 +1,8 @@
 // Folder comparison: pairing by relative path, a work queue over the pairs, the summary table.
 #include "image/suite.h"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -87,6 +89,12 @@ bool worse(const SuitePair& a, const SuitePair& b) {
 
 }  // namespace
 
+const CompareThresholds& SuiteThresholds::for_pair(const std::string& name) const {
+    for (const ThresholdRule& rule : rules)
+        if (fnmatch(rule.pattern.c_str(), name.c_str(), 0) == 0) return rule.thresholds;
+    return fallback;
+}
+
 std::vector<std::string> list_suite_images(const fs::path& dir) {
     std::vector<std::string> names;
     std::error_code ec;
@@ -102,7 +110,7 @@ std::vector<std::string> list_suite_images(const fs::path& dir) {
 }
 
 std::vector<SuitePair> compare_folders(const fs::path& reference_dir, const fs::path& result_dir,
-                                       const CompareThresholds& thresholds, int threads,
+                                       const SuiteThresholds& thresholds, int threads,
                                        const PairVisitor& visit) {
     std::map<std::string, SuitePair> by_name;
     for (const std::string& name : list_suite_images(reference_dir)) {
@@ -135,7 +143,7 @@ std::vector<SuitePair> compare_folders(const fs::path& reference_dir, const fs::
                 pair.message = "no reference image for the result " + pair.result.string();
                 if (visit) read_image(pair.result.string(), out, ignored);
             } else {
-                compare_pair(pair, thresholds, ref, out);
+                compare_pair(pair, thresholds.for_pair(pair.name), ref, out);
             }
             pair.seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -48,11 +48,24 @@ std::vector<std::string> list_suite_images(const std::filesystem::path& dir);
 using PairVisitor =
     std::function<void(const SuitePair& pair, const Image& reference, const Image& result)>;
 
+// The thresholds of each pair: those of the first rule whose pattern (a shell glob, as fnmatch
+// matches it; '*' also crosses '/') matches the relative path, else the fallback.
+struct ThresholdRule {
+    std::string pattern;
+    CompareThresholds thresholds;
+};
+struct SuiteThresholds {
+    SuiteThresholds(const CompareThresholds& all = {}) : fallback(all) {}
+    CompareThresholds fallback;
+    std::vector<ThresholdRule> rules;
+    const CompareThresholds& for_pair(const std::string& name) const;
+};
+
 // Compares every relative path found in either folder on `threads` threads (0: all cores). The
 // result is sorted worst first: by status, then by RMSE (largest first), then by name.
 std::vector<SuitePair> compare_folders(const std::filesystem::path& reference_dir,
                                        const std::filesystem::path& result_dir,
-                                       const CompareThresholds& thresholds, int threads,
+                                       const SuiteThresholds& thresholds, int threads,
                                        const PairVisitor& visit = {});
 
 // One line a pair, worst first, aligned: status, RMSE, PSNR, max abs, SSIM, fail %, name, and the

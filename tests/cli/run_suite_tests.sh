@@ -89,6 +89,14 @@ grep -q '^5 images: 1 passed, 0 warned, 4 failed' "$work/table.txt" && pass || f
 "$bin" compare "$work/ref" "$work/out" --threads 1 >"$work/table1.txt"
 cmp -s "$work/table.txt" "$work/table1.txt" && pass || fail "one thread gives the same table as all cores"
 expect 0 "thresholds apply per pair" -- "$bin" compare "$work/ref/ok.png" "$work/out/ok.png" --max-rmse 0
+# --thresholds: a pair's own thresholds by glob, after the command line's; a bad line is named.
+printf '# the sphere was re-lit on purpose\n001_sphere.png --max-rmse 0.3 --min-ssim 0.2\n' >"$work/th.txt"
+"$bin" compare "$work/ref" "$work/out" --thresholds "$work/th.txt" >"$work/out.txt"
+grep -q '^pass .*001_sphere.png$' "$work/out.txt" && grep -q '^pass .*ok.png$' "$work/out.txt" && pass ||
+    fail "--thresholds loosens one pair only"
+printf 'ok.png --max-rmse\n' >"$work/th_bad.txt"
+expect 2 "a bad --thresholds line" -- "$bin" compare "$work/ref" "$work/out" --thresholds "$work/th_bad.txt"
+expect_stderr 'th_bad.txt:1: error: --max-rmse: 1 required FLOAT missing' "a bad --thresholds line is named"
 expect 2 "a folder against a file" -- "$bin" compare "$work/ref" "$work/ref/ok.png"
 expect 2 "--report with two images" -- "$bin" compare "$work/ref/ok.png" "$work/out/ok.png" --report "$work/r2"
 

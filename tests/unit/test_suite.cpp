@@ -101,6 +101,19 @@ TEST_F(SuiteFolders, ThresholdsApplyToEveryPair) {
     EXPECT_EQ(find(pairs, "size.png").status, PairStatus::kSizeMismatch);
 }
 
+TEST_F(SuiteFolders, APairsOwnThresholdsAreTheFirstMatchingRules) {
+    SuiteThresholds thresholds;  // fallback: idiff's 1e-6, which the changed pair fails
+    CompareThresholds loose, strict;
+    loose.max_rmse = 0.05;  // above the changed pair's 10/255
+    strict.max_rmse = 0.01;
+    thresholds.rules = {{"sub/*.png", loose}, {"*changed*", strict}};  // the first wins
+    const std::vector<SuitePair> pairs = compare_folders(ref, out, thresholds, 2);
+    EXPECT_EQ(find(pairs, "sub/changed.png").status, PairStatus::kPass);
+    EXPECT_EQ(&thresholds.for_pair("sub/changed.png"), &thresholds.rules[0].thresholds);
+    EXPECT_EQ(&thresholds.for_pair("x/changed.png"), &thresholds.rules[1].thresholds);
+    EXPECT_EQ(&thresholds.for_pair("same.png"), &thresholds.fallback);
+}
+
 TEST_F(SuiteFolders, TableHasALinePerPairWorstFirstAndTheCounts) {
     const std::string table = format_suite_table(compare_folders(ref, out, {}, 2));
     EXPECT_LT(table.find("missing"), table.find("sub/changed.png"));
