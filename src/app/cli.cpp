@@ -122,10 +122,15 @@ void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
 CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common, Texts& texts) {
     RenderOptions& o = render.options;
     CLI::App* r = app.add_subcommand("render", "Render a scene to an image");
-    r->add_option("scene", render.scene, "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv)")
-        ->required();
+    r->add_option("scene", render.scenes,
+                  "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv); several render into OUT/");
     r->add_option("-o,--output", render.output,
-                  "Output image; the format follows the extension (default: SCENE's stem + .png)");
+                  "Output image; the format follows the extension (default: SCENE's stem + .png); "
+                  "ending in / or a folder: a batch into it");
+    r->add_option("--list", render.list_path,
+                  "Batch: render the scenes of FILE, one a line with its own options (paths "
+                  "relative to FILE's folder)");
+    r->add_option("--format", render.format, "Batch: the outputs' format (png, exr, tif, ...)");
     r->add_option("-W,--width", o.width, "Image width in pixels")->check(CLI::Range(1, 65536));
     r->add_option("-H,--height", o.height, "Image height in pixels")->check(CLI::Range(1, 65536));
     r->add_option("--spheres", texts.spheres,
@@ -204,9 +209,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
 }
 
 CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
-    CLI::App* cmp = app.add_subcommand("compare", "Compare two images (golden-image test)");
-    cmp->add_option("a", compare.a, "First image")->required();
-    cmp->add_option("b", compare.b, "Second image")->required();
+    CLI::App* cmp = app.add_subcommand(
+        "compare", "Compare two images, or two folders of them (golden-image test)");
+    cmp->add_option("a", compare.a, "First image (result), or the reference folder")->required();
+    cmp->add_option("b", compare.b, "Second image (reference), or the result folder")->required();
     cmp->add_option("--max-rmse", compare.max_rmse, "Fail if RMSE is above this");
     cmp->add_option("--min-psnr", compare.min_psnr, "Fail if PSNR (dB) is below this");
     cmp->add_option("--min-ssim", compare.min_ssim, "Fail if SSIM is below this");
@@ -237,6 +243,16 @@ CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
         "or size mismatch.");
     cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference");
     cmp->add_flag("--json", compare.json, "Print the figures as JSON");
+    cmp->add_option("--junit", compare.junit_path,
+                    "Folders: write a JUnit XML file, one test case per image");
+    cmp->add_option("--report", compare.report_dir,
+                    "Folders: write an HTML report (index.html and its images) into this folder");
+    cmp->add_flag("--update", compare.update,
+                  "Folders: copy each failing or extra result over its reference, printing each");
+    cmp->add_option("--threads", compare.threads, "Folders: threads (0: all cores)")
+        ->check(CLI::Range(0, 1024));
+    cmp->add_option("--thresholds", compare.thresholds_path,
+                    "Folders: per-image thresholds, a line each: GLOB OPTIONS (first match wins)");
     return cmp;
 }
 
@@ -338,9 +354,29 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     return true;
 }
 
-}  // namespace
+// The words after the subcommand's name.
+std::vector<std::string> words_after(int argc, const char* const* argv, const char* name) {
+    int k = 1;
+    while (k < argc && std::string(argv[k]) != name) ++k;
+    return std::vector<std::string>(argv + std::min(k + 1, argc), argv + argc);
+}
 
-int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
+// The scene arguments against --list, and the words a --list line extends; false after printing
+// why not.
+bool map_render_scenes(int argc, const char* const* argv, RenderCommand& render) {
+    if (render.scenes.empty() == render.list_path.empty()) {
+        std::cerr << "vrmlray: error: "
+                  << (render.scenes.empty() ? "scene is required (or --list FILE)"
+                                            : "give scenes or --list FILE, not both")
+                  << "\nvrmlray: see 'vrmlray render --help'\n";
+        return false;
+    }
+    if (!render.scenes.empty()) render.scene = render.scenes.front();
+    render.args = words_after(argc, argv, "render");
+    return true;
+}
+
+int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wins) {
     // Named here, so that usage lines say "vrmlray", not the path the binary was started by.
     CLI::App app{"vrmlray: a ray tracer for VRML97 and X3D scene files", "vrmlray"};
     app.formatter(
@@ -349,6 +385,7 @@ int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
     app.set_version_flag("--version", "vrmlray 0.1.0");
 
     Texts texts;
+    if (last_wins) app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     CLI::App* r = add_render(app, cmd.render, cmd.common, texts);
     CLI::App* i =
         app.add_subcommand("info", "Tell what a scene file holds and what the tracer will get");
@@ -381,7 +418,9 @@ int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
     if (cmd.command == Subcommand::Render) {
         cmd.render.common = cmd.common;
         if (!map_render(texts, cmd.render)) return kExitUsage;
+        if (!map_render_scenes(argc, argv, cmd.render)) return kExitUsage;
     }
+    if (cmd.command == Subcommand::Compare) cmd.compare.args = words_after(argc, argv, "compare");
     if (cmd.command == Subcommand::Bench) {
         cmd.bench.common = cmd.common;
         cmd.bench.options.spheres = label_value(kSpheresLabels, texts.bench_spheres);
@@ -389,10 +428,57 @@ int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
     return cmd.command == Subcommand::None ? kExitUsage : -1;
 }
 
+}  // namespace
+
+int parse_command_line(int argc, const char* const* argv, CommandLine& cmd) {
+    return parse_impl(argc, argv, cmd, false);
+}
+
+int parse_compare_words(const std::vector<std::string>& args, CompareCommand& compare) {
+    std::vector<const char*> argv = {"vrmlray", "compare"};
+    for (const std::string& a : args) argv.push_back(a.c_str());
+    CommandLine cmd;
+    const int code = parse_impl(int(argv.size()), argv.data(), cmd, true);
+    compare = cmd.compare;
+    return code;
+}
+
+std::vector<std::string> split_line_words(const std::string& line) {
+    std::vector<std::string> words;
+    size_t k = 0;
+    while (k < line.size()) {
+        while (k < line.size() && std::isspace((unsigned char)line[k])) ++k;
+        if (k >= line.size() || line[k] == '#') break;
+        std::string word;
+        while (k < line.size() && !std::isspace((unsigned char)line[k])) {
+            const char c = line[k++];
+            if (c != '"' && c != '\'') {
+                word += c;
+                continue;
+            }
+            while (k < line.size() && line[k] != c) word += line[k++];
+            ++k;  // the closing quote (or the end of an unterminated one)
+        }
+        words.push_back(word);
+    }
+    return words;
+}
+
+int parse_render_words(const std::vector<std::string>& args, RenderCommand& render) {
+    std::vector<const char*> argv = {"vrmlray", "render"};
+    for (const std::string& a : args) argv.push_back(a.c_str());
+    CommandLine cmd;
+    const int code = parse_impl(int(argv.size()), argv.data(), cmd, true);
+    render = cmd.render;
+    return code;
+}
+
 int run_command_line(const CommandLine& cmd) {
     switch (cmd.command) {
         case Subcommand::Render:
-            return strict_exit(run_render(cmd.render), cmd.common);
+            return strict_exit(
+                is_batch(cmd.render) ? run_render_batch(cmd.render) : run_render(cmd.render),
+                cmd.common);
         case Subcommand::Bench:
             return run_bench(cmd.bench);
         case Subcommand::Info:

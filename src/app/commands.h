@@ -42,6 +42,11 @@ struct RenderCommand {
     std::optional<bool>
         recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
     CommonOptions common;
+    // Batch render (app/batch.h): several scenes, or --list FILE, into the folder OUT.
+    std::vector<std::string> scenes;  // the scene arguments (scene is the first)
+    std::string list_path;            // --list: one scene a line, with options
+    std::string format = "png";       // --format: the batch outputs' extension
+    std::vector<std::string> args;    // the words after "render", which --list lines extend
 };
 
 struct CompareCommand {
@@ -51,6 +56,12 @@ struct CompareCommand {
     double pixel_threshold = 1.0 / 255.0;
     std::string diff_path;
     bool json = false;
+    // Folders only (SPEC section 10): the JUnit file, the HTML report's folder, --update, threads.
+    std::string junit_path, report_dir;
+    bool update = false;
+    int threads = 0;                // 0: all cores
+    std::string thresholds_path;    // --thresholds: per-image thresholds, a glob and options a line
+    std::vector<std::string> args;  // the words after "compare", which those lines extend
 };
 
 struct BenchCommand {
@@ -73,6 +84,9 @@ size_t warnings_reported();
 int strict_exit(int code, const CommonOptions& common);
 
 int run_render(const RenderCommand& cmd);
+// A batch when --list is given, there are several scenes, or OUT ends in '/' or is a folder.
+bool is_batch(const RenderCommand& cmd);
+int run_render_batch(const RenderCommand& cmd);
 int run_bench(const BenchCommand& cmd);
 int run_info(const std::string& scene, const CommonOptions& common);
 int run_convert(const std::string& in, const std::string& out, const CommonOptions& common);

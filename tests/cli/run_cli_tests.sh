@@ -25,7 +25,7 @@ expect_usage_error "missing value" "--width: 1 required INT:INT in [1 - 65536] m
 expect_usage_error "missing image" "b is required" "vrmlray compare --help" -- "$bin" compare "$work/a.png"
 expect_usage_error "no subcommand" "a subcommand is required" "vrmlray --help" -- "$bin"
 "$bin" --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray [OPTIONS] SUBCOMMAND" ] && pass || fail "--help starts with the usage naming vrmlray"
-"$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] scene" ] && pass || fail "render --help starts with its usage"
+"$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] [scene...]" ] && pass || fail "render --help starts with its usage"
 # --stats is valid JSON whatever the scene's name, with figures at full precision: per_pixel must be
 # exactly primary / pixels as Python's double division gives it (the statistical sampler's ray count
 # is not a multiple of the 35 pixels, so six digits would not do).
@@ -259,19 +259,17 @@ for f in "$src"/tests/corpus/bad/*.wrl; do
 done
 
 # --- golden images: the bundled scenes, tests/corpus/good and every sampler ------------------------
-# Each tests/render/golden/NAME.png was rendered by tests/render/make_goldens.sh from the table golden.txt and
+# Each tests/render/golden/NAME.png was rendered by tests/render/make_goldens.sh from the list golden.txt and
 # inspected by eye. Renders are deterministic, so on the machine that made a golden it matches to the bit.
 # Allowed: at most one 8-bit code (1/255 = 0.0039) on at most 0.1% of the pixels, alpha included: the last bit
 # of a libm function or of the gas quadrature (to --tolerance 1e-4) can carry a value across an 8-bit rounding
-# boundary; a real change of the picture moves more values, or by more.
-while read -r name scene w h extra; do
-    case "$name" in ''|\#*) continue;; esac
-    # shellcheck disable=SC2086
-    (cd "$(dirname "$src/$scene")" && "$bin" render "$(basename "$scene")" -W "$w" -H "$h" $extra -q \
-        -o "$work/golden_$name.png" 2>"$work/err.txt") || { fail "golden $name: render failed"; continue; }
-    expect 0 "golden $name" -- "$bin" compare "$work/golden_$name.png" "$src/tests/render/golden/$name.png" \
-        --pixel-threshold 0 --max-fail-percent 0.1 --max-abs 0.004
-done <"$src/tests/render/golden/golden.txt"
+# boundary; a real change of the picture moves more values, or by more. The suite runs as a user's would: one
+# batch render of the list, one folder compare (a golden without its line in the list fails as missing).
+expect 0 "golden list renders in one process" -- "$bin" render --list "$src/tests/render/golden/golden.txt" \
+    -o "$work/golden/" -q
+expect 0 "golden images match" -- "$bin" compare "$src/tests/render/golden" "$work/golden" \
+    --pixel-threshold 0 --max-fail-percent 0.1 --max-abs 0.004 --report "$work/golden_report"
+grep -Ev '^(pass|status) ' "$work/out.txt" | grep -v ' 0 failed (' | sed 's/^/    /' | head -30
 
 # shellcheck source=tests/cli/anim_cli.sh
 . "$src/tests/cli/anim_cli.sh"
