@@ -139,6 +139,7 @@ class Builder {
 
     // build_geometry.cpp
     sg::Geometry make_geometry(NodeId node);
+    sg::Text make_text(NodeId node);
     void read_vertex_data(NodeId node, sg::VertexData& data, bool want_coords,
                           const sg::Origin& origin);
 

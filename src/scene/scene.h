@@ -184,10 +184,31 @@ struct ComposedSet {
     bool color_per_vertex = true, normal_per_vertex = true;
 };
 
+// Text (VRML97 6.47, X3D 15.4.2) and its FontStyle (VRML97 6.20, X3D 15.4.1); without a FontStyle
+// node the grammar's FontStyle defaults. src/geometry/text.* lays it out and triangulates the
+// glyphs.
+enum class Justify : uint8_t { First, Begin, Middle, End };
+struct FontStyle {
+    std::vector<std::string> family;  // in order of preference: SERIF, SANS, TYPEWRITER or a name
+    bool bold = false, italic = false;
+    double size = 0.0;     // the em height in object units
+    double spacing = 0.0;  // line distance in units of size
+    Justify major = Justify::Begin, minor = Justify::First;
+    bool horizontal = true, left_to_right = true, top_to_bottom = true;
+};
+struct Text {
+    std::vector<std::string> strings;  // UTF-8, one line each
+    std::vector<double> length;        // a line's wanted length along the major axis; 0: natural
+    double max_extent = 0.0;           // 0: no limit
+    FontStyle font;
+    bool solid = false;
+};
+
 // The polygon nodes are held out of line so that the many primitives stay small.
-using GeometryShape = std::variant<std::monostate, Sphere, Box, Cylinder, Cone,
-                                   std::unique_ptr<IndexedFaceSet>, std::unique_ptr<ElevationGrid>,
-                                   std::unique_ptr<Extrusion>, std::unique_ptr<ComposedSet>>;
+using GeometryShape =
+    std::variant<std::monostate, Sphere, Box, Cylinder, Cone, std::unique_ptr<IndexedFaceSet>,
+                 std::unique_ptr<ElevationGrid>, std::unique_ptr<Extrusion>,
+                 std::unique_ptr<ComposedSet>, std::unique_ptr<Text>>;
 struct Geometry {
     Origin origin;
     Index hints = kNone;  // the geometry node's own metadata (Sphere), into Scene::hints
