@@ -150,7 +150,20 @@ struct Bounds3 {
     }
 };
 
+// Lines and points (IndexedLineSet, LineSet, PointSet): world-space marks of a fixed size on the
+// screen (--line-width, --point-size pixels), unlit, seen by camera rays only (render/lines.h).
+struct LineSegment {
+    Vec3 a, b;              // world
+    Vec3 color_a, color_b;  // at a and at b
+};
+struct PointMark {
+    Vec3 position;  // world
+    Vec3 color;
+};
+
 struct FlatScene {
+    std::vector<LineSegment> segments;
+    std::vector<PointMark> points;
     std::vector<Sphere> spheres;
     std::vector<Quadric> quadrics;
     std::vector<Mesh> meshes;      // world space

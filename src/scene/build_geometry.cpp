@@ -24,6 +24,7 @@ enum class GeometryKind : uint8_t {
     Extrusion,
     Composed,
     Text,
+    Lines,
     NoArea,
     Unsupported,
 };
@@ -45,6 +46,7 @@ GeometryType geometry_type(const NodeTypeDecl* decl) {
         t[intern("ElevationGrid")] = {GeometryKind::ElevationGrid};
         t[intern("Extrusion")] = {GeometryKind::Extrusion};
         t[intern("Text")] = {GeometryKind::Text};
+        t[intern("Lines")] = {GeometryKind::Lines};
         t[intern("NoArea")] = {GeometryKind::NoArea};
         using C = sg::ComposedKind;
         const std::pair<const char*, C> composed[] = {
@@ -202,6 +204,9 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         case GeometryKind::Text:
             g.shape = std::make_unique<sg::Text>(make_text(id));
             break;
+        case GeometryKind::Lines:
+            g.shape = std::make_unique<sg::LineSet>(make_lines(id));
+            break;
         case GeometryKind::NoArea:
             diagnostics_.warning(
                 g.origin.loc,
@@ -231,6 +236,34 @@ sg::Justify justify_word(const std::string& w, sg::Justify empty) {
 }
 
 }  // namespace
+
+sg::LineSet Builder::make_lines(NodeId id) {
+    sg::LineSet l;
+    const Name t = type(id);
+    l.kind = t == "PointSet"_n  ? sg::LineKind::Points
+             : t == "LineSet"_n ? sg::LineKind::Strips
+                                : sg::LineKind::Indexed;
+    // Only coord and color: the X3D normal, fogCoord and attrib fields do not change unlit marks.
+    if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
+        if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
+            l.coords = vec3s(c, "point"_n);
+        else
+            warn(c, "wrong-type", "is not a coordinate node vrmlray reads; nothing to draw");
+    }
+    if (const NodeId c = node(id, "color"_n); c != kNullNode) {
+        if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
+            l.colors = vec3s(c, "color"_n);
+        else
+            warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+    }
+    if (l.kind == sg::LineKind::Indexed) {
+        l.coord_index = integers(id, "coordIndex"_n);
+        l.color_index = integers(id, "colorIndex"_n);
+        l.color_per_vertex = boolean(id, "colorPerVertex"_n);
+    }
+    if (l.kind == sg::LineKind::Strips) l.vertex_count = integers(id, "vertexCount"_n);
+    return l;
+}
 
 sg::Text Builder::make_text(NodeId id) {
     sg::Text t;

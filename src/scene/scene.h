@@ -204,11 +204,22 @@ struct Text {
     bool solid = false;
 };
 
+// IndexedLineSet (VRML97 6.24, X3D 11.3.4), LineSet (X3D 11.3.7), PointSet (VRML97 6.36).
+enum class LineKind : uint8_t { Indexed, Strips, Points };
+struct LineSet {
+    LineKind kind = LineKind::Indexed;
+    std::vector<Vec3> coords;
+    std::vector<Vec3> colors;
+    std::vector<int32_t> coord_index, color_index;  // Indexed: polylines separated by -1
+    std::vector<int32_t> vertex_count;              // Strips: vertices of each polyline
+    bool color_per_vertex = true;                   // Indexed: FALSE is a colour a polyline
+};
+
 // The polygon nodes are held out of line so that the many primitives stay small.
 using GeometryShape =
     std::variant<std::monostate, Sphere, Box, Cylinder, Cone, std::unique_ptr<IndexedFaceSet>,
                  std::unique_ptr<ElevationGrid>, std::unique_ptr<Extrusion>,
-                 std::unique_ptr<ComposedSet>, std::unique_ptr<Text>>;
+                 std::unique_ptr<ComposedSet>, std::unique_ptr<Text>, std::unique_ptr<LineSet>>;
 struct Geometry {
     Origin origin;
     Index hints = kNone;  // the geometry node's own metadata (Sphere), into Scene::hints
