@@ -200,6 +200,7 @@ Mesh Flattener::object_mesh(const TriMesh& t) {
     mesh.normals = t.normals;
     mesh.uvs = t.uvs;
     mesh.colors = t.colors;
+    mesh.alphas = t.alphas;
     return mesh;
 }
 
@@ -233,6 +234,7 @@ Mesh Flattener::world_mesh(const TriMesh& t, const Mat4& m, uint32_t shading) {
             if (!mesh.normals.empty()) std::swap(mesh.normals[c + 1], mesh.normals[c + 2]);
             if (!mesh.uvs.empty()) std::swap(mesh.uvs[c + 1], mesh.uvs[c + 2]);
             if (!mesh.colors.empty()) std::swap(mesh.colors[c + 1], mesh.colors[c + 2]);
+            if (!mesh.alphas.empty()) std::swap(mesh.alphas[c + 1], mesh.alphas[c + 2]);
         }
     }
     return mesh;

@@ -331,9 +331,14 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
     }
     if (const NodeId c = node(id, "color"_n); c != kNullNode) {
         if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
-            data.colors = vec3s(c, "color"_n);  // RGBA: alpha dropped
+            data.colors = vec3s(c, "color"_n);
         else
             warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+        if (type(c) == "ColorRGBA"_n) {
+            const FieldView rgba = tree_.get(c, "color"_n);
+            for (size_t i = 3; i < rgba.numbers.size(); i += 4)
+                data.alphas.push_back(rgba.numbers[i]);
+        }
     }
     NodeId t = node(id, "texCoord"_n);
     if (t != kNullNode && type(t) == "MultiTextureCoordinate"_n) {

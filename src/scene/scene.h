@@ -110,7 +110,8 @@ struct Appearance {
 struct VertexData {
     std::vector<Vec3> coords;
     std::vector<Vec3> normals;
-    std::vector<Vec3> colors;  // RGB (ColorRGBA's alpha is dropped)
+    std::vector<Vec3> colors;    // RGB
+    std::vector<double> alphas;  // ColorRGBA: the alpha of each colour; empty for Color
     std::vector<Vec2> texcoords;
     bool has_texcoord_node = false;  // a TextureCoordinate node was given (even if empty)
 };

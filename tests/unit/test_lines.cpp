@@ -144,7 +144,8 @@ TEST(Lines, TheyCastNoShadowAndShadeNothing) {
              add_shading(s, Material{}));
     const Image plain = render(s);
     for (int i = 0; i < 50; ++i)
-        s.segments.push_back({Vec3(-5, -5 + 0.2 * i, 2), Vec3(5, -5 + 0.2 * i, 2), Vec3(1), Vec3(1)});
+        s.segments.push_back(
+            {Vec3(-5, -5 + 0.2 * i, 2), Vec3(5, -5 + 0.2 * i, 2), Vec3(1), Vec3(1)});
     const Image with = render(s, 10.0);  // behind the camera (z = 2): never on screen
     EXPECT_EQ(plain.rgba, with.rgba);
 }

@@ -101,9 +101,9 @@ std::shared_ptr<const Font> sans() {
     return c.font;
 }
 
-#define VR_NEED_FONTS()                                                                   \
+#define VR_NEED_FONTS()                                                              \
     if (!fonts_available()) GTEST_SKIP() << "built without FreeType and fontconfig"; \
-    const std::shared_ptr<const Font> font = sans();                                     \
+    const std::shared_ptr<const Font> font = sans();                                 \
     ASSERT_NE(font, nullptr)
 
 #ifdef VR_TEST_FREETYPE
