@@ -161,7 +161,22 @@ void read_image(ValueContext& ctx, const Token& at) {
 void read_string(ValueContext& ctx) {
     Token t = ctx.lexer.next();
     if (t.kind == TokenKind::String) {
-        ctx.tree.strings.push_back(Lexer::unescape(ctx.lexer.text(t)));
+        const std::string_view quoted = ctx.lexer.text(t);
+        // VRML97 5.9 / X3D classic: only \" and \\ are escapes; any other backslash is dropped
+        // (as the readers of browsers drop it), which changes what the author wrote.
+        for (size_t i = 1; ctx.diagnostics && i + 2 < quoted.size(); ++i) {
+            if (quoted[i] != '\\') continue;
+            if (quoted[i + 1] != '"' && quoted[i + 1] != '\\') {
+                ctx.diagnostics->warning(
+                    {ctx.file, uint32_t(t.offset + i)},
+                    std::string("a backslash before '") + quoted[i + 1] +
+                        "' is not an escape (only \\\" and \\\\ are); it is dropped",
+                    "string-escape");
+                break;
+            }
+            ++i;
+        }
+        ctx.tree.strings.push_back(Lexer::unescape(quoted));
         return;
     }
     if (t.kind == TokenKind::BadString) fail(t, "string is not closed before the end of the file");

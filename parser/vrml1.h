@@ -30,7 +30,9 @@
 //   colours replace only the diffuse colour, so the other properties come from the Material's
 //   first value. A Material with empty ambient, diffuse and specular lists holds precomputed
 //   (emissive) colours and is drawn unlit.
-// * AsciiText has no area: skipped with one warning. Info and FontStyle are dropped.
+// * AsciiText becomes a VRML97 Text with a FontStyle made from the last VRML 1.0 FontStyle (size,
+//   family, style) and its own spacing and justification (LEFT, CENTER, RIGHT as BEGIN, MIDDLE,
+//   END); its `width` values become `length`. Info is dropped.
 #pragma once
 #include "parser/classic.h"
 #include "parser/load.h"

@@ -250,7 +250,7 @@ StateKey Upgrader::key(uint32_t id, const State& s) const {
     StateKey k;
     k.node = id;
     k.props = {s.material,          s.coords,     s.normals, s.texcoords, s.texture,
-               s.texture_transform, s.shape_hints};
+               s.texture_transform, s.shape_hints, s.font_style};
     k.material_binding = static_cast<uint8_t>(s.material_binding);
     k.normal_binding = static_cast<uint8_t>(s.normal_binding);
     k.in_separator = s.in_separator;

@@ -633,4 +633,46 @@ void Upgrader::point_set(uint32_t id, const State& s, OutList& out) {
     emit(shape, s, out);
 }
 
+// VRML 1.0 AsciiText (VRML 1.0 spec 4.1) under the current FontStyle: a VRML97 Text.
+void Upgrader::ascii_text(uint32_t id, const State& s, OutList& out) {
+    if (cached_shape(id, s, out)) return;
+    static const Name kFontStyle = intern("FontStyle"), kString = intern("string"),
+                      kSpacing = intern("spacing"), kJustification = intern("justification"),
+                      kWidth = intern("width"), kSize = intern("size"), kFamily = intern("family"),
+                      kStyle = intern("style"), kJustify = intern("justify"),
+                      kLength = intern("length"), kFontStyleField = intern("fontStyle");
+    const uint32_t fs = s.font_style;
+    auto font = [&](Name field) {
+        return fs == kNone ? get_default(kFontStyle, field) : get(fs, field);
+    };
+    const std::string style_word = font(kStyle).strings.empty() ? "" : font(kStyle).strings[0];
+    const bool bold = has_part(style_word, "BOLD"), italic = has_part(style_word, "ITALIC");
+    const std::string justification = word(id, kJustification);
+    Fields style = begin("FontStyle");
+    set(style, kSize, font(kSize).numbers);
+    set_strings(style, kFamily,
+                {font(kFamily).strings.empty() ? "SERIF" : font(kFamily).strings[0]});
+    set_strings(style, kStyle,
+                {bold && italic ? "BOLDITALIC"
+                 : bold         ? "BOLD"
+                 : italic       ? "ITALIC"
+                                : "PLAIN"});
+    set(style, kSpacing, get(id, kSpacing).numbers);
+    set_strings(style, kJustify,
+                {justification == "CENTER"  ? "MIDDLE"
+                 : justification == "RIGHT" ? "END"
+                                            : "BEGIN"});
+    const SourceLoc loc = file_.nodes[id].loc;
+    const NodeId style_node = make(style, loc);
+    const FieldView strings = get(id, kString);
+    Fields text = begin("Text");
+    set_strings(text, kString, {strings.strings.begin(), strings.strings.end()});
+    set(text, kLength, get(id, kWidth).numbers);
+    set_node(text, kFontStyleField, style_node);
+    const NodeId geometry = make(text, loc);
+    const NodeId shape = shape_node(id, appearance(s, material(s.material, 0)), geometry);
+    emit(shape, s, out);
+    cache_shape(id, s, {shape});
+}
+
 }  // namespace vr::vrml1

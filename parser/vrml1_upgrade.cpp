@@ -42,6 +42,7 @@ enum class Kind : uint8_t {
     IndexedLineSet,
     PointSet,
     AsciiText,
+    FontStyle,
     DirectionalLight,
     PointLight,
     SpotLight,
@@ -81,6 +82,7 @@ constexpr std::pair<const char*, Kind> kRoles[] = {
     {"IndexedLineSet", Kind::IndexedLineSet},
     {"PointSet", Kind::PointSet},
     {"AsciiText", Kind::AsciiText},
+    {"FontStyle", Kind::FontStyle},
     {"DirectionalLight", Kind::DirectionalLight},
     {"PointLight", Kind::PointLight},
     {"SpotLight", Kind::SpotLight},
@@ -97,7 +99,7 @@ Kind kind_of(Name type) {
     }();
     const NodeTypeDecl* decl = Registry::builtin().find(Spec::Vrml1, type);
     const auto it = decl ? by_role.find(decl->role) : by_role.end();
-    return it == by_role.end() ? Kind::Silent : it->second;  // Info, FontStyle, unknown nodes
+    return it == by_role.end() ? Kind::Silent : it->second;  // Info, unknown nodes
 }
 
 Binding parse_binding(std::string_view w) {
@@ -326,9 +328,10 @@ void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
             point_set(id, s, out);
             break;
         case Kind::AsciiText:
-            warn(id, "AsciiText (text) has no area and is not rendered; skipped",
-                 "vrml1-asciitext");
-            ++scene_.stats.skipped_nodes["AsciiText"];
+            ascii_text(id, s, out);
+            break;
+        case Kind::FontStyle:
+            s.font_style = id;
             break;
         case Kind::DirectionalLight:
         case Kind::PointLight:

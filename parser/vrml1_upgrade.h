@@ -43,6 +43,7 @@ struct State {
         kNone;  // a Texture2 with neither filename nor image turns texturing off: kNone
     uint32_t texture_transform = kNone;
     uint32_t shape_hints = kNone;
+    uint32_t font_style = kNone;
     Binding material_binding = Binding::Overall;
     Binding normal_binding = Binding::Default;
     bool in_separator = false;  // below the top level: lights there are scoped to their group
@@ -51,7 +52,7 @@ struct State {
 // What the output of a node depends on besides the node itself (the matrix is applied outside).
 struct StateKey {
     uint32_t node = kNone;
-    std::array<uint32_t, 7> props{};
+    std::array<uint32_t, 8> props{};
     uint8_t material_binding = 0, normal_binding = 0, in_separator = 0;
     bool operator==(const StateKey&) const = default;
 };
@@ -119,6 +120,7 @@ class Upgrader {
     void face_set(uint32_t id, const State& s, OutList& out);
     void line_set(uint32_t id, const State& s, OutList& out);
     void point_set(uint32_t id, const State& s, OutList& out);
+    void ascii_text(uint32_t id, const State& s, OutList& out);
     NodeId shape_node(uint32_t id, NodeId appearance, NodeId geometry);
     void emit_shape(uint32_t id, const State& s, OutList& out, NodeId appearance, NodeId geometry);
     bool cached_shape(uint32_t id, const State& s, OutList& out);

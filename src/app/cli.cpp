@@ -186,6 +186,11 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
         ->check(CLI::Range(1e-12, 1.0));
     r->add_option("--density", o.density, "Gas extinction per scene unit")
         ->check(CLI::NonNegativeNumber);
+    r->add_option("--line-width", o.line_width,
+                  "Width in pixels of IndexedLineSet and LineSet lines (default 1)")
+        ->check(CLI::Range(1e-3, 1e4));
+    r->add_option("--point-size", o.point_size, "Diameter in pixels of PointSet points (default 1)")
+        ->check(CLI::Range(1e-3, 1e4));
     r->add_option(
         "--albedo", texts.albedo,
         "Gas albedo R,G,B where no hint gives one (default: the Material's diffuseColor)");

@@ -11,6 +11,7 @@
 
 #include "flatten/flatten.h"
 #include "geometry/cylinder_fit.h"
+#include "geometry/lines.h"
 #include "geometry/mesh_nodes.h"
 #include "geometry/sphere_fit.h"
 
@@ -94,6 +95,8 @@ class Flattener {
     // ---- shapes and instances: shapes.cpp
 
     void emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light_set);
+    // IndexedLineSet, LineSet, PointSet: world-space segments and points, unlit.
+    void add_lines(const sg::Geometry& g, const sg::Shape& shape, const Mat4& m, uint32_t material);
 
     // ---- recovery of exact shapes from meshes (FlattenOptions::recover_spheres): shapes.cpp
 

@@ -17,6 +17,8 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
         options_.max_primitives)
         return stop("primitives");
     const uint32_t material = material_of(shape, g);
+    if (std::holds_alternative<std::unique_ptr<sg::LineSet>>(g.shape))
+        return add_lines(g, shape, m, material);
     const uint32_t shading = shading_of(material, light_set);
 
     if (const auto* s = std::get_if<sg::Sphere>(&g.shape)) {
@@ -86,6 +88,29 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     }
     out_.meshes.push_back(world_mesh(*cached, m, shading));
     ++stats_.meshes;
+}
+
+void Flattener::add_lines(const sg::Geometry& g, const sg::Shape& shape, const Mat4& m,
+                          uint32_t material) {
+    NodeReport report(diagnostics_, g.origin);
+    const Polylines p = line_geometry(*std::get<std::unique_ptr<sg::LineSet>>(g.shape), report);
+    // Unlit marks (X3D 11.2.3): the Color node's colours, else the Material's emissiveColor, else
+    // white when the Appearance has no Material.
+    const sg::Appearance* app =
+        shape.appearance == sg::kNone ? nullptr : &scene_.appearances[shape.appearance];
+    const Vec3 plain =
+        app && app->material != sg::kNone ? out_.materials[material].emissive : Vec3(1.0);
+    auto color = [&](size_t i) { return p.colors.empty() ? plain : p.colors[i]; };
+    auto world = [&](size_t i) { return transform_point(m, p.positions[i]); };
+    if (p.points) {
+        for (size_t i = 0; i < p.positions.size(); ++i) out_.points.push_back({world(i), color(i)});
+        return;
+    }
+    for (size_t k = 0; k < p.starts.size(); ++k) {
+        const size_t end = k + 1 < p.starts.size() ? p.starts[k + 1] : p.positions.size();
+        for (size_t i = p.starts[k]; i + 1 < end; ++i)
+            out_.segments.push_back({world(i), world(i + 1), color(i), color(i + 1)});
+    }
 }
 
 Flattener::Recovery Flattener::recognise(const TriMesh& mesh) {
@@ -175,6 +200,7 @@ Mesh Flattener::object_mesh(const TriMesh& t) {
     mesh.normals = t.normals;
     mesh.uvs = t.uvs;
     mesh.colors = t.colors;
+    mesh.alphas = t.alphas;
     return mesh;
 }
 
@@ -208,6 +234,7 @@ Mesh Flattener::world_mesh(const TriMesh& t, const Mat4& m, uint32_t shading) {
             if (!mesh.normals.empty()) std::swap(mesh.normals[c + 1], mesh.normals[c + 2]);
             if (!mesh.uvs.empty()) std::swap(mesh.uvs[c + 1], mesh.uvs[c + 2]);
             if (!mesh.colors.empty()) std::swap(mesh.colors[c + 1], mesh.colors[c + 2]);
+            if (!mesh.alphas.empty()) std::swap(mesh.alphas[c + 1], mesh.alphas[c + 2]);
         }
     }
     return mesh;

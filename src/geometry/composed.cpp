@@ -2,6 +2,7 @@
 
 #include "geometry/mesh_nodes.h"
 #include "geometry/polygon_mesh.h"
+#include "geometry/text.h"
 
 namespace vr {
 
@@ -151,6 +152,8 @@ TriMesh triangulate_geometry(const sg::Geometry& geometry, bool want_uvs,
         }
         return triangulate_face_set(faces, want_uvs, report);
     }
+    if (const auto* text = std::get_if<std::unique_ptr<sg::Text>>(&geometry.shape))
+        return text_mesh(**text, want_uvs, report);
     return TriMesh{};
 }
 

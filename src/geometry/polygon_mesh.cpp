@@ -238,8 +238,11 @@ void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttri
                 }
                 mesh.normals.push_back(n);
             }
-            if (at.color.usable)
-                mesh.colors.push_back(ifs.data.colors[at.color.source(coord_index, k, f.number)]);
+            if (at.color.usable) {
+                const size_t source = at.color.source(coord_index, k, f.number);
+                mesh.colors.push_back(ifs.data.colors[source]);
+                if (!ifs.data.alphas.empty()) mesh.alphas.push_back(ifs.data.alphas[source]);
+            }
             if (at.want_uvs) {
                 mesh.uvs.push_back(
                     at.texcoord.usable

@@ -249,6 +249,18 @@ void Accel::build(const FlatScene& scene, int threads) {
                 shading = m.shading;
             }
             prim_transparency_[i] = float(material_transparency(scene, shading));
+            if (id >= first_triangle && id < first_instance) {
+                // ColorRGBA: shadow rays see the triangle's mean transparency (exact for a
+                // triangle of one alpha; its corners' alphas are not interpolated there).
+                const auto [mi, t] = triangle_refs[id - first_triangle];
+                const Mesh& m = scene.meshes[mi];
+                if (m.alphas.size() >= 3 * t + 3)
+                    prim_transparency_[i] = float(
+                        1.0 -
+                        std::clamp(
+                            (m.alphas[3 * t] + m.alphas[3 * t + 1] + m.alphas[3 * t + 2]) / 3.0,
+                            0.0, 1.0));
+            }
         }
     });
     any_transparent_ = std::any_of(prim_transparency_.begin(), prim_transparency_.end(),

@@ -29,6 +29,11 @@ Bounds3 FlatScene::bounds() const {
             if (finite3(w)) b.extend(w);
         }
     }
+    for (const LineSegment& s : segments)
+        for (const Vec3& p : {s.a, s.b})
+            if (finite3(p)) b.extend(p);
+    for (const PointMark& p : points)
+        if (finite3(p.position)) b.extend(p.position);
     for (const Mesh& m : meshes) {
         for (uint32_t index : m.triangles) {
             if (index < m.positions.size() && finite3(m.positions[index]))

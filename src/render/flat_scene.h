@@ -72,10 +72,11 @@ struct Quadric {
 struct Mesh {
     std::vector<Vec3> positions;      // world space
     std::vector<uint32_t> triangles;  // 3 position indices a triangle
-    std::vector<Vec3> normals;  // per corner, world space, unit; empty: flat (geometric) normals
-    std::vector<Vec2> uvs;      // per corner; empty: no texture coordinates
-    std::vector<Vec3> colors;   // per corner (Color node); empty: material colour
-    bool solid = true;          // false: both sides are lit (two-sided)
+    std::vector<Vec3> normals;   // per corner, world space, unit; empty: flat (geometric) normals
+    std::vector<Vec2> uvs;       // per corner; empty: no texture coordinates
+    std::vector<Vec3> colors;    // per corner (Color node); empty: material colour
+    std::vector<double> alphas;  // per corner with `colors` (ColorRGBA); empty: RGB colours
+    bool solid = true;           // false: both sides are lit (two-sided)
     uint32_t shading = 0;
     size_t triangle_count() const { return triangles.size() / 3; }
 };
@@ -150,7 +151,20 @@ struct Bounds3 {
     }
 };
 
+// Lines and points (IndexedLineSet, LineSet, PointSet): world-space marks of a fixed size on the
+// screen (--line-width, --point-size pixels), unlit, seen by camera rays only (render/lines.h).
+struct LineSegment {
+    Vec3 a, b;              // world
+    Vec3 color_a, color_b;  // at a and at b
+};
+struct PointMark {
+    Vec3 position;  // world
+    Vec3 color;
+};
+
 struct FlatScene {
+    std::vector<LineSegment> segments;
+    std::vector<PointMark> points;
     std::vector<Sphere> spheres;
     std::vector<Quadric> quadrics;
     std::vector<Mesh> meshes;      // world space

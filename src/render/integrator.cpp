@@ -43,7 +43,8 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
       accel_(accel),
       options_(options),
       background_(scene, options.background),
-      gas_(gas && !gas->empty() ? gas : nullptr) {
+      gas_(gas && !gas->empty() ? gas : nullptr),
+      lines_(scene, camera, options.width, options.height, options.line_width, options.point_size) {
     const Vec3 view = camera.forward();
     lights_ = scene.lights;
     for (Light& l : lights_) {
@@ -131,6 +132,14 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
 
 SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
+    if (!lines_.empty()) {
+        // Lines and points are seen by camera rays only, in front of the first surface.
+        Hit hit;
+        const double t_surface = accel_.intersect(ray, hit) ? hit.t : kInf;
+        SampleValue mark;
+        mark.alpha = 1.0;
+        if (lines_.nearest(ray, t_surface, mark.color)) return mark;
+    }
     SampleValue v = trace(ray, 0, 1.0, counters);
     // With --alpha the colour leaves out the background that reaches the pixel (SPEC section 9), so
     // that colour + (1 - alpha) * background, the image composited over its background, is the

@@ -12,6 +12,7 @@
 #include "render/camera.h"
 #include "render/flat_scene.h"
 #include "render/gas.h"
+#include "render/lines.h"
 #include "render/options.h"
 #include "render/sampling.h"
 #include "render/shading.h"
@@ -94,6 +95,7 @@ class Integrator {
     bool has_headlight_ = false;
     Light headlight_;
     const GasVolume* gas_ = nullptr;  // non-null only when the scene has gas spheres
+    LineOverlay lines_;  // IndexedLineSet, LineSet and PointSet marks, seen by camera rays
     GasVolume::Lighting gas_lighting_;
 };
 

@@ -308,6 +308,10 @@ SurfaceHit triangle_surface(const Mesh& m, uint32_t triangle, const Ray& ray, do
         hit.has_color = true;
         hit.color = b0 * m.colors[c0] + b1 * m.colors[c0 + 1] + b2 * m.colors[c0 + 2];
     }
+    if (m.alphas.size() >= c0 + 3) {
+        hit.has_alpha = true;
+        hit.alpha = b0 * m.alphas[c0] + b1 * m.alphas[c0 + 1] + b2 * m.alphas[c0 + 2];
+    }
     return hit;
 }
 

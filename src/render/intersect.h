@@ -201,6 +201,8 @@ struct SurfaceHit {
     Vec2 uv{0.0};            // texture coordinates before the TextureTransform
     bool has_color = false;  // a Color node gives the diffuse colour
     Vec3 color{1.0};
+    bool has_alpha = false;  // the colour is a ColorRGBA: its alpha replaces the transparency
+    double alpha = 1.0;
     uint32_t shading = 0;
     bool gas = false;  // a gas sphere (SPEC section 6); the opaque integrator shades it as opaque
 };

@@ -44,6 +44,8 @@ struct RenderOptions {
     bool alpha = false;  // an alpha channel; the colour then leaves the background out (SPEC 9)
     uint64_t seed = 0;
     double min_weight = 1e-3;  // a path whose weight drops below this stops (SPEC section 5)
+    double line_width = 1.0;   // pixels: lines of IndexedLineSet and LineSet
+    double point_size = 1.0;   // pixels: the diameter of PointSet points
 };
 
 }  // namespace vr

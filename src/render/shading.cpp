@@ -89,6 +89,9 @@ SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit) {
     look.ambient_intensity = clamp01(m->ambient_intensity);
     look.shininess = clamp01(m->shininess);
     look.transparency = clamp01(m->transparency);
+    // ColorRGBA (X3D 11.4.2): the colour's alpha is the surface's opacity, in place of the
+    // Material's transparency; a texture's alpha below still replaces it in turn.
+    if (hit.has_alpha) look.transparency = 1.0 - clamp01(hit.alpha);
     look.reflectivity = clamp01(m->reflectivity);
     look.ior = std::isfinite(m->ior) && m->ior > 0.0 ? m->ior : 1.0;
 

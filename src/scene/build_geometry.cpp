@@ -23,6 +23,8 @@ enum class GeometryKind : uint8_t {
     ElevationGrid,
     Extrusion,
     Composed,
+    Text,
+    Lines,
     NoArea,
     Unsupported,
 };
@@ -47,6 +49,8 @@ constexpr GeometryRole kGeometryRoles[] = {
     {"IndexedFaceSet", {GeometryKind::IndexedFaceSet}},
     {"ElevationGrid", {GeometryKind::ElevationGrid}},
     {"Extrusion", {GeometryKind::Extrusion}},
+    {"Text", {GeometryKind::Text}},
+    {"Lines", {GeometryKind::Lines}},
     {"NoArea", {GeometryKind::NoArea}},
     {"IndexedTriangleSet", {GeometryKind::Composed, C::IndexedTriangleSet}},
     {"TriangleSet", {GeometryKind::Composed, C::TriangleSet}},
@@ -210,6 +214,12 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             g.shape = std::make_unique<sg::ComposedSet>(std::move(c));
             break;
         }
+        case GeometryKind::Text:
+            g.shape = std::make_unique<sg::Text>(make_text(id));
+            break;
+        case GeometryKind::Lines:
+            g.shape = std::make_unique<sg::LineSet>(make_lines(id));
+            break;
         case GeometryKind::NoArea:
             diagnostics_.warning(
                 g.origin.loc,
@@ -224,6 +234,95 @@ sg::Geometry Builder::make_geometry(NodeId id) {
             break;
     }
     return g;
+}
+
+namespace {
+
+// FontStyle.justify's words (X3D 15.2.2.3): "" is the default of its place, BEGIN for the major
+// and FIRST for the minor axis; VRML97's LEFT/CENTER/RIGHT spellings are not in either spec.
+sg::Justify justify_word(const std::string& w, sg::Justify empty) {
+    if (w == "FIRST") return sg::Justify::First;
+    if (w == "BEGIN") return sg::Justify::Begin;
+    if (w == "MIDDLE") return sg::Justify::Middle;
+    if (w == "END") return sg::Justify::End;
+    return empty;
+}
+
+}  // namespace
+
+sg::LineSet Builder::make_lines(NodeId id) {
+    sg::LineSet l;
+    const Name t = type(id);
+    l.kind = t == "PointSet"_n  ? sg::LineKind::Points
+             : t == "LineSet"_n ? sg::LineKind::Strips
+                                : sg::LineKind::Indexed;
+    // Only coord and color: the X3D normal, fogCoord and attrib fields do not change unlit marks.
+    if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
+        if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
+            l.coords = vec3s(c, "point"_n);
+        else
+            warn(c, "wrong-type", "is not a coordinate node vrmlray reads; nothing to draw");
+    }
+    if (const NodeId c = node(id, "color"_n); c != kNullNode) {
+        if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
+            l.colors = vec3s(c, "color"_n);
+        else
+            warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+    }
+    if (l.kind == sg::LineKind::Indexed) {
+        l.coord_index = integers(id, "coordIndex"_n);
+        l.color_index = integers(id, "colorIndex"_n);
+        l.color_per_vertex = boolean(id, "colorPerVertex"_n);
+    }
+    if (l.kind == sg::LineKind::Strips) l.vertex_count = integers(id, "vertexCount"_n);
+    return l;
+}
+
+sg::Text Builder::make_text(NodeId id) {
+    sg::Text t;
+    t.strings = strings(id, "string"_n);
+    t.length = numbers(id, "length"_n);
+    t.max_extent = number(id, "maxExtent"_n);
+    // VRML97's Text has no solid field and is seen from both sides; X3D's solid defaults FALSE.
+    if (const NodeTypeDecl* decl = tree_.decl(id); decl && decl->find("solid"_n))
+        t.solid = boolean(id, "solid"_n);
+    const NodeId fs = node(id, "fontStyle"_n);
+    const bool own = fs != kNullNode && type(fs) == "FontStyle"_n;
+    if (fs != kNullNode && !own)
+        warn(fs, "not-modelled", "is not a FontStyle node; the FontStyle defaults are used");
+    auto word = [&](Name field) {
+        if (own) return strings(fs, field);
+        const FieldView v = default_of("FontStyle"_n, field);
+        return std::vector<std::string>(v.strings.begin(), v.strings.end());
+    };
+    auto value = [&](Name field) {
+        return own ? number(fs, field) : default_of("FontStyle"_n, field).numbers[0];
+    };
+    auto flag = [&](Name field) {
+        return own ? boolean(fs, field) : default_of("FontStyle"_n, field).numbers[0] != 0.0;
+    };
+    sg::FontStyle& f = t.font;
+    f.family = word("family"_n);
+    const auto style = word("style"_n);
+    const std::string st = style.empty() ? std::string() : style[0];
+    f.bold = st == "BOLD" || st == "BOLDITALIC";
+    f.italic = st == "ITALIC" || st == "BOLDITALIC";
+    f.size = value("size"_n);
+    f.spacing = value("spacing"_n);
+    const auto justify = word("justify"_n);
+    if (!justify.empty()) f.major = justify_word(justify[0], sg::Justify::Begin);
+    if (justify.size() > 1) f.minor = justify_word(justify[1], sg::Justify::First);
+    f.horizontal = flag("horizontal"_n);
+    f.left_to_right = flag("leftToRight"_n);
+    f.top_to_bottom = flag("topToBottom"_n);
+    if (!(f.size > 0.0 && std::isfinite(f.size)) ||
+        !(f.spacing >= 0.0 && std::isfinite(f.spacing))) {
+        warn(own ? fs : id, "font-size",
+             "FontStyle size must be positive and spacing non-negative; the defaults are used");
+        f.size = default_of("FontStyle"_n, "size"_n).numbers[0];
+        f.spacing = default_of("FontStyle"_n, "spacing"_n).numbers[0];
+    }
+    return t;
 }
 
 void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords,
@@ -245,9 +344,14 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
     }
     if (const NodeId c = node(id, "color"_n); c != kNullNode) {
         if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
-            data.colors = vec3s(c, "color"_n);  // RGBA: alpha dropped
+            data.colors = vec3s(c, "color"_n);
         else
             warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+        if (type(c) == "ColorRGBA"_n) {
+            const FieldView rgba = tree_.get(c, "color"_n);
+            for (size_t i = 3; i < rgba.numbers.size(); i += 4)
+                data.alphas.push_back(rgba.numbers[i]);
+        }
     }
     NodeId t = node(id, "texCoord"_n);
     if (t != kNullNode && type(t) == "MultiTextureCoordinate"_n) {

@@ -144,6 +144,8 @@ class Builder {
 
     // build_geometry.cpp
     sg::Geometry make_geometry(NodeId node);
+    sg::Text make_text(NodeId node);
+    sg::LineSet make_lines(NodeId node);
     void read_vertex_data(NodeId node, sg::VertexData& data, bool want_coords,
                           const sg::Origin& origin);
 

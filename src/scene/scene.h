@@ -115,7 +115,8 @@ struct Appearance {
 struct VertexData {
     std::vector<Vec3> coords;
     std::vector<Vec3> normals;
-    std::vector<Vec3> colors;  // RGB (ColorRGBA's alpha is dropped)
+    std::vector<Vec3> colors;    // RGB
+    std::vector<double> alphas;  // ColorRGBA: the alpha of each colour; empty for Color
     std::vector<Vec2> texcoords;
     bool has_texcoord_node = false;  // a TextureCoordinate node was given (even if empty)
 };
@@ -189,10 +190,42 @@ struct ComposedSet {
     bool color_per_vertex = false, normal_per_vertex = false;
 };
 
+// Text (VRML97 6.47, X3D 15.4.2) and its FontStyle (VRML97 6.20, X3D 15.4.1); without a FontStyle
+// node the grammar's FontStyle defaults. src/geometry/text.* lays it out and triangulates the
+// glyphs.
+enum class Justify : uint8_t { First, Begin, Middle, End };
+struct FontStyle {
+    std::vector<std::string> family;  // in order of preference: SERIF, SANS, TYPEWRITER or a name
+    bool bold = false, italic = false;
+    double size = 0.0;     // the em height in object units
+    double spacing = 0.0;  // line distance in units of size
+    Justify major = Justify::Begin, minor = Justify::First;
+    bool horizontal = true, left_to_right = true, top_to_bottom = true;
+};
+struct Text {
+    std::vector<std::string> strings;  // UTF-8, one line each
+    std::vector<double> length;        // a line's wanted length along the major axis; 0: natural
+    double max_extent = 0.0;           // 0: no limit
+    FontStyle font;
+    bool solid = false;
+};
+
+// IndexedLineSet (VRML97 6.24, X3D 11.3.4), LineSet (X3D 11.3.7), PointSet (VRML97 6.36).
+enum class LineKind : uint8_t { Indexed, Strips, Points };
+struct LineSet {
+    LineKind kind = LineKind::Indexed;
+    std::vector<Vec3> coords;
+    std::vector<Vec3> colors;
+    std::vector<int32_t> coord_index, color_index;  // Indexed: polylines separated by -1
+    std::vector<int32_t> vertex_count;              // Strips: vertices of each polyline
+    bool color_per_vertex = true;                   // Indexed: FALSE is a colour a polyline
+};
+
 // The polygon nodes are held out of line so that the many primitives stay small.
-using GeometryShape = std::variant<std::monostate, Sphere, Box, Cylinder, Cone,
-                                   std::unique_ptr<IndexedFaceSet>, std::unique_ptr<ElevationGrid>,
-                                   std::unique_ptr<Extrusion>, std::unique_ptr<ComposedSet>>;
+using GeometryShape =
+    std::variant<std::monostate, Sphere, Box, Cylinder, Cone, std::unique_ptr<IndexedFaceSet>,
+                 std::unique_ptr<ElevationGrid>, std::unique_ptr<Extrusion>,
+                 std::unique_ptr<ComposedSet>, std::unique_ptr<Text>, std::unique_ptr<LineSet>>;
 struct Geometry {
     Origin origin;
     Index hints = kNone;  // the geometry node's own metadata (Sphere), into Scene::hints

@@ -140,5 +140,21 @@ TEST(ParserValues, NodeKindsTakeOnlyNullAndEmpty) {
     EXPECT_EQ(parse("[]", MF(ValueKind::Node)).view().nodes.size(), 0u);
 }
 
+// castle-engine-demo-models/x3d/warnings/backslashes.x3dv: "\\b" and Windows paths lose their
+// backslash silently, so the author's text changes without a word.
+TEST(ParserValues, BackslashBeforeAnOrdinaryCharacterWarnsOnceAndIsDropped) {
+    const LoadedScene loaded = load_scene_text(
+        "#VRML V2.0 utf8\nWorldInfo { info [\"ok \\\" and \\\\\" \"bad \\blah\" \"C:\\x\\y\"] }\n",
+        "t.wrl");
+    ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
+    ASSERT_EQ(loaded.diagnostics.warning_count(), 1u) << loaded.diagnostics.format(loaded.sources);
+    const Diagnostic& d = loaded.diagnostics.all()[0];
+    EXPECT_NE(d.message.find("backslash before 'b'"), std::string::npos) << d.message;
+    EXPECT_EQ(d.count, 2u);  // the second string's "\\x" is the same cause
+    // The place is the backslash: "bad \blah" starts after 'info [' and the first string.
+    const std::string_view text = loaded.sources.file(0).text;
+    EXPECT_EQ(text.substr(d.loc.offset, 2), "\\b");
+}
+
 }  // namespace
 }  // namespace vr
