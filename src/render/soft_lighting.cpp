@@ -155,24 +155,28 @@ bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max
     caps.clear();
     occluders_.gather(p, axis, std::cos(theta_max), std::sin(theta_max), reach, found);
     const bool to_light = light_near >= 0.0;
+    const double cos_max = std::cos(theta_max), sin_max = std::sin(theta_max);
     for (uint32_t i : found) {
         const Vec3& c = occluders_.center(i);
         const double r = occluders_.radius(i);
-        double cap_reach = reach;
-        if (to_light) {
-            // The light's hits lie between light_near and reach (its centre's distance).
-            const double d = glm::length(c - p);
-            if (d - r >= reach) continue;
-            if (d + r > light_near) return false;
-            cap_reach = kInf;
-        }
         DirectionCap cap;
         bool inside = false;
-        if (!sphere_cap(p, c, r, cap_reach, cap, inside)) continue;
+        if (!sphere_cap(p, c, r, to_light ? kInf : reach, cap, inside)) continue;
         if (inside) {
             share = 0.0;
             ++counts.exact_points;
             return true;
+        }
+        if (to_light) {
+            // Only what lies before the light counts; its hits lie between light_near and reach
+            // (its centre's distance). An occluder that misses the light's cone is no matter (the
+            // sphere under the point, say), one that straddles the light's depth is sampled.
+            const double cos_sum = cos_max * cap.cos_half - sin_max * cap.sin_half;
+            const double sin_sum = sin_max * cap.cos_half + cos_max * cap.sin_half;
+            if (sin_sum > 0.0 && glm::dot(cap.axis, axis) <= cos_sum) continue;
+            const double d = glm::length(c - p);
+            if (d - r >= reach) continue;
+            if (d + r > light_near) return false;
         }
         // The sphere the point lies on closes exactly the half space below its tangent plane.
         if (skip_own && cap.cos_half == 0.0 && glm::dot(cap.axis, axis) < -1.0 + 1e-9) continue;
