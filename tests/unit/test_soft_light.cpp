@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "render/accel.h"
+#include "render/camera.h"
+#include "render/render.h"
 #include "render/sampling.h"
 #include "render/soft_light.h"
 #include "render/soft_lighting.h"
@@ -356,6 +358,132 @@ TEST(SoftLight, SamplingPathMeetsTheClosedFormAtItsConfidence) {
     // 99% per point: at most one miss in 20 happens with probability 0.98; the stratified
     // patterns' real error is far smaller than the t interval, so expect all in practice.
     EXPECT_GE(within, kPoints - 1);
+}
+
+// ----- Whole renders -----
+
+// Spheres on a huge ground sphere, a sphere light and a sun disc, seen from above.
+FlatScene soft_scene(bool with_mesh) {
+    FlatScene scene = empty_scene();
+    const uint32_t shading = add_shading(scene, Material{});
+    add_sphere(scene, Vec3(0.0, -1000.0, 0.0), 1000.0, shading);
+    add_sphere(scene, Vec3(0.0, 0.7, 0.0), 0.7, shading);
+    add_sphere(scene, Vec3(1.1, 0.5, 0.0), 0.5, shading);  // overlaps the first
+    if (with_mesh)
+        testing::add_quad(scene, Vec3(-2, 0.01, 1), Vec3(-1, 0.01, 1), Vec3(-1, 0.01, 2),
+                          Vec3(-2, 0.01, 2), shading);
+    Light point;
+    point.kind = LightKind::Point;
+    point.position = Vec3(2.0, 3.0, 1.0);
+    point.source_radius = 0.5;
+    point.radius = 1e9;
+    testing::add_light(scene, point);
+    Light sun;
+    sun.direction = glm::normalize(Vec3(-0.3, -1.0, -0.2));
+    sun.angular_radius = 0.05;
+    sun.intensity = 0.5;
+    testing::add_light(scene, sun);
+    scene.viewpoints.push_back(testing::look_from(Vec3(0.0, 2.0, 6.0), 0.8));
+    return scene;
+}
+
+Image render_soft(FlatScene scene, int threads, double aperture = 0.0) {
+    RenderOptions o;
+    o.width = 40;
+    o.height = 30;
+    o.threads = threads;
+    o.sky = Vec3(0.3, 0.4, 0.5);
+    o.light_tolerance = 1e-2;
+    if (aperture > 0.0) {
+        o.aperture = aperture;
+        o.sampler = "jitter";
+        o.spp = 4;
+    }
+    Camera camera;
+    std::string error;
+    EXPECT_TRUE(make_camera(scene, o, camera, error)) << error;
+    RenderStats stats;
+    // As the command line renders: the spheres are freed once the tracer holds them.
+    Image image = render_image(scene, camera, o, nullptr, stats, &scene.spheres);
+    EXPECT_EQ(stats.nonfinite.total(), 0u);
+    return image;
+}
+
+TEST(SoftLight, RendersAreTheSameForAnyThreadCountAndFinite) {
+    for (bool with_mesh : {false, true}) {  // the hard-bound path, and the sampling path
+        const Image one = render_soft(soft_scene(with_mesh), 1);
+        for (int threads : {2, 3}) {
+            const Image many = render_soft(soft_scene(with_mesh), threads);
+            ASSERT_EQ(one.width, many.width);
+            for (int y = 0; y < one.height; ++y)
+                for (int x = 0; x < one.width; ++x)
+                    for (int c = 0; c < 4; ++c)
+                        ASSERT_EQ(one.pixel(x, y)[c], many.pixel(x, y)[c])
+                            << x << "," << y << " threads " << threads;
+        }
+    }
+    const Image lens1 = render_soft(soft_scene(false), 1, 0.2);
+    const Image lens2 = render_soft(soft_scene(false), 2, 0.2);
+    for (int y = 0; y < lens1.height; ++y)
+        for (int x = 0; x < lens1.width; ++x) ASSERT_EQ(lens1.pixel(x, y)[0], lens2.pixel(x, y)[0]);
+}
+
+TEST(SoftLight, SkyLightDarkensTheGroundUnderASphereInARender) {
+    // Regression: the command line frees the scene's spheres before tracing, and the sky light
+    // once lost its occluders with them (A = 1 everywhere).
+    FlatScene scene = soft_scene(false);
+    scene.lights.clear();
+    scene.light_sets[0].clear();
+    const Image image = render_soft(scene, 1);
+    // The ground right beside the big sphere's foot against the ground near the frame's bottom.
+    double darkest = 1.0, brightest = 0.0;
+    for (int x = 0; x < image.width; ++x) {
+        for (int y = image.height / 2; y < image.height; ++y) {
+            const float* px = image.pixel(x, y);
+            darkest = std::min(darkest, double(px[2]));
+            brightest = std::max(brightest, double(px[2]));
+        }
+    }
+    // Sky blue 0.5 times diffuse 0.8: 0.4 where the ground sees the whole sky; the crevice under
+    // the spheres sees far less.
+    EXPECT_NEAR(brightest, 0.4, 0.02);
+    EXPECT_LT(darkest, 0.25);
+}
+
+TEST(SoftLight, ThinLensRaysMeetAtTheFocusAndSpreadOverTheLens) {
+    FlatScene scene;
+    RenderOptions o;
+    o.width = 64;
+    o.height = 48;
+    o.aperture = 0.5;
+    o.focus = 7.0;
+    o.sampler = "jitter";
+    o.spp = 16;
+    Camera camera;
+    std::string error;
+    ASSERT_TRUE(make_camera(scene, o, camera, error)) << error;
+    Camera pinhole = camera;
+    pinhole.lens_radius = 0.0;
+    const CameraRays lens(camera, o.width, o.height), hole(pinhole, o.width, o.height);
+    double widest = 0.0;
+    for (int k = 0; k < 200; ++k) {
+        const double x = 3.0 + 0.29 * k, y = 40.0 - 0.17 * k;
+        const Ray a = lens(x, y), b = hole(x, y);
+        // The plane in focus lies at depth 7 along the view: both rays meet it at one point.
+        const double tb = 7.0 / glm::dot(b.d, camera.forward());
+        const double ta =
+            glm::dot(b.o + tb * b.d - a.o, camera.forward()) / glm::dot(a.d, camera.forward());
+        EXPECT_LT(glm::length(a.o + ta * a.d - (b.o + tb * b.d)), 1e-12);
+        const double offset = glm::length(a.o - camera.position);
+        EXPECT_LE(offset, 0.5 + 1e-12);
+        widest = std::max(widest, offset);
+    }
+    EXPECT_GT(widest, 0.4);  // samples reach the lens's rim, not only its centre
+    // The centre sampler cannot spread over the lens: an error that says what to do.
+    o.sampler = "center";
+    o.spp = 1;
+    EXPECT_FALSE(make_camera(scene, o, camera, error));
+    EXPECT_NE(error.find("pick a sampler"), std::string::npos) << error;
 }
 
 }  // namespace
