@@ -53,6 +53,28 @@ void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, doubl
     }
 }
 
+// Removes the caps that lie inside one of the largest caps (atoms behind a near neighbour): they
+// close nothing more, and the cap integral's work grows with the number of caps.
+void drop_contained(std::vector<DirectionCap>& caps) {
+    if (caps.size() < 2) return;
+    std::sort(caps.begin(), caps.end(),
+              [](const DirectionCap& a, const DirectionCap& b) { return a.cos_half < b.cos_half; });
+    constexpr size_t kLargest = 16;
+    size_t kept = 1;
+    for (size_t i = 1; i < caps.size(); ++i) {
+        const DirectionCap& c = caps[i];
+        bool inside = false;
+        for (size_t j = 0; j < std::min(kept, kLargest) && !inside; ++j) {
+            const DirectionCap& big = caps[j];
+            // angle(c, big) + a_c <= a_big, with a_big >= a_c: cos(angle) >= cos(a_big - a_c).
+            inside =
+                glm::dot(c.axis, big.axis) >= big.cos_half * c.cos_half + big.sin_half * c.sin_half;
+        }
+        if (!inside) caps[kept++] = c;
+    }
+    caps.resize(kept);
+}
+
 }  // namespace
 
 void SphereOccluders::build(const std::vector<Sphere>& spheres) {
@@ -182,6 +204,7 @@ bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max
         if (skip_own && cap.cos_half == 0.0 && glm::dot(cap.axis, axis) < -1.0 + 1e-9) continue;
         caps.push_back(cap);
     }
+    drop_contained(caps);
     share = open_share(axis, theta_max, measure, caps, tolerance_, scratch).value;
     ++counts.exact_points;
     return true;
