@@ -180,6 +180,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     RayCounters total;
     for (const PerThread& p : per_thread) total.add(p.rays);
     stats.nonfinite = total.nonfinite;
+    stats.soft = total.soft;
+    total.shadow += total.soft.rays;  // the sampling path's shadow rays are shadow rays
     stats.primary_rays = total.primary;
     stats.shadow_rays = total.shadow;
     stats.secondary_rays = total.secondary;
