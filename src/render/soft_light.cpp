@@ -41,7 +41,13 @@ double ring_open(const std::vector<RingCap>& caps, const double* beta,
         }
     }
     if (arcs.empty()) return 1.0;
-    std::sort(arcs.begin(), arcs.end());
+    // The caps come sorted by azimuth, so the starts are nearly sorted: insertion sort is ~linear.
+    for (size_t i = 1; i < arcs.size(); ++i) {
+        const std::pair<double, double> a = arcs[i];
+        size_t j = i;
+        for (; j > 0 && arcs[j - 1].first > a.first; --j) arcs[j] = arcs[j - 1];
+        arcs[j] = a;
+    }
     double closed = 0.0, lo = arcs[0].first, hi = arcs[0].second;
     for (size_t k = 1; k < arcs.size(); ++k) {
         if (arcs[k].first > hi) {
@@ -144,6 +150,8 @@ OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
         rc.push_back(RingCap{phi, cos_c, sin_c, c.cos_half, peak});
     }
     if (rc.empty()) return out;
+    std::sort(rc.begin(), rc.end(),
+              [](const RingCap& a, const RingCap& b) { return a.phi < b.phi; });
 
     const size_t k = rc.size();
     const RingMap map{measure, measure == CapMeasure::Cosine
