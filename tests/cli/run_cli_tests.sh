@@ -63,6 +63,8 @@ expect 0 "sky light, area lights and a lens render" -- "$bin" render "$soft" --s
 "$bin" render "$soft" -W 32 -H 24 -q -o "$work/soft_area.png"
 sed 's/value 0.6/value 0/; s/value 0.08/value 0/' "$soft" >"$work/soft_point.wrl"
 "$bin" render "$work/soft_point.wrl" -W 32 -H 24 -q -o "$work/soft_point.png"
+expect 0 "info on the soft light demo" -- "$bin" info "$soft"
+grep -q "PointLight .* sourceRadius 0.6$" "$work/out.txt" && grep -q "DirectionalLight .* angularRadius 0.08$" "$work/out.txt" && pass || fail "info shows the area light hints"
 expect 1 "sourceRadius/angularRadius change the shadows" -- "$bin" compare "$work/soft_area.png" "$work/soft_point.png"
 printf '#VRML V2.0 utf8\nDirectionalLight { metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "sourceRadius" value 1 } ] } }\nShape { geometry Sphere {} }\n' >"$work/wrong_hint.wrl"
 expect 0 "a sourceRadius on a DirectionalLight" -- "$bin" info "$work/wrong_hint.wrl"
