@@ -87,7 +87,7 @@ int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* c
 struct Texts {
     std::vector<std::string> limits;
     std::vector<CLI::Option*> sandbox_options;
-    std::string spheres = "hints", camera = "viewpoint", background, albedo, emission;
+    std::string spheres = "hints", camera = "viewpoint", background, albedo, emission, sky;
     std::string position, look_at, up;  // camera overrides, X,Y,Z
     bool recover = false, no_recover = false;
     std::string bench_spheres = "hints";
@@ -198,6 +198,22 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                   "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
     r->add_option("--background", texts.background,
                   "Background colour R,G,B (overrides the scene's Background)");
+    r->add_option("--sky", texts.sky,
+                  "Sky light R,G,B: adds diffuse * sky * ambient occlusion at opaque surfaces");
+    r->add_option("--ao-distance", o.ao_distance,
+                  "Sky light: occluders farther than this do not count (default: unlimited)")
+        ->check(CLI::PositiveNumber);
+    r->add_option("--light-tolerance", o.light_tolerance,
+                  "Absolute error bound of the sky light and of each area light's visibility "
+                  "(default 1e-3)")
+        ->check(CLI::Range(1e-7, 0.5));
+    r->add_option("--aperture", o.aperture,
+                  "Depth of field: thin lens radius in scene units (needs a sampler with several "
+                  "samples)")
+        ->check(CLI::NonNegativeNumber);
+    r->add_option("--focus", o.focus,
+                  "Depth of field: distance in focus along the view (default: the scene's centre)")
+        ->check(CLI::PositiveNumber);
     r->add_flag("--srgb", o.srgb, "sRGB-encode integer image formats");
     r->add_flag("--alpha", o.alpha,
                 "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
@@ -335,7 +351,8 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     for (auto [text, target, name] :
          {std::tuple{&texts.background, &render.options.background, "--background"},
           std::tuple{&texts.albedo, &render.options.albedo, "--albedo"},
-          std::tuple{&texts.emission, &render.options.emission, "--emission"}}) {
+          std::tuple{&texts.emission, &render.options.emission, "--emission"},
+          std::tuple{&texts.sky, &render.options.sky, "--sky"}}) {
         if (text->empty()) continue;
         *target = parse_rgb(*text);
         if (!*target) {

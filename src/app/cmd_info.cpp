@@ -135,10 +135,14 @@ int run_info(const std::string& path, const CommonOptions& common) {
                     kKinds[static_cast<int>(l.kind)], l.color.x, l.color.y, l.color.z, l.intensity,
                     l.ambient_intensity);
         if (l.kind == LightKind::Directional)
-            std::printf(" direction (%g %g %g)\n", l.direction.x, l.direction.y, l.direction.z);
+            std::printf(" direction (%g %g %g)", l.direction.x, l.direction.y, l.direction.z);
         else
-            std::printf(" at (%g %g %g) radius %g\n", l.position.x, l.position.y, l.position.z,
+            std::printf(" at (%g %g %g) radius %g", l.position.x, l.position.y, l.position.z,
                         l.radius);
+        // Area lights (SPEC 13): only when a hint made one, so other files' output is unchanged.
+        if (l.source_radius > 0.0) std::printf(" sourceRadius %g", l.source_radius);
+        if (l.angular_radius > 0.0) std::printf(" angularRadius %g", l.angular_radius);
+        std::printf("\n");
     }
     std::printf("viewpoints  %zu\n", flat.viewpoints.size());
     for (const Viewpoint& v : flat.viewpoints) {

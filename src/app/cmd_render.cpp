@@ -77,6 +77,14 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
                  {"per_second", stats.rays_per_second()}};
     const NonFiniteCounts& bad = stats.nonfinite;
     j["nonfinite"] = {{"shading", bad.shading}, {"gas", bad.gas}, {"light", bad.light}};
+    if (cmd.options.sky || stats.soft.exact_points + stats.soft.sampled_points > 0) {
+        // Present only when soft light ran, so that other renders' JSON stays as it was.
+        const SoftLightCounts& s = stats.soft;
+        j["soft_light"] = {{"bounded_points", s.exact_points},
+                           {"sampled_points", s.sampled_points},
+                           {"unconverged_points", s.unconverged},
+                           {"sampled_rays", s.rays}};
+    }
     j["tracer_bytes"] = stats.tracer_bytes;
     j["peak_memory_mb"] = peak_memory_mb();
     return j;

@@ -203,6 +203,7 @@ std::optional<uint32_t> Flattener::add_light(const sg::Light& l, const Mat4& m) 
     out.attenuation = finite_or(l.attenuation, Vec3(1.0, 0.0, 0.0));
     out.beam_width = finite_or(l.beam_width, out.beam_width);
     out.cutoff_angle = finite_or(l.cut_off_angle, out.cutoff_angle);
+    out.angular_radius = l.angular_radius;
     const Mat3 linear = linear_part(m);
     if (out.kind != LightKind::Point) {
         const Vec3 d = linear * l.direction;
@@ -216,6 +217,7 @@ std::optional<uint32_t> Flattener::add_light(const sg::Light& l, const Mat4& m) 
     if (out.kind != LightKind::Directional) {
         out.position = transform_point(m, l.location);
         out.radius = l.radius * mean_scale(linear);
+        out.source_radius = l.source_radius * mean_scale(linear);
         if (!std::isfinite(out.position.x + out.position.y + out.position.z) ||
             !(out.radius >= 0.0)) {
             report.warn("location",

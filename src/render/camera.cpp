@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "core/format.h"
 
@@ -107,7 +108,10 @@ void orbit_camera(const Vec3& centre, double angle, Camera& camera) {
 }  // namespace
 
 CameraRays::CameraRays(const Camera& c, int width, int height)
-    : ortho_(c.ortho),
+    : lens_radius_(c.lens_radius),
+      focus_distance_(c.focus_distance),
+      lens_seed_(c.lens_seed),
+      ortho_(c.ortho),
       right_(c.world_from_camera[0]),
       up_(c.world_from_camera[1]),
       forward_(-c.world_from_camera[2]),
@@ -124,6 +128,30 @@ CameraRays::CameraRays(const Camera& c, int width, int height)
     }
 }
 
+void CameraRays::through_lens(Ray& r, double x, double y) const {
+    uint64_t bx, by;
+    std::memcpy(&bx, &x, sizeof bx);
+    std::memcpy(&by, &y, sizeof by);
+    const uint64_t key = sample_hash(lens_seed_ ^ 0x1e25, int(by), int(by >> 32), bx);
+    // Shirley and Chiu's concentric map of the square onto the disc keeps strata compact.
+    const double a = 2.0 * sample_uniform(key, 0, 0, 0) - 1.0;
+    const double b = 2.0 * sample_uniform(key, 0, 0, 1) - 1.0;
+    double radius = 0.0, phi = 0.0;
+    if (a != 0.0 || b != 0.0) {
+        if (std::abs(a) > std::abs(b)) {
+            radius = a;
+            phi = 0.25 * kPi * (b / a);
+        } else {
+            radius = b;
+            phi = 0.5 * kPi - 0.25 * kPi * (a / b);
+        }
+    }
+    const double along = glm::dot(r.d, forward_);
+    const Vec3 focus = r.o + (focus_distance_ / along) * r.d;
+    r.o += lens_radius_ * radius * (std::cos(phi) * right_ + std::sin(phi) * up_);
+    r.d = glm::normalize(focus - r.o);
+}
+
 Ray Camera::ray(double x, double y, int width, int height) const {
     return CameraRays(*this, width, height)(x, y);
 }
@@ -136,6 +164,19 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         return false;
     }
     if (!make_sampler(options, camera.sampler, error)) return false;
+    if (options.aperture > 0.0 && camera.sampler.kind == SamplerKind::Center) {
+        error =
+            "--aperture needs several samples per pixel spread over the lens: pick a sampler "
+            "(e.g. --sampler jitter --spp 64, or --sampler statistical)";
+        return false;
+    }
+    if (!(options.aperture >= 0.0) || !std::isfinite(options.aperture) || !(options.focus >= 0.0) ||
+        !std::isfinite(options.focus)) {
+        error = "--aperture and --focus must be finite and not negative";
+        return false;
+    }
+    camera.lens_radius = options.aperture;
+    camera.lens_seed = options.seed;
 
     Viewpoint vp;  // the VRML default
     bool found = false;
@@ -239,6 +280,10 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         }
     }
     if (options.orbit_angle) orbit_camera(centre, *options.orbit_angle, camera);
+    // Without --focus the lens focuses on the scene's centre, where the camera now stands.
+    const double focus =
+        options.focus > 0.0 ? options.focus : glm::dot(centre - camera.position, camera.forward());
+    camera.focus_distance = focus > 0.0 && std::isfinite(focus) ? focus : 10.0;
     return true;
 }
 

@@ -20,6 +20,11 @@ struct Camera {
     double ortho_size = 2.0;           // ortho: world extent across the smaller image dimension
     Vec2 ortho_center{0.0};            // ortho: window centre in camera (x, y)
     PixelSampler sampler;
+    // Thin lens (SPEC section 13): radius in scene units (0: a pinhole) and the distance of the
+    // plane in focus along the view.
+    double lens_radius = 0.0;
+    double focus_distance = 1.0;
+    uint64_t lens_seed = 0;
     // The scene has no Viewpoint: the camera looks along -Z from the VRML default orientation and
     // fieldOfView, moved back to frame the scene's bounds as --fit does (SPEC section 4).
     bool framed_default = false;
@@ -49,10 +54,17 @@ class CameraRays {
             r.d = glm::normalize(cx * right_ + cy * up_ + forward_);
         }
         r.t_max = kInf;
+        if (lens_radius_ > 0.0) through_lens(r, x, y);
         return r;
     }
 
   private:
+    // Moves the ray's origin to a point of the lens chosen by a hash of (x, y) and aims it at the
+    // point where the pinhole ray meets the plane in focus: each sample point of every sampler
+    // gets its own lens position, so samples spread over pixel and lens together.
+    void through_lens(Ray& r, double x, double y) const;
+    double lens_radius_ = 0.0, focus_distance_ = 1.0;
+    uint64_t lens_seed_ = 0;
     bool ortho_;
     Vec3 origin_, right_, up_, forward_;
     double pixel_, half_width_, half_height_;

@@ -104,7 +104,9 @@ struct Light {
     double radius = 100.0;  // world units (point, spot)
     double beam_width = 1.570796;
     double cutoff_angle = 0.785398;
-    bool headlight = false;  // follows the camera: direction set per render, never shadowed
+    bool headlight = false;       // follows the camera: direction set per render, never shadowed
+    double source_radius = 0.0;   // point, spot: a uniformly bright sphere (SPEC 13); 0: a point
+    double angular_radius = 0.0;  // directional: a disc of this angular radius; 0: a direction
 };
 
 struct Viewpoint {

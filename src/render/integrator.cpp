@@ -65,6 +65,14 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
     headlight_.ambient_intensity = 0.0;
     headlight_.direction = view;
     headlight_.headlight = true;
+    bool area_lights = false;
+    for (const Light& l : lights_)
+        area_lights = area_lights || (l.kind == LightKind::Directional ? l.angular_radius > 0.0
+                                                                       : l.source_radius > 0.0);
+    if (options.sky || area_lights) {
+        soft_ = std::make_unique<SoftLighting>(scene, accel, gas_, options);
+        sky_ = options.sky.value_or(Vec3(0.0));
+    }
     if (gas_) {
         gas_lighting_.lights = &lights_;
         gas_lighting_.light_sets = &scene_.light_sets;
@@ -78,6 +86,10 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
     if (!look.lit) return look.diffuse;
     Vec3 color = look.emissive;
     const double exponent = look.shininess * 128.0;
+    if (soft_ && soft_->sky()) {
+        const double a = soft_->sky_visibility(hit.p, hit.p_error, ng, ns, counters.soft);
+        color += a * sky_ * look.diffuse;
+    }
 
     auto add_light = [&](const Light& light) {
         const LightIncidence inc = light_incidence(light, hit.p);
@@ -92,7 +104,11 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
         // OpenGL convention VRML browsers follow; the VRML97 formula leaves N.H unguarded).
         if (n_dot_l > 0.0 && light.intensity > 0.0) {
             double visibility = 1.0;
-            if (!light.headlight) {
+            const bool area = light.kind == LightKind::Directional ? light.angular_radius > 0.0
+                                                                   : light.source_radius > 0.0;
+            if (area && soft_ && !light.headlight) {
+                visibility = soft_->light_visibility(light, hit.p, hit.p_error, ng, counters.soft);
+            } else if (!light.headlight) {
                 Ray shadow = light.kind == LightKind::Directional
                                  ? spawn_ray(hit.p, hit.p_error, ng, l)
                                  : spawn_ray_to(hit.p, hit.p_error, ng, light.position);

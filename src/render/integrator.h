@@ -3,6 +3,7 @@
 // refraction/see-through transparency by the reflectivity/transparency/ior hints.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "render/options.h"
 #include "render/sampling.h"
 #include "render/shading.h"
+#include "render/soft_lighting.h"
 
 namespace vr {
 
@@ -36,11 +38,13 @@ struct NonFiniteCounts {
 struct RayCounters {
     uint64_t primary = 0, shadow = 0, secondary = 0;
     NonFiniteCounts nonfinite;
+    SoftLightCounts soft;  // sky light and area lights (SPEC section 13)
     void add(const RayCounters& o) {
         primary += o.primary;
         shadow += o.shadow;
         secondary += o.secondary;
         nonfinite.add(o.nonfinite);
+        soft.add(o.soft);
     }
     uint64_t total() const { return primary + shadow + secondary; }
 };
@@ -97,6 +101,9 @@ class Integrator {
     const GasVolume* gas_ = nullptr;  // non-null only when the scene has gas spheres
     LineOverlay lines_;  // IndexedLineSet, LineSet and PointSet marks, seen by camera rays
     GasVolume::Lighting gas_lighting_;
+    // Only with --sky or an area light: without them shading is exactly as before.
+    std::unique_ptr<SoftLighting> soft_;
+    Vec3 sky_{0.0};
 };
 
 }  // namespace vr

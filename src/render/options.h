@@ -46,6 +46,12 @@ struct RenderOptions {
     double min_weight = 1e-3;  // a path whose weight drops below this stops (SPEC section 5)
     double line_width = 1.0;   // pixels: lines of IndexedLineSet and LineSet
     double point_size = 1.0;   // pixels: the diameter of PointSet points
+    // Soft light (SPEC section 13); all off by default.
+    std::optional<Vec3> sky;        // sky light colour: adds diffuse * sky * A(p)
+    double ao_distance = kInf;      // sky light: occluders farther than this do not count
+    double light_tolerance = 1e-3;  // absolute error of A(p) and of each area light's visibility
+    double aperture = 0.0;          // thin lens radius, scene units; 0: a pinhole
+    double focus = 0.0;             // thin lens: distance of the plane in focus along the view
 };
 
 }  // namespace vr

@@ -87,8 +87,9 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const auto render_start = Clock::now();
     GasVolume gas;
     gas.build(scene, options);
-    if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
+    // The integrator's soft lighting copies the opaque spheres it needs; then they may go.
     const Integrator integrator(scene, accel, camera, options, &gas);
+    if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
     const int tiles_x = (width + kTileSize - 1) / kTileSize,
               tiles_y = (height + kTileSize - 1) / kTileSize;
@@ -179,6 +180,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     RayCounters total;
     for (const PerThread& p : per_thread) total.add(p.rays);
     stats.nonfinite = total.nonfinite;
+    stats.soft = total.soft;
+    total.shadow += total.soft.rays;  // the sampling path's shadow rays are shadow rays
     stats.primary_rays = total.primary;
     stats.shadow_rays = total.shadow;
     stats.secondary_rays = total.secondary;

@@ -27,6 +27,7 @@ struct RenderStats {
     bool timed_out = false;  // options.timeout passed; the image is incomplete
     // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
     NonFiniteCounts nonfinite;
+    SoftLightCounts soft;  // sky light and area lights (SPEC section 13)
     double rays_per_second() const;
 };
 

@@ -644,6 +644,17 @@ sg::Index Builder::make_light(NodeId id) {
         l.beam_width = number(id, "beamWidth"_n);
         l.cut_off_angle = number(id, "cutOffAngle"_n);
     }
+    // Area light hints (SPEC section 13): each only on the light type it fits.
+    if (const NodeId metadata = node(id, "metadata"_n); metadata != kNullNode) {
+        const sg::Hints h = read_hints(tree_, metadata, diagnostics_);
+        const bool directional = l.type == sg::LightType::Directional;
+        if (h.source_radius >= 0.0 && !directional) l.source_radius = h.source_radius;
+        if (h.angular_radius >= 0.0 && directional) l.angular_radius = h.angular_radius;
+        if ((h.source_radius >= 0.0 && directional) || (h.angular_radius >= 0.0 && !directional))
+            warn(id, "hint:area",
+                 directional ? "sourceRadius is for PointLight and SpotLight; ignored"
+                             : "angularRadius is for DirectionalLight; ignored");
+    }
     const sg::Index index = static_cast<sg::Index>(scene_.lights.size());
     scene_.lights.push_back(std::move(l));
     return index;

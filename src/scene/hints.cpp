@@ -9,7 +9,8 @@ namespace vr {
 
 bool sg::Hints::any() const {
     return sphere_mode != SphereHint::Unset || density >= 0.0 || reflectivity >= 0.0 ||
-           ior >= 0.0 || albedo.x >= 0.0 || emission.x >= 0.0;
+           ior >= 0.0 || albedo.x >= 0.0 || emission.x >= 0.0 || source_radius >= 0.0 ||
+           angular_radius >= 0.0;
 }
 
 void sg::Hints::override_with(const Hints& h) {
@@ -19,6 +20,8 @@ void sg::Hints::override_with(const Hints& h) {
     if (h.ior >= 0.0) ior = h.ior;
     if (h.albedo.x >= 0.0) albedo = h.albedo;
     if (h.emission.x >= 0.0) emission = h.emission;
+    if (h.source_radius >= 0.0) source_radius = h.source_radius;
+    if (h.angular_radius >= 0.0) angular_radius = h.angular_radius;
 }
 
 namespace {
@@ -131,6 +134,10 @@ class HintReader {
             scalar(hints.reflectivity, 0.0, 1.0, false, "[0,1]");
         else if (name == "ior")
             scalar(hints.ior, 0.0, kInf, true, "(0,inf)");
+        else if (name == "sourceRadius")
+            scalar(hints.source_radius, 0.0, kInf, false, "[0,inf)");
+        else if (name == "angularRadius")
+            scalar(hints.angular_radius, 0.0, 0.5 * kPi, false, "[0,pi/2]");
         else if (name == "albedo")
             colour(hints.albedo);
         else if (name == "emission")

@@ -52,6 +52,8 @@ struct Hints {
     double ior = -1.0;           // index of refraction (> 0)
     Vec3 albedo{-1.0};           // gas colours
     Vec3 emission{-1.0};
+    double source_radius = -1.0;   // PointLight/SpotLight: a sphere of this radius (SPEC 13)
+    double angular_radius = -1.0;  // DirectionalLight: a disc of this angular radius (radians)
 
     bool any() const;
     // Fields set in `more_specific` replace ours (Sphere hints win over Shape hints over Material
@@ -257,6 +259,8 @@ struct Light {
     double radius = 0.0;
     double beam_width = 0.0;
     double cut_off_angle = 0.0;
+    double source_radius = 0.0;   // hint; 0: a point
+    double angular_radius = 0.0;  // hint; 0: a direction
 };
 
 struct Viewpoint {

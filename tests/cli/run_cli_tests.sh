@@ -54,6 +54,21 @@ expect_stderr "sampler 'grid' needs a square number" "sampler message"
 for s in center grid rgss rooks8 quincunx jitter adaptive statistical; do
     expect 0 "sampler $s renders" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler $s -W 24 -H 16 -o "$work/s_$s.png" -q
 done
+# Soft light (SPEC 13): options, the centre sampler refused with a lens, the hints read from light metadata.
+soft="$src/scenes/demos/soft_light.wrl"
+expect 2 "--aperture with the centre sampler" -- "$bin" render "$soft" --aperture 0.1 -W 8 -H 8 -o "$work/x.png"
+expect_stderr "aperture needs several samples per pixel spread over the lens: pick a sampler" "lens message says to pick a sampler"
+expect 2 "bad --sky" -- "$bin" render "$soft" --sky 1,2 -W 8 -H 8 -o "$work/x.png"
+expect 0 "sky light, area lights and a lens render" -- "$bin" render "$soft" --sky 0.3,0.3,0.3 --ao-distance 2 --light-tolerance 1e-2 --aperture 0.05 --sampler jitter --spp 4 -W 24 -H 16 -q -o "$work/soft.png"
+"$bin" render "$soft" -W 32 -H 24 -q -o "$work/soft_area.png"
+sed 's/value 0.6/value 0/; s/value 0.08/value 0/' "$soft" >"$work/soft_point.wrl"
+"$bin" render "$work/soft_point.wrl" -W 32 -H 24 -q -o "$work/soft_point.png"
+expect 0 "info on the soft light demo" -- "$bin" info "$soft"
+grep -q "PointLight .* sourceRadius 0.6$" "$work/out.txt" && grep -q "DirectionalLight .* angularRadius 0.08$" "$work/out.txt" && pass || fail "info shows the area light hints"
+expect 1 "sourceRadius/angularRadius change the shadows" -- "$bin" compare "$work/soft_area.png" "$work/soft_point.png"
+printf '#VRML V2.0 utf8\nDirectionalLight { metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "sourceRadius" value 1 } ] } }\nShape { geometry Sphere {} }\n' >"$work/wrong_hint.wrl"
+expect 0 "a sourceRadius on a DirectionalLight" -- "$bin" info "$work/wrong_hint.wrl"
+expect_stderr "sourceRadius is for PointLight and SpotLight; ignored" "misplaced area hint warns"
 expect 3 "a render that cannot fit in memory is refused before allocating" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 65536 -H 65536 -o "$work/x.png"
 expect_stderr "001_sphere.wrl: error: rendering 65536x65536 .* needs about 103 GB, more than" "memory estimate message"
 expect 3 "--max-memory lowers the limit" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 640 -H 480 --max-memory 0.001 -o "$work/x.png"

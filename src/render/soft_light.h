@@ -1,0 +1,70 @@
+// Soft light with error bounds (SPEC section 13): the share of a cone of directions that a union of
+// spherical caps leaves open, integrated with a hard error bound.
+//
+// The region is the set of directions within `theta_max` of an axis (the hemisphere about a normal
+// for sky light, a light's cap for an area light), measured either cosine-weighted about the axis
+// (sky light: A(p) is the cosine-weighted open share) or by solid angle (an area light's V_l).
+// Rings of constant angle theta about the axis meet each cap in one arc centred at the cap's
+// azimuth, of half-width beta(theta) known in closed form; the open share of a ring is exact (a
+// union of arcs). Over theta the open share f is integrated by bisection: on a cell each beta is
+// unimodal in theta (one critical angle, also closed form), so its range on the cell is known, and
+// f is bracketed by the rings with every arc at its shortest and at its longest. A cell is accepted
+// when its bracket is narrower than twice the tolerance; its estimate is the bracket's middle, so
+// every cell's error is at most tolerance times its measure and the total error at most the
+// tolerance: a bound that holds for every point, not a confidence level (up to rounding, ~1e-14).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace vr {
+
+// A cap of directions: those within `half_angle` of the unit `axis`, stored as cosine and sine.
+struct DirectionCap {
+    Vec3 axis{0.0, 0.0, 1.0};
+    double cos_half = 1.0;
+    double sin_half = 0.0;
+};
+
+// How a region's directions are weighted.
+enum class CapMeasure : uint8_t {
+    Cosine,      // by cos(theta) about the axis (theta_max is then pi/2: the hemisphere)
+    SolidAngle,  // uniform over the solid angle
+};
+
+struct OpenShare {
+    double value = 1.0;  // the open share of the region's measure, in [0, 1]
+    double bound = 0.0;  // |value - exact| <= bound (<= the tolerance unless `cells` hit the cap)
+    uint32_t cells = 0;  // theta cells evaluated
+};
+
+// Per-thread work space, so that integrating allocates nothing once warm.
+struct CapScratch {
+    struct RingCap {
+        double phi, cos_c, sin_c, cos_a;
+        double peak_cos;  // cos of the angle of widest arc, or 2 when beta is monotone
+    };
+    std::vector<RingCap> caps;
+    std::vector<double> beta_lo, beta_hi, beta_a, beta_b;
+    std::vector<std::pair<double, double>> arcs;
+    struct Cell {
+        double u0, u1;
+        int depth;
+    };
+    std::vector<Cell> stack;
+};
+
+// The open share of the region within `theta_max` (in (0, pi/2]) of unit `axis`, to the absolute
+// `tolerance`, with `caps` closed. Caps that miss the region cost one test each.
+OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
+                     const std::vector<DirectionCap>& caps, double tolerance, CapScratch& scratch);
+
+// The cap a sphere (centre `c`, radius `r`) closes seen from `p`, counting only hits nearer than
+// `reach` (kInf: all): false when it closes nothing. `inside` is set when p lies inside the
+// sphere (every direction is closed). A point on the surface (to 1e-9 of the radius) sees a half
+// space closed, so that a point on an overlapping sphere's surface is not counted as inside.
+bool sphere_cap(const Vec3& p, const Vec3& c, double r, double reach, DirectionCap& cap,
+                bool& inside);
+
+}  // namespace vr

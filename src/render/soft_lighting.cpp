@@ -1,0 +1,308 @@
+#include "render/soft_lighting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include "render/sampling.h"
+
+namespace vr {
+namespace {
+
+constexpr uint32_t kLeafSize = 4;
+
+// Whether the cone about `axis` of half-angle (cos_a, sin_a) and the ball (c, r) seen from p can
+// share a direction: the angle to the ball's centre is below the sum of the half-angles.
+bool cone_meets_ball(const Vec3& p, const Vec3& axis, double cos_a, double sin_a, const Vec3& c,
+                     double r) {
+    const Vec3 v = c - p;
+    const double d = glm::length(v);
+    if (!(d > r)) return true;  // p inside the ball
+    const double sin_b = r / d, cos_b = std::sqrt((d - r) * (d + r)) / d;
+    const double sin_sum = sin_a * cos_b + cos_a * sin_b;
+    if (!(sin_sum > 0.0)) return true;  // the half-angles sum to pi: every direction
+    const double cos_sum = cos_a * cos_b - sin_a * sin_b;
+    return glm::dot(v, axis) > cos_sum * d;
+}
+
+uint64_t bits_of(double v) {
+    uint64_t u;
+    std::memcpy(&u, &v, sizeof u);
+    return u;
+}
+
+// A key for the sampling path's random numbers from the point (and light): the same for every
+// thread and tile order.
+uint64_t point_key(uint64_t seed, const Vec3& p, const Vec3& q) {
+    uint64_t h = seed;
+    for (double v : {p.x, p.y, p.z, q.x, q.y, q.z}) h = sample_hash(h, 0, 0, bits_of(v));
+    return h;
+}
+
+// cos and sin of the ring angle of parameter u in [0, 1] (see RingMap in soft_light.cpp).
+void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, double& sin_t) {
+    if (measure == CapMeasure::Cosine) {
+        const double s2 = std::clamp(u * scale, 0.0, 1.0);
+        sin_t = std::sqrt(s2);
+        cos_t = std::sqrt(1.0 - s2);
+    } else {
+        const double one_minus = u * scale;
+        cos_t = 1.0 - one_minus;
+        sin_t = std::sqrt(std::max(0.0, one_minus * (2.0 - one_minus)));
+    }
+}
+
+// Removes the caps that lie inside one of the largest caps (atoms behind a near neighbour): they
+// close nothing more, and the cap integral's work grows with the number of caps.
+void drop_contained(std::vector<DirectionCap>& caps) {
+    if (caps.size() < 2) return;
+    std::sort(caps.begin(), caps.end(),
+              [](const DirectionCap& a, const DirectionCap& b) { return a.cos_half < b.cos_half; });
+    constexpr size_t kLargest = 16;
+    size_t kept = 1;
+    for (size_t i = 1; i < caps.size(); ++i) {
+        const DirectionCap& c = caps[i];
+        bool inside = false;
+        for (size_t j = 0; j < std::min(kept, kLargest) && !inside; ++j) {
+            const DirectionCap& big = caps[j];
+            // angle(c, big) + a_c <= a_big, with a_big >= a_c: cos(angle) >= cos(a_big - a_c).
+            inside =
+                glm::dot(c.axis, big.axis) >= big.cos_half * c.cos_half + big.sin_half * c.sin_half;
+        }
+        if (!inside) caps[kept++] = c;
+    }
+    caps.resize(kept);
+}
+
+}  // namespace
+
+void SphereOccluders::build(const std::vector<Sphere>& spheres) {
+    centers_.clear();
+    radii_.clear();
+    for (const Sphere& s : spheres) {
+        if (s.gas || !(s.radius > 0.0)) continue;
+        centers_.push_back(s.center);
+        radii_.push_back(s.radius);
+    }
+    nodes_.clear();
+    if (!centers_.empty()) build_node(0, uint32_t(centers_.size()));
+}
+
+uint32_t SphereOccluders::build_node(uint32_t first, uint32_t count) {
+    Bounds3 box;
+    for (uint32_t i = first; i < first + count; ++i) box.extend(centers_[i]);
+    const Vec3 mid = 0.5 * (box.lo + box.hi);
+    double radius = 0.0;
+    for (uint32_t i = first; i < first + count; ++i)
+        radius = std::max(radius, glm::length(centers_[i] - mid) + radii_[i]);
+    const uint32_t index = uint32_t(nodes_.size());
+    nodes_.push_back(Node{mid, radius, first, count, 0});
+    if (count <= kLeafSize) return index;
+    const Vec3 extent = box.hi - box.lo;
+    const int axis =
+        extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    // Median split: sort the range's spheres (centres and radii together) along the axis.
+    std::vector<uint32_t> order(count);
+    std::iota(order.begin(), order.end(), first);
+    const uint32_t half = count / 2;
+    std::nth_element(order.begin(), order.begin() + half, order.end(),
+                     [&](uint32_t a, uint32_t b) { return centers_[a][axis] < centers_[b][axis]; });
+    std::vector<Vec3> c(count);
+    std::vector<double> r(count);
+    for (uint32_t k = 0; k < count; ++k) {
+        c[k] = centers_[order[k]];
+        r[k] = radii_[order[k]];
+    }
+    std::copy(c.begin(), c.end(), centers_.begin() + first);
+    std::copy(r.begin(), r.end(), radii_.begin() + first);
+    nodes_[index].count = 0;
+    build_node(first, half);
+    const uint32_t right = build_node(first + half, count - half);
+    nodes_[index].right = right;
+    return index;
+}
+
+void SphereOccluders::gather(const Vec3& p, const Vec3& axis, double cos_half, double sin_half,
+                             double reach, std::vector<uint32_t>& out) const {
+    if (nodes_.empty()) return;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        if (glm::length(n.center - p) - n.radius >= reach) continue;
+        if (!cone_meets_ball(p, axis, cos_half, sin_half, n.center, n.radius)) continue;
+        if (n.count > 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i) out.push_back(i);
+            continue;
+        }
+        const uint32_t self = uint32_t(&n - nodes_.data());
+        if (top + 2 > 64) {  // deeper than a median split of 2^32 spheres: never
+            for (uint32_t i = n.first; i < uint32_t(centers_.size()); ++i) out.push_back(i);
+            continue;
+        }
+        stack[top++] = n.right;
+        stack[top++] = self + 1;
+    }
+}
+
+SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const GasVolume* gas,
+                           const RenderOptions& options)
+    : accel_(accel),
+      gas_(gas && !gas->empty() ? gas : nullptr),
+      tolerance_(options.light_tolerance),
+      ao_distance_(options.ao_distance),
+      seed_(options.seed),
+      sky_(options.sky.has_value()) {
+    spheres_only_ = scene.quadrics.empty() && scene.meshes.empty() && scene.instances.empty() &&
+                    gas_ == nullptr;
+    for (const Sphere& s : scene.spheres) {
+        if (!spheres_only_) break;
+        const uint32_t m =
+            s.shading < scene.shadings.size() ? scene.shadings[s.shading].material : 0;
+        if (s.gas || (m < scene.materials.size() && scene.materials[m].transparency > 0.0))
+            spheres_only_ = false;
+    }
+    if (spheres_only_) occluders_.build(scene.spheres);
+}
+
+bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max,
+                               CapMeasure measure, double reach, double light_near, bool skip_own,
+                               double& share, SoftLightCounts& counts) const {
+    thread_local std::vector<uint32_t> found;
+    thread_local std::vector<DirectionCap> caps;
+    thread_local CapScratch scratch;
+    found.clear();
+    caps.clear();
+    occluders_.gather(p, axis, std::cos(theta_max), std::sin(theta_max), reach, found);
+    const bool to_light = light_near >= 0.0;
+    const double cos_max = std::cos(theta_max), sin_max = std::sin(theta_max);
+    for (uint32_t i : found) {
+        const Vec3& c = occluders_.center(i);
+        const double r = occluders_.radius(i);
+        DirectionCap cap;
+        bool inside = false;
+        if (!sphere_cap(p, c, r, to_light ? kInf : reach, cap, inside)) continue;
+        if (inside) {
+            share = 0.0;
+            ++counts.exact_points;
+            return true;
+        }
+        if (to_light) {
+            // Only what lies before the light counts; its hits lie between light_near and reach
+            // (its centre's distance). An occluder that misses the light's cone is no matter (the
+            // sphere under the point, say), one that straddles the light's depth is sampled.
+            const double cos_sum = cos_max * cap.cos_half - sin_max * cap.sin_half;
+            const double sin_sum = sin_max * cap.cos_half + cos_max * cap.sin_half;
+            if (sin_sum > 0.0 && glm::dot(cap.axis, axis) <= cos_sum) continue;
+            const double d = glm::length(c - p);
+            if (d - r >= reach) continue;
+            if (d + r > light_near) return false;
+        }
+        // The sphere the point lies on closes exactly the half space below its tangent plane.
+        if (skip_own && cap.cos_half == 0.0 && glm::dot(cap.axis, axis) < -1.0 + 1e-9) continue;
+        caps.push_back(cap);
+    }
+    drop_contained(caps);
+    share = open_share(axis, theta_max, measure, caps, tolerance_, scratch).value;
+    ++counts.exact_points;
+    return true;
+}
+
+double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng,
+                                   const Vec3& axis, double theta_max, CapMeasure measure,
+                                   double reach, const Vec3& target, double target_radius,
+                                   uint64_t key, SoftLightCounts& counts) const {
+    constexpr int kReplicas = 8;
+    constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t, 7 dof
+    const double scale = measure == CapMeasure::Cosine
+                             ? std::pow(std::sin(theta_max), 2)
+                             : 2.0 * std::pow(std::sin(0.5 * theta_max), 2);
+    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
+    const Vec3 tx = glm::normalize(glm::cross(helper, axis));
+    const Vec3 ty = glm::cross(axis, tx);
+    auto visible = [&](const Vec3& w) {
+        if (!(glm::dot(w, ng) > 0.0)) return 0.0;  // below the surface itself
+        Ray ray;
+        if (target_radius > 0.0) {
+            // To the near side of the sphere light along w (its closest approach if w grazes it).
+            const Vec3 v = target - p;
+            const double b = glm::dot(w, v);
+            const double disc = b * b - (glm::dot(v, v) - target_radius * target_radius);
+            const double t = disc > 0.0 ? b - std::sqrt(disc) : b;
+            ray = spawn_ray_to(p, p_error, ng, p + t * w);
+        } else {
+            ray = spawn_ray(p, p_error, ng, w);
+            ray.t_max = reach;
+        }
+        ++counts.rays;
+        double v = accel_.transmittance(ray);
+        if (gas_ && v > 0.0) v *= std::exp(-gas_->optical_depth(ray));
+        return std::isfinite(v) ? v : 0.0;
+    };
+    ++counts.sampled_points;
+    double mean = 0.0;
+    for (int m = 4, round = 0; m <= 128; m *= 2, ++round) {
+        double sum = 0.0, sum2 = 0.0;
+        for (int r = 0; r < kReplicas; ++r) {
+            double replica = 0.0;
+            for (int cell = 0; cell < m * m; ++cell) {
+                const uint64_t index = 2 * uint64_t(cell);
+                const double u = ((cell % m) + sample_uniform(key, r, round, index)) / m;
+                const double phi =
+                    2.0 * kPi * ((cell / m) + sample_uniform(key, r, round, index + 1)) / m;
+                double cos_t, sin_t;
+                ring_angle(measure, scale, u, cos_t, sin_t);
+                const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
+                replica += visible(w);
+            }
+            replica /= double(m * m);
+            sum += replica;
+            sum2 += replica * replica;
+        }
+        mean = sum / kReplicas;
+        const double variance = std::max(0.0, (sum2 - sum * mean) / (kReplicas - 1));
+        if (kStudent99 * std::sqrt(variance / kReplicas) <= tolerance_) return mean;
+    }
+    ++counts.unconverged;
+    return mean;
+}
+
+double SoftLighting::sky_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng,
+                                    const Vec3& n, SoftLightCounts& counts) const {
+    double share = 1.0;
+    if (spheres_only_ &&
+        exact_share(p, n, 0.5 * kPi, CapMeasure::Cosine, ao_distance_, -1.0, true, share, counts))
+        return share;
+    return sampled_share(p, p_error, ng, n, 0.5 * kPi, CapMeasure::Cosine, ao_distance_, Vec3(0.0),
+                         0.0, point_key(seed_, p, n), counts);
+}
+
+double SoftLighting::light_visibility(const Light& light, const Vec3& p, const Vec3& p_error,
+                                      const Vec3& ng, SoftLightCounts& counts) const {
+    Vec3 axis;
+    double theta_max, reach = kInf, near = kInf, radius = 0.0;
+    if (light.kind == LightKind::Directional) {
+        axis = -light.direction;
+        theta_max = light.angular_radius;
+    } else {
+        const Vec3 v = light.position - p;
+        const double d = glm::length(v);
+        radius = light.source_radius;
+        if (!(d > radius)) return 1.0;  // inside the light: nothing lies between
+        axis = v / d;
+        theta_max = std::asin(radius / d);
+        reach = d;
+        near = d - radius;
+    }
+    double share = 1.0;
+    if (spheres_only_ &&
+        exact_share(p, axis, theta_max, CapMeasure::SolidAngle, reach, near, false, share, counts))
+        return share;
+    return sampled_share(p, p_error, ng, axis, theta_max, CapMeasure::SolidAngle, reach,
+                         light.position, radius, point_key(seed_ ^ 0x5eed, p, light.position),
+                         counts);
+}
+
+}  // namespace vr
