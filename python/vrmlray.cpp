@@ -15,12 +15,14 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "anim/animator.h"
 #include "app/pipeline.h"
 #include "flatten/flatten.h"
 #include "image/compare.h"
@@ -175,8 +177,14 @@ void append_keywords(const py::kwargs& keywords, const std::map<std::string, std
 struct SceneData {
     std::string name;                // the file, or "<string>.wrl" for scene text
     std::vector<std::string> words;  // load()'s --limit words, given to each render too
-    LoadedScene loaded;              // its sources and diagnostics; the node tree is released
-    Scene scene;
+    LoadedScene loaded;  // its sources and diagnostics; the node tree is released unless animated
+    Scene scene;         // at time 0, as the command line renders without --time
+    // An animated scene (a TimeSensor drives some field) keeps its node tree and the animator that
+    // knows the tree's file values, so that render(time=T) evaluates and builds the world at T.
+    // The tree is shared by every render of the scene: one evaluation at a time.
+    Diagnostics animator_diagnostics;  // the animator reports here for as long as it lives
+    std::unique_ptr<Animator> animator;
+    std::unique_ptr<std::mutex> tree_mutex = std::make_unique<std::mutex>();
     std::vector<DiagnosticRow> diagnostics;  // reading, building and flattening, in that order
     FlatScene flat;  // flattened with the default options, its primitives dropped: lights, views
     Bounds3 bounds;
@@ -247,8 +255,17 @@ void build(SceneData& s, const CommonOptions& common) {
         s.diagnostics.push_back(row_of(d, s.loaded.sources));
     s.figures = tree_figures(s.loaded, s.name);
     Diagnostics diagnostics;
+    // The world at time 0, as `vrmlray render` shows it (a running TimeSensor sets its first key).
+    s.animator = std::make_unique<Animator>(s.loaded.tree, s.animator_diagnostics);
+    if (!s.animator_diagnostics.has_errors()) s.animator->evaluate(0.0);  // a bad ROUTE: no world
+    for (const Diagnostic& d : s.animator_diagnostics.all())
+        s.diagnostics.push_back(row_of(d, s.loaded.sources));
+    if (s.animator_diagnostics.has_errors()) throw input_failure(s.diagnostics);
     s.scene = build_scene(s.loaded, diagnostics);
-    release_tree(s.loaded);
+    if (!s.animator->animated()) {
+        s.animator.reset();
+        release_tree(s.loaded);
+    }
     s.info_flatten.scene_file = s.loaded.main_file;
     s.info_flatten.allowed_roots = s.loaded.allowed_roots;
     common.limits.apply(s.info_flatten);
@@ -359,7 +376,10 @@ const std::map<std::string, std::string> kRenderRefused = {
     {"allow_path", "a load() keyword: URLs are read when the scene is loaded"},
     {"strict", "a load() keyword"},
     {"help", "see help(vrmlray) and docs/manual.md"},
-    {"version", "see vrmlray.__version__"}};
+    {"version", "see vrmlray.__version__"},
+    {"frames", "render() makes one image: call it for each time=T0 + k / fps"},
+    {"fps", "render() makes one image: call it for each time=T0 + k / fps"},
+    {"orbit", "render() makes one image: give each frame's position= and look_at="}};
 
 py::array_t<float> to_array(const Image& image, int channels) {
     py::array_t<float> out(
@@ -377,8 +397,16 @@ Image trace(const SceneData& s, const CommandLine& cmd, const ProgressFn& progre
     const RenderCommand& rc = cmd.render;
     Diagnostics diagnostics;
     FlattenStats fs;
+    Scene at_time;  // the world at rc.time when it differs from time 0
+    const Scene* scene = &s.scene;
+    if (s.animator && rc.time != 0.0) {
+        std::lock_guard<std::mutex> lock(*s.tree_mutex);
+        s.animator->evaluate(rc.time);
+        at_time = build_scene(s.loaded, diagnostics);
+        scene = &at_time;
+    }
     FlatScene flat = flatten_scene(
-        s.scene, flatten_options(s.loaded, rc.options, rc.recover_spheres, cmd.common), diagnostics,
+        *scene, flatten_options(s.loaded, rc.options, rc.recover_spheres, cmd.common), diagnostics,
         fs);
     if (diagnostics.has_errors()) {
         std::vector<DiagnosticRow> rows;
