@@ -73,6 +73,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
     j["nonfinite"] = {{"shading", bad.shading}, {"gas", bad.gas}, {"light", bad.light}};
     j["tracer_bytes"] = stats.tracer_bytes;
     j["peak_memory_mb"] = peak_memory_mb();
+    j["peak_memory_mb_after_parse"] = t.peak_parse_mb;
+    j["peak_memory_mb_after_scene"] = t.peak_scene_mb;
     return j;
 }
 
@@ -95,6 +97,7 @@ int run_render(const RenderCommand& cmd) {
     LoadedScene loaded;
     if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
     const double parse_seconds = seconds_since(t_load);
+    const double peak_parse_mb = peak_memory_mb();
 
     auto t1 = std::chrono::steady_clock::now();
     FlatScene flat;
@@ -103,6 +106,7 @@ int run_render(const RenderCommand& cmd) {
                            flatten_stats))
         return kExitBadInput;
     const double scene_seconds = seconds_since(t1);
+    const double peak_scene_mb = peak_memory_mb();
 
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
     Camera camera;
@@ -213,7 +217,8 @@ int run_render(const RenderCommand& cmd) {
                      stats.rays_per_second() * 1e-6, total, output.c_str());
     }
     if (!cmd.stats_path.empty()) {
-        RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total};
+        RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total, peak_parse_mb,
+                              peak_scene_mb};
         const nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
         std::ofstream out(cmd.stats_path);
         // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
