@@ -7,11 +7,13 @@
 # ../shared/bench/wrl_scan.cpp (tokenizing and converting every number, the floor of any reader)
 # measured in the same run, alternating with vrmlray. Medians of RUNS runs. Files live in a
 # temporary folder that is deleted at the end.
-# Usage: bench/scale.sh [--big] [--runs N] [--sizes "100000 300000"] [--bin VRMLRAY] [--csv FILE]
+# Usage: bench/scale.sh [--big] [--runs N] [--sizes "100000 300000"] [--bin VRMLRAY]... [--csv FILE]
 #   --big adds 10M atoms (a 3 GB file; ~5 GB of free disk space needed).
+#   --bin given twice or more: each binary runs on the same files, alternating, one table each
+#   (e.g. a build of the previous commit against this one); --csv holds the last binary's table.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-bin=$root/build/vrmlray
+bins=()
 runs=3
 sizes="100000 300000 1000000 3000000"
 csv=""
@@ -20,13 +22,14 @@ while [ $# -gt 0 ]; do
         --big) sizes="$sizes 10000000" ;;
         --runs) runs=$2; shift ;;
         --sizes) sizes=$2; shift ;;
-        --bin) bin=$2; shift ;;
+        --bin) bins+=("$2"); shift ;;
         --csv) csv=$2; shift ;;
         *) echo "usage: bench/scale.sh [--big] [--runs N] [--sizes LIST] [--bin VRMLRAY] [--csv FILE]" >&2
            exit 2 ;;
     esac
     shift
 done
+[ ${#bins[@]} -gt 0 ] || bins=("$root/build/vrmlray")
 work=$(mktemp -d "${TMPDIR:-/tmp}/vrmlray_scale.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
@@ -41,7 +44,8 @@ for n in $sizes; do
     wrl=$work/molecule_$n.wrl
     python3 "$root/tools/gen_molecule.py" "$n" "$wrl" --no-bonds
     bytes=$(stat -c %s "$wrl")
-    for i in $(seq "$runs"); do
+    for i in $(seq "$runs"); do for b in "${!bins[@]}"; do
+        bin=${bins[$b]}
         /usr/bin/time -v -o "$work/time.txt" "$bin" render "$wrl" -W 1920 -H 1080 -q \
             -o "$work/out.png" --stats "$work/stats.json" >/dev/null
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, a, ":"); s = 0
@@ -50,26 +54,31 @@ for n in $sizes; do
         rss=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$work/time.txt")
         scan_s=0
         if [ -n "$scan" ]; then
-            scan_s=$(/usr/bin/time -f "%e" "$scan" "$wrl" 2>&1 >/dev/null | tail -1)
+            scan_s=$("$scan" "$wrl" | grep -o 'total_s=[0-9.]*' | cut -d= -f2)
         fi
-        python3 - "$work/stats.json" "$n" "$bytes" "$wall" "$rss" "$scan_s" >>"$rows" <<'EOF'
+        python3 - "$work/stats.json" "$b" "$n" "$bytes" "$wall" "$rss" "$scan_s" >>"$rows" <<'EOF'
 import json, sys
 s = json.load(open(sys.argv[1]))
 t = s["seconds"]
-print(*sys.argv[2:7], t["parse"], t["scene"], t["build"], t["render"], t["write"],
-      s["peak_memory_mb_after_parse"], s["peak_memory_mb_after_scene"], s["peak_memory_mb"])
+print(*sys.argv[2:8], t["parse"], t["scene"], t["build"], t["render"], t["write"],
+      s.get("peak_memory_mb_after_parse", "nan"), s.get("peak_memory_mb_after_scene", "nan"),
+      s["peak_memory_mb"])
 EOF
-    done
+    done; done
     rm -f "$wrl"
 done
 
-python3 - "$rows" "$csv" <<'EOF'
+for b in "${!bins[@]}"; do
+[ ${#bins[@]} -eq 1 ] || echo "${bins[$b]}:"
+python3 - "$rows" "$([ "$b" -eq $((${#bins[@]} - 1)) ] && echo "$csv")" "$b" <<'EOF'
 import statistics, sys
-cols = ["atoms", "bytes", "wall", "rss_kb", "scan", "parse", "scene", "build", "render", "write",
+cols = ["bin", "atoms", "bytes", "wall", "rss_kb", "scan", "parse", "scene", "build", "render", "write",
         "mb_parse", "mb_scene", "mb_end"]
 by = {}
 for line in open(sys.argv[1]):
     v = dict(zip(cols, map(float, line.split())))
+    if int(v["bin"]) != int(sys.argv[3]):
+        continue
     by.setdefault(int(v["atoms"]), []).append(v)
 med = {n: {c: statistics.median(r[c] for r in rs) for c in cols} for n, rs in by.items()}
 print(f"{'atoms':>9} {'MB':>7} {'total s':>8} {'peak MB':>8} {'B/atom':>7} {'parse':>6} {'scene':>6}"
@@ -94,3 +103,4 @@ if sys.argv[2]:
         for r in out:
             f.write(",".join(f"{x:.6g}" for x in r) + "\n")
 EOF
+done

@@ -803,6 +803,9 @@ class Reader {
             ++scene_.stats.pieces;
             scene_.diagnostics.append(piece.diagnostics);
             f.lexer = Lexer(f.lexer.source(), piece.end, f.lexer.source_end());
+            // The pages of a mapped file the workers read stay resident until given back, and the
+            // main reader, jumping from piece to piece, makes no node that would give them back.
+            if (f.whole_file) scene_.sources.release_before(f.file, piece.end);
             piece = Piece{};
         }
     }
