@@ -62,11 +62,16 @@ int main(int argc, char** argv) {
     }
     const bool ok =
         plot(table,
-             {{"total_s", "whole process"}, {"parse_s", "read"}, {"scene_s", "scene build"},
-              {"bvh_s", "BVH"}, {"render_s", "render 1920x1080"}, {"wrl_scan_s", "wrl_scan"}},
+             {{"total_s", "whole process"},
+              {"parse_s", "read"},
+              {"scene_s", "scene build"},
+              {"bvh_s", "BVH"},
+              {"render_s", "render 1920x1080"},
+              {"wrl_scan_s", "wrl_scan"}},
              "seconds", "vrmlray render: seconds per phase (bench/scale.sh)", argv[2]) &&
         plot(table,
-             {{"bytes_per_atom_parse", "after reading"}, {"bytes_per_atom_scene", "after scene build"},
+             {{"bytes_per_atom_parse", "after reading"},
+              {"bytes_per_atom_scene", "after scene build"},
               {"bytes_per_atom", "peak (whole process)"}},
              "bytes per atom", "vrmlray render: peak memory per atom (bench/scale.sh)", argv[3]);
     return ok ? 0 : 4;

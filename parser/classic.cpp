@@ -787,8 +787,7 @@ class Reader {
             const uint32_t begin = pieces.begin(next_piece_);
             // With a token peeked, where the last statement ended is not known: read on.
             if (f.lexer.has_peek() && f.lexer.peek().offset < begin) return;
-            if (f.lexer.has_peek() || f.lexer.position() > begin ||
-                !f.protos->protos.empty()) {
+            if (f.lexer.has_peek() || f.lexer.position() > begin || !f.protos->protos.empty()) {
                 pieces.drop(next_piece_++);  // began inside a statement, or after a PROTO
                 continue;
             }
@@ -815,8 +814,11 @@ class Reader {
         Reader reader(Target{scene_.sources, piece.diagnostics, piece.tree, piece.stats}, spec_,
                       limits_, resolver_);
         reader.in_piece_ = true;
-        Frame frame{Lexer(scene_.sources.file(file).text, piece.begin, piece.end), file, {},
-                    nullptr, std::make_shared<ProtoScope>()};
+        Frame frame{Lexer(scene_.sources.file(file).text, piece.begin, piece.end),
+                    file,
+                    {},
+                    nullptr,
+                    std::make_shared<ProtoScope>()};
         try {
             while (frame.lexer.peek().kind != TokenKind::End) {
                 NodeId id = reader.statement(frame, 0);

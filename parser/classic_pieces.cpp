@@ -32,7 +32,8 @@ std::vector<uint32_t> piece_starts(std::string_view text, uint32_t begin, size_t
 }
 
 PieceScheduler::PieceScheduler(std::vector<Piece> pieces, ReadFn read, unsigned workers)
-    : pieces_(std::move(pieces)), state_(pieces_.size(), State::Waiting),
+    : pieces_(std::move(pieces)),
+      state_(pieces_.size(), State::Waiting),
       dropped_(pieces_.size(), false),
       read_(std::move(read)) {
     window_ = 2 * (size_t(workers) + 1);

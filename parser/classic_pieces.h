@@ -42,7 +42,8 @@ struct Piece {
     ReadStats stats;
     std::vector<NodeId> roots;
     std::unordered_map<Name, NodeId> defs;
-    bool usable = false;  // read to its end with no error and nothing that needs the rest of the file
+    bool usable =
+        false;  // read to its end with no error and nothing that needs the rest of the file
 };
 
 // Reads pieces on worker threads, in file order, a few ahead of the one the main reader needs

@@ -217,8 +217,8 @@ int run_render(const RenderCommand& cmd) {
                      stats.rays_per_second() * 1e-6, total, output.c_str());
     }
     if (!cmd.stats_path.empty()) {
-        RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total, peak_parse_mb,
-                              peak_scene_mb};
+        RenderTimings timings{parse_seconds, scene_seconds, write_seconds,
+                              total,         peak_parse_mb, peak_scene_mb};
         const nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
         std::ofstream out(cmd.stats_path);
         // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.

@@ -16,8 +16,8 @@ struct RenderTimings {
 };
 
 // scene, width, height, seconds{parse scene build render write total}, primitives{...}, rays{...},
-// nonfinite{shading gas light}, tracer_bytes, peak_memory_mb{, _after_parse, _after_scene}. `sphere_count`: the spheres before
-// the render freed them.
+// nonfinite{shading gas light}, tracer_bytes, peak_memory_mb{, _after_parse, _after_scene}.
+// `sphere_count`: the spheres before the render freed them.
 nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
                                          size_t sphere_count, const RenderStats& stats,
                                          const RenderTimings& timings);

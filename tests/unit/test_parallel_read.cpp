@@ -105,7 +105,8 @@ TEST(ParallelRead, AMoleculeExportIsReadInPieces) {
         for (int i = 0; i < 3000; ++i)
             out << "Transform {\n translation " << i % 17 << " " << i % 13 << " " << i * 0.01
                 << "\n children [\n  Shape {\n   appearance Appearance {\n    material Material "
-                   "{ diffuseColor 0.5 0.5 0.5 }\n   }\n   geometry Sphere { radius 0.3 }\n  }\n ]\n}\n";
+                   "{ diffuseColor 0.5 0.5 0.5 }\n   }\n   geometry Sphere { radius 0.3 }\n  }\n "
+                   "]\n}\n";
     }
     const LoadedScene one = load_with_pieces(file, 0);
     const LoadedScene many = load_with_pieces(file, 4096);
