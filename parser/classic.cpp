@@ -1,8 +1,10 @@
 #include "parser/classic.h"
 
 #include <algorithm>
+#include <thread>
 #include <unordered_set>
 
+#include "parser/classic_pieces.h"
 #include "parser/field_value.h"
 #include "parser/lexer.h"
 
@@ -31,10 +33,17 @@ struct Frame {
         false;  // reads its file from the start: the pages behind it may be given back
 };
 
+// Where a reader puts what it reads: a scene, or one piece of a file read on another thread.
+struct Target {
+    const SourceManager& sources;
+    Diagnostics& diagnostics;
+    NodeTree& tree;
+    ReadStats& stats;
+};
+
 class Reader {
   public:
-    Reader(LoadedScene& scene, Spec spec, const LoadLimits& limits,
-           const ExternProtoResolver& resolver)
+    Reader(Target scene, Spec spec, const LoadLimits& limits, const ExternProtoResolver& resolver)
         : scene_(scene),
           tree_(scene.tree),
           registry_(Registry::builtin()),
@@ -49,8 +58,13 @@ class Reader {
         Frame frame{Lexer(text), file, {}, nullptr, std::make_shared<ProtoScope>()};
         frame.whole_file = true;
         result.protos = frame.protos;
+        PieceScheduler pieces(
+            plan_pieces(text), [this, file](Piece& p) { read_piece(file, p); },
+            std::max(1u, std::thread::hardware_concurrency()) - 1);
         try {
-            while (frame.lexer.peek().kind != TokenKind::End) {
+            for (;;) {
+                take_pieces(frame, pieces, result.roots);
+                if (frame.lexer.peek().kind == TokenKind::End) break;
                 NodeId id = statement(frame, 0);
                 if (id != kNullNode) result.roots.push_back(id);
             }
@@ -58,6 +72,7 @@ class Reader {
             scene_.diagnostics.error({error_file_, e.offset}, e.message);
             result.ok = false;
         }
+        pieces.stop();
         // The last few megabytes release_before kept (it frees in steps) would stay resident
         // through the scene build, the peak of a large scene's memory.
         scene_.sources.release_all(file);
@@ -215,6 +230,7 @@ class Reader {
     }
 
     void route(Frame& f) {
+        not_in_piece(f);
         const Token keyword = f.lexer.next();
         const Token from = expect(f, TokenKind::Word, "the source of a ROUTE (node.event)");
         std::string_view to = expect_word(f, "TO");
@@ -609,6 +625,7 @@ class Reader {
     }
 
     void proto_declaration(Frame& f) {
+        not_in_piece(f);
         f.lexer.next();  // PROTO
         Token name_token = f.lexer.next();
         if (name_token.kind != TokenKind::Word) fail(f, name_token, "expected a PROTO name");
@@ -639,6 +656,7 @@ class Reader {
     }
 
     void externproto_declaration(Frame& f) {
+        not_in_piece(f);
         Token kw = f.lexer.next();  // EXTERNPROTO
         Token name_token = f.lexer.next();
         if (name_token.kind != TokenKind::Word) fail(f, name_token, "expected an EXTERNPROTO name");
@@ -796,7 +814,81 @@ class Reader {
         return make_node(f, &decl, decl.name, at, mark);
     }
 
-    LoadedScene& scene_;
+    // ---- pieces (classic_pieces.h) -----------------------------------------------------------
+
+    static std::vector<Piece> plan_pieces(std::string_view text) {
+        std::vector<Piece> pieces;
+        const std::vector<uint32_t> starts = piece_starts(text, 0, piece_bytes());
+        for (size_t k = 0; k < starts.size(); ++k) {
+            pieces.emplace_back();
+            pieces.back().begin = starts[k];
+            pieces.back().end =
+                k + 1 < starts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
+        }
+        return pieces;
+    }
+
+    // At the file's top level, between statements: appends every piece that starts here, the one
+    // after it if that starts where it ends, and so on; drops the pieces the main reader has
+    // passed.
+    void take_pieces(Frame& f, PieceScheduler& pieces, std::vector<NodeId>& roots) {
+        while (next_piece_ < pieces.size()) {
+            const uint32_t begin = pieces.begin(next_piece_);
+            // With a token peeked, where the last statement ended is not known: read on.
+            if (f.lexer.has_peek() && f.lexer.peek().offset < begin) return;
+            if (f.lexer.has_peek() || f.lexer.position() > begin || !f.protos->protos.empty()) {
+                pieces.drop(next_piece_++);  // began inside a statement, or after a PROTO
+                continue;
+            }
+            if (f.lexer.peek().offset < begin) return;  // the next statement starts before it
+            Piece& piece = pieces.get(next_piece_++);
+            if (!piece.usable || tree_.nodes.size() + piece.tree.nodes.size() > limits_.max_nodes)
+                return;  // read here: the same messages, the same limit error
+            const NodeId base = append_tree(tree_, std::move(piece.tree));
+            for (NodeId id : piece.roots) roots.push_back(id + base);
+            for (const auto& [name, id] : piece.defs) f.defs[name] = id + base;
+            append_stats(scene_.stats, piece.stats);
+            ++scene_.stats.pieces;
+            scene_.diagnostics.append(piece.diagnostics);
+            f.lexer = Lexer(f.lexer.source(), piece.end, f.lexer.source_end());
+            // The pages of a mapped file the workers read stay resident until given back, and the
+            // main reader, jumping from piece to piece, makes no node that would give them back.
+            if (f.whole_file) scene_.sources.release_before(f.file, piece.end);
+            piece = Piece{};
+        }
+    }
+
+    // Reads one piece on its own, as the file's top level; any failure only makes it unusable.
+    void read_piece(uint32_t file, Piece& piece) {
+        Reader reader(Target{scene_.sources, piece.diagnostics, piece.tree, piece.stats}, spec_,
+                      limits_, resolver_);
+        reader.in_piece_ = true;
+        Frame frame{Lexer(scene_.sources.file(file).text, piece.begin, piece.end),
+                    file,
+                    {},
+                    nullptr,
+                    std::make_shared<ProtoScope>()};
+        try {
+            while (frame.lexer.peek().kind != TokenKind::End) {
+                NodeId id = reader.statement(frame, 0);
+                if (id != kNullNode) piece.roots.push_back(id);
+            }
+        } catch (const SyntaxError&) {
+            return;
+        }
+        piece.defs = std::move(frame.defs);
+        piece.usable = piece.diagnostics.error_count() == 0;
+    }
+
+    // A piece read on its own cannot see the PROTOs and DEFs of the file before it, nor may it
+    // resolve EXTERNPROTOs on its thread: the main reader reads such a piece itself.
+    void not_in_piece(Frame& f) {
+        if (in_piece_) fail(f, f.lexer.peek(), "needs the rest of the file");
+    }
+
+    Target scene_;
+    bool in_piece_ = false;
+    size_t next_piece_ = 0;  // the first piece not yet taken or dropped
     NodeTree& tree_;
     const Registry& registry_;
     Spec spec_;
@@ -811,7 +903,8 @@ class Reader {
 
 ClassicResult read_classic(LoadedScene& scene, uint32_t file, Spec spec, const LoadLimits& limits,
                            const ExternProtoResolver& resolve_externproto) {
-    Reader reader(scene, spec, limits, resolve_externproto);
+    Reader reader(Target{scene.sources, scene.diagnostics, scene.tree, scene.stats}, spec, limits,
+                  resolve_externproto);
     return reader.read_file(file);
 }
 

@@ -34,6 +34,24 @@ void Diagnostics::warning_in_file(std::string file, std::string message, const s
     items_.push_back({Severity::Warning, {}, std::move(file), std::move(message), 1});
 }
 
+void Diagnostics::append(const Diagnostics& later) {
+    std::vector<const std::string*> cause(later.items_.size(), nullptr);
+    for (const auto& [text, index] : later.warning_index_) cause[index] = &text;
+    for (size_t i = 0; i < later.items_.size(); ++i) {
+        const Diagnostic& d = later.items_[i];
+        if (cause[i]) {
+            auto it = warning_index_.find(*cause[i]);
+            if (it != warning_index_.end()) {
+                items_[it->second].count += d.count;
+                continue;
+            }
+            warning_index_.emplace(*cause[i], items_.size());
+        }
+        if (d.severity == Severity::Error) ++error_count_;
+        items_.push_back(d);
+    }
+}
+
 size_t Diagnostics::warning_count() const {
     return static_cast<size_t>(std::count_if(items_.begin(), items_.end(), [](const Diagnostic& d) {
         return d.severity == Severity::Warning;

@@ -30,6 +30,10 @@ class Diagnostics {
     void warning(SourceLoc loc, std::string message, const std::string& cause);
     void warning_in_file(std::string file, std::string message, const std::string& cause);
 
+    // Appends what a reader of a later part of the same text collected, as if this object had
+    // collected it: a warning whose cause is known here only adds its count to the first one.
+    void append(const Diagnostics& later);
+
     bool has_errors() const { return error_count_ > 0; }
     size_t error_count() const { return error_count_; }
     size_t warning_count() const;

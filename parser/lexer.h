@@ -137,6 +137,9 @@ class Lexer {
     uint32_t next_offset() { return peek().offset; }
     // Offset up to which the text has been read (the end of the last token scanned).
     uint32_t position() const { return pos_; }
+    bool has_peek() const { return has_peek_; }
+    std::string_view source() const { return text_; }
+    uint32_t source_end() const { return end_; }
 
     // A token as an error message names it: "end of file", "'{'", "a string", "'word'" (cut at 40
     // bytes).

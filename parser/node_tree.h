@@ -147,6 +147,7 @@ struct ReadStats {
     size_t proto_instances = 0;
     size_t inline_files = 0;
     size_t routes = 0;
+    size_t pieces = 0;  // parts of a file read on other threads and appended (classic_pieces.h)
     std::unordered_map<std::string, size_t>
         skipped_nodes;  // node type -> count (unknown or not modelled)
 };

@@ -87,6 +87,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
     }
     j["tracer_bytes"] = stats.tracer_bytes;
     j["peak_memory_mb"] = peak_memory_mb();
+    j["peak_memory_mb_after_parse"] = t.peak_parse_mb;
+    j["peak_memory_mb_after_scene"] = t.peak_scene_mb;
     return j;
 }
 
@@ -169,10 +171,11 @@ int run_render(const RenderCommand& cmd) {
     print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);
     if (anim_diagnostics.has_errors()) return kExitBadInput;
     const double parse_seconds = seconds_since(t_load);
+    const double peak_parse_mb = peak_memory_mb();
 
     FlatScene flat;
     FlattenStats flatten_stats;
-    double scene_seconds = 0.0;
+    double scene_seconds = 0.0, peak_scene_mb = 0.0;
     for (int k = 0; k < cmd.frames; ++k) {
         // Each frame's line of timings covers that frame: the first one's the reading too.
         const auto frame_t0 = k == 0 ? t0 : std::chrono::steady_clock::now();
@@ -188,6 +191,7 @@ int run_render(const RenderCommand& cmd) {
                                    flatten_stats, keep_tree))
                 return kExitBadInput;
             scene_seconds = seconds_since(t1);
+            if (k == 0) peak_scene_mb = peak_memory_mb();
         }
         RenderOptions options = cmd.options;
         if (cmd.orbit_degrees)
@@ -197,7 +201,8 @@ int run_render(const RenderCommand& cmd) {
         const bool last = k + 1 == cmd.frames;
         const int code =
             render_frame(cmd, options, loaded, flat, flatten_stats, path, last, t0, frame_t0,
-                         {k == 0 ? parse_seconds : 0.0, scene_seconds, 0.0, 0.0});
+                         {k == 0 ? parse_seconds : 0.0, scene_seconds, 0.0, 0.0, peak_parse_mb,
+                          peak_scene_mb});
         if (code != kExitOk) return code;
     }
     return kExitOk;
@@ -329,7 +334,8 @@ int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
                      stats.rays_per_second() * 1e-6, total, output.c_str());
     }
     if (!cmd.stats_path.empty()) {
-        RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total};
+        timings.write = write_seconds;
+        timings.total = total;
         const nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
         std::ofstream out(cmd.stats_path);
         // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.

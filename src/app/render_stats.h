@@ -10,11 +10,14 @@ namespace vr {
 
 struct RenderTimings {
     double parse = 0.0, scene = 0.0, write = 0.0, total = 0.0;  // seconds
+    // The process's peak memory when reading and the scene build had ended (MB): bench/scale.sh's
+    // bytes per atom of each phase.
+    double peak_parse_mb = 0.0, peak_scene_mb = 0.0;
 };
 
 // scene, width, height, seconds{parse scene build render write total}, primitives{...}, rays{...},
-// nonfinite{shading gas light}, tracer_bytes, peak_memory_mb. `sphere_count`: the spheres before
-// the render freed them.
+// nonfinite{shading gas light}, tracer_bytes, peak_memory_mb{, _after_parse, _after_scene}.
+// `sphere_count`: the spheres before the render freed them.
 nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
                                          size_t sphere_count, const RenderStats& stats,
                                          const RenderTimings& timings);

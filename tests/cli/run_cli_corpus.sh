@@ -69,6 +69,19 @@ grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fi
 
 # shellcheck source=tests/cli/anim_corpus.sh
 . "$src/tests/cli/anim_corpus.sh"
+# --- reading in pieces (parser/classic_pieces.h): every classic-encoding file, cut into about 200 pieces (at
+# least 64 bytes) by the test-only VRMLRAY_PIECE_BYTES, gives the same `info` output, messages with their
+# line:col included, and the same exit code as a read by one thread.
+while IFS= read -r -d '' f; do
+    size=$(stat -c %s "$f")
+    piece=$((size / 200 > 64 ? size / 200 : 64))
+    VRMLRAY_PIECE_BYTES=0 "$bin" info "$f" >"$work/one.txt" 2>&1
+    one=$?
+    VRMLRAY_PIECE_BYTES=$piece "$bin" info "$f" >"$work/many.txt" 2>&1
+    many=$?
+    [ $one -eq $many ] && cmp -s "$work/one.txt" "$work/many.txt" && pass ||
+        { fail "info $f in $piece-byte pieces differs from one thread's"; diff "$work/one.txt" "$work/many.txt" | head -4; }
+done < <(find "$corpus" -type f \( -name '*.wrl' -o -name '*.wrz' -o -name '*.x3dv' -o -name '*.gz' \) -print0 | sort -z)
 
 echo "cli corpus ($corpus): $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,0 +1,120 @@
+// Reading a classic-encoding file in pieces on several threads (parser/classic_pieces.h) must give
+// what one thread gives: the same node tree, DEF/USE sharing, statistics and messages, in the same
+// order and at the same line:col. VRMLRAY_PIECE_BYTES forces pieces far smaller than a real run
+// uses, so that every corpus file is cut at many places, good and bad.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "corpus.h"
+#include "parser/classic_pieces.h"
+#include "parser/load.h"
+#include "parser/tree_compare.h"
+
+namespace vr {
+namespace {
+
+namespace fs = std::filesystem;
+
+LoadedScene load_with_pieces(const fs::path& file, size_t piece) {
+    setenv("VRMLRAY_PIECE_BYTES", std::to_string(piece).c_str(), 1);
+    LoadedScene scene = load_scene(file);
+    unsetenv("VRMLRAY_PIECE_BYTES");
+    return scene;
+}
+
+// "" when the two reads agree in everything a user sees of them.
+std::string difference(const LoadedScene& one, const LoadedScene& many) {
+    if (one.tree.nodes.size() != many.tree.nodes.size())
+        return "node count " + std::to_string(one.tree.nodes.size()) + " vs " +
+               std::to_string(many.tree.nodes.size());
+    if (one.tree.roots != many.tree.roots) return "roots differ";
+    if (std::string d = compare_trees(one.tree, many.tree); !d.empty()) return d;
+    const std::string m1 = one.diagnostics.format(one.sources);
+    const std::string m2 = many.diagnostics.format(many.sources);
+    if (m1 != m2) return "messages differ:\n" + m1 + "---\n" + m2;
+    const ReadStats &a = one.stats, &b = many.stats;
+    if (a.def_count != b.def_count || a.use_count != b.use_count || a.routes != b.routes ||
+        a.proto_instances != b.proto_instances || a.skipped_nodes != b.skipped_nodes)
+        return "statistics differ";
+    return "";
+}
+
+TEST(ParallelRead, EveryCorpusFileReadsAsWithOneThread) {
+    VR_CORPUS_FOLDER(corpus, "");
+    size_t files = 0, cut = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(corpus)) {
+        if (!entry.is_regular_file()) continue;
+        const std::string ext = entry.path().extension().string();
+        if (ext != ".wrl" && ext != ".wrz" && ext != ".x3dv" && ext != ".gz" && ext != ".x3dvz")
+            continue;
+        // About 200 pieces a file, and never below 64 bytes: small files are cut at most lines.
+        const size_t piece = std::max<size_t>(64, fs::file_size(entry.path()) / 200);
+        const LoadedScene one = load_with_pieces(entry.path(), 0);
+        const LoadedScene many = load_with_pieces(entry.path(), piece);
+        EXPECT_EQ(one.stats.pieces, 0u);
+        EXPECT_EQ(difference(one, many), "") << entry.path();
+        ++files;
+        cut += many.stats.pieces > 0;
+    }
+    EXPECT_GT(files, 100u) << "the corpus holds some 200 classic-encoding files";
+    // Files with PROTOs, ROUTEs or USE across pieces are read whole; most are not.
+    EXPECT_GT(cut, files / 2) << "pieces were appended in " << cut << " of " << files << " files";
+}
+
+// Cases no corpus file has at a piece boundary: a USE of a DEF in an earlier piece, a PROTO
+// declared before later pieces, a string and a comment that span a cut, and a syntax error in a
+// later piece, which must be reported at its own line:col as a single-thread read reports it.
+TEST(ParallelRead, CutsThatNeedTheWholeFileReadAsWithOneThread) {
+    const fs::path dir = fs::temp_directory_path() / "vrmlray_parallel_read";
+    fs::create_directories(dir);
+    const std::string atoms =
+        "Transform { translation 1 2 3 children Shape { geometry Sphere { radius 0.5 } } }\n";
+    const std::string cases[] = {
+        "DEF A Material { diffuseColor 1 0 0 }\n" + atoms + atoms +
+            "Shape { appearance Appearance { material USE A } geometry Box {} }\n" + atoms,
+        "PROTO P [ field SFFloat r 1 ] { Sphere { radius IS r } }\n" + atoms +
+            "Shape { geometry P { r 2 } }\n" + atoms + atoms,
+        atoms + "WorldInfo { info [ \"a\nShape { geometry Box {} }\nb\" ] }\n" + atoms + atoms,
+        atoms + "# a comment\nShape { geometry Box {} }\n" + atoms + "Shape { bogus 1 }\n" + atoms,
+        atoms + "Unknown { x 1 }\n" + atoms + "Unknown { y 2 }\n" + "Transform { translation 1 }\n",
+        atoms + atoms + "ROUTE a.b TO c.d\n" + atoms,
+    };
+    int n = 0;
+    for (const std::string& body : cases) {
+        const fs::path file = dir / ("case" + std::to_string(n++) + ".wrl");
+        std::ofstream(file) << "#VRML V2.0 utf8\n" << body;
+        for (size_t piece : {1, 16, 40, 90}) {
+            const LoadedScene one = load_with_pieces(file, 0);
+            const LoadedScene many = load_with_pieces(file, piece);
+            EXPECT_EQ(difference(one, many), "") << file << " pieces of " << piece << " bytes";
+        }
+    }
+    fs::remove_all(dir);
+}
+
+TEST(ParallelRead, AMoleculeExportIsReadInPieces) {
+    // The PyMOL pattern: every atom a top-level Transform, so every piece is usable.
+    const fs::path file = fs::temp_directory_path() / "vrmlray_parallel_molecule.wrl";
+    {
+        std::ofstream out(file);
+        out << "#VRML V2.0 utf8\nViewpoint { position 0 0 40 }\n";
+        for (int i = 0; i < 3000; ++i)
+            out << "Transform {\n translation " << i % 17 << " " << i % 13 << " " << i * 0.01
+                << "\n children [\n  Shape {\n   appearance Appearance {\n    material Material "
+                   "{ diffuseColor 0.5 0.5 0.5 }\n   }\n   geometry Sphere { radius 0.3 }\n  }\n "
+                   "]\n}\n";
+    }
+    const LoadedScene one = load_with_pieces(file, 0);
+    const LoadedScene many = load_with_pieces(file, 4096);
+    EXPECT_EQ(difference(one, many), "");
+    // ~500 KB in 4 KB pieces: all but the first are appended.
+    EXPECT_GT(many.stats.pieces, 100u);
+    fs::remove(file);
+}
+
+}  // namespace
+}  // namespace vr
