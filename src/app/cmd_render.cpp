@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/mpi_world.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "app/render_stats.h"
@@ -76,72 +77,69 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
     return j;
 }
 
-int run_render(const RenderCommand& cmd) {
-    auto t0 = std::chrono::steady_clock::now();
-    // Before anything is read or traced: a render whose file cannot be written is lost time.
-    const std::string output = output_path(cmd);
-    std::string error;
-    switch (check_output(output, cmd.options.alpha, error)) {
-        case OutputCheck::kOk:
-            break;
-        case OutputCheck::kNoAlpha:
-            std::cerr << "vrmlray: error: --alpha: " << error << "\n";
-            return kExitUsage;
-        case OutputCheck::kNotWritable:
-            std::cerr << "vrmlray: error: " << error << "\n";
-            return kExitOutput;
+std::vector<double> process_share(size_t tiles, const RenderStats& own, const RenderTimings& t,
+                                  double init_seconds, double gather_seconds) {
+    return {double(tiles),
+            double(own.primary_rays + own.shadow_rays + own.secondary_rays),
+            init_seconds,
+            t.parse,
+            t.scene,
+            own.build_seconds,
+            own.render_seconds,
+            gather_seconds};
+}
+
+nlohmann::ordered_json process_shares_json(const std::vector<double>& shares) {
+    constexpr size_t kFields = 8;  // process_share's
+    nlohmann::ordered_json all = nlohmann::ordered_json::array();
+    for (size_t at = 0; at + kFields <= shares.size(); at += kFields) {
+        const double* s = &shares[at];
+        nlohmann::ordered_json p;
+        p["rank"] = at / kFields;
+        p["tiles"] = uint64_t(s[0]);
+        p["rays"] = uint64_t(s[1]);  // exact: a double holds integers to 2^53
+        p["seconds"] = {{"mpi_init", s[2]}, {"parse", s[3]},  {"scene", s[4]},
+                        {"build", s[5]},    {"render", s[6]}, {"gather", s[7]}};
+        all.push_back(p);
     }
-    const auto t_load = std::chrono::steady_clock::now();
-    LoadedScene loaded;
-    if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
-    const double parse_seconds = seconds_since(t_load);
+    return all;
+}
 
-    auto t1 = std::chrono::steady_clock::now();
-    FlatScene flat;
-    FlattenStats flatten_stats;
-    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
-                           flatten_stats))
-        return kExitBadInput;
-    const double scene_seconds = seconds_since(t1);
+namespace {
 
-    if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
-    Camera camera;
-    if (!make_camera(flat, cmd.options, camera, error)) {
-        std::cerr << "vrmlray: error: " << error << "\n";
-        return kExitUsage;
-    }
-    const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
-    if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
-        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
-                     describe_camera(flat, cmd.options, camera).c_str());
-    if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
+// The exit code all processes agree on (the largest); rank 0 says so when another process failed
+// where it did not, since the failing process's own message may be far up the log.
+int agreed(const World& world, int code, const char* step) {
+    const int all = world.agree(code);
+    if (world.parallel() && world.root() && code == kExitOk && all != kExitOk)
+        std::fprintf(stderr, "vrmlray: error: another process failed while %s (exit %d)\n", step,
+                     all);
+    return all;
+}
 
-    // --timeout counts from the start of the command; loading is bounded by the reader's limits
-    // instead, so what is left of it goes to the tracer, which stops at its next tile.
-    RenderOptions options = cmd.options;
-    if (options.timeout > 0.0) {
-        options.timeout -= seconds_since(t0);
-        if (options.timeout <= 0.0) options.timeout = 1e-9;
-    }
-
-    // PNG and PPM files are 8-bit: the tracing threads encode their tiles straight into those
-    // bytes, and no float image (16 bytes a pixel, 33 MB at 1920x1080) is made.
-    ProgressBar bar(!cmd.common.quiet);
-    RenderStats stats;
-    const size_t sphere_count = flat.spheres.size();  // freed by the render
+// The pixels of a render: 8-bit (PNG and PPM: the tracing threads encode their tiles straight into
+// those bytes, and no float image, 16 bytes a pixel, 33 MB at 1920x1080, is made) or float.
+struct Pixels {
     Image image;
     Image8 image8;
-    image8.channels = native_8bit_channels(output, cmd.options.alpha);
+    size_t covered = 0;  // pixels where the scene, not only the background, is seen
+};
+
+// Traces this process's tiles into `px` (all of them in a world of one).
+void trace(FlatScene& flat, const Camera& camera, const RenderOptions& options,
+           const std::string& output, ProgressBar& bar, RenderStats& stats, Pixels& px) {
+    px.image8.channels = native_8bit_channels(output, options.alpha);
     auto progress = [&](double fraction, uint64_t rays) { bar.update(fraction, rays); };
-    std::atomic<size_t> covered{0};  // pixels where the scene, not only the background, is seen
+    std::atomic<size_t> covered{0};
     auto count_covered = [&](size_t n, const float* rgba) {
         size_t hit = 0;
         for (size_t k = 0; k < n; ++k) hit += rgba[4 * k + 3] > 0.0f;
         covered.fetch_add(hit, std::memory_order_relaxed);
     };
+    Image8& image8 = px.image8;
     if (image8.channels > 0) {
-        image8.width = cmd.options.width;
-        image8.height = cmd.options.height;
+        image8.width = options.width;
+        image8.height = options.height;
         resize_huge(image8.samples,
                     size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
         auto encode = [&](int x0, int y0, int x1, int y1, const float* rgba) {
@@ -149,23 +147,44 @@ int run_render(const RenderCommand& cmd) {
             count_covered(n * size_t(y1 - y0), rgba);
             for (int y = y0; y < y1; ++y, rgba += 4 * n)
                 encode_8bit(
-                    rgba, n, image8.channels, cmd.options.srgb,
+                    rgba, n, image8.channels, options.srgb,
                     &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
         };
         render_tiles(flat, camera, options, progress, stats, encode, &flat.spheres);
     } else {
-        image = render_image(flat, camera, options, progress, stats, &flat.spheres);
-        count_covered(size_t(image.width) * size_t(image.height), image.rgba.data());
+        px.image = render_image(flat, camera, options, progress, stats, &flat.spheres);
+        count_covered(size_t(px.image.width) * size_t(px.image.height), px.image.rgba.data());
     }
-    bar.finish();
-    if (stats.timed_out) {
-        std::fprintf(stderr,
-                     "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
-                     cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
-        return kExitBadInput;
-    }
+    px.covered = covered.load();
+}
 
-    if (empty_scene.empty() && covered.load() == 0) {
+// Many processes: rank 0 gets every tile, and every process the totals of the rays, of the
+// covered pixels and of the non-finite values, the longest render and whether any timed out.
+// Returns the seconds the gather took here.
+double combine(const World& world, const RenderOptions& options, RenderStats& stats, Pixels& px) {
+    if (!world.parallel()) return 0.0;
+    const auto start = std::chrono::steady_clock::now();
+    if (px.image8.channels > 0)
+        world.gather_tiles(px.image8.samples.data(), size_t(px.image8.channels), options.width,
+                           options.height);
+    else
+        world.gather_tiles(reinterpret_cast<uint8_t*>(px.image.rgba.data()), 4 * sizeof(float),
+                           options.width, options.height);
+    px.covered = size_t(world.sum(px.covered));
+    stats.primary_rays = world.sum(stats.primary_rays);
+    stats.shadow_rays = world.sum(stats.shadow_rays);
+    stats.secondary_rays = world.sum(stats.secondary_rays);
+    stats.nonfinite.shading = world.sum(stats.nonfinite.shading);
+    stats.nonfinite.gas = world.sum(stats.nonfinite.gas);
+    stats.nonfinite.light = world.sum(stats.nonfinite.light);
+    stats.timed_out = world.agree(stats.timed_out ? 1 : 0) != 0;
+    stats.render_seconds = world.max(stats.render_seconds);
+    return seconds_since(start);
+}
+
+void warn_after_render(const RenderCommand& cmd, const Camera& camera, const RenderStats& stats,
+                       size_t covered, bool empty_scene) {
+    if (!empty_scene && covered == 0) {
         const Vec3 at = camera.position + Vec3(0.0),
                    fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
         char where[160];
@@ -179,7 +198,6 @@ int run_render(const RenderCommand& cmd) {
                 where + "; --fit frames the scene)",
             cmd.common.quiet);
     }
-
     // The tracer replaced these by 0 so that no file holds NaN; each one is a bug to report.
     const NonFiniteCounts& bad = stats.nonfinite;
     if (bad.total() > 0)
@@ -189,18 +207,130 @@ int run_render(const RenderCommand& cmd) {
                      cmd.scene.c_str(), (unsigned long long)bad.total(),
                      (unsigned long long)bad.shading, (unsigned long long)bad.gas,
                      (unsigned long long)bad.light);
+}
 
-    auto t3 = std::chrono::steady_clock::now();
-    const bool written =
-        image8.channels > 0
-            ? write_image8(output, image8, cmd.options.srgb, error)
-            : write_image(output, image, {cmd.options.srgb, cmd.options.alpha}, error);
-    if (!written) {
-        std::cerr << "vrmlray: error: " << error << "\n";
+int write_stats(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_count,
+                const RenderStats& stats, const RenderTimings& timings,
+                const std::vector<double>& shares) {
+    nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
+    if (!shares.empty()) j["processes"] = process_shares_json(shares);
+    std::ofstream out(cmd.stats_path);
+    // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
+    out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+    if (!out) {
+        std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
         return kExitOutput;
     }
-    const double write_seconds = seconds_since(t3);
-    const double total = seconds_since(t0);
+    return kExitOk;
+}
+
+// Checks the output, loads, builds and flattens the scene, makes the camera; the exit code all
+// processes agree on.
+int prepare(const RenderCommand& cmd, const World& world, const std::string& output,
+            LoadedScene& loaded, FlatScene& flat, FlattenStats& flatten_stats, Camera& camera,
+            RenderTimings& t) {
+    // Before anything is read or traced: a render whose file cannot be written is lost time.
+    // Only rank 0 writes, so only its file system counts.
+    std::string error;
+    int code = kExitOk;
+    switch (world.root() ? check_output(output, cmd.options.alpha, error) : OutputCheck::kOk) {
+        case OutputCheck::kOk:
+            break;
+        case OutputCheck::kNoAlpha:
+            std::cerr << "vrmlray: error: --alpha: " << error << "\n";
+            code = kExitUsage;
+            break;
+        case OutputCheck::kNotWritable:
+            std::cerr << "vrmlray: error: " << error << "\n";
+            code = kExitOutput;
+            break;
+    }
+    if ((code = agreed(world, code, "checking the output")) != kExitOk) return code;
+    const auto t_load = std::chrono::steady_clock::now();
+    code = load_and_report(cmd.scene, cmd.common, loaded) ? kExitOk : kExitBadInput;
+    t.parse = seconds_since(t_load);
+    if ((code = agreed(world, code, "reading the scene")) != kExitOk) return code;
+
+    const auto t_scene = std::chrono::steady_clock::now();
+    if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
+                           flatten_stats) ||
+        !check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) {
+        code = kExitBadInput;
+    } else if (!make_camera(flat, cmd.options, camera, error)) {
+        std::cerr << "vrmlray: error: " << error << "\n";
+        code = kExitUsage;
+    }
+    t.scene = seconds_since(t_scene);
+    return agreed(world, code, "building the scene");
+}
+
+}  // namespace
+
+int run_render(const RenderCommand& command) {
+    auto t0 = std::chrono::steady_clock::now();
+    const World& world = World::get();
+    RenderCommand cmd = command;
+    cmd.common.quiet = cmd.common.quiet || !world.root();  // warnings once, from rank 0
+    const std::string output = output_path(cmd);
+    LoadedScene loaded;
+    FlatScene flat;
+    FlattenStats flatten_stats;
+    Camera camera;
+    RenderTimings timings;
+    int code = prepare(cmd, world, output, loaded, flat, flatten_stats, camera, timings);
+    if (code != kExitOk) return code;
+
+    const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
+    if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
+        std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
+                     describe_camera(flat, cmd.options, camera).c_str());
+    if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
+
+    // --timeout counts from the start of the command; loading is bounded by the reader's limits
+    // instead, so what is left of it goes to the tracer, which stops at its next tile.
+    RenderOptions options = cmd.options;
+    if (options.timeout > 0.0) {
+        options.timeout -= seconds_since(t0);
+        if (options.timeout <= 0.0) options.timeout = 1e-9;
+    }
+    options.tile_stride = world.size();
+    options.tile_offset = world.rank();
+
+    ProgressBar bar(!cmd.common.quiet);
+    RenderStats stats;
+    const size_t sphere_count = flat.spheres.size();  // freed by the render
+    const size_t tiles = tiles_of(options).size();
+    Pixels px;
+    trace(flat, camera, options, output, bar, stats, px);
+    bar.finish();
+    const RenderStats own = stats;
+    const double gather_seconds = combine(world, options, stats, px);
+    const std::vector<double> shares =
+        world.parallel()
+            ? world.gather(process_share(tiles, own, timings, world.init_seconds(), gather_seconds))
+            : std::vector<double>();
+    if (stats.timed_out) {
+        if (world.root())
+            std::fprintf(stderr,
+                         "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
+                         cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
+        return kExitBadInput;
+    }
+    if (!world.root()) return agreed(world, kExitOk, "writing");
+    warn_after_render(cmd, camera, stats, px.covered, !empty_scene.empty());
+
+    auto t3 = std::chrono::steady_clock::now();
+    std::string error;
+    const bool written =
+        px.image8.channels > 0
+            ? write_image8(output, px.image8, cmd.options.srgb, error)
+            : write_image(output, px.image, {cmd.options.srgb, cmd.options.alpha}, error);
+    if (!written) {
+        std::cerr << "vrmlray: error: " << error << "\n";
+        return agreed(world, kExitOutput, "writing");
+    }
+    timings.write = seconds_since(t3);
+    timings.total = seconds_since(t0);
 
     if (!cmd.common.quiet) {
         std::fprintf(stderr,
@@ -209,21 +339,12 @@ int run_render(const RenderCommand& cmd) {
                      "render %.3fs (%.2f Mrays/s), total %.3fs -> %s\n",
                      cmd.scene.c_str(), cmd.options.width, cmd.options.height, sphere_count,
                      flat.quadrics.size(), flat.triangle_count() + flat.instanced_triangle_count(),
-                     parse_seconds, scene_seconds, stats.build_seconds, stats.render_seconds,
-                     stats.rays_per_second() * 1e-6, total, output.c_str());
+                     timings.parse, timings.scene, stats.build_seconds, stats.render_seconds,
+                     stats.rays_per_second() * 1e-6, timings.total, output.c_str());
     }
-    if (!cmd.stats_path.empty()) {
-        RenderTimings timings{parse_seconds, scene_seconds, write_seconds, total};
-        const nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
-        std::ofstream out(cmd.stats_path);
-        // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
-        out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
-        if (!out) {
-            std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
-            return kExitOutput;
-        }
-    }
-    return kExitOk;
+    if (!cmd.stats_path.empty())
+        code = write_stats(cmd, flat, sphere_count, stats, timings, shares);
+    return agreed(world, code, "writing");
 }
 
 }  // namespace vr

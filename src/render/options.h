@@ -36,6 +36,11 @@ struct RenderOptions {
     bool alpha = false;  // an alpha channel; the colour then leaves the background out (SPEC 9)
     uint64_t seed = 0;
     double min_weight = 1e-3;  // a path whose weight drops below this stops (SPEC section 5)
+    // Which tiles this process traces (many processes, SPEC section 14): those whose row-major
+    // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
+    // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles
+    // in every share, not all in one).
+    int tile_stride = 1, tile_offset = 0;
 };
 
 }  // namespace vr
