@@ -21,34 +21,6 @@ long env_count(const char* name) {
     return v != nullptr ? std::strtol(v, nullptr, 10) : 0;
 }
 
-// One process's tiles of a width x height image, each cut to the image, in increasing order.
-std::vector<TileRect> share_of(int rank, int ranks, int width, int height) {
-    RenderOptions o;
-    o.width = width;
-    o.height = height;
-    o.tile_stride = ranks;
-    o.tile_offset = rank;
-    std::vector<TileRect> rects;
-    for (int t : tiles_of(o)) rects.push_back(tile_rect(t, width, height));
-    return rects;
-}
-
-// Copies the share's rows between the image and a packed buffer (tile after tile, row by row).
-size_t packed_bytes(const std::vector<TileRect>& share, size_t pixel_bytes) {
-    size_t n = 0;
-    for (const TileRect& r : share) n += size_t(r.x1 - r.x0) * size_t(r.y1 - r.y0) * pixel_bytes;
-    return n;
-}
-template <class Copy>
-void for_each_row(const std::vector<TileRect>& share, uint8_t* pixels, size_t pixel_bytes,
-                  int width, uint8_t* packed, Copy copy) {
-    for (const TileRect& r : share) {
-        const size_t row = size_t(r.x1 - r.x0) * pixel_bytes;
-        for (int y = r.y0; y < r.y1; ++y, packed += row)
-            copy(pixels + (size_t(y) * size_t(width) + size_t(r.x0)) * pixel_bytes, packed, row);
-    }
-}
-
 }  // namespace
 
 bool launched_with_peers() {
@@ -61,6 +33,36 @@ bool launched_with_peers() {
 #ifdef VRMLRAY_MPI
 
 namespace {
+
+// One process's tiles of a width x height image, each cut to the image, in increasing order.
+std::vector<TileRect> share_of(int rank, int ranks, int width, int height) {
+    RenderOptions o;
+    o.width = width;
+    o.height = height;
+    o.tile_stride = ranks;
+    o.tile_offset = rank;
+    std::vector<TileRect> rects;
+    for (int t : tiles_of(o)) rects.push_back(tile_rect(t, width, height));
+    return rects;
+}
+
+// A share's pixels packed for one message: tile after tile, each row by row.
+size_t packed_bytes(const std::vector<TileRect>& share, size_t pixel_bytes) {
+    size_t n = 0;
+    for (const TileRect& r : share) n += size_t(r.x1 - r.x0) * size_t(r.y1 - r.y0) * pixel_bytes;
+    return n;
+}
+// copy(row in the image, the same row in the packed buffer, bytes), for each row in packing order.
+template <class Copy>
+void for_each_row(const std::vector<TileRect>& share, uint8_t* pixels, size_t pixel_bytes,
+                  int width, uint8_t* packed, Copy copy) {
+    for (const TileRect& r : share) {
+        const size_t row = size_t(r.x1 - r.x0) * pixel_bytes;
+        for (int y = r.y0; y < r.y1; ++y, packed += row)
+            copy(pixels + (size_t(y) * size_t(width) + size_t(r.x0)) * pixel_bytes, packed, row);
+    }
+}
+
 // Messages of one rank to rank 0 are cut to this (MPI counts are int).
 constexpr size_t kChunk = size_t(1) << 30;
 constexpr int kTileTag = 16;
