@@ -1,17 +1,16 @@
 #include "app/mpi_world.h"
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
-#include "render/options.h"
+#include "image/module_path.h"
+#include "mpi/mpi_abi.h"
 #include "render/render.h"
-
-#ifdef VRMLRAY_MPI
-#include <mpi.h>
-#endif
 
 namespace vr {
 namespace {
@@ -29,8 +28,6 @@ bool launched_with_peers() {
            (env_count("SLURM_NTASKS") > 1 &&
             (std::getenv("PMIX_RANK") != nullptr || std::getenv("PMI_RANK") != nullptr));
 }
-
-#ifdef VRMLRAY_MPI
 
 namespace {
 
@@ -63,100 +60,113 @@ void for_each_row(const std::vector<TileRect>& share, uint8_t* pixels, size_t pi
     }
 }
 
-// Messages of one rank to rank 0 are cut to this (MPI counts are int).
-constexpr size_t kChunk = size_t(1) << 30;
-constexpr int kTileTag = 16;
+// The module's functions (mpi_abi.h), bound once.
+struct Module {
+    VrMpiInitFn init = nullptr;
+    VrMpiFinalizeFn finalize = nullptr;
+    VrMpiMaxIntFn max_int = nullptr;
+    VrMpiSumU64Fn sum_u64 = nullptr;
+    VrMpiMaxDoubleFn max_double = nullptr;
+    VrMpiGatherDoublesFn gather_doubles = nullptr;
+    VrMpiSendFn send = nullptr;
+    VrMpiRecvFn recv = nullptr;
+};
+Module g_mpi;
 
-void finalize() {
-    int done = 0;
-    MPI_Finalized(&done);
-    if (!done) MPI_Finalize();
+template <typename Fn>
+bool bind(void* handle, const char* name, Fn& fn) {
+    fn = reinterpret_cast<Fn>(dlsym(handle, name));
+    return fn != nullptr;
 }
+
+#ifndef VRMLRAY_MPI_MODULE_PATH
+#define VRMLRAY_MPI_MODULE_PATH ""
+#endif
+
+// Loads vrmlray_mpi.so; "" when it is bound, else why not. RTLD_GLOBAL: Open MPI's own plugins,
+// which it dlopens in turn, resolve their symbols against libmpi.
+std::string load_module() {
+    std::string why = "built without MPI (VRMLRAY_MPI=OFF)";
+    for (const std::string& path : module_candidates("vrmlray_mpi.so", VRMLRAY_MPI_MODULE_PATH)) {
+        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);
+        if (handle == nullptr) {
+            const char* e = dlerror();
+            why = e != nullptr ? e : path + ": cannot be loaded";  // dlerror names the file
+            continue;
+        }
+        VrMpiAbiVersionFn version = nullptr;
+        Module m;
+        if (bind(handle, "vrmlray_mpi_abi_version", version) &&
+            version() == VRMLRAY_MPI_ABI_VERSION && bind(handle, "vrmlray_mpi_init", m.init) &&
+            bind(handle, "vrmlray_mpi_finalize", m.finalize) &&
+            bind(handle, "vrmlray_mpi_max_int", m.max_int) &&
+            bind(handle, "vrmlray_mpi_sum_u64", m.sum_u64) &&
+            bind(handle, "vrmlray_mpi_max_double", m.max_double) &&
+            bind(handle, "vrmlray_mpi_gather_doubles", m.gather_doubles) &&
+            bind(handle, "vrmlray_mpi_send", m.send) && bind(handle, "vrmlray_mpi_recv", m.recv)) {
+            g_mpi = m;
+            return "";
+        }
+        why = path + ": not vrmlray's MPI module of interface version " +
+              std::to_string(VRMLRAY_MPI_ABI_VERSION);
+    }
+    return why;
+}
+
+void finalize() { g_mpi.finalize(); }
+
 }  // namespace
 
 World::World() {
     if (!launched_with_peers()) return;
     const auto start = std::chrono::steady_clock::now();
-    int provided = 0;
-    // Only the main thread calls MPI; the tracing threads never do.
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    const std::string why = load_module();
+    if (!why.empty()) {
+        // N processes that each render the whole image: what a build without MPI does.
+        if (env_count("OMPI_COMM_WORLD_RANK") + env_count("PMI_RANK") == 0)
+            std::fprintf(stderr,
+                         "vrmlray: warning: started by an MPI launcher, but MPI is not available "
+                         "(%s): every process renders the whole image alone\n",
+                         why.c_str());
+        return;
+    }
+    g_mpi.init(&rank_, &size_);
     std::atexit(finalize);
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_);
     init_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-int World::agree(int code) const {
-    if (!parallel()) return code;
-    MPI_Allreduce(MPI_IN_PLACE, &code, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    return code;
-}
+int World::agree(int code) const { return parallel() ? g_mpi.max_int(code) : code; }
 
-uint64_t World::sum(uint64_t value) const {
-    if (!parallel()) return value;
-    MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    return value;
-}
+uint64_t World::sum(uint64_t value) const { return parallel() ? g_mpi.sum_u64(value) : value; }
 
-double World::max(double value) const {
-    if (!parallel()) return value;
-    MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-    return value;
-}
+double World::max(double value) const { return parallel() ? g_mpi.max_double(value) : value; }
 
 std::vector<double> World::gather(const std::vector<double>& mine) const {
     if (!parallel()) return mine;
     std::vector<double> all(root() ? mine.size() * size_t(size_) : 0);
-    MPI_Gather(mine.data(), int(mine.size()), MPI_DOUBLE, all.data(), int(mine.size()), MPI_DOUBLE,
-               0, MPI_COMM_WORLD);
+    g_mpi.gather_doubles(mine.data(), int(mine.size()), all.data());
     return all;
 }
 
 void World::gather_tiles(uint8_t* pixels, size_t pixel_bytes, int width, int height) const {
     if (!parallel()) return;
-    auto transfer = [&](uint8_t* data, size_t bytes, int peer) {
-        for (size_t at = 0; at < bytes; at += kChunk) {
-            const int n = int(std::min(kChunk, bytes - at));
-            if (root())
-                MPI_Recv(data + at, n, MPI_BYTE, peer, kTileTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            else
-                MPI_Send(data + at, n, MPI_BYTE, 0, kTileTag, MPI_COMM_WORLD);
-        }
-    };
     std::vector<uint8_t> packed;
     if (!root()) {
         const std::vector<TileRect> share = share_of(rank_, size_, width, height);
         packed.resize(packed_bytes(share, pixel_bytes));
         for_each_row(share, pixels, pixel_bytes, width, packed.data(),
                      [](uint8_t* image, uint8_t* p, size_t n) { std::memcpy(p, image, n); });
-        transfer(packed.data(), packed.size(), 0);
+        g_mpi.send(packed.data(), packed.size(), 0);
         return;
     }
     for (int peer = 1; peer < size_; ++peer) {
         const std::vector<TileRect> share = share_of(peer, size_, width, height);
         packed.resize(packed_bytes(share, pixel_bytes));
-        transfer(packed.data(), packed.size(), peer);
+        g_mpi.recv(packed.data(), packed.size(), peer);
         for_each_row(share, pixels, pixel_bytes, width, packed.data(),
                      [](uint8_t* image, uint8_t* p, size_t n) { std::memcpy(image, p, n); });
     }
 }
-
-#else  // a world of one: every collective is the identity
-
-World::World() {
-    // mpirun -np N of a binary built without MPI: N processes that each render the whole image.
-    if (launched_with_peers() && env_count("OMPI_COMM_WORLD_RANK") + env_count("PMI_RANK") == 0)
-        std::fprintf(stderr,
-                     "vrmlray: warning: started by an MPI launcher, but built without MPI: every "
-                     "process renders the whole image alone\n");
-}
-int World::agree(int code) const { return code; }
-uint64_t World::sum(uint64_t value) const { return value; }
-double World::max(double value) const { return value; }
-std::vector<double> World::gather(const std::vector<double>& mine) const { return mine; }
-void World::gather_tiles(uint8_t*, size_t, int, int) const {}
-
-#endif
 
 World& World::get() {
     static World world;
