@@ -37,6 +37,7 @@ same checkerboard_texture png "$seeds/000_scene3_checkerboard.wrl" -W 96 -H 80
 same bubbles_jitter png "$seeds/000_scene1_glass_bubbles.wrl" -W 80 -H 60 --sampler jitter --spp 4 --seed 5
 same bubbles_statistical png "$seeds/000_scene1_glass_bubbles.wrl" -W 80 -H 60 --sampler statistical --spp 32
 same bubbles_adaptive png "$seeds/000_scene1_glass_bubbles.wrl" -W 80 -H 60 --sampler adaptive
+same one_tile png "$seeds/001_sphere.wrl" -W 16 -H 16  # one tile: two of the three processes have none
 same mirrors_quincunx ppm "$seeds/000_scene4_mirror_spheres.wrl" -W 80 -H 60 --sampler quincunx
 if [ -d "$corpus" ]; then
     same pymol_gas png "$corpus/molecular/pymol/pept_spheres.wrl" -W 120 -H 90 --spheres gas --density 0.03
