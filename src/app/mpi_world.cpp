@@ -79,14 +79,17 @@ bool bind(void* handle, const char* name, Fn& fn) {
     return fn != nullptr;
 }
 
+// Defined by the build when it makes the module (VRMLRAY_MPI on).
 #ifndef VRMLRAY_MPI_MODULE_PATH
 #define VRMLRAY_MPI_MODULE_PATH ""
 #endif
+constexpr bool kBuiltWithMpi = sizeof(VRMLRAY_MPI_MODULE_PATH) > 1;
 
 // Loads vrmlray_mpi.so; "" when it is bound, else why not. RTLD_GLOBAL: Open MPI's own plugins,
 // which it dlopens in turn, resolve their symbols against libmpi.
 std::string load_module() {
     std::string why = "built without MPI (VRMLRAY_MPI=OFF)";
+    if (!kBuiltWithMpi) return why;
     for (const std::string& path : module_candidates("vrmlray_mpi.so", VRMLRAY_MPI_MODULE_PATH)) {
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);
         if (handle == nullptr) {
