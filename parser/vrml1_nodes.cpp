@@ -249,7 +249,7 @@ void Upgrader::warn(uint32_t id, std::string message, const std::string& cause) 
 StateKey Upgrader::key(uint32_t id, const State& s) const {
     StateKey k;
     k.node = id;
-    k.props = {s.material,          s.coords,     s.normals, s.texcoords, s.texture,
+    k.props = {s.material,          s.coords,      s.normals,   s.texcoords, s.texture,
                s.texture_transform, s.shape_hints, s.font_style};
     k.material_binding = static_cast<uint8_t>(s.material_binding);
     k.normal_binding = static_cast<uint8_t>(s.normal_binding);

@@ -20,9 +20,9 @@
 #include <optional>
 #include <sstream>
 
+#include "anim/animator.h"
 #include "app/cli.h"
 #include "app/commands.h"
-#include "anim/animator.h"
 #include "app/pipeline.h"
 #include "flatten/flatten.h"
 #include "image/compare.h"
@@ -405,9 +405,9 @@ Image trace(const SceneData& s, const CommandLine& cmd, const ProgressFn& progre
         at_time = build_scene(s.loaded, diagnostics);
         scene = &at_time;
     }
-    FlatScene flat = flatten_scene(
-        *scene, flatten_options(s.loaded, rc.options, rc.recover_spheres, cmd.common), diagnostics,
-        fs);
+    FlatScene flat =
+        flatten_scene(*scene, flatten_options(s.loaded, rc.options, rc.recover_spheres, cmd.common),
+                      diagnostics, fs);
     if (diagnostics.has_errors()) {
         std::vector<DiagnosticRow> rows;
         for (const Diagnostic& d : diagnostics.all()) rows.push_back(row_of(d, s.loaded.sources));

@@ -4,6 +4,9 @@
 include(GNUInstallDirs)
 install(TARGETS vrmlray RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS vrmlray_oiio vrmlray_exr LIBRARY DESTINATION lib/vrmlray)
+if(VRMLRAY_MPI)
+    install(TARGETS vrmlray_mpi LIBRARY DESTINATION lib/vrmlray)
+endif()
 install(FILES ${CMAKE_SOURCE_DIR}/tools/completion/vrmlray.bash
         DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions RENAME vrmlray)
 

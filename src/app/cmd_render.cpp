@@ -10,6 +10,7 @@
 
 #include "anim/animator.h"
 #include "app/commands.h"
+#include "app/mpi_world.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "app/render_stats.h"
@@ -40,11 +41,6 @@ std::string output_path(const RenderCommand& cmd) {
 }
 
 }  // namespace
-
-int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
-                 const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
-                 const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
-                 std::chrono::steady_clock::time_point frame_t0, RenderTimings timings);
 
 nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
                                          size_t sphere_count, const RenderStats& stats,
@@ -92,7 +88,154 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
     return j;
 }
 
+std::vector<double> process_share(size_t tiles, const RenderStats& own, const RenderTimings& t,
+                                  double init_seconds, double gather_seconds) {
+    return {double(tiles),
+            double(own.primary_rays + own.shadow_rays + own.secondary_rays),
+            init_seconds,
+            t.parse,
+            t.scene,
+            own.build_seconds,
+            own.render_seconds,
+            gather_seconds};
+}
+
+nlohmann::ordered_json process_shares_json(const std::vector<double>& shares) {
+    constexpr size_t kFields = 8;  // process_share's
+    nlohmann::ordered_json all = nlohmann::ordered_json::array();
+    for (size_t at = 0; at + kFields <= shares.size(); at += kFields) {
+        const double* s = &shares[at];
+        nlohmann::ordered_json p;
+        p["rank"] = at / kFields;
+        p["tiles"] = uint64_t(s[0]);
+        p["rays"] = uint64_t(s[1]);  // exact: a double holds integers to 2^53
+        p["seconds"] = {{"mpi_init", s[2]}, {"parse", s[3]},  {"scene", s[4]},
+                        {"build", s[5]},    {"render", s[6]}, {"gather", s[7]}};
+        all.push_back(p);
+    }
+    return all;
+}
+
 namespace {
+
+// The exit code all processes agree on (the largest); rank 0 says so when another process failed
+// where it did not, since the failing process's own message may be far up the log.
+int agreed(const World& world, int code, const char* step) {
+    const int all = world.agree(code);
+    if (world.parallel() && world.root() && code == kExitOk && all != kExitOk)
+        std::fprintf(stderr, "vrmlray: error: another process failed while %s (exit %d)\n", step,
+                     all);
+    return all;
+}
+
+// The pixels of a render: 8-bit (PNG and PPM: the tracing threads encode their tiles straight into
+// those bytes, and no float image, 16 bytes a pixel, 33 MB at 1920x1080, is made) or float.
+struct Pixels {
+    Image image;
+    Image8 image8;
+    size_t covered = 0;  // pixels where the scene, not only the background, is seen
+};
+
+// Traces this process's tiles into `px` (all of them in a world of one).
+void trace(FlatScene& flat, const Camera& camera, const RenderOptions& options,
+           const std::string& output, bool free_spheres, ProgressBar& bar, RenderStats& stats,
+           Pixels& px) {
+    std::vector<Sphere>* spheres = free_spheres ? &flat.spheres : nullptr;
+    px.image8.channels = native_8bit_channels(output, options.alpha);
+    auto progress = [&](double fraction, uint64_t rays) { bar.update(fraction, rays); };
+    std::atomic<size_t> covered{0};
+    auto count_covered = [&](size_t n, const float* rgba) {
+        size_t hit = 0;
+        for (size_t k = 0; k < n; ++k) hit += rgba[4 * k + 3] > 0.0f;
+        covered.fetch_add(hit, std::memory_order_relaxed);
+    };
+    Image8& image8 = px.image8;
+    if (image8.channels > 0) {
+        image8.width = options.width;
+        image8.height = options.height;
+        resize_huge(image8.samples,
+                    size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
+        auto encode = [&](int x0, int y0, int x1, int y1, const float* rgba) {
+            const size_t n = size_t(x1 - x0), channels = size_t(image8.channels);
+            count_covered(n * size_t(y1 - y0), rgba);
+            for (int y = y0; y < y1; ++y, rgba += 4 * n)
+                encode_8bit(
+                    rgba, n, image8.channels, options.srgb,
+                    &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
+        };
+        render_tiles(flat, camera, options, progress, stats, encode, spheres);
+    } else {
+        px.image = render_image(flat, camera, options, progress, stats, spheres);
+        count_covered(size_t(px.image.width) * size_t(px.image.height), px.image.rgba.data());
+    }
+    px.covered = covered.load();
+}
+
+// Many processes: rank 0 gets every tile, and every process the totals of the rays, of the
+// covered pixels and of the non-finite values, the longest render and whether any timed out.
+// Returns the seconds the gather took here.
+double combine(const World& world, const RenderOptions& options, RenderStats& stats, Pixels& px) {
+    if (!world.parallel()) return 0.0;
+    const auto start = std::chrono::steady_clock::now();
+    if (px.image8.channels > 0)
+        world.gather_tiles(px.image8.samples.data(), size_t(px.image8.channels), options.width,
+                           options.height);
+    else
+        world.gather_tiles(reinterpret_cast<uint8_t*>(px.image.rgba.data()), 4 * sizeof(float),
+                           options.width, options.height);
+    px.covered = size_t(world.sum(px.covered));
+    stats.primary_rays = world.sum(stats.primary_rays);
+    stats.shadow_rays = world.sum(stats.shadow_rays);
+    stats.secondary_rays = world.sum(stats.secondary_rays);
+    stats.nonfinite.shading = world.sum(stats.nonfinite.shading);
+    stats.nonfinite.gas = world.sum(stats.nonfinite.gas);
+    stats.nonfinite.light = world.sum(stats.nonfinite.light);
+    stats.timed_out = world.agree(stats.timed_out ? 1 : 0) != 0;
+    stats.render_seconds = world.max(stats.render_seconds);
+    return seconds_since(start);
+}
+
+void warn_after_render(const RenderCommand& cmd, const Camera& camera, const RenderStats& stats,
+                       size_t covered, bool empty_scene) {
+    if (!empty_scene && covered == 0) {
+        const Vec3 at = camera.position + Vec3(0.0),
+                   fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
+        char where[160];
+        std::snprintf(where, sizeof where, "camera at (%g %g %g) looking along (%g %g %g)", at.x,
+                      at.y, at.z, fwd.x, fwd.y, fwd.z);
+        report_warning(
+            cmd.scene,
+            std::string(
+                "nothing of the scene is in view, the image shows only the background: every "
+                "primary ray missed (") +
+                where + "; --fit frames the scene)",
+            cmd.common.quiet);
+    }
+    // The tracer replaced these by 0 so that no file holds NaN; each one is a bug to report.
+    const NonFiniteCounts& bad = stats.nonfinite;
+    if (bad.total() > 0)
+        std::fprintf(stderr,
+                     "%s: warning: %llu non-finite values replaced by 0 (shading %llu, gas %llu, "
+                     "light terms %llu)\n",
+                     cmd.scene.c_str(), (unsigned long long)bad.total(),
+                     (unsigned long long)bad.shading, (unsigned long long)bad.gas,
+                     (unsigned long long)bad.light);
+}
+
+int write_stats(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_count,
+                const RenderStats& stats, const RenderTimings& timings,
+                const std::vector<double>& shares) {
+    nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
+    if (!shares.empty()) j["processes"] = process_shares_json(shares);
+    std::ofstream out(cmd.stats_path);
+    // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
+    out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+    if (!out) {
+        std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
+        return kExitOutput;
+    }
+    return kExitOk;
+}
 
 // The path of frame k: OUT with its printf pattern (%d, %04d, ...) filled in; OUT as it is when it
 // has none. `pattern_error` says what is wrong with a pattern ("" when it is fine).
@@ -132,94 +275,22 @@ std::string frame_path(const std::string& out, int k, bool& has_pattern,
     return result;
 }
 
-}  // namespace
-
-int run_render(const RenderCommand& cmd) {
-    auto t0 = std::chrono::steady_clock::now();
-    // Before anything is read or traced: a render whose file cannot be written is lost time.
-    const std::string output = output_path(cmd);
-    bool has_pattern = false;
-    std::string error;
-    const std::string first_output = frame_path(output, 0, has_pattern, error);
-    if (!error.empty() || (cmd.frames > 1 && !has_pattern)) {
-        std::cerr << "vrmlray: error: "
-                  << (error.empty() ? "--frames " + std::to_string(cmd.frames) + " needs -o " +
-                                          "with a frame number pattern, e.g. -o frame_%04d.png"
-                                    : error)
-                  << "\n";
-        return kExitUsage;
-    }
-    if (!(cmd.fps > 0.0) || !std::isfinite(cmd.time)) {
-        std::cerr << "vrmlray: error: --fps must be positive and --time finite\n";
-        return kExitUsage;
-    }
-    switch (check_output(first_output, cmd.options.alpha, error)) {
-        case OutputCheck::kOk:
-            break;
-        case OutputCheck::kNoAlpha:
-            std::cerr << "vrmlray: error: --alpha: " << error << "\n";
-            return kExitUsage;
-        case OutputCheck::kNotWritable:
-            std::cerr << "vrmlray: error: " << error << "\n";
-            return kExitOutput;
-    }
-    const auto t_load = std::chrono::steady_clock::now();
-    LoadedScene loaded;
-    if (!load_and_report(cmd.scene, cmd.common, loaded)) return kExitBadInput;
-    Diagnostics anim_diagnostics;
-    Animator animator(loaded.tree, anim_diagnostics);
-    print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);
-    if (anim_diagnostics.has_errors()) return kExitBadInput;
-    const double parse_seconds = seconds_since(t_load);
-    const double peak_parse_mb = peak_memory_mb();
-
-    FlatScene flat;
-    FlattenStats flatten_stats;
-    double scene_seconds = 0.0, peak_scene_mb = 0.0;
-    for (int k = 0; k < cmd.frames; ++k) {
-        // Each frame's line of timings covers that frame: the first one's the reading too.
-        const auto frame_t0 = k == 0 ? t0 : std::chrono::steady_clock::now();
-        const double time = cmd.time + double(k) / cmd.fps;
-        const bool changed = animator.evaluate(time);
-        scene_seconds = 0.0;
-        if (k == 0 || changed) {
-            auto t1 = std::chrono::steady_clock::now();
-            flat = FlatScene{};
-            // The tree stays while later frames may change it; otherwise its memory goes.
-            const bool keep_tree = animator.animated() && k + 1 < cmd.frames;
-            if (!build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
-                                   flatten_stats, keep_tree))
-                return kExitBadInput;
-            scene_seconds = seconds_since(t1);
-            if (k == 0) peak_scene_mb = peak_memory_mb();
-        }
-        RenderOptions options = cmd.options;
-        if (cmd.orbit_degrees)
-            options.orbit_angle = double(k) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
-        bool unused = false;
-        const std::string path = frame_path(output, k, unused, error);
-        const bool last = k + 1 == cmd.frames;
-        const int code =
-            render_frame(cmd, options, loaded, flat, flatten_stats, path, last, t0, frame_t0,
-                         {k == 0 ? parse_seconds : 0.0, scene_seconds, 0.0, 0.0, peak_parse_mb,
-                          peak_scene_mb});
-        if (code != kExitOk) return code;
-    }
-    return kExitOk;
-}
-
-int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
+// One frame: camera, this process's tiles, the gather to rank 0, which writes it (and, for the
+// last frame, the stats). The exit code all processes agree on.
+int render_frame(const RenderCommand& cmd, const World& world, const RenderOptions& frame_options,
                  const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
                  const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
                  std::chrono::steady_clock::time_point frame_t0, RenderTimings timings) {
-    const double parse_seconds = timings.parse, scene_seconds = timings.scene;
     std::string error;
-    if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
+    int code = kExitOk;
     Camera camera;
-    if (!make_camera(flat, frame_options, camera, error)) {
+    if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) {
+        code = kExitBadInput;
+    } else if (!make_camera(flat, frame_options, camera, error)) {
         std::cerr << "vrmlray: error: " << error << "\n";
-        return kExitUsage;
+        code = kExitUsage;
     }
+    if ((code = agreed(world, code, "making the camera")) != kExitOk) return code;
     if (frame_options.orbit_angle && !cmd.common.quiet) {
         // Full precision: these three options render this frame alone, bit for bit.
         const Vec3 &p = camera.position, &c = camera.orbit_centre, &u = camera.orbit_axis;
@@ -242,87 +313,43 @@ int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
         options.timeout -= seconds_since(t0);
         if (options.timeout <= 0.0) options.timeout = 1e-9;
     }
+    options.tile_stride = world.size();
+    options.tile_offset = world.rank();
 
-    // PNG and PPM files are 8-bit: the tracing threads encode their tiles straight into those
-    // bytes, and no float image (16 bytes a pixel, 33 MB at 1920x1080) is made.
     ProgressBar bar(!cmd.common.quiet);
     RenderStats stats;
-    const size_t sphere_count = flat.spheres.size();  // freed by the render
-    Image image;
-    Image8 image8;
-    image8.channels = native_8bit_channels(output, cmd.options.alpha);
-    auto progress = [&](double fraction, uint64_t rays) { bar.update(fraction, rays); };
-    std::atomic<size_t> covered{0};  // pixels where the scene, not only the background, is seen
-    auto count_covered = [&](size_t n, const float* rgba) {
-        size_t hit = 0;
-        for (size_t k = 0; k < n; ++k) hit += rgba[4 * k + 3] > 0.0f;
-        covered.fetch_add(hit, std::memory_order_relaxed);
-    };
-    if (image8.channels > 0) {
-        image8.width = cmd.options.width;
-        image8.height = cmd.options.height;
-        resize_huge(image8.samples,
-                    size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
-        auto encode = [&](int x0, int y0, int x1, int y1, const float* rgba) {
-            const size_t n = size_t(x1 - x0), channels = size_t(image8.channels);
-            count_covered(n * size_t(y1 - y0), rgba);
-            for (int y = y0; y < y1; ++y, rgba += 4 * n)
-                encode_8bit(
-                    rgba, n, image8.channels, cmd.options.srgb,
-                    &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
-        };
-        render_tiles(flat, camera, options, progress, stats, encode,
-                     last ? &flat.spheres : nullptr);
-    } else {
-        image =
-            render_image(flat, camera, options, progress, stats, last ? &flat.spheres : nullptr);
-        count_covered(size_t(image.width) * size_t(image.height), image.rgba.data());
-    }
+    const size_t sphere_count = flat.spheres.size();  // freed by the last frame's render
+    const size_t tiles = tiles_of(options).size();
+    Pixels px;
+    trace(flat, camera, options, output, last, bar, stats, px);
     bar.finish();
+    const RenderStats own = stats;
+    const double gather_seconds = combine(world, options, stats, px);
+    const std::vector<double> shares =
+        world.parallel()
+            ? world.gather(process_share(tiles, own, timings, world.init_seconds(), gather_seconds))
+            : std::vector<double>();
     if (stats.timed_out) {
-        std::fprintf(stderr,
-                     "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
-                     cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
+        if (world.root())
+            std::fprintf(stderr,
+                         "%s: error: the render passed --timeout %g s (%.1f s); no image written\n",
+                         cmd.scene.c_str(), cmd.options.timeout, seconds_since(t0));
         return kExitBadInput;
     }
-
-    if (empty_scene.empty() && covered.load() == 0) {
-        const Vec3 at = camera.position + Vec3(0.0),
-                   fwd = camera.forward() + Vec3(0.0);  // + 0: no "-0"
-        char where[160];
-        std::snprintf(where, sizeof where, "camera at (%g %g %g) looking along (%g %g %g)", at.x,
-                      at.y, at.z, fwd.x, fwd.y, fwd.z);
-        report_warning(
-            cmd.scene,
-            std::string(
-                "nothing of the scene is in view, the image shows only the background: every "
-                "primary ray missed (") +
-                where + "; --fit frames the scene)",
-            cmd.common.quiet);
-    }
-
-    // The tracer replaced these by 0 so that no file holds NaN; each one is a bug to report.
-    const NonFiniteCounts& bad = stats.nonfinite;
-    if (bad.total() > 0)
-        std::fprintf(stderr,
-                     "%s: warning: %llu non-finite values replaced by 0 (shading %llu, gas %llu, "
-                     "light terms %llu)\n",
-                     cmd.scene.c_str(), (unsigned long long)bad.total(),
-                     (unsigned long long)bad.shading, (unsigned long long)bad.gas,
-                     (unsigned long long)bad.light);
+    if (!world.root()) return agreed(world, kExitOk, "writing");
+    warn_after_render(cmd, camera, stats, px.covered, !empty_scene.empty());
 
     auto t3 = std::chrono::steady_clock::now();
     const bool written =
-        image8.channels > 0
-            ? write_image8(output, image8, cmd.options.srgb, error)
-            : write_image(output, image, {cmd.options.srgb, cmd.options.alpha}, error);
+        px.image8.channels > 0
+            ? write_image8(output, px.image8, cmd.options.srgb, error)
+            : write_image(output, px.image, {cmd.options.srgb, cmd.options.alpha}, error);
     if (!written) {
         std::cerr << "vrmlray: error: " << error << "\n";
-        return kExitOutput;
+        return agreed(world, kExitOutput, "writing");
     }
-    const double write_seconds = seconds_since(t3);
-    const double total = seconds_since(frame_t0);
-
+    timings.write = seconds_since(t3);
+    timings.total = seconds_since(frame_t0);
     if (!cmd.common.quiet) {
         std::fprintf(stderr,
                      "%s: %dx%d, %zu spheres, %zu quadrics, %zu triangles; parse %.3fs, scene "
@@ -330,20 +357,107 @@ int render_frame(const RenderCommand& cmd, const RenderOptions& frame_options,
                      "render %.3fs (%.2f Mrays/s), total %.3fs -> %s\n",
                      cmd.scene.c_str(), cmd.options.width, cmd.options.height, sphere_count,
                      flat.quadrics.size(), flat.triangle_count() + flat.instanced_triangle_count(),
-                     parse_seconds, scene_seconds, stats.build_seconds, stats.render_seconds,
-                     stats.rays_per_second() * 1e-6, total, output.c_str());
+                     timings.parse, timings.scene, stats.build_seconds, stats.render_seconds,
+                     stats.rays_per_second() * 1e-6, timings.total, output.c_str());
     }
-    if (!cmd.stats_path.empty()) {
-        timings.write = write_seconds;
-        timings.total = total;
-        const nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
-        std::ofstream out(cmd.stats_path);
-        // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
-        out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
-        if (!out) {
-            std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
-            return kExitOutput;
+    if (!cmd.stats_path.empty())
+        code = write_stats(cmd, flat, sphere_count, stats, timings, shares);
+    return agreed(world, code, "writing");
+}
+
+// Checks the frame pattern and the output, loads the scene and checks its ROUTEs; the exit code
+// all processes agree on.
+int prepare(const RenderCommand& cmd, const World& world, const std::string& output,
+            LoadedScene& loaded, double& parse_seconds) {
+    bool has_pattern = false;
+    std::string error;
+    const std::string first_output = frame_path(output, 0, has_pattern, error);
+    if (!error.empty() || (cmd.frames > 1 && !has_pattern)) {
+        std::cerr << "vrmlray: error: "
+                  << (error.empty() ? "--frames " + std::to_string(cmd.frames) + " needs -o " +
+                                          "with a frame number pattern, e.g. -o frame_%04d.png"
+                                    : error)
+                  << "\n";
+        return kExitUsage;  // the same words on every process: no need to agree
+    }
+    if (!(cmd.fps > 0.0) || !std::isfinite(cmd.time)) {
+        std::cerr << "vrmlray: error: --fps must be positive and --time finite\n";
+        return kExitUsage;
+    }
+    // Before anything is read or traced: a render whose file cannot be written is lost time.
+    // Only rank 0 writes, so only its file system counts.
+    int code = kExitOk;
+    switch (world.root() ? check_output(first_output, cmd.options.alpha, error)
+                         : OutputCheck::kOk) {
+        case OutputCheck::kOk:
+            break;
+        case OutputCheck::kNoAlpha:
+            std::cerr << "vrmlray: error: --alpha: " << error << "\n";
+            code = kExitUsage;
+            break;
+        case OutputCheck::kNotWritable:
+            std::cerr << "vrmlray: error: " << error << "\n";
+            code = kExitOutput;
+            break;
+    }
+    if ((code = agreed(world, code, "checking the output")) != kExitOk) return code;
+    const auto t_load = std::chrono::steady_clock::now();
+    code = load_and_report(cmd.scene, cmd.common, loaded) ? kExitOk : kExitBadInput;
+    parse_seconds = seconds_since(t_load);
+    return agreed(world, code, "reading the scene");
+}
+
+}  // namespace
+
+int run_render(const RenderCommand& command) {
+    auto t0 = std::chrono::steady_clock::now();
+    const World& world = World::get();
+    RenderCommand cmd = command;
+    cmd.common.quiet = cmd.common.quiet || !world.root();  // warnings once, from rank 0
+    const std::string output = output_path(cmd);
+    LoadedScene loaded;
+    RenderTimings timings;
+    int code = prepare(cmd, world, output, loaded, timings.parse);
+    if (code != kExitOk) return code;
+    Diagnostics anim_diagnostics;
+    Animator animator(loaded.tree, anim_diagnostics);
+    print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);
+    code = anim_diagnostics.has_errors() ? kExitBadInput : kExitOk;
+    if ((code = agreed(world, code, "checking the ROUTEs")) != kExitOk) return code;
+    timings.peak_parse_mb = peak_memory_mb();
+
+    FlatScene flat;
+    FlattenStats flatten_stats;
+    for (int k = 0; k < cmd.frames; ++k) {
+        // Each frame's line of timings covers that frame: the first one's the reading too.
+        const auto frame_t0 = k == 0 ? t0 : std::chrono::steady_clock::now();
+        const double time = cmd.time + double(k) / cmd.fps;
+        const bool changed = animator.evaluate(time);
+        RenderTimings frame = timings;
+        frame.parse = k == 0 ? timings.parse : 0.0;
+        frame.scene = 0.0;
+        if (k == 0 || changed) {
+            auto t1 = std::chrono::steady_clock::now();
+            flat = FlatScene{};
+            // The tree stays while later frames may change it; otherwise its memory goes.
+            const bool keep_tree = animator.animated() && k + 1 < cmd.frames;
+            code = build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
+                                     flatten_stats, keep_tree)
+                       ? kExitOk
+                       : kExitBadInput;
+            if ((code = agreed(world, code, "building the scene")) != kExitOk) return code;
+            frame.scene = seconds_since(t1);
+            if (k == 0) timings.peak_scene_mb = frame.peak_scene_mb = peak_memory_mb();
         }
+        RenderOptions options = cmd.options;
+        if (cmd.orbit_degrees)
+            options.orbit_angle = double(k) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
+        bool unused = false;
+        std::string error;
+        const std::string path = frame_path(output, k, unused, error);
+        code = render_frame(cmd, world, options, loaded, flat, flatten_stats, path,
+                            k + 1 == cmd.frames, t0, frame_t0, frame);
+        if (code != kExitOk) return code;
     }
     return kExitOk;
 }

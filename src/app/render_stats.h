@@ -1,6 +1,7 @@
 // render --stats: the JSON a render writes about itself (SPEC section 1, README "Statistics").
 #pragma once
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "app/commands.h"
 #include "render/flat_scene.h"
@@ -21,5 +22,15 @@ struct RenderTimings {
 nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatScene& flat,
                                          size_t sphere_count, const RenderStats& stats,
                                          const RenderTimings& timings);
+
+// One process's share of a render with many processes (SPEC section 14), as the doubles that
+// World::gather carries: tiles, rays (all kinds), then seconds of MPI's start-up, parse, scene,
+// build, render and gather (which includes waiting for the slowest process).
+std::vector<double> process_share(size_t tiles, const RenderStats& own,
+                                  const RenderTimings& timings, double init_seconds,
+                                  double gather_seconds);
+// --stats "processes": [{rank, tiles, rays, seconds{mpi_init parse scene build render gather}},
+// ...] from every process's process_share, one after the other in rank order.
+nlohmann::ordered_json process_shares_json(const std::vector<double>& shares);
 
 }  // namespace vr

@@ -52,6 +52,11 @@ struct RenderOptions {
     double light_tolerance = 1e-3;  // absolute error of A(p) and of each area light's visibility
     double aperture = 0.0;          // thin lens radius, scene units; 0: a pinhole
     double focus = 0.0;             // thin lens: distance of the plane in focus along the view
+    // Which tiles this process traces (many processes, SPEC section 14): those whose row-major
+    // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
+    // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles
+    // in every share, not all in one).
+    int tile_stride = 1, tile_offset = 0;
 };
 
 }  // namespace vr

@@ -17,8 +17,6 @@
 namespace vr {
 namespace {
 
-constexpr int kTileSize = 16;
-
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
@@ -57,6 +55,30 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
                                                              : size_t(all);
 }
 
+int tile_count(int width, int height) {
+    width = std::max(width, 0), height = std::max(height, 0);
+    return ((width + kTileSize - 1) / kTileSize) * ((height + kTileSize - 1) / kTileSize);
+}
+
+TileRect tile_rect(int tile, int width, int height) {
+    const int tiles_x = (std::max(width, 0) + kTileSize - 1) / kTileSize;
+    TileRect r;
+    r.x0 = (tile % tiles_x) * kTileSize;
+    r.y0 = (tile / tiles_x) * kTileSize;
+    r.x1 = std::min(r.x0 + kTileSize, width);
+    r.y1 = std::min(r.y0 + kTileSize, height);
+    return r;
+}
+
+std::vector<int> tiles_of(const RenderOptions& options) {
+    const int stride = std::max(options.tile_stride, 1);
+    std::vector<int> tiles;
+    for (int t = std::max(options.tile_offset, 0); t < tile_count(options.width, options.height);
+         t += stride)
+        tiles.push_back(t);
+    return tiles;
+}
+
 double RenderStats::rays_per_second() const {
     double rays = double(primary_rays + shadow_rays + secondary_rays);
     return render_seconds > 0.0 ? rays / render_seconds : 0.0;
@@ -91,9 +113,13 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const Integrator integrator(scene, accel, camera, options, &gas);
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
-    const int tiles_x = (width + kTileSize - 1) / kTileSize,
-              tiles_y = (height + kTileSize - 1) / kTileSize;
-    const int tile_count = tiles_x * tiles_y;
+    const std::vector<int> tiles = tiles_of(options);
+    const int tile_count = int(tiles.size());
+    if (tile_count == 0) {
+        stats.render_seconds = seconds_since(render_start);
+        if (progress) progress(1.0, 0);
+        return;
+    }
     threads = std::min(threads, tile_count);
 
     std::atomic<int> next_tile{0};
@@ -119,13 +145,13 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
         RayCounters& c = mine.rays;
         uint64_t& bad = c.nonfinite.shading;
         for (;;) {
-            const int tile = next_tile.fetch_add(1, std::memory_order_relaxed);
-            if (tile >= tile_count) break;
+            const int index = next_tile.fetch_add(1, std::memory_order_relaxed);
+            if (index >= tile_count) break;
             const uint64_t before = c.total();
             if (has_deadline && !stop.load(std::memory_order_relaxed) && Clock::now() > deadline)
                 stop.store(true, std::memory_order_relaxed);
-            const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
-            const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+            const TileRect r = tile_rect(tiles[size_t(index)], width, height);
+            const int x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
             std::vector<float>& pixels = mine.tile;
             pixels.resize(size_t(x1 - x0) * size_t(y1 - y0) * 4);
             if (stop.load(std::memory_order_relaxed)) {
@@ -194,8 +220,10 @@ Image render_image(const FlatScene& scene, const Camera& camera, const RenderOpt
                    const ProgressFn& progress, RenderStats& stats,
                    std::vector<Sphere>* spheres_to_free) {
     // Every pixel comes from a tile, so the image is not zero-filled first: its pages are first
-    // touched by the threads that trace them, in parallel.
-    Image image = Image::unfilled(std::max(options.width, 0), std::max(options.height, 0));
+    // touched by the threads that trace them, in parallel. Tiles left to other processes are
+    // zeros (a caller counts covered pixels over the whole image).
+    const int w = std::max(options.width, 0), h = std::max(options.height, 0);
+    Image image = options.tile_stride > 1 ? Image(w, h) : Image::unfilled(w, h);
     auto sink = [&](int x0, int y0, int x1, int y1, const float* rgba) {
         const size_t row = size_t(x1 - x0) * 4;
         for (int y = y0; y < y1; ++y, rgba += row) std::copy(rgba, rgba + row, image.pixel(x0, y));

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "render/camera.h"
@@ -36,6 +37,17 @@ using ProgressFn = std::function<void(double fraction_done, uint64_t rays_so_far
 
 // make_camera is declared in render/camera.h.
 
+// The image is traced in kTileSize x kTileSize tiles, numbered row by row; those of the right and
+// bottom edges are cut to the image.
+constexpr int kTileSize = 16;
+struct TileRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels [x0, x1) x [y0, y1)
+};
+int tile_count(int width, int height);
+TileRect tile_rect(int tile, int width, int height);
+// The tiles options.tile_stride/tile_offset give this process, in increasing order.
+std::vector<int> tiles_of(const RenderOptions& options);
+
 // What render_image and writing its result will allocate, about (within a few tens of percent): the
 // float image and its 8- or 16-bit copy for writing, the packed primitives, the BVH and its build's
 // temporaries, and the gas volume's copies. For refusing a render before it runs out of memory.
@@ -45,7 +57,8 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
 // options.threads threads (0: all cores) in 16x16 tiles. Deterministic for any thread count. Pixels
 // hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC
 // section 9); with options.alpha the colour leaves that background out (premultiplied); no NaN or
-// infinity ever reaches the image. With options.timeout > 0, tiles not begun when that many seconds
+// infinity ever reaches the image. Tiles that options.tile_stride/offset leave to other processes
+// hold zeros. With options.timeout > 0, tiles not begun when that many seconds
 // (counted from this call) have passed are skipped and stats.timed_out is set. `spheres_to_free`:
 // as for render_tiles below.
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,

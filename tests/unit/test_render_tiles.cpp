@@ -81,6 +81,61 @@ TEST(RenderTiles, EveryPixelOnceAndTheSameAsTheImage) {
     }
 }
 
+// mpirun -np N vrmlray render gives process r the tiles i with i % N == r (SPEC section 14): the
+// shares are disjoint, cover the image, and put together are the one-process image bit for bit, for
+// every sampler whose samples depend on random numbers or on neighbouring pixels (they are seeded
+// by pixel and sample index, never by the tile's order or thread), 3 processes with 2 and 1
+// threads.
+TEST(RenderTiles, InterleavedSharesPutTogetherAreTheOneProcessImage) {
+    const FlatScene scene = mixed_scene();
+    const std::pair<const char*, int> samplers[] = {
+        {"center", 1}, {"quincunx", 1}, {"jitter", 4}, {"adaptive", 1}, {"statistical", 16}};
+    for (const auto& [sampler, spp] : samplers) {
+        Camera camera;
+        RenderOptions o = options_for(scene, camera, sampler, 2);
+        o.spp = spp;
+        o.seed = 7;
+        RenderStats stats;
+        const Image reference = render_image(scene, camera, o, nullptr, stats);
+        Image assembled(o.width, o.height);
+        std::vector<int> seen(size_t(o.width) * o.height, 0);
+        size_t tiles = 0;
+        for (int rank = 0; rank < 3; ++rank) {
+            RenderOptions share = o;
+            share.tile_stride = 3;
+            share.tile_offset = rank;
+            share.threads = 1 + rank % 2;
+            tiles += tiles_of(share).size();
+            render_tiles(scene, camera, share, nullptr, stats,
+                         [&](int x0, int y0, int x1, int y1, const float* rgba) {
+                             for (int y = y0; y < y1; ++y)
+                                 for (int x = x0; x < x1; ++x, rgba += 4) {
+                                     ++seen[size_t(y) * o.width + x];
+                                     std::copy(rgba, rgba + 4, assembled.pixel(x, y));
+                                 }
+                         });
+        }
+        EXPECT_EQ(tiles, size_t(tile_count(o.width, o.height)));  // 3 x 2 tiles of 16 for 37x23
+        for (int count : seen) ASSERT_EQ(count, 1) << sampler;
+        EXPECT_TRUE(assembled.rgba == reference.rgba) << sampler;
+    }
+}
+
+// A process with no tile (more processes than tiles) traces nothing and calls no sink.
+TEST(RenderTiles, AShareWithoutTilesCallsNoSink) {
+    const FlatScene scene = mixed_scene();
+    Camera camera;
+    RenderOptions o = options_for(scene, camera, "center", 1);
+    o.tile_stride = 64;
+    o.tile_offset = 10;  // 37x23 has 6 tiles
+    RenderStats stats;
+    int calls = 0;
+    render_tiles(scene, camera, o, nullptr, stats,
+                 [&](int, int, int, int, const float*) { ++calls; });
+    EXPECT_EQ(calls, 0);
+    EXPECT_EQ(stats.primary_rays, 0u);
+}
+
 // Past --timeout the remaining tiles still reach the sink, as zeros, so a caller never holds pixels
 // that nothing wrote.
 TEST(RenderTiles, TilesSkippedAtTheTimeoutAreZero) {
