@@ -846,7 +846,9 @@ class Reader {
                 return;  // read here: the same messages, the same limit error
             const NodeId base = append_tree(tree_, std::move(piece.tree));
             for (NodeId id : piece.roots) roots.push_back(id + base);
-            for (const auto& [name, id] : piece.defs) f.defs[name] = id + base;
+            // A skipped node's DEF (kNullNode: USE and ROUTE say so) stays kNullNode.
+            for (const auto& [name, id] : piece.defs)
+                f.defs[name] = id == kNullNode ? id : id + base;
             append_stats(scene_.stats, piece.stats);
             ++scene_.stats.pieces;
             scene_.diagnostics.append(piece.diagnostics);
