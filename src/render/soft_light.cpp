@@ -66,15 +66,7 @@ struct RingMap {
     CapMeasure measure;
     double scale;  // sin^2 t_max, or 1 - cos t_max = 2 sin^2(t_max / 2) (exact for tiny suns)
     void at(double u, double& cos_t, double& sin_t) const {
-        if (measure == CapMeasure::Cosine) {
-            const double s2 = std::clamp(u * scale, 0.0, 1.0);
-            sin_t = std::sqrt(s2);
-            cos_t = std::sqrt(1.0 - s2);
-        } else {
-            const double one_minus = u * scale;
-            cos_t = 1.0 - one_minus;
-            sin_t = std::sqrt(std::max(0.0, one_minus * (2.0 - one_minus)));
-        }
+        ring_angle(measure, scale, u, cos_t, sin_t);
     }
 };
 
@@ -227,6 +219,18 @@ OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
     }
     out.value = std::clamp(value, 0.0, 1.0);
     return out;
+}
+
+void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, double& sin_t) {
+    if (measure == CapMeasure::Cosine) {
+        const double s2 = std::clamp(u * scale, 0.0, 1.0);
+        sin_t = std::sqrt(s2);
+        cos_t = std::sqrt(1.0 - s2);
+    } else {
+        const double one_minus = u * scale;
+        cos_t = 1.0 - one_minus;
+        sin_t = std::sqrt(std::max(0.0, one_minus * (2.0 - one_minus)));
+    }
 }
 
 }  // namespace vr

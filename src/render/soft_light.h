@@ -33,6 +33,11 @@ enum class CapMeasure : uint8_t {
     SolidAngle,  // uniform over the solid angle
 };
 
+// cos and sin of the polar angle t of parameter u in [0, 1], for a region of `measure` whose
+// `scale` is sin^2 t_max (Cosine) or 1 - cos t_max = 2 sin^2(t_max / 2) (SolidAngle: exact for tiny
+// suns): u is uniform in the region's measure.
+void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, double& sin_t);
+
 struct OpenShare {
     double value = 1.0;  // the open share of the region's measure, in [0, 1]
     double bound = 0.0;  // |value - exact| <= bound (<= the tolerance unless `cells` hit the cap)

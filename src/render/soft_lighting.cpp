@@ -40,19 +40,6 @@ uint64_t point_key(uint64_t seed, const Vec3& p, const Vec3& q) {
     return h;
 }
 
-// cos and sin of the ring angle of parameter u in [0, 1] (see RingMap in soft_light.cpp).
-void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, double& sin_t) {
-    if (measure == CapMeasure::Cosine) {
-        const double s2 = std::clamp(u * scale, 0.0, 1.0);
-        sin_t = std::sqrt(s2);
-        cos_t = std::sqrt(1.0 - s2);
-    } else {
-        const double one_minus = u * scale;
-        cos_t = 1.0 - one_minus;
-        sin_t = std::sqrt(std::max(0.0, one_minus * (2.0 - one_minus)));
-    }
-}
-
 // Removes the caps that lie inside one of the largest caps (atoms behind a near neighbour): they
 // close nothing more, and the cap integral's work grows with the number of caps.
 void drop_contained(std::vector<DirectionCap>& caps) {
