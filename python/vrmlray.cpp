@@ -603,19 +603,7 @@ py::dict compare_py(py::handle a, py::handle b, const py::kwargs& keywords) {
                     words);
     words.insert(words.end(), {"--", name_a, name_b});
     const CompareCommand c = parse_words(words).compare;
-    CompareThresholds t;
-    t.max_rmse = c.max_rmse;
-    t.min_psnr = c.min_psnr;
-    t.min_ssim = c.min_ssim;
-    t.max_abs = c.max_abs;
-    t.max_fail_percent = c.max_fail_percent;
-    t.fail = c.fail;
-    t.failpercent = c.failpercent;
-    t.hardfail = c.hardfail;
-    t.warn = c.warn;
-    t.warnpercent = c.warnpercent;
-    t.hardwarn = c.hardwarn;
-    t.pixel_threshold = c.pixel_threshold;
+    const CompareThresholds t = thresholds_of(c);
     CompareMetrics metrics;
     std::string error;
     if (!compare_images(image_a, image_b, t, metrics, error))

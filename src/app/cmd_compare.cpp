@@ -18,23 +18,6 @@ namespace vr {
 namespace {
 namespace fs = std::filesystem;
 
-CompareThresholds thresholds_of(const CompareCommand& cmd) {
-    CompareThresholds thresholds;
-    thresholds.max_rmse = cmd.max_rmse;
-    thresholds.min_psnr = cmd.min_psnr;
-    thresholds.min_ssim = cmd.min_ssim;
-    thresholds.max_abs = cmd.max_abs;
-    thresholds.max_fail_percent = cmd.max_fail_percent;
-    thresholds.fail = cmd.fail;
-    thresholds.failpercent = cmd.failpercent;
-    thresholds.hardfail = cmd.hardfail;
-    thresholds.warn = cmd.warn;
-    thresholds.warnpercent = cmd.warnpercent;
-    thresholds.hardwarn = cmd.hardwarn;
-    thresholds.pixel_threshold = cmd.pixel_threshold;
-    return thresholds;
-}
-
 // --update: each failing result (over a threshold, of another size, or with no reference yet)
 // becomes the reference. False when a copy failed.
 bool update_references(const CompareCommand& cmd, std::vector<SuitePair>& pairs) {
@@ -133,6 +116,23 @@ int run_compare_folders(const CompareCommand& cmd) {
 }
 
 }  // namespace
+
+CompareThresholds thresholds_of(const CompareCommand& cmd) {
+    CompareThresholds thresholds;
+    thresholds.max_rmse = cmd.max_rmse;
+    thresholds.min_psnr = cmd.min_psnr;
+    thresholds.min_ssim = cmd.min_ssim;
+    thresholds.max_abs = cmd.max_abs;
+    thresholds.max_fail_percent = cmd.max_fail_percent;
+    thresholds.fail = cmd.fail;
+    thresholds.failpercent = cmd.failpercent;
+    thresholds.hardfail = cmd.hardfail;
+    thresholds.warn = cmd.warn;
+    thresholds.warnpercent = cmd.warnpercent;
+    thresholds.hardwarn = cmd.hardwarn;
+    thresholds.pixel_threshold = cmd.pixel_threshold;
+    return thresholds;
+}
 
 int run_compare(const CompareCommand& cmd) {
     std::error_code ec;

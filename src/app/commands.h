@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/limits.h"
+#include "image/compare.h"
 #include "render/options.h"
 
 namespace vr {
@@ -91,5 +92,7 @@ int run_bench(const BenchCommand& cmd);
 int run_info(const std::string& scene, const CommonOptions& common);
 int run_convert(const std::string& in, const std::string& out, const CommonOptions& common);
 int run_compare(const CompareCommand& cmd);
+// The thresholds of `compare`'s options (the command line's and the Python module's compare()).
+CompareThresholds thresholds_of(const CompareCommand& cmd);
 
 }  // namespace vr

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "corpus.h"
 #include "flatten/flatten.h"
 #include "parser/load.h"
 #include "render/camera.h"
@@ -89,9 +90,10 @@ TEST(ColorRgba, AlphaIsTransparencyForCameraAndShadowRaysAlike) {
 }
 
 TEST(ColorRgbaCorpus, QuadColorsShowTheCheckerboardThroughTheTransparentCorners) {
-    const std::filesystem::path file = std::filesystem::path(VRMLRAY_CORPUS_DIR) /
-                                       "x3dv/castle-engine-demo-models/x3d/quad_colors.x3dv";
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no corpus file " << file;
+    VR_CORPUS_FOLDER(corpus, "");
+    const std::filesystem::path file =
+        corpus / "x3dv/castle-engine-demo-models/x3d/quad_colors.x3dv";
+    ASSERT_TRUE(std::filesystem::exists(file)) << file;
     LoadedScene loaded = load_scene(file);
     Diagnostics diagnostics;
     const Scene scene = build_scene(loaded, diagnostics);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "corpus.h"
 #include "flatten/flatten.h"
 #include "geometry/fill.h"
 #include "geometry/font.h"
@@ -372,7 +373,7 @@ double text_only_share(const fs::path& file, std::string& messages) {
 
 TEST(TextCorpus, FilesWhoseGeometryIsTextShowIt) {
     if (!fonts_available()) GTEST_SKIP() << "built without FreeType and fontconfig";
-    const fs::path corpus = VRMLRAY_CORPUS_DIR;
+    VR_CORPUS_FOLDER(corpus, "");
     // Each was an empty image (background only) while Text was skipped. The shares are well below
     // what the text covers at this size (thin strokes at 160x120) and far above zero.
     const std::pair<const char*, double> files[] = {
@@ -380,7 +381,7 @@ TEST(TextCorpus, FilesWhoseGeometryIsTextShowIt) {
         {"x3dv/castle-engine-demo-models/text/text.x3dv", 0.01}};
     for (const auto& [name, least] : files) {
         const fs::path file = corpus / name;
-        if (!fs::exists(file)) GTEST_SKIP() << "no corpus file " << file;
+        ASSERT_TRUE(fs::exists(file)) << file;
         SCOPED_TRACE(name);
         std::string messages;
         EXPECT_GT(text_only_share(file, messages), least) << messages;
