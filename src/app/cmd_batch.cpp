@@ -10,6 +10,8 @@
 #include <map>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "app/cli.h"
 #include "app/commands.h"
 
@@ -187,12 +189,34 @@ int run_render_batch(const RenderCommand& cmd) {
         if (!fresh) job.error = "its output " + job.cmd.output + " is also " + it->second + "'s";
     }
     std::vector<std::pair<const BatchJob*, int>> failed;
+    nlohmann::ordered_json records = nlohmann::ordered_json::array();
     for (BatchJob& job : jobs) {
+        // The batch's --stats file gathers every scene's record; a list line's own file is its own.
+        std::string stats;
+        const bool gathered = !cmd.stats_path.empty() && job.cmd.stats_path == cmd.stats_path;
+        if (gathered) job.cmd.stats_text = &stats;
         const int code = run_job(job);
         if (code != kExitOk) failed.emplace_back(&job, code);
+        if (!gathered) continue;
+        nlohmann::ordered_json record = {{"scene", job.cmd.scene.empty() ? job.where : job.cmd.scene},
+                                         {"exit_code", code}};
+        if (!stats.empty()) record["stats"] = nlohmann::ordered_json::parse(stats);
+        records.push_back(std::move(record));
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!cmd.stats_path.empty()) {
+        const nlohmann::ordered_json all = {{"scenes", std::move(records)},
+                                            {"rendered", jobs.size() - failed.size()},
+                                            {"failed", failed.size()},
+                                            {"seconds", seconds}};
+        std::ofstream out(cmd.stats_path);
+        out << all.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+        if (!out) {
+            std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
+            return kExitOutput;
+        }
+    }
     std::printf("batch: %zu scenes, %zu rendered, %zu failed, %.2f s -> %s\n", jobs.size(),
                 jobs.size() - failed.size(), failed.size(), seconds, dir.string().c_str());
     for (const auto& [job, code] : failed)

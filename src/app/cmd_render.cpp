@@ -227,9 +227,15 @@ int write_stats(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_c
                 const std::vector<double>& shares) {
     nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
     if (!shares.empty()) j["processes"] = process_shares_json(shares);
-    std::ofstream out(cmd.stats_path);
     // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
-    out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+    const std::string text =
+        j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+    if (cmd.stats_text) {
+        *cmd.stats_text = text;
+        return kExitOk;
+    }
+    std::ofstream out(cmd.stats_path);
+    out << text;
     if (!out) {
         std::cerr << cmd.stats_path << ": error: cannot write the stats file\n";
         return kExitOutput;

@@ -36,6 +36,8 @@ struct RenderCommand {
     std::string output;  // empty: the scene's stem + ".png" in the current folder
     RenderOptions options;
     std::string stats_path;
+    // A batch collects each scene's --stats record here instead of the file, to write them as one.
+    std::string* stats_text = nullptr;
     double time = 0.0;                    // --time: the world's clock of the first frame, seconds
     int frames = 1;                       // --frames: images at time + k / fps
     double fps = 25.0;                    // --fps

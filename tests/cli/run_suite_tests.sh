@@ -17,6 +17,20 @@ for f in 001_sphere 001_flat gzipped; do  # outside the current folder: the file
     [ "$(png_size "$work/ref/$f.png" 2>/dev/null)" = 32x24 ] && pass || fail "batch wrote $f.png at 32x24"
 done
 grep -q '^batch: 3 scenes, 3 rendered, 0 failed' "$work/out.txt" && pass || fail "batch summary counts 3 rendered"
+# --stats in a batch: one JSON file with a record a scene, in the batch's order (each scene's own
+# record, as a single render writes it), and the failed ones named, so no scene's figures overwrite another's.
+expect 3 "batch with --stats" -- "$bin" render "$seeds/001_sphere.wrl" "$src/tests/corpus/bad/binary_garbage.wrl" \
+    "$seeds/001_flat.wrl" -W 16 -H 12 -q -o "$work/stats/" --stats "$work/batch_stats.json"
+python3 - "$work/batch_stats.json" <<'PY' && pass || fail "batch --stats holds every scene's record in order"
+import json, sys
+j = json.load(open(sys.argv[1]))
+scenes = j["scenes"]
+assert [s["scene"].rsplit("/", 1)[-1] for s in scenes] == ["001_sphere.wrl", "binary_garbage.wrl", "001_flat.wrl"], scenes
+assert scenes[0]["exit_code"] == 0 and scenes[1]["exit_code"] == 3 and scenes[2]["exit_code"] == 0
+assert scenes[0]["stats"]["width"] == 16 and "stats" not in scenes[1]
+assert scenes[0]["stats"]["primitives"]["spheres"] == 1
+assert j["rendered"] == 2 and j["failed"] == 1 and j["seconds"] > 0
+PY
 # Relative paths are kept below the folder, so that two scenes of one name in two folders do not clash.
 (cd "$src" && "$bin" render scenes/seeds/001_sphere.wrl tests/corpus/good/features.wrl -W 16 -H 12 -q \
     -o "$work/rel") >/dev/null 2>&1 || true
