@@ -8,9 +8,8 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -198,8 +197,8 @@ int run_render_batch(const RenderCommand& cmd) {
         const int code = run_job(job);
         if (code != kExitOk) failed.emplace_back(&job, code);
         if (!gathered) continue;
-        nlohmann::ordered_json record = {{"scene", job.cmd.scene.empty() ? job.where : job.cmd.scene},
-                                         {"exit_code", code}};
+        nlohmann::ordered_json record = {
+            {"scene", job.cmd.scene.empty() ? job.where : job.cmd.scene}, {"exit_code", code}};
         if (!stats.empty()) record["stats"] = nlohmann::ordered_json::parse(stats);
         records.push_back(std::move(record));
     }
