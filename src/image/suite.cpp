@@ -102,6 +102,10 @@ std::vector<std::string> list_suite_images(const fs::path& dir) {
     const auto options = fs::directory_options::skip_permission_denied;
     for (fs::recursive_directory_iterator it(dir, options, ec), end; !ec && it != end;
          it.increment(ec)) {
+        if (it->is_directory(ec) && fs::exists(it->path() / kReportMarker, ec)) {
+            it.disable_recursion_pending();
+            continue;
+        }
         if (!it->is_regular_file(ec) || !is_image_name(it->path())) continue;
         names.push_back(it->path().lexically_relative(dir).generic_string());
     }

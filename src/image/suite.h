@@ -41,7 +41,9 @@ struct SuitePair {
 // The image files (by extension: png, exr, tif, tiff, jpg, jpeg, ppm, pfm, hdr, bmp, tga) under
 // `dir`, as sorted '/'-separated relative paths. Other files (tables, notes) are not images of the
 // suite and are left out.
+// A folder holding the file kReportMarker is a --report folder and is skipped with all below it.
 std::vector<std::string> list_suite_images(const std::filesystem::path& dir);
+inline constexpr const char* kReportMarker = ".vrmlray-report";
 
 // Called once per pair from the worker threads, after the comparison, with the images read (an
 // empty Image for a side that is missing or unreadable); for the report's pictures.

@@ -270,7 +270,9 @@ bool write_report_html(const fs::path& dir, const std::vector<SuitePair>& pairs,
     h += "</body></html>\n";
     std::error_code ec;
     fs::create_directories(dir, ec);
-    return write_text(dir / "index.html", h, error);
+    // The marker keeps a report written inside a result folder out of that folder's next compare.
+    return write_text(dir / kReportMarker, "written by vrmlray compare --report\n", error) &&
+           write_text(dir / "index.html", h, error);
 }
 
 }  // namespace vr

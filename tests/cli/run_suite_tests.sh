@@ -111,6 +111,13 @@ grep -q '^pass .*001_sphere.png$' "$work/out.txt" && grep -q '^pass .*ok.png$' "
 printf 'ok.png --max-rmse\n' >"$work/th_bad.txt"
 expect 2 "a bad --thresholds line" -- "$bin" compare "$work/ref" "$work/out" --thresholds "$work/th_bad.txt"
 expect_stderr 'th_bad.txt:1: error: --max-rmse: 1 required FLOAT missing' "a bad --thresholds line is named"
+# A report written inside the result folder (out/report, a common CI layout) is not part of the suite:
+# its images must not show as extra on the next compare, nor as pairs of their own.
+cp -r "$work/out" "$work/out_in"
+"$bin" compare "$work/ref" "$work/out_in" --report "$work/out_in/report" >/dev/null 2>&1
+"$bin" compare "$work/ref" "$work/out_in" --report "$work/out_in/report" >"$work/table_in.txt" 2>&1
+grep -q '^5 images: 1 passed, 0 warned, 4 failed' "$work/table_in.txt" && ! grep -q 'report/' "$work/table_in.txt" &&
+    pass || { fail "a report inside the result folder is left out of the next compare"; head "$work/table_in.txt"; }
 expect 2 "a folder against a file" -- "$bin" compare "$work/ref" "$work/ref/ok.png"
 expect 2 "--report with two images" -- "$bin" compare "$work/ref/ok.png" "$work/out/ok.png" --report "$work/r2"
 
