@@ -8,8 +8,8 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "anim/animator.h"
 #include "app/commands.h"
@@ -276,7 +276,6 @@ std::string frame_path(const std::string& out, int k, bool& has_pattern,
     return result;
 }
 
-
 // A scene as a frame renders it: flattened, with what the flattening counted.
 struct BuiltScene {
     FlatScene flat;
@@ -534,8 +533,7 @@ class FrameScenes {
 
 // Frames at once cost a tracer (BVH, primitive copies, image) each, and each its own scene when
 // the scene moves: one at a time when they would not fit (a frame's own check then says so).
-int frames_that_fit(const RenderCommand& cmd, const BuiltScene& first, int at_once,
-                    bool animated) {
+int frames_that_fit(const RenderCommand& cmd, const BuiltScene& first, int at_once, bool animated) {
     RenderOptions one = cmd.options;
     one.threads = 1;
     const double each = double(estimate_render_bytes(first.flat, one)) * (animated ? 2.0 : 1.0);
@@ -556,12 +554,13 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
     if (plan.by_rank) frame_cmd.common.quiet = own_quiet;
     const size_t n = plan.frames.size();
     auto time_of = [&](int k) { return cmd.time + double(k) / cmd.fps; };
-    FrameScenes scenes(loaded, animator, cmd, n + (plan.at_once > 1 ? 1 : 0));
+    const bool probe = plan.at_once > 1 && cmd.frames_at_once == 0;
+    FrameScenes scenes(loaded, animator, cmd, n + (probe ? 1 : 0));
     double first_seconds = 0.0, peak_mb = 0.0;
-    if (plan.at_once > 1 && cmd.frames_at_once == 0) {
+    if (probe) {
         // Built here to see what frames at once would hold; frame 0 then finds it ready.
-        const std::shared_ptr<BuiltScene> first = scenes.at(time_of(plan.frames[0]), first_seconds,
-                                                            peak_mb);
+        const std::shared_ptr<BuiltScene> first =
+            scenes.at(time_of(plan.frames[0]), first_seconds, peak_mb);
         if (!first) return kExitBadInput;
         plan.at_once = frames_that_fit(cmd, *first, plan.at_once, animator.animated());
     }
@@ -583,7 +582,8 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
         if (agreed(frame_world, code, "building the scene") != kExitOk) return kExitBadInput;
         job.scene = scene.get();
         job.options = cmd.options;
-        if (plan.at_once > 1) job.options.threads = std::max(1, thread_count(cmd.options) / plan.at_once);
+        if (plan.at_once > 1)
+            job.options.threads = std::max(1, thread_count(cmd.options) / plan.at_once);
         if (cmd.orbit_degrees)
             job.options.orbit_angle =
                 double(job.frame) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
@@ -649,8 +649,11 @@ nlohmann::ordered_json frame_shares_json(const std::vector<double>& shares, size
         p["frames"] = frames;
         p["tiles"] = uint64_t(s[1]);
         p["rays"] = uint64_t(s[2]);  // exact: a double holds integers to 2^53
-        p["seconds"] = {{"mpi_init", s[3]}, {"parse", s[4]},  {"scene", s[5]},
-                        {"build", s[6]},    {"render", s[7]}};
+        p["seconds"] = {{"mpi_init", s[3]},
+                        {"parse", s[4]},
+                        {"scene", s[5]},
+                        {"build", s[6]},
+                        {"render", s[7]}};
         all.push_back(p);
     }
     return all;
@@ -672,8 +675,8 @@ int write_sequence_stats(const RenderCommand& cmd, const World& world, const Fra
     j["frames_at_once"] = plan.at_once;
     j["scene_builds"] = builds;  // this process's
     if (!shares.empty())
-        j["processes"] = frame_shares_json(shares, size_t((cmd.frames + world.size() - 1) /
-                                                          world.size()));
+        j["processes"] =
+            frame_shares_json(shares, size_t((cmd.frames + world.size() - 1) / world.size()));
     return agreed(world, write_stats(cmd, j), "writing the stats");
 }
 
