@@ -152,6 +152,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
         ->check(CLI::Range(1, 1000000));
     r->add_option("--fps", render.fps, "Frames per second of --frames (default 25)")
         ->check(CLI::PositiveNumber);
+    r->add_option("--frames-at-once", render.frames_at_once,
+                  "Frames rendered at the same time, --threads shared among them (0: one a "
+                  "thread when there are at least as many frames as threads, else 1)")
+        ->check(CLI::Range(0, 1024));
     r->add_option("--orbit", render.orbit_degrees,
                   "Turn the camera by DEG degrees about the scene's centre over the frames "
                   "(a turntable about the viewpoint's up axis)");

@@ -6,7 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "anim/animator.h"
 #include "app/commands.h"
@@ -137,12 +140,14 @@ struct Pixels {
 };
 
 // Traces this process's tiles into `px` (all of them in a world of one).
-void trace(FlatScene& flat, const Camera& camera, const RenderOptions& options,
-           const std::string& output, bool free_spheres, ProgressBar& bar, RenderStats& stats,
-           Pixels& px) {
-    std::vector<Sphere>* spheres = free_spheres ? &flat.spheres : nullptr;
+// No bar: the tiles are traced on the calling thread and those `options.threads` starts.
+void trace(const FlatScene& flat, const Camera& camera, const RenderOptions& options,
+           const std::string& output, std::vector<Sphere>* spheres, ProgressBar* bar,
+           RenderStats& stats, Pixels& px) {
     px.image8.channels = native_8bit_channels(output, options.alpha);
-    auto progress = [&](double fraction, uint64_t rays) { bar.update(fraction, rays); };
+    ProgressFn progress;
+    if (bar != nullptr)
+        progress = [bar](double fraction, uint64_t rays) { bar->update(fraction, rays); };
     std::atomic<size_t> covered{0};
     auto count_covered = [&](size_t n, const float* rgba) {
         size_t hit = 0;
@@ -222,11 +227,7 @@ void warn_after_render(const RenderCommand& cmd, const Camera& camera, const Ren
                      (unsigned long long)bad.light);
 }
 
-int write_stats(const RenderCommand& cmd, const FlatScene& flat, size_t sphere_count,
-                const RenderStats& stats, const RenderTimings& timings,
-                const std::vector<double>& shares) {
-    nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
-    if (!shares.empty()) j["processes"] = process_shares_json(shares);
+int write_stats(const RenderCommand& cmd, const nlohmann::ordered_json& j) {
     // A file name that is not UTF-8 gets U+FFFD where it is broken rather than an exception.
     const std::string text =
         j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
@@ -281,23 +282,52 @@ std::string frame_path(const std::string& out, int k, bool& has_pattern,
     return result;
 }
 
-// One frame: camera, this process's tiles, the gather to rank 0, which writes it (and, for the
-// last frame, the stats). The exit code all processes agree on.
-int render_frame(const RenderCommand& cmd, const World& world, const RenderOptions& frame_options,
-                 const LoadedScene& loaded, FlatScene& flat, const FlattenStats& flatten_stats,
-                 const std::string& output, bool last, std::chrono::steady_clock::time_point t0,
-                 std::chrono::steady_clock::time_point frame_t0, RenderTimings timings) {
+// A scene as a frame renders it: flattened, with what the flattening counted.
+struct BuiltScene {
+    FlatScene flat;
+    FlattenStats stats;
+};
+
+// One frame to render.
+struct FrameJob {
+    int frame = 0;
+    std::string output;
+    RenderOptions options;  // the frame's camera turn and threads
+    const BuiltScene* scene = nullptr;
+    std::vector<Sphere>* spheres_to_free = nullptr;  // the scene's last frame: its spheres may go
+    bool progress = true;                            // a bar of this frame's tiles
+    bool write_stats = false;  // now, with the world's shares of this one image's tiles
+    std::chrono::steady_clock::time_point frame_t0;
+    RenderTimings timings;
+};
+
+// What a rendered frame leaves for the --stats file of a sequence, written after the last frame.
+struct FrameRecord {
+    int frame = -1;  // -1: not rendered
+    size_t tiles = 0;
+    RenderStats stats;
+    RenderTimings timings;
+    nlohmann::ordered_json json;  // render_stats_json of the frame (when --stats is given)
+};
+
+// One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
+// when job.write_stats). The exit code all processes of `world` agree on.
+int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene& loaded,
+                 const FrameJob& job, std::chrono::steady_clock::time_point t0,
+                 FrameRecord& record) {
+    const FlatScene& flat = job.scene->flat;
+    const std::string& output = job.output;
     std::string error;
     int code = kExitOk;
     Camera camera;
     if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) {
         code = kExitBadInput;
-    } else if (!make_camera(flat, frame_options, camera, error)) {
+    } else if (!make_camera(flat, job.options, camera, error)) {
         std::cerr << "vrmlray: error: " << error << "\n";
         code = kExitUsage;
     }
     if ((code = agreed(world, code, "making the camera")) != kExitOk) return code;
-    if (frame_options.orbit_angle && !cmd.common.quiet) {
+    if (job.options.orbit_angle && !cmd.common.quiet) {
         // Full precision: these three options render this frame alone, bit for bit.
         const Vec3 &p = camera.position, &c = camera.orbit_centre, &u = camera.orbit_axis;
         std::fprintf(stderr,
@@ -306,7 +336,7 @@ int render_frame(const RenderCommand& cmd, const World& world, const RenderOptio
                      cmd.scene.c_str(), output.c_str(), p.x, p.y, p.z, c.x, c.y, c.z, u.x, u.y,
                      u.z);
     }
-    const std::string empty_scene = nothing_to_render(loaded, flat, flatten_stats);
+    const std::string empty_scene = nothing_to_render(loaded, flat, job.scene->stats);
     if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
         std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
                      describe_camera(flat, cmd.options, camera).c_str());
@@ -314,7 +344,7 @@ int render_frame(const RenderCommand& cmd, const World& world, const RenderOptio
 
     // --timeout counts from the start of the command; loading is bounded by the reader's limits
     // instead, so what is left of it goes to the tracer, which stops at its next tile.
-    RenderOptions options = frame_options;
+    RenderOptions options = job.options;
     if (options.timeout > 0.0) {
         options.timeout -= seconds_since(t0);
         if (options.timeout <= 0.0) options.timeout = 1e-9;
@@ -322,14 +352,16 @@ int render_frame(const RenderCommand& cmd, const World& world, const RenderOptio
     options.tile_stride = world.size();
     options.tile_offset = world.rank();
 
-    ProgressBar bar(!cmd.common.quiet);
+    ProgressBar bar(job.progress && !cmd.common.quiet);
     RenderStats stats;
     const size_t sphere_count = flat.spheres.size();  // freed by the last frame's render
     const size_t tiles = tiles_of(options).size();
     Pixels px;
-    trace(flat, camera, options, output, last, bar, stats, px);
+    trace(flat, camera, options, output, job.spheres_to_free, job.progress ? &bar : nullptr, stats,
+          px);
     bar.finish();
     const RenderStats own = stats;
+    RenderTimings timings = job.timings;
     const double gather_seconds = combine(world, options, stats, px);
     const std::vector<double> shares =
         world.parallel()
@@ -355,7 +387,7 @@ int render_frame(const RenderCommand& cmd, const World& world, const RenderOptio
         return agreed(world, kExitOutput, "writing");
     }
     timings.write = seconds_since(t3);
-    timings.total = seconds_since(frame_t0);
+    timings.total = seconds_since(job.frame_t0);
     if (!cmd.common.quiet) {
         std::fprintf(stderr,
                      "%s: %dx%d, %zu spheres, %zu quadrics, %zu triangles; parse %.3fs, scene "
@@ -366,18 +398,59 @@ int render_frame(const RenderCommand& cmd, const World& world, const RenderOptio
                      timings.parse, timings.scene, stats.build_seconds, stats.render_seconds,
                      stats.rays_per_second() * 1e-6, timings.total, output.c_str());
     }
-    if (!cmd.stats_path.empty())
-        code = write_stats(cmd, flat, sphere_count, stats, timings, shares);
+    record.frame = job.frame;
+    record.tiles = tiles;
+    record.stats = own;
+    record.timings = timings;
+    if (!cmd.stats_path.empty()) {
+        nlohmann::ordered_json j = render_stats_json(cmd, flat, sphere_count, stats, timings);
+        if (!job.write_stats)
+            record.json = std::move(j);
+        else {
+            if (!shares.empty()) j["processes"] = process_shares_json(shares);
+            code = write_stats(cmd, j);
+        }
+    }
     return agreed(world, code, "writing");
+}
+
+// The frames of a sequence this process renders, and how.
+struct FramePlan {
+    std::vector<int> frames;  // this process's, in increasing order
+    bool by_rank = false;     // whole frames dealt over the processes: frame k to rank k % size
+    int at_once = 1;          // frames rendered at the same time here
+};
+
+int thread_count(const RenderOptions& options) {
+    return options.threads > 0 ? options.threads
+                               : std::max(1, int(std::thread::hardware_concurrency()));
+}
+
+// Frames are independent: under MPI whole frames go round-robin to the processes (no gather
+// inside a frame). Within a process, a frame a thread when there are at least as many frames as
+// threads: no thread then waits at a frame's end for the last tile, and the BVH builds, the
+// encoding and the writing, which run on fewer threads than the tracing, overlap.
+FramePlan plan_frames(const RenderCommand& cmd, const World& world) {
+    FramePlan plan;
+    plan.by_rank = world.parallel() && cmd.frames > 1;
+    const int stride = plan.by_rank ? world.size() : 1;
+    for (int k = plan.by_rank ? world.rank() : 0; k < cmd.frames; k += stride)
+        plan.frames.push_back(k);
+    const int n = int(plan.frames.size()), threads = thread_count(cmd.options);
+    const int asked = cmd.frames_at_once > 0 ? cmd.frames_at_once : (n >= threads ? threads : 1);
+    plan.at_once = std::clamp(asked, 1, std::max(n, 1));
+    return plan;
 }
 
 // Checks the frame pattern and the output, loads the scene and checks its ROUTEs; the exit code
 // all processes agree on.
-int prepare(const RenderCommand& cmd, const World& world, const std::string& output,
-            LoadedScene& loaded, double& parse_seconds) {
+int prepare(const RenderCommand& cmd, const World& world, const FramePlan& plan,
+            const std::string& output, LoadedScene& loaded, double& parse_seconds) {
     bool has_pattern = false;
     std::string error;
-    const std::string first_output = frame_path(output, 0, has_pattern, error);
+    // The first frame this process writes: rank 0 writes them all, unless frames are dealt out.
+    const int first = plan.by_rank ? world.rank() : 0;
+    const std::string first_output = frame_path(output, first, has_pattern, error);
     if (!error.empty() || (cmd.frames > 1 && !has_pattern)) {
         std::cerr << "vrmlray: error: "
                   << (error.empty() ? "--frames " + std::to_string(cmd.frames) + " needs -o " +
@@ -391,10 +464,9 @@ int prepare(const RenderCommand& cmd, const World& world, const std::string& out
         return kExitUsage;
     }
     // Before anything is read or traced: a render whose file cannot be written is lost time.
-    // Only rank 0 writes, so only its file system counts.
     int code = kExitOk;
-    switch (world.root() ? check_output(first_output, cmd.options.alpha, error)
-                         : OutputCheck::kOk) {
+    const bool writes = !plan.frames.empty() && (world.root() || plan.by_rank);
+    switch (writes ? check_output(first_output, cmd.options.alpha, error) : OutputCheck::kOk) {
         case OutputCheck::kOk:
             break;
         case OutputCheck::kNoAlpha:
@@ -413,6 +485,207 @@ int prepare(const RenderCommand& cmd, const World& world, const std::string& out
     return agreed(world, code, "reading the scene");
 }
 
+// The scene of each frame: built once when nothing moves (a static file, a turntable), else
+// evaluated at the frame's time and built again when some field changed. The node tree is one, so
+// frames rendered at once evaluate and build in turn, under the lock, and trace without it.
+class FrameScenes {
+  public:
+    // `uses`: the calls of at() to come; the last one lets the node tree go.
+    FrameScenes(LoadedScene& loaded, Animator& animator, const RenderCommand& cmd, size_t uses)
+        : loaded_(loaded), animator_(animator), cmd_(cmd), uses_(uses) {}
+
+    // The scene at `time`; null when its build failed (the diagnostics are printed). `seconds`:
+    // what building it took (0: an earlier frame's); `peak_mb`: the peak memory after the first.
+    std::shared_ptr<BuiltScene> at(double time, double& seconds, double& peak_mb) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++used_;
+        seconds = 0.0;
+        peak_mb = first_peak_mb_;
+        if (failed_) return nullptr;
+        if (last_ && !animator_.animated()) return last_;
+        const bool changed = animator_.evaluate(time);
+        if (last_ && !changed) return last_;
+        last_.reset();  // gone before the next is built, unless a frame still traces it
+        const auto start = std::chrono::steady_clock::now();
+        auto built = std::make_shared<BuiltScene>();
+        // The tree stays while later frames may change it; otherwise its memory goes.
+        const bool keep_tree = animator_.animated() && used_ < uses_;
+        if (!build_and_flatten(loaded_, cmd_.options, cmd_.recover_spheres, cmd_.common,
+                               built->flat, built->stats, keep_tree)) {
+            failed_ = true;
+            return nullptr;
+        }
+        seconds = seconds_since(start);
+        ++builds_;
+        if (first_peak_mb_ == 0.0) peak_mb = first_peak_mb_ = peak_memory_mb();
+        last_ = built;
+        return built;
+    }
+
+    // The scenes built so far (1 for a static file or a turntable).
+    size_t builds() const { return builds_; }
+
+  private:
+    LoadedScene& loaded_;
+    Animator& animator_;
+    const RenderCommand& cmd_;
+    const size_t uses_;
+    std::mutex mutex_;
+    size_t used_ = 0, builds_ = 0;
+    bool failed_ = false;
+    double first_peak_mb_ = 0.0;
+    std::shared_ptr<BuiltScene> last_;
+};
+
+// Frames at once cost a tracer (BVH, primitive copies, image) each, and each its own scene when
+// the scene moves: one at a time when they would not fit (a frame's own check then says so).
+int frames_that_fit(const RenderCommand& cmd, const BuiltScene& first, int at_once, bool animated) {
+    RenderOptions one = cmd.options;
+    one.threads = 1;
+    const double each = double(estimate_render_bytes(first.flat, one)) * (animated ? 2.0 : 1.0);
+    const double limit = render_memory_limit(cmd.common);
+    return limit > 0.0 && each * at_once > limit ? 1 : at_once;
+}
+
+// Renders this process's frames, plan.at_once of them at a time, each of them on its share of
+// the threads; after an error no further frame is begun. The largest exit code of its frames;
+// `builds`: how many scenes were built.
+int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, FramePlan& plan,
+                  const std::string& output, LoadedScene& loaded, Animator& animator,
+                  const RenderTimings& timings, std::chrono::steady_clock::time_point t0,
+                  std::vector<FrameRecord>& records, size_t& builds) {
+    // Dealt whole frames, a process renders them alone, and says what it did itself.
+    const World& frame_world = plan.by_rank ? World::alone() : world;
+    RenderCommand frame_cmd = cmd;
+    if (plan.by_rank) frame_cmd.common.quiet = own_quiet;
+    const size_t n = plan.frames.size();
+    auto time_of = [&](int k) { return cmd.time + double(k) / cmd.fps; };
+    const bool probe = plan.at_once > 1 && cmd.frames_at_once == 0;
+    FrameScenes scenes(loaded, animator, cmd, n + (probe ? 1 : 0));
+    double first_seconds = 0.0, peak_mb = 0.0;
+    if (probe) {
+        // Built here to see what frames at once would hold; frame 0 then finds it ready.
+        const std::shared_ptr<BuiltScene> first =
+            scenes.at(time_of(plan.frames[0]), first_seconds, peak_mb);
+        if (!first) return kExitBadInput;
+        plan.at_once = frames_that_fit(cmd, *first, plan.at_once, animator.animated());
+    }
+    records.assign(n, FrameRecord{});
+    std::atomic<size_t> next{0};
+    std::atomic<int> worst{kExitOk};
+    std::mutex bar_mutex;
+    ProgressBar bar(plan.at_once > 1 && !frame_cmd.common.quiet);  // over frames, not tiles
+    size_t done = 0;
+    auto one_frame = [&](size_t i) -> int {
+        FrameJob job;
+        job.frame = plan.frames[i];
+        // Each frame's line of timings covers that frame: the first one's the reading too.
+        job.frame_t0 = i == 0 ? t0 : std::chrono::steady_clock::now();
+        double built_seconds = 0.0, peak = 0.0;
+        const std::shared_ptr<BuiltScene> scene =
+            scenes.at(time_of(job.frame), built_seconds, peak);
+        const int code = scene ? kExitOk : kExitBadInput;
+        if (agreed(frame_world, code, "building the scene") != kExitOk) return kExitBadInput;
+        job.scene = scene.get();
+        job.options = cmd.options;
+        if (plan.at_once > 1)
+            job.options.threads = std::max(1, thread_count(cmd.options) / plan.at_once);
+        if (cmd.orbit_degrees)
+            job.options.orbit_angle =
+                double(job.frame) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
+        bool unused = false;
+        std::string error;
+        job.output = frame_path(output, job.frame, unused, error);
+        job.spheres_to_free = plan.at_once == 1 && i + 1 == n ? &scene->flat.spheres : nullptr;
+        job.progress = plan.at_once == 1;
+        job.write_stats = cmd.frames == 1;
+        job.timings = timings;
+        job.timings.parse = i == 0 ? timings.parse : 0.0;
+        job.timings.scene = i == 0 ? std::max(first_seconds, built_seconds) : built_seconds;
+        job.timings.peak_scene_mb = peak;
+        return render_frame(frame_cmd, frame_world, loaded, job, t0, records[i]);
+    };
+    auto work = [&] {
+        while (worst.load() == kExitOk) {
+            const size_t i = next.fetch_add(1);
+            if (i >= n) return;
+            const int code = one_frame(i);
+            for (int w = worst.load(); code > w && !worst.compare_exchange_weak(w, code);) {
+            }
+            std::lock_guard<std::mutex> lock(bar_mutex);
+            bar.update(double(++done) / double(n), 0);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < plan.at_once; ++w) pool.emplace_back(work);
+    work();  // MPI's calls stay on this thread (MPI_THREAD_FUNNELED)
+    for (std::thread& t : pool) t.join();
+    bar.finish();
+    builds = scenes.builds();
+    return worst.load();
+}
+
+// A process's frames for --stats: count, tiles, rays, seconds of MPI's start-up, parse, scene,
+// build, render (each summed over its frames), then its frame numbers, -1 filling `slots`.
+std::vector<double> frame_share(const std::vector<FrameRecord>& records, size_t slots,
+                                double init_seconds, double parse_seconds) {
+    std::vector<double> s = {0, 0, 0, init_seconds, parse_seconds, 0, 0, 0};
+    for (const FrameRecord& r : records) {
+        s[0] += 1;
+        s[1] += double(r.tiles);
+        s[2] += double(r.stats.primary_rays + r.stats.shadow_rays + r.stats.secondary_rays);
+        s[5] += r.timings.scene;
+        s[6] += r.stats.build_seconds;
+        s[7] += r.stats.render_seconds;
+    }
+    for (size_t i = 0; i < slots; ++i) s.push_back(i < records.size() ? records[i].frame : -1);
+    return s;
+}
+
+nlohmann::ordered_json frame_shares_json(const std::vector<double>& shares, size_t slots) {
+    const size_t fields = 8 + slots;
+    nlohmann::ordered_json all = nlohmann::ordered_json::array();
+    for (size_t at = 0; at + fields <= shares.size(); at += fields) {
+        const double* s = &shares[at];
+        nlohmann::ordered_json p;
+        p["rank"] = at / fields;
+        nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+        for (size_t i = 0; i < slots; ++i)
+            if (s[8 + i] >= 0) frames.push_back(int(s[8 + i]));
+        p["frames"] = frames;
+        p["tiles"] = uint64_t(s[1]);
+        p["rays"] = uint64_t(s[2]);  // exact: a double holds integers to 2^53
+        p["seconds"] = {{"mpi_init", s[3]},
+                        {"parse", s[4]},
+                        {"scene", s[5]},
+                        {"build", s[6]},
+                        {"render", s[7]}};
+        all.push_back(p);
+    }
+    return all;
+}
+
+// The --stats file of a sequence, by rank 0: its last frame's figures, which frame that is, how
+// many frames it rendered at once, and under MPI which frames each process rendered.
+int write_sequence_stats(const RenderCommand& cmd, const World& world, const FramePlan& plan,
+                         const std::vector<FrameRecord>& records, double parse_seconds,
+                         size_t builds) {
+    std::vector<double> shares;
+    if (world.parallel()) {
+        const size_t slots = size_t((cmd.frames + world.size() - 1) / world.size());
+        shares = world.gather(frame_share(records, slots, world.init_seconds(), parse_seconds));
+        if (!world.root()) return agreed(world, kExitOk, "writing the stats");
+    }
+    nlohmann::ordered_json j = records.back().json;
+    j["frame"] = records.back().frame;
+    j["frames_at_once"] = plan.at_once;
+    j["scene_builds"] = builds;  // this process's
+    if (!shares.empty())
+        j["processes"] =
+            frame_shares_json(shares, size_t((cmd.frames + world.size() - 1) / world.size()));
+    return agreed(world, write_stats(cmd, j), "writing the stats");
+}
+
 }  // namespace
 
 int run_render(const RenderCommand& command) {
@@ -423,7 +696,8 @@ int run_render(const RenderCommand& command) {
     const std::string output = output_path(cmd);
     LoadedScene loaded;
     RenderTimings timings;
-    int code = prepare(cmd, world, output, loaded, timings.parse);
+    FramePlan plan = plan_frames(cmd, world);
+    int code = prepare(cmd, world, plan, output, loaded, timings.parse);
     if (code != kExitOk) return code;
     Diagnostics anim_diagnostics;
     Animator animator(loaded.tree, anim_diagnostics);
@@ -432,40 +706,13 @@ int run_render(const RenderCommand& command) {
     if ((code = agreed(world, code, "checking the ROUTEs")) != kExitOk) return code;
     timings.peak_parse_mb = peak_memory_mb();
 
-    FlatScene flat;
-    FlattenStats flatten_stats;
-    for (int k = 0; k < cmd.frames; ++k) {
-        // Each frame's line of timings covers that frame: the first one's the reading too.
-        const auto frame_t0 = k == 0 ? t0 : std::chrono::steady_clock::now();
-        const double time = cmd.time + double(k) / cmd.fps;
-        const bool changed = animator.evaluate(time);
-        RenderTimings frame = timings;
-        frame.parse = k == 0 ? timings.parse : 0.0;
-        frame.scene = 0.0;
-        if (k == 0 || changed) {
-            auto t1 = std::chrono::steady_clock::now();
-            flat = FlatScene{};
-            // The tree stays while later frames may change it; otherwise its memory goes.
-            const bool keep_tree = animator.animated() && k + 1 < cmd.frames;
-            code = build_and_flatten(loaded, cmd.options, cmd.recover_spheres, cmd.common, flat,
-                                     flatten_stats, keep_tree)
-                       ? kExitOk
-                       : kExitBadInput;
-            if ((code = agreed(world, code, "building the scene")) != kExitOk) return code;
-            frame.scene = seconds_since(t1);
-            if (k == 0) timings.peak_scene_mb = frame.peak_scene_mb = peak_memory_mb();
-        }
-        RenderOptions options = cmd.options;
-        if (cmd.orbit_degrees)
-            options.orbit_angle = double(k) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
-        bool unused = false;
-        std::string error;
-        const std::string path = frame_path(output, k, unused, error);
-        code = render_frame(cmd, world, options, loaded, flat, flatten_stats, path,
-                            k + 1 == cmd.frames, t0, frame_t0, frame);
-        if (code != kExitOk) return code;
-    }
-    return kExitOk;
+    std::vector<FrameRecord> records;
+    size_t builds = 0;
+    code = render_frames(cmd, command.common.quiet, world, plan, output, loaded, animator, timings,
+                         t0, records, builds);
+    if (plan.by_rank) code = agreed(world, code, "rendering its frames");
+    if (code != kExitOk || cmd.frames == 1 || cmd.stats_path.empty()) return code;
+    return write_sequence_stats(cmd, world, plan, records, timings.parse, builds);
 }
 
 }  // namespace vr

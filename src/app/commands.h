@@ -41,6 +41,7 @@ struct RenderCommand {
     double time = 0.0;                    // --time: the world's clock of the first frame, seconds
     int frames = 1;                       // --frames: images at time + k / fps
     double fps = 25.0;                    // --fps
+    int frames_at_once = 0;               // --frames-at-once; 0: chosen by frames and threads
     std::optional<double> orbit_degrees;  // --orbit: the camera's turn over the whole sequence
     std::optional<bool>
         recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode

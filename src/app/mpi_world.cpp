@@ -176,4 +176,9 @@ World& World::get() {
     return world;
 }
 
+const World& World::alone() {
+    static const World world{Alone{}};
+    return world;
+}
+
 }  // namespace vr

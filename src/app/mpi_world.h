@@ -15,6 +15,9 @@ class World {
     // The processes started together with this one. On the first call MPI is initialised when
     // a launcher (mpirun, srun) started more than one process, and finalised at exit.
     static World& get();
+    // A world of this process alone: what a process renders of the frames it was dealt, which no
+    // other process shares.
+    static const World& alone();
 
     int rank() const { return rank_; }
     int size() const { return size_; }
@@ -38,6 +41,8 @@ class World {
 
   private:
     World();
+    struct Alone {};
+    explicit World(Alone) {}
     int rank_ = 0, size_ = 1;
     double init_seconds_ = 0.0;
 };

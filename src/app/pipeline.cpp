@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <iostream>
 
@@ -12,14 +13,15 @@
 namespace vr {
 
 namespace {
-size_t g_warnings = 0;  // one command per process: the count --strict looks at
+// One command per process: the count --strict looks at (frames rendered at once warn together).
+std::atomic<size_t> g_warnings{0};
 }  // namespace
 
 size_t warnings_reported() { return g_warnings; }
 
 int strict_exit(int code, const CommonOptions& common) {
     if (!common.strict || code != kExitOk || g_warnings == 0) return code;
-    std::fprintf(stderr, "vrmlray: error: --strict: %zu warning%s, exit %d\n", g_warnings,
+    std::fprintf(stderr, "vrmlray: error: --strict: %zu warning%s, exit %d\n", g_warnings.load(),
                  g_warnings == 1 ? "" : "s", int(kExitBadInput));
     return kExitBadInput;
 }
@@ -114,16 +116,19 @@ std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
     return why + "the scene holds no geometry";
 }
 
+double render_memory_limit(const CommonOptions& common) {
+    if (common.max_memory_gb > 0.0) return common.max_memory_gb * 1e9;
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? double(pages) * double(page) : 0.0;
+}
+
 bool check_render_memory(const std::string& scene_path, const FlatScene& flat,
                          const RenderOptions& options, const CommonOptions& common) {
-    double limit = common.max_memory_gb * 1e9;
-    const char* what = "--max-memory";
-    if (limit <= 0.0) {
-        const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-        if (pages <= 0 || page <= 0) return true;  // unknown: nothing to compare with
-        limit = double(pages) * double(page);
-        what = "this machine's memory; --max-memory raises the limit";
-    }
+    const double limit = render_memory_limit(common);
+    if (limit <= 0.0) return true;  // unknown: nothing to compare with
+    const char* what = common.max_memory_gb > 0.0
+                           ? "--max-memory"
+                           : "this machine's memory; --max-memory raises the limit";
     const double need = double(estimate_render_bytes(flat, options));
     if (need <= limit) return true;
     std::fprintf(stderr,

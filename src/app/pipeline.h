@@ -41,6 +41,8 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
 std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
                               const FlattenStats& stats);
 
+// The bytes a render may use: --max-memory, else the machine's physical memory (0: unknown).
+double render_memory_limit(const CommonOptions& common);
 // Refuses (prints an error naming the scene, returns false) a render whose estimated memory
 // (estimate_render_bytes) exceeds --max-memory, or the machine's physical memory when that is not
 // set.

@@ -23,3 +23,16 @@ expect_stderr "bad_route.wrl:4:1: error: ROUTE from TimeSensor 'C'.fraction_chan
 printf '#VRML V2.0 utf8\nDEF S TouchSensor {}\nDEF T Transform { children Shape { geometry Box {} } }\nROUTE S.hitPoint_changed TO T.set_translation\n' >"$work/touch.wrl"
 expect 0 "frames of a scene whose ROUTEs no TimeSensor drives" -- "$bin" render "$work/touch.wrl" -W 16 -H 12 -q --frames 3 -o "$work/touch_%d.png"
 cmp -s "$work/touch_0.png" "$work/touch_2.png" && pass || fail "a static scene renders the same frames"
+# Frames at once (a frame a thread, the default with at least as many frames as threads) against
+# one after another with each frame's tiles over the threads: the same bytes, for the 8-bit PNG and
+# the float EXR paths of the tracer's output.
+for ext in png exr; do
+    expect 0 "4 frames at once ($ext)" -- "$bin" render "$seed" -W 40 -H 30 -q --frames 4 --orbit 90 --threads 2 -o "$work/at_once_%d.$ext" --stats "$work/at_once.json"
+    expect 0 "4 frames one after another ($ext)" -- "$bin" render "$seed" -W 40 -H 30 -q --frames 4 --orbit 90 --threads 2 --frames-at-once 1 -o "$work/in_turn_%d.$ext"
+    same=0
+    for k in 0 1 2 3; do cmp -s "$work/at_once_$k.$ext" "$work/in_turn_$k.$ext" && same=$((same + 1)); done
+    [ "$same" -eq 4 ] && pass || fail "frames at once wrote other $ext bytes than one after another ($same of 4 the same)"
+done
+python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); sys.exit(not (j["frames_at_once"] == 2 and j["scene_builds"] == 1 and j["frame"] == 3))' "$work/at_once.json" &&
+    pass || fail "4 frames on 2 threads: 2 at once, the static scene built once, the stats of frame 3"
+cmp -s "$work/at_once_0.png" "$work/at_once_3.png" && fail "the orbit turned the camera between frames" || pass

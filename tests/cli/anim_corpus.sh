@@ -45,7 +45,8 @@ cmp -s "$anim/seq_0002.png" "$anim/seq_alone.png" && pass || fail "frame 2 at 0.
 # the same bytes as a render of its own with the --position/--look-at/--up the sequence printed.
 mol=$corpus/molecular/pymol/pept_spheres.wrl
 expect 0 "36-frame orbit" -- "$bin" render "$mol" -W 64 -H 48 --frames 36 --orbit 360 -o "$anim/orbit_%02d.png"
-grep -o 'orbit_[0-9]*\.png: --position .*' "$work/err.txt" >"$anim/orbit_cameras.txt"
+# Frames rendered at once print their notes in the order they finish: sorted by name, in frame order.
+grep -o 'orbit_[0-9]*\.png: --position .*' "$work/err.txt" | sort >"$anim/orbit_cameras.txt"
 [ "$(wc -l <"$anim/orbit_cameras.txt")" -eq 36 ] && pass || fail "the orbit prints 36 cameras"
 same=0
 while read -r name options; do

@@ -69,6 +69,8 @@ grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fi
 
 # shellcheck source=tests/cli/anim_corpus.sh
 . "$src/tests/cli/anim_corpus.sh"
+# shellcheck source=tests/cli/frames_corpus.sh
+. "$src/tests/cli/frames_corpus.sh"
 # --- reading in pieces (parser/classic_pieces.h): every classic-encoding file, cut into about 200 pieces (at
 # least 64 bytes) by the test-only VRMLRAY_PIECE_BYTES, gives the same `info` output, messages with their
 # line:col included, and the same exit code as a read by one thread.

@@ -80,5 +80,48 @@ expect_stderr "another process failed while reading the scene" "ranks 1-2 cannot
 # An output rank 0 cannot write: exit 4 everywhere, before anything is read.
 expect 4 "unwritable output" -- timeout 60 "${mpi[@]}" "$bin" render "$good" -q -o "$work/no/such/folder.png"
 
+# --frames: whole frames go round-robin to the processes (frame k to rank k % 3), each writes its
+# own; the files are the same bytes as one process's, and --stats says who rendered which.
+# frames NAME N ARGS...: one process on 2 threads and three on one thread each render N frames.
+frames() {
+    local name=$1 n=$2 k same=0
+    shift 2
+    expect 0 "$name: one process" -- "$bin" render "$@" -q --frames "$n" --threads 2 -o "$work/${name}1_%02d.png"
+    expect 0 "$name: three processes" -- timeout 300 "${mpi[@]}" "$bin" render "$@" -q --frames "$n" \
+        --threads 1 -o "$work/${name}3_%02d.png" --stats "$work/$name.json"
+    for ((k = 0; k < n; k++)); do
+        cmp -s "$(printf '%s/%s1_%02d.png' "$work" "$name" $k)" "$(printf '%s/%s3_%02d.png' "$work" "$name" $k)" && same=$((same + 1))
+    done
+    [ "$same" -eq "$n" ] && pass || fail "$name: $same of $n frames of three processes the same bytes as one's"
+    python3 - "$work/$name.json" "$n" <<'PY' && pass || fail "$name: --stats processes do not name each one's frames"
+import json, sys
+j, n = json.load(open(sys.argv[1])), int(sys.argv[2])
+p = j["processes"]
+assert [q["rank"] for q in p] == [0, 1, 2], p
+assert [q["frames"] for q in p] == [list(range(r, n, 3)) for r in range(3)], p
+assert all(q["rays"] > 0 and q["tiles"] > 0 for q in p), p
+assert j["frame"] == max(range(0, n, 3)), j["frame"]  # rank 0's last frame is the one described
+PY
+}
+frames seed_orbit 5 "$seeds/001_sphere.wrl" -W 40 -H 30 --orbit 90  # 5 frames: two ranks get 2, one 1
+if [ -d "$corpus" ]; then
+    frames orbit 12 "$corpus/molecular/pymol/pept_spheres.wrl" -W 64 -H 48 --orbit 360
+    prim=$corpus/x3dv/castle-engine-demo-models/shadow_maps/primitives.x3dv
+    frames prim 12 "$prim" -W 48 -H 36 --fps 4  # animated: each rank evaluates its own frames' times
+    same=0
+    for ((k = 0; k < 12; k++)); do
+        "$bin" render "$prim" -W 48 -H 36 -q --time "$(python3 -c "print($k / 4)")" -o "$work/prim_alone.png" &&
+            cmp -s "$work/prim_alone.png" "$(printf '%s/prim3_%02d.png' "$work" $k)" && same=$((same + 1))
+    done
+    [ "$same" -eq 12 ] && pass || fail "primitives: $same of 12 frames of three processes equal single --time renders"
+fi
+# A frame that cannot be written (frame 4, rank 1's, is a folder): every process exits 4, none hangs,
+# and rank 0 says that another process failed.
+mkdir -p "$work/bad_04.png"
+expect 4 "a frame another process cannot write" -- timeout 120 "${mpi[@]}" "$bin" render "$seeds/001_sphere.wrl" \
+    -W 32 -H 24 -q --threads 1 --frames 6 --orbit 60 -o "$work/bad_%02d.png"
+expect_stderr "another process failed while rendering its frames \(exit 4\)" "rank 0 says a frame was not written"
+expect_stderr "bad_04\.png" "the failing process names its frame"
+
 echo "mpi tests: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
