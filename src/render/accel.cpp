@@ -415,15 +415,17 @@ void Accel::prefetch_leaf(uint32_t first, uint32_t count) const {
 }
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
-    const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
     double t_max = ray.t_max;
     bool found = false;
     auto prefetch = [this](uint32_t first, uint32_t count) { prefetch_leaf(first, count); };
     if (spheres_only_) {
         // test_primitive's sphere case, without reading the reference: leaf order is sphere order.
+        // 1 / |d|^2 at the first leaf: most camera rays of a small scene meet none.
+        double inv_a = 0.0;
         traverse_bvh4(
             bvh_, ray, t_max,
             [&](uint32_t first, uint32_t count, double& tm) {
+                if (inv_a == 0.0) inv_a = 1.0 / glm::dot(ray.d, ray.d);
                 for (uint32_t i = first; i < first + count; ++i) {
                     const SphereGeom& s = spheres_[i];
                     double t[2];
@@ -438,6 +440,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
             prefetch);
         return found;
     }
+    const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
     const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
     traverse_bvh4(
         bvh_, ray, t_max,

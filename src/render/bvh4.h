@@ -65,11 +65,18 @@ inline void traverse_bvh4(const Bvh4& bvh, const Ray& ray, double& t_max, LeafFn
     if (bvh.nodes.empty()) return;
     const Bvh4Node* nodes = bvh.nodes.data();
     const double slack = 1.0 + 2.0 * gamma_bound(3);
-    double o[3], inv[3];
+    double o[3];
+    alignas(32) double inv[4];
+#if defined(__AVX2__)
+    // One division for the three (IEEE division rounds the same in a vector lane).
+    _mm256_store_pd(inv, _mm256_div_pd(_mm256_set1_pd(1.0),
+                                       _mm256_set_pd(1.0, ray.d[2], ray.d[1], ray.d[0])));
+#else
+    for (int k = 0; k < 3; ++k) inv[k] = 1.0 / ray.d[k];
+#endif
     int near_hi[3];  // 1: the entry plane on this axis is hi (the ray runs towards -axis)
     for (int k = 0; k < 3; ++k) {
         o[k] = ray.o[k];
-        inv[k] = 1.0 / ray.d[k];
         near_hi[k] = std::signbit(inv[k]) ? 1 : 0;
     }
     struct Entry {
