@@ -69,8 +69,8 @@ inline void traverse_bvh4(const Bvh4& bvh, const Ray& ray, double& t_max, LeafFn
     alignas(32) double inv[4];
 #if defined(__AVX2__)
     // One division for the three (IEEE division rounds the same in a vector lane).
-    _mm256_store_pd(inv, _mm256_div_pd(_mm256_set1_pd(1.0),
-                                       _mm256_set_pd(1.0, ray.d[2], ray.d[1], ray.d[0])));
+    _mm256_store_pd(
+        inv, _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_set_pd(1.0, ray.d[2], ray.d[1], ray.d[0])));
 #else
     for (int k = 0; k < 3; ++k) inv[k] = 1.0 / ray.d[k];
 #endif
@@ -116,8 +116,7 @@ inline void traverse_bvh4(const Bvh4& bvh, const Ray& ray, double& t_max, LeafFn
                         t1 = _mm256_min_pd(tf, t1);
                     }
                     _mm256_store_pd(t_near, t0);
-                    mask = _mm256_movemask_pd(
-                        _mm256_cmp_pd(t0, _mm256_mul_pd(t1, S), _CMP_LE_OQ));
+                    mask = _mm256_movemask_pd(_mm256_cmp_pd(t0, _mm256_mul_pd(t1, S), _CMP_LE_OQ));
                 }
 #else
                 mask = 0;
