@@ -60,12 +60,15 @@ class Accel {
     bool test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit,
                        bool brute_force = false) const;
     int instance_crossings(uint32_t index, const Ray& ray) const;
+    // Fetches what the leaf [first, first + count) of leaf order will read.
+    void prefetch_leaf(uint32_t first, uint32_t count) const;
 
     const FlatScene* scene_ = nullptr;
     Bvh4 bvh_;                              // collapsed from the binary build, which is not kept
     std::vector<uint32_t> prims_;           // packed references in leaf order
     std::vector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;
+    bool spheres_only_ = false;  // every primitive is a sphere: prims_[i] is sphere i
 
     std::vector<SphereGeom> spheres_;
     std::vector<uint32_t>
