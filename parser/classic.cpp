@@ -207,22 +207,8 @@ class Reader {
                 expect(f, TokenKind::String, "a META value string");
                 return kNullNode;
             }
-            if (w == "IMPORT") {
-                f.lexer.next();
-                expect_word(f, "an inline's exported name");
-                if (peek_word(f, "AS")) {
-                    f.lexer.next();
-                    expect_word(f, "a name after AS");
-                }
-                return kNullNode;
-            }
-            if (w == "EXPORT") {
-                f.lexer.next();
-                expect_word(f, "a DEF name to export");
-                if (peek_word(f, "AS")) {
-                    f.lexer.next();
-                    expect_word(f, "a name after AS");
-                }
+            if (w == "IMPORT" || w == "EXPORT") {
+                import_export(f, w == "IMPORT");
                 return kNullNode;
             }
         }
@@ -239,19 +225,69 @@ class Reader {
         ++scene_.stats.routes;
         Route r;
         r.loc = {f.file, keyword.offset};
-        if (!route_end(f, from, r.from, r.from_event) || !route_end(f, dest, r.to, r.to_event))
+        if (!route_end(f, from, r.from, r.from_event, r.from_import) ||
+            !route_end(f, dest, r.to, r.to_event, r.to_import))
             return;
         tree_.routes.push_back(r);
     }
 
+    // IMPORT inlineDEF.exportedDEF [AS name] | EXPORT localDEF [AS name] (X3D 4.4.6).
+    void import_export(Frame& f, bool import) {
+        not_in_piece(f);
+        const Token keyword = f.lexer.next();
+        const Token what =
+            expect(f, TokenKind::Word,
+                   import ? "inlineDEF.exportedDEF after IMPORT" : "a DEF name to export");
+        std::string_view text = f.lexer.text(what), exported;
+        if (import) {
+            const size_t dot = text.find('.');
+            if (dot == std::string_view::npos || dot == 0 || dot + 1 == text.size())
+                fail(f, what,
+                     "expected inlineDEF.exportedDEF after IMPORT, found " + describe(f, what));
+            exported = text.substr(dot + 1);
+            text = text.substr(0, dot);
+        }
+        std::string_view as = import ? exported : text;
+        if (peek_word(f, "AS")) {
+            f.lexer.next();
+            as = expect_word(f, "a name after AS");
+        }
+        auto it = f.defs.find(intern(text));
+        if (it == f.defs.end()) {  // as a ROUTE naming no DEF: dropped, with a warning
+            warn(f, what.offset,
+                 std::string(import ? "IMPORT" : "EXPORT") + " names '" + std::string(text) +
+                     "', which no DEF before it names; ignored",
+                 import ? "import-unknown-def" : "export-unknown-def");
+            return;
+        }
+        if (import) {
+            if (it->second != kNullNode && tree_.type_name(it->second) != "Inline")
+                fail(f, what,
+                     "IMPORT names '" + std::string(text) + "', a " +
+                         std::string(tree_.type_name(it->second)) + ", not an Inline");
+            imported_[intern(as)] = uint32_t(tree_.imports.size());
+            tree_.imports.push_back(
+                {it->second, intern(exported), intern(as), PackedLoc(f.file, keyword.offset)});
+        } else {
+            tree_.exports.push_back({f.file, intern(as), it->second});
+        }
+    }
+
     // "NODE.event" of a ROUTE: the node its DEF name has in this scope. A name no DEF before the
     // ROUTE gives is a warning (the ROUTE is dropped), as browsers take it.
-    bool route_end(Frame& f, const Token& t, NodeId& node, Name& event) {
+    bool route_end(Frame& f, const Token& t, NodeId& node, Name& event, uint32_t& import) {
         const std::string_view text = f.lexer.text(t);
         const size_t dot = text.rfind('.');
         if (dot == std::string_view::npos || dot == 0 || dot + 1 == text.size())
             fail(f, t, "expected NODE.event in ROUTE, found " + describe(f, t));
         auto it = f.defs.find(intern(text.substr(0, dot)));
+        // An IMPORTed name (the file's own scope only: a PROTO body cannot see it).
+        if (auto imp = imported_.find(intern(text.substr(0, dot)));
+            it == f.defs.end() && !f.is_values && imp != imported_.end()) {
+            import = imp->second;
+            event = intern(text.substr(dot + 1));
+            return true;
+        }
         if (it != f.defs.end() && it->second == kNullNode) return false;  // skipped, said so
         if (it == f.defs.end()) {
             warn(f, t.offset,
@@ -899,6 +935,7 @@ class Reader {
     std::vector<FieldEntry> scratch_;   // fields of the nodes being read, innermost last
     std::vector<NodeId> node_scratch_;  // node values of the fields being read, innermost last
     uint32_t error_file_ = 0;
+    std::unordered_map<Name, uint32_t> imported_;  // IMPORT AS names -> tree.imports
 };
 
 }  // namespace

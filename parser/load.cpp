@@ -14,6 +14,7 @@
 #include <optional>
 #include <set>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "parser/classic.h"
 #include "parser/vrml1.h"
@@ -301,6 +302,8 @@ class Loader {
         if (file == 0) scene_.encoding = enc;
         ClassicResult result;
         const size_t first_node = scene_.tree.nodes.size();
+        const size_t first_import = scene_.tree.imports.size(),
+                     first_route = scene_.tree.routes.size();
         ExternProtoResolver resolver = [this, inline_depth](const std::vector<std::string>& urls,
                                                             uint32_t from, SourceLoc where,
                                                             Name name) {
@@ -334,7 +337,10 @@ class Loader {
                 result.ok = false;
                 break;
         }
+        // Inlines read below append their own imports and routes after this file's.
+        const size_t end_import = scene_.tree.imports.size(), end_route = scene_.tree.routes.size();
         if (result.ok && options_.resolve_inlines) resolve_inlines(file, first_node, inline_depth);
+        if (result.ok) resolve_imports(first_import, end_import, first_route, end_route);
         return result;
     }
 
@@ -385,13 +391,50 @@ class Loader {
             std::vector<std::string> list(urls.strings.begin(), urls.strings.end());
             if (list.empty()) continue;  // an Inline with no URL loads nothing, as specified
             SourceLoc where = tree.nodes[id].loc;
-            auto roots = load_inline(list, file, where, depth);
-            if (roots) tree.inline_roots[static_cast<NodeId>(id)] = *roots;
+            auto loaded = load_inline(list, file, where, depth);
+            if (loaded) {
+                tree.inline_roots[static_cast<NodeId>(id)] = loaded->roots;
+                inline_file_[static_cast<NodeId>(id)] = loaded->file;
+            }
         }
     }
 
-    std::optional<std::vector<NodeId>> load_inline(const std::vector<std::string>& urls,
-                                                   uint32_t from, SourceLoc where, size_t depth) {
+    // This file's IMPORTs [first, end) find their nodes among the EXPORTs of the file each Inline
+    // read; the ROUTEs [first_route, end_route) naming them then connect those nodes. An unknown
+    // export is an error at the IMPORT; an Inline not loaded drops its ROUTEs (it said why).
+    void resolve_imports(size_t first, size_t end, size_t first_route, size_t end_route) {
+        NodeTree& tree = scene_.tree;
+        for (size_t i = first; i < end; ++i) {
+            Import& imp = tree.imports[i];
+            auto file = inline_file_.find(imp.inline_node);
+            if (file == inline_file_.end()) continue;
+            for (const Export& e : tree.exports)
+                if (e.file == file->second && e.name == imp.exported) imp.node = e.node;
+            if (imp.node == kNullNode)
+                scene_.diagnostics.error(
+                    imp.loc.get(), "IMPORT: the file of Inline '" +
+                                       std::string(tree.def_name(imp.inline_node)) + "' (" +
+                                       scene_.sources.file(file->second).path + ") exports no '" +
+                                       std::string(name_text(imp.exported)) + "'");
+        }
+        size_t kept = first_route;
+        for (size_t r = first_route; r < end_route; ++r) {
+            Route& route = tree.routes[r];
+            if (route.from_import != Route::kNoImport)
+                route.from = tree.imports[route.from_import].node;
+            if (route.to_import != Route::kNoImport) route.to = tree.imports[route.to_import].node;
+            if (route.from != kNullNode && route.to != kNullNode) tree.routes[kept++] = route;
+        }
+        tree.routes.erase(tree.routes.begin() + static_cast<ptrdiff_t>(kept),
+                          tree.routes.begin() + static_cast<ptrdiff_t>(end_route));
+    }
+
+    struct InlineFile {
+        std::vector<NodeId> roots;
+        uint32_t file = 0;
+    };
+    std::optional<InlineFile> load_inline(const std::vector<std::string>& urls, uint32_t from,
+                                          SourceLoc where, size_t depth) {
         UrlFailures failures;
         for (const std::string& url : urls) {
             const fs::path path = resolve_or_note(url, scene_.sources.file(from).path,
@@ -434,8 +477,8 @@ class Loader {
             stack_.push_back(key);
             ClassicResult r = read_demoting_errors(file, depth + 1, "Inline");
             stack_.pop_back();
-            inline_cache_[key] = r.roots;
-            return r.roots;
+            inline_cache_[key] = {r.roots, file};
+            return inline_cache_[key];
         }
         scene_.diagnostics.warning(where, "Inline not loaded: " + failures.message(),
                                    "inline-missing:" + failures.reasons);
@@ -522,7 +565,8 @@ class Loader {
     LoadedScene& scene_;
     const LoadOptions& options_;
     std::vector<std::string> stack_;  // files being read, to refuse cycles
-    std::map<std::string, std::vector<NodeId>> inline_cache_;
+    std::map<std::string, InlineFile> inline_cache_;
+    std::unordered_map<NodeId, uint32_t> inline_file_;  // Inline node -> the file it read
     std::map<std::string, std::shared_ptr<ProtoScope>> proto_files_;
     size_t inline_files_ = 0;
 };

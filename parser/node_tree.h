@@ -76,6 +76,25 @@ struct Route {
     NodeId to = kNullNode;
     Name to_event = kNoName;
     PackedLoc loc;  // the ROUTE keyword
+    // An end that names an IMPORTed node: the index into NodeTree::imports; the loader puts the
+    // exported node into from/to once the Inline is read.
+    static constexpr uint32_t kNoImport = UINT32_MAX;
+    uint32_t from_import = kNoImport, to_import = kNoImport;
+};
+
+// X3D 4.4.6: `EXPORT localDEF AS name` in a file offers its node to the file that inlines it;
+// `IMPORT inlineDEF.name AS local` there lets that file's ROUTEs name it `local`.
+struct Export {
+    uint32_t file = 0;    // the source file the EXPORT stands in
+    Name name = kNoName;  // the AS name (else the DEF name)
+    NodeId node = kNullNode;
+};
+struct Import {
+    NodeId inline_node = kNullNode;
+    Name exported = kNoName;
+    Name local = kNoName;
+    PackedLoc loc;            // the IMPORT statement
+    NodeId node = kNullNode;  // the exported node, once resolved
 };
 
 // `field IS protoField` inside a PROTO body, kept for events: what is routed to the instance's
@@ -101,6 +120,8 @@ struct NodeTree {
 
     std::vector<Route> routes;     // in file order (PROTO bodies' where each instance stands)
     std::vector<IsLink> is_links;  // PROTO interface events, for routes into and out of instances
+    std::vector<Export> exports;   // of every file read
+    std::vector<Import> imports;
 
     // Inline nodes that were resolved: the top-level nodes of the file they name.
     std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;

@@ -105,7 +105,8 @@ struct Names {
          type = intern("type"), access = intern("accessType"), value = intern("value"),
          url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField"),
          from_node = intern("fromNode"), from_field = intern("fromField"),
-         to_node = intern("toNode"), to_field = intern("toField");
+         to_node = intern("toNode"), to_field = intern("toField"), inline_def = intern("inlineDEF"),
+         imported_def = intern("importedDEF"), local_def = intern("localDEF"), as = intern("AS");
     // Elements of the encoding.
     Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"),
          proto_interface = intern("ProtoInterface"), proto_body = intern("ProtoBody"),
@@ -160,6 +161,7 @@ class XmlReader {
     struct Instance {
         const ProtoDecl* proto = nullptr;
         std::unordered_map<Name, FieldEntry> values;
+        std::vector<std::pair<Name, Name>> events;  // (field, enclosing PROTO field) of IS events
     };
     // An element that has started and not yet ended; the members used depend on the role.
     struct Open {
@@ -180,6 +182,7 @@ class XmlReader {
         std::shared_ptr<XmlProtoDecl> proto;
         std::vector<std::string> urls;
         std::unique_ptr<Instance> instance;
+        std::vector<std::pair<Name, Name>> events;  // a node's IS events: (field, PROTO field)
     };
     // A scope of DEF names and PROTOs: the file, one PROTO instance, or one interface default
     // value.
@@ -278,6 +281,7 @@ class XmlReader {
     std::string attr_text(const XmlElement& e, const XmlAttr& a) const;
     std::string required(const XmlElement& e, Name attr, const char* what);
     void route(const XmlElement& e);
+    void import_export(const XmlElement& e);
     void read_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
                     const What& what);
     void lex_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
@@ -349,6 +353,7 @@ class XmlReader {
     std::vector<Child> children_;      // child nodes of the open elements, innermost last
     std::vector<NodeId> roots_;
     XmlProtoDecl* recording_ = nullptr;  // the ProtoBody being recorded
+    std::unordered_map<Name, uint32_t> imported_;  // IMPORT AS names -> tree.imports
     size_t record_depth_ = 0;
 
     std::unordered_map<const xmlChar*, Name>

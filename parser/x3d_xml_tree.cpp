@@ -1,5 +1,7 @@
 // X3D XML elements to nodes: the X3D rules (containerField, DEF/USE, prototypes) on the element
 // events that parser/x3d_xml.cpp delivers from libxml2, or that a recorded ProtoBody replays.
+#include <algorithm>
+
 #include "parser/x3d_xml.h"
 #include "parser/x3d_xml_reader.h"
 
@@ -92,7 +94,10 @@ void XmlReader::content_element(const XmlElement& e) {
     if (tag == n_.extern_proto_declare) return extern_start(e);
     if (tag == n_.proto_instance) return instance_start(e);
     if (tag == n_.route || tag == n_.import || tag == n_.export_) {
-        if (tag == n_.route) route(e);
+        if (tag == n_.route)
+            route(e);
+        else
+            import_export(e);
         return push(make_open(Role::Leaf, e));
     }
     Open& parent = stack_.back();
@@ -296,6 +301,8 @@ void XmlReader::node_end(Open& o) {
     }
     children_.resize(o.child_mark);
     NodeId id = make_node(o.decl, o.tag, o.file, o.offset, o.field_mark);
+    for (const auto& [field, proto_field] : o.events)
+        tree_.is_links.push_back({kNullNode, proto_field, id, field});
     if (o.def != kNoName) {
         tree_.nodes[id].def_name = o.def;
         frame().defs[o.def] = id;
@@ -423,6 +430,12 @@ void XmlReader::route(const XmlElement& e) {
     r.to_event = intern(trim(required(e, n_.to_field, "ROUTE")));
     for (const std::string* name : {&from, &to}) {
         auto it = frame().defs.find(intern(*name));
+        // An IMPORTed name (the file's own scope only: a ProtoBody cannot see it).
+        if (auto imp = imported_.find(intern(*name));
+            it == frame().defs.end() && !frame().is_values && imp != imported_.end()) {
+            (name == &from ? r.from_import : r.to_import) = imp->second;
+            continue;
+        }
         if (it != frame().defs.end() && it->second == kNullNode) return;  // skipped, said so
         if (it == frame().defs.end()) {
             warn(e.file, e.offset,
@@ -435,6 +448,38 @@ void XmlReader::route(const XmlElement& e) {
         (name == &from ? r.from : r.to) = it->second;
     }
     tree_.routes.push_back(r);
+}
+
+// <IMPORT inlineDEF importedDEF AS> and <EXPORT localDEF AS> (X3D 4.4.6).
+void XmlReader::import_export(const XmlElement& e) {
+    const bool import = e.tag == n_.import;
+    const Name def_attr = import ? n_.inline_def : n_.local_def;
+    const std::string def(trim(required(e, def_attr, import ? "IMPORT" : "EXPORT")));
+    const std::string exported =
+        import ? std::string(trim(required(e, n_.imported_def, "IMPORT"))) : def;
+    const XmlAttr* as_attr = e.find(n_.as);
+    std::string as = as_attr ? std::string(trim(attr_text(e, *as_attr))) : "";
+    if (as.empty()) as = exported;
+    auto it = frame().defs.find(intern(def));
+    const uint32_t at = e.find(def_attr)->begin;
+    if (it == frame().defs.end()) {  // as a ROUTE naming no DEF: dropped, with a warning
+        warn(e.file, at,
+             std::string(import ? "IMPORT" : "EXPORT") + " names '" + def +
+                 "', which no DEF before it names; ignored",
+             import ? "import-unknown-def" : "export-unknown-def");
+        return;
+    }
+    if (!import) {
+        tree_.exports.push_back({e.file, intern(as), it->second});
+        return;
+    }
+    if (it->second != kNullNode && tree_.type_name(it->second) != "Inline")
+        fail(e.file, at,
+             "IMPORT names '" + def + "', a " + std::string(tree_.type_name(it->second)) +
+                 ", not an Inline");
+    imported_[intern(as)] = uint32_t(tree_.imports.size());
+    tree_.imports.push_back(
+        {it->second, intern(exported), intern(as), PackedLoc(e.file, e.offset)});
 }
 
 // <connect nodeField protoField>: the enclosing node (or PROTO instance) field takes the instance's
@@ -459,6 +504,7 @@ void XmlReader::connect(const XmlElement& e) {
                      std::string(name_text(inst.proto->name)));
         if (inner->type != outer->type)
             fail(e.file, e.offset, "connect joins fields of different types");
+        if (inner->access != Access::Field) inst.events.emplace_back(inner->name, outer->name);
         if (bound != f.is_values->end()) {
             inst.values[inner->name] = bound->second;
             inst.values[inner->name].name = inner->name;
@@ -478,6 +524,9 @@ void XmlReader::connect(const XmlElement& e) {
              "connect joins " + std::string(type) + "." + node_field + " (" +
                  std::string(type_name(field->type)) + ") to " + proto_field + " of type " +
                  std::string(type_name(outer->type)));
+    // Events go through IS links (as the classic reader keeps them), for ROUTEs into and out of
+    // the instance.
+    if (field->access != Access::Field) owner.events.emplace_back(field->name, outer->name);
     if (!has_value(field->access) || bound == f.is_values->end())
         return;  // events carry no value at time 0
     FieldEntry entry = bound->second;
@@ -648,6 +697,7 @@ NodeId XmlReader::expand(const Instance& inst, uint32_t file, uint32_t offset) {
     root.offset = offset;
     root.child_mark = children_.size();
     const size_t depth = stack_.size();
+    const size_t links_mark = tree_.is_links.size();
     push(std::move(root));
     for (const RecordedEvent& ev : body.events) {
         if (!ev.start) {
@@ -672,6 +722,19 @@ NodeId XmlReader::expand(const Instance& inst, uint32_t file, uint32_t offset) {
     children_.resize(stack_.back().child_mark);
     stack_.pop_back();
     frames_.pop_back();
+    // This body's IS events belong to this instance, which its first node stands for (nested
+    // instances set theirs before); the instance's own connects reach the enclosing instance.
+    auto& links = tree_.is_links;
+    for (size_t i = links_mark; i < links.size(); ++i)
+        if (links[i].instance == kNullNode) links[i].instance = first;
+    if (first == kNullNode) {
+        links.erase(std::remove_if(links.begin() + static_cast<ptrdiff_t>(links_mark), links.end(),
+                                   [](const IsLink& l) { return l.instance == kNullNode; }),
+                    links.end());
+        return first;
+    }
+    for (const auto& [field, outer] : inst.events)
+        links.push_back({kNullNode, outer, first, field});
     return first;
 }
 

@@ -252,27 +252,42 @@ void Animator::deliver(const RouteEnd& to, const FieldType& type,
             send(to.node, to.field, type, numbers, strings, nodes);  // x_changed
         return;
     }
-    Blend blend;
     if (to.access != Access::EventIn || name_text(to.field) != "set_fraction" || numbers.empty())
         return;  // other eventIns (set_bind, addChildren, ...) change nothing drawn here
-    if (!interpolator_blend(tree_.type_name(to.node), blend)) {
-        warn_once(to.node,
-                  describe(tree_, to.node) +
-                      " is not evaluated (vrmlray evaluates the VRML97 interpolators and the "
-                      "X3D 2D ones); what it drives keeps its file values",
-                  "interpolator-not-evaluated:" + std::string(tree_.type_name(to.node)));
+    interpolate_at(to.node, numbers[0]);
+}
+
+// What the interpolator `node` sends for set_fraction `fraction`: value_changed (or
+// EaseInEaseOut's modifiedFraction_changed) through its ROUTEs.
+void Animator::interpolate_at(NodeId node, double fraction) {
+    static const Name value_changed = intern("value_changed"), key = intern("key"),
+                      key_value = intern("keyValue"), modified = intern("modifiedFraction_changed");
+    const std::string_view type = tree_.type_name(node);
+    const FieldView keys = tree_.get(node, key);
+    if (type == "EaseInEaseOut") {
+        const std::optional<double> f =
+            ease_in_ease_out(keys.numbers, tree_.get(node, "easeInEaseOut").numbers, fraction);
+        if (f) send(node, modified, {ValueKind::Float, false}, {*f}, {}, {});
         return;
     }
-    static const Name value_changed = intern("value_changed"), key = intern("key"),
-                      key_value = intern("keyValue");
-    const FieldView keys = tree_.get(to.node, key), values = tree_.get(to.node, key_value);
+    Blend blend = Blend::Linear;
+    const bool spline = type.starts_with("Spline"), squad = type == "SquadOrientationInterpolator";
+    if (!spline && !squad && !interpolator_blend(type, blend)) {
+        warn_once(node,
+                  describe(tree_, node) +
+                      " is not evaluated (vrmlray evaluates the VRML97 and X3D interpolators); "
+                      "what it drives keeps its file values",
+                  "interpolator-not-evaluated:" + std::string(type));
+        return;
+    }
+    const FieldView values = tree_.get(node, key_value);
     RouteEnd out_end;
-    if (!field_end(to.node, value_changed, false, out_end)) return;
+    if (!field_end(node, value_changed, false, out_end)) return;
     size_t width = size_t(components(values.type.kind));
     if (out_end.type.multi) {  // Coordinate, Normal, Coordinate2D: one set of points per key
         if (keys.numbers.empty() || values.numbers.size() % keys.numbers.size() != 0) {
-            warn_once(to.node,
-                      describe(tree_, to.node) +
+            warn_once(node,
+                      describe(tree_, node) +
                           ": keyValue does not hold the same number of values for each key; "
                           "no event is sent",
                       "interpolator-key-count");
@@ -280,10 +295,20 @@ void Animator::deliver(const RouteEnd& to, const FieldType& type,
         }
         width = values.numbers.size() / keys.numbers.size();
     }
-    std::vector<double> result =
-        interpolate(keys.numbers, values.numbers, width, blend, numbers[0]);
+    std::vector<double> result;
+    if (spline) {
+        SplineOptions options;
+        options.key_velocity = tree_.get(node, "keyVelocity").numbers;
+        options.closed = tree_.get_bool(node, intern("closed"));
+        options.normalize_velocity = tree_.get_bool(node, intern("normalizeVelocity"));
+        result = interpolate_spline(keys.numbers, values.numbers, width, options, fraction);
+    } else if (squad) {
+        result = interpolate_squad(keys.numbers, values.numbers, fraction);
+    } else {
+        result = interpolate(keys.numbers, values.numbers, width, blend, fraction);
+    }
     if (result.empty()) return;  // no keys: the spec says it sends nothing
-    send(to.node, value_changed, out_end.type, std::move(result), {}, {});
+    send(node, value_changed, out_end.type, std::move(result), {}, {});
 }
 
 bool Animator::evaluate(double now) {

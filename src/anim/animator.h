@@ -59,6 +59,7 @@ class Animator {
               std::vector<std::string> strings, std::vector<NodeId> nodes);
     void deliver(const RouteEnd& to, const FieldType& type, const std::vector<double>& numbers,
                  const std::vector<std::string>& strings, const std::vector<NodeId>& nodes);
+    void interpolate_at(NodeId node, double fraction);
     void warn_once(NodeId node, const std::string& message, const std::string& cause);
 
     NodeTree& tree_;

@@ -36,3 +36,32 @@ done
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); sys.exit(not (j["frames_at_once"] == 2 and j["scene_builds"] == 1 and j["frame"] == 3))' "$work/at_once.json" &&
     pass || fail "4 frames on 2 threads: 2 at once, the static scene built once, the stats of frame 3"
 cmp -s "$work/at_once_0.png" "$work/at_once_3.png" && fail "the orbit turned the camera between frames" || pass
+# IS events in an X3D XML <ProtoBody> (<connect> of inputOnly, outputOnly and inputOutput fields)
+# animate as the classic encoding's IS: the same scene in both encodings gives the same bytes at
+# two times, and the two times differ (the box, its colour and the sphere that follows it move).
+anim=$src/tests/cli/anim
+for t in 0.5 1.5; do
+    for ext in x3dv x3d; do
+        expect 0 "proto_is.$ext at --time $t" -- "$bin" render "$anim/proto_is.$ext" -W 48 -H 32 -q --time "$t" -o "$work/proto_is_${ext}_$t.png"
+    done
+    cmp -s "$work/proto_is_x3dv_$t.png" "$work/proto_is_x3d_$t.png" && pass || fail "XML and classic PROTO IS events animate the same at $t"
+done
+cmp -s "$work/proto_is_x3d_0.5.png" "$work/proto_is_x3d_1.5.png" && fail "the XML PROTO's IS events move it between 0.5 and 1.5 s" || pass
+# IMPORT/EXPORT: a ROUTE of the main file moves a node of its Inline, in both encodings alike.
+for t in 0.5 1.5; do
+    for ext in x3dv x3d; do
+        expect 0 "import_main.$ext at --time $t" -- "$bin" render "$anim/import_main.$ext" -W 48 -H 32 -q --time "$t" -o "$work/import_${ext}_$t.png"
+    done
+    cmp -s "$work/import_x3dv_$t.png" "$work/import_x3d_$t.png" && pass || fail "XML and classic IMPORT animate the same at $t"
+done
+cmp -s "$work/import_x3dv_0.5.png" "$work/import_x3dv_1.5.png" && fail "a ROUTE to an IMPORTed node moves it" || pass
+cp "$anim/import_inner.x3dv" "$work/import_inner.x3dv"
+printf '#X3D V3.3 utf8\nPROFILE Immersive\nDEF I Inline { url "import_inner.x3dv" }\n  IMPORT I.Nothing AS N\n' >"$work/bad_export.x3dv"
+expect 3 "IMPORT of a name the Inline does not export" -- "$bin" render "$work/bad_export.x3dv" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "bad_export.x3dv:4:3: error: IMPORT: the file of Inline 'I' \(.*import_inner.x3dv\) exports no 'Nothing'" "unknown export names the IMPORT"
+printf '#X3D V3.3 utf8\nPROFILE Immersive\nDEF I Transform {}\nIMPORT I.Box AS N\n' >"$work/bad_import.x3dv"
+expect 3 "IMPORT of a node that is no Inline" -- "$bin" render "$work/bad_import.x3dv" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "bad_import.x3dv:4:8: error: IMPORT names 'I', a Transform, not an Inline" "IMPORT of a Transform names the place"
+printf '<X3D><Scene><Transform DEF="I"/>\n<IMPORT inlineDEF="I" importedDEF="Box" AS="N"/></Scene></X3D>\n' >"$work/bad_import.x3d"
+expect 3 "XML IMPORT of a node that is no Inline" -- "$bin" render "$work/bad_import.x3d" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "bad_import.x3d:2:20: error: IMPORT names 'I', a Transform, not an Inline" "XML IMPORT error names the attribute"

@@ -302,6 +302,36 @@ ROUTE Clock.fraction_changed TO M1.set_f
     EXPECT_EQ(w.field("Body", "translation", 1), (std::vector<double>{0, 0, 0}));  // not routed
 }
 
+TEST(Routes, XmlProtoBodyIsEventsAsInTheClassicEncoding) {
+    // Routes.ProtoBodyRoutesAndIsEvents in XML: <connect> of an inputOnly field, and of an
+    // outputOnly one whose events leave the instance for another Transform.
+    World w(R"(<X3D><Scene>
+<ProtoDeclare name="Mover"><ProtoInterface>
+  <field name="set_f" type="SFFloat" accessType="inputOnly"/>
+  <field name="moved" type="SFVec3f" accessType="outputOnly"/>
+</ProtoInterface><ProtoBody>
+  <Transform DEF="Body"><Shape><Box/></Shape></Transform>
+  <PositionInterpolator DEF="Interp" key="0 1" keyValue="0 0 0 1 0 0"><IS>
+    <connect nodeField="set_fraction" protoField="set_f"/>
+    <connect nodeField="value_changed" protoField="moved"/>
+  </IS></PositionInterpolator>
+  <ROUTE fromNode="Interp" fromField="value_changed" toNode="Body" toField="set_translation"/>
+</ProtoBody></ProtoDeclare>
+<ProtoInstance DEF="M1" name="Mover"/>
+<ProtoInstance DEF="M2" name="Mover"/>
+<Transform DEF="Follower"/>
+<TimeSensor DEF="Clock" loop="true" cycleInterval="2"/>
+<ROUTE fromNode="Clock" fromField="fraction_changed" toNode="M1" toField="set_f"/>
+<ROUTE fromNode="M1" fromField="moved" toNode="Follower" toField="set_translation"/>
+</Scene></X3D>)",
+            "");
+    EXPECT_TRUE(w.messages().empty()) << w.messages();
+    w.animator->evaluate(0.5);  // fraction 0.25
+    EXPECT_EQ(w.field("Body", "translation", 0), (std::vector<double>{0.25, 0, 0}));
+    EXPECT_EQ(w.field("Body", "translation", 1), (std::vector<double>{0, 0, 0}));  // not routed
+    EXPECT_EQ(w.field("Follower", "translation"), (std::vector<double>{0.25, 0, 0}));
+}
+
 TEST(Routes, SetEventsOfPlainFieldsReplaceTheField) {
     // VRML97 Extrusion: `eventIn set_spine` and `field spine` (freewrl test 41 wiggles a snake so);
     // fraction 0.5 of a 2 s loop at t = 1: half way, spine (1 0 0, 1 2 0).
@@ -348,6 +378,199 @@ ROUTE S.value_changed TO M.transparency
         << w.messages();
     w.animator->evaluate(0.5);
     EXPECT_EQ(w.field("M", "transparency"), std::vector<double>{0.5});  // runs on past 0.25
+}
+
+// ---- X3D's spline, Squad and EaseInEaseOut interpolators --------------------------------------
+
+std::vector<double> spline(std::vector<double> key, std::vector<double> value, size_t width,
+                           double f, std::vector<double> velocity = {}, bool closed = false,
+                           bool normalize = false) {
+    SplineOptions o;
+    o.key_velocity = velocity;
+    o.closed = closed;
+    o.normalize_velocity = normalize;
+    return interpolate_spline(key, value, width, o, f);
+}
+
+// Hermite weights at s = 0.5: h00 = h01 = 0.5, h10 = 0.125, h11 = -0.125; all the values below
+// are binary fractions, exact in double precision, unless a tolerance says otherwise.
+TEST(Spline, ScalarAtKeysBetweenAndOutside) {
+    const std::vector<double> k{0.0, 0.5, 1.0}, v{0.0, 1.0, 3.0};
+    EXPECT_EQ(spline(k, v, 1, -1.0), std::vector<double>{0.0});  // before: the first value
+    EXPECT_EQ(spline(k, v, 1, 0.0), std::vector<double>{0.0});
+    EXPECT_EQ(spline(k, v, 1, 0.5), std::vector<double>{1.0});
+    EXPECT_EQ(spline(k, v, 1, 1.0), std::vector<double>{3.0});
+    EXPECT_EQ(spline(k, v, 1, 2.0), std::vector<double>{3.0});  // after: the last
+    // Open ends: T_0 = T_2 = 0, T_1 = (3 - 0) / 2 = 1.5; uniform keys scale by 2h / 2h = 1.
+    // f = 0.25: 0.5 * 0 + 0.5 * 1 + 0.125 * 0 - 0.125 * 1.5 = 0.3125 (linear would be 0.5).
+    EXPECT_EQ(spline(k, v, 1, 0.25), std::vector<double>{0.3125});
+    // f = 0.75: 0.5 * 1 + 0.5 * 3 + 0.125 * 1.5 - 0.125 * 0 = 2.1875.
+    EXPECT_EQ(spline(k, v, 1, 0.75), std::vector<double>{2.1875});
+    EXPECT_TRUE(spline({}, {}, 1, 0.5).empty());  // no keys: no event
+}
+
+TEST(Spline, UnevenKeysScaleTheTangentsSoTheVelocityIsContinuous) {
+    // key [0 .25 1]: h0 = 0.25, h1 = 0.75, T_1 = 1.5. Into key 1: 2 h0 / (h0 + h1) T_1 = 0.75;
+    // out of it: 2 h1 / (h0 + h1) T_1 = 2.25.
+    const std::vector<double> k{0.0, 0.25, 1.0}, v{0.0, 1.0, 3.0};
+    EXPECT_EQ(spline(k, v, 1, 0.125), std::vector<double>{0.40625});  // 0.5 - 0.125 * 0.75
+    EXPECT_EQ(spline(k, v, 1, 0.625), std::vector<double>{2.28125});  // 2 + 0.125 * 2.25
+    // dv/df on both sides of key 1: 0.75 / 0.25 = 3 = 2.25 / 0.75. Tolerance: one-sided
+    // differences over e = 1e-7 err by e |v''| / 2 < 1e-5 (|v''| < 100 here), rounding by 1e-9.
+    const double e = 1e-7;
+    const double left = (spline(k, v, 1, 0.25)[0] - spline(k, v, 1, 0.25 - e)[0]) / e;
+    const double right = (spline(k, v, 1, 0.25 + e)[0] - spline(k, v, 1, 0.25)[0]) / e;
+    EXPECT_NEAR(left, 3.0, 1e-4);
+    EXPECT_NEAR(right, 3.0, 1e-4);
+}
+
+TEST(Spline, PositionsAndKeyVelocities) {
+    // Each component alone: y runs 0 2 4, T_1 = 2, f = 0.25: 0.5 * 2 - 0.125 * 2 = 0.75.
+    EXPECT_EQ(spline({0, 0.5, 1}, {0, 0, 7, 1, 2, 7, 3, 4, 7}, 3, 0.25),
+              (std::vector<double>{0.3125, 0.75, 7.0}));
+    const std::vector<double> k{0.0, 0.5, 1.0}, v{0.0, 1.0, 3.0};
+    // One velocity a key: T = 1, -1, 4; f = 0.25: 0.5 + 0.125 * 1 - 0.125 * -1 = 0.75.
+    EXPECT_EQ(spline(k, v, 1, 0.25, {1, -1, 4}), std::vector<double>{0.75});
+    // normalizeVelocity: each to length D = |1 - 0| + |3 - 1| = 3: 3 -3 3; 0.5 + 0.375 + 0.375.
+    EXPECT_EQ(spline(k, v, 1, 0.25, {1, -1, 4}, false, true), std::vector<double>{1.25});
+    // Two velocities are the ends' tangents; key 1 keeps (3 - 0) / 2 = 1.5:
+    // 0.5 + 0.125 * 4 - 0.125 * 1.5 = 0.8125.
+    EXPECT_EQ(spline(k, v, 1, 0.25, {4, 0}), std::vector<double>{0.8125});
+    // Another count of velocities is not used: as without any.
+    EXPECT_EQ(spline(k, v, 1, 0.25, {4, 0, 1, 1}), std::vector<double>{0.3125});
+}
+
+TEST(Spline, ClosedLoopIsContinuousThroughTheLastKey) {
+    // 2D, uneven keys, first value = last: closed. T_0 = T_3 = (v_1 - v_2) / 2 = (0.5 0.5).
+    const std::vector<double> k{0.0, 0.25, 0.5, 1.0}, v{1, 0, 0, 1, -1, 0, 1, 0};
+    // f = 0.125 (s = 0.5): out of key 0 the tangent scales by 2 h0 / (h2 + h0) = 2/3, into key 1
+    // T_1 = (v_2 - v_0) / 2 = (-1 0) by 2 h0 / (h0 + h1) = 1: x = 0.5 + 0.125 / 3 + 0.125 = 2/3,
+    // y = 0.5 + 0.125 / 3 = 13/24. Tolerance: 1/3 and the sums round, a few ulps.
+    const std::vector<double> mid = spline(k, v, 2, 0.125, {}, true);
+    EXPECT_NEAR(mid[0], 2.0 / 3.0, 1e-15);
+    EXPECT_NEAR(mid[1], 13.0 / 24.0, 1e-15);
+    // The velocity leaving key 0 equals the one arriving at the last key: 2 T / (h2 + h0) =
+    // (4/3 4/3). Tolerance: one-sided differences over 1e-7 with |v''| < 100, as above.
+    const double e = 1e-7;
+    for (int c = 0; c < 2; ++c) {
+        const double start = (spline(k, v, 2, e, {}, true)[c] - v[c]) / e;
+        const double end = (v[c] - spline(k, v, 2, 1.0 - e, {}, true)[c]) / e;
+        EXPECT_NEAR(start, 4.0 / 3.0, 1e-4) << c;
+        EXPECT_NEAR(end, 4.0 / 3.0, 1e-4) << c;
+    }
+    // Open (closed FALSE), the ends stop: velocity 0 there (the same tolerance).
+    EXPECT_NEAR((spline(k, v, 2, e)[0] - v[0]) / e, 0.0, 1e-4);
+    // Closed is ignored when the last value differs from the first: T_0 = 0, so
+    // f = 0.125 gives x = 0.5 + 0.125 = 0.625, y = 0.5.
+    const std::vector<double> open = spline(k, {1, 0, 0, 1, -1, 0, 1, 0.5}, 2, 0.125, {}, true);
+    EXPECT_EQ(open, (std::vector<double>{0.625, 0.5}));
+}
+
+TEST(Squad, AboutOneAxisAtKeysBetweenAndOutside) {
+    // About +Z only, the quaternions commute: squad blends angles. Angles 0, pi/4, pi: the inner
+    // angle of key 1 is a_1 - (a_2 + a_0 - 2 a_1) / 4 = pi/4 - pi/8 = pi/8 (keys 0 and 2: a).
+    // f = 0.25 (u = 0.5): lerp(0, pi/4) = pi/8, lerp(0, pi/8) = pi/16, weight 2u(1-u) = 0.5:
+    // pi/8 + 0.5 (pi/16 - pi/8) = 3 pi/32. f = 0.75: lerp(pi/4, pi) = 5pi/8, lerp(pi/8, pi) =
+    // 9pi/16: 5pi/8 - pi/32 = 19 pi/32. Tolerance: a few trig roundings of angles < pi.
+    const std::vector<double> k{0.0, 0.5, 1.0}, v{0, 0, 1, 0, 0, 0, 1, kPiD / 4, 0, 0, 1, kPiD};
+    const std::vector<double> a = interpolate_squad(k, v, 0.25), b = interpolate_squad(k, v, 0.75);
+    EXPECT_NEAR(a[2], 1.0, 1e-15);
+    EXPECT_NEAR(a[3], 3 * kPiD / 32, 1e-14);
+    EXPECT_NEAR(b[2], 1.0, 1e-15);
+    EXPECT_NEAR(b[3], 19 * kPiD / 32, 1e-14);
+    EXPECT_NEAR(interpolate_squad(k, v, 0.5)[3], kPiD / 4, 1e-15);  // at a key: its value
+    EXPECT_EQ(interpolate_squad(k, v, -1.0), (std::vector<double>{0, 0, 1, 0}));
+    EXPECT_EQ(interpolate_squad(k, v, 3.0), (std::vector<double>{0, 0, 1, kPiD}));
+    EXPECT_TRUE(interpolate_squad({}, {}, 0.5).empty());
+}
+
+TEST(Squad, ThroughKeysOfDifferentAxesContinuously) {
+    // X, then Y, then Z turns: just beside key 1 the rotation is key 1's (continuity); the
+    // result is a unit axis. Tolerance: 1e-9 of fraction moves the rotation by ~1e-8 rad.
+    const std::vector<double> k{0.0, 0.5, 1.0}, v{1, 0, 0, 0.5, 0, 1, 0, 1.0, 0, 0, 1, 1.5};
+    for (double f : {0.5 - 1e-9, 0.5 + 1e-9}) {
+        const std::vector<double> r = interpolate_squad(k, v, f);
+        EXPECT_NEAR(r[0], 0.0, 1e-7);
+        EXPECT_NEAR(r[1], 1.0, 1e-7);
+        EXPECT_NEAR(r[3], 1.0, 1e-7);
+    }
+    const std::vector<double> m = interpolate_squad(k, v, 0.3);
+    EXPECT_NEAR(m[0] * m[0] + m[1] * m[1] + m[2] * m[2], 1.0, 1e-15);
+}
+
+std::optional<double> ease(std::vector<double> key, std::vector<double> pairs, double f) {
+    return ease_in_ease_out(key, pairs, f);
+}
+
+TEST(EaseInEaseOut, ModifiedFractionAtKeysBetweenAndOutside) {
+    // easeOut of key 0 = 0.5, easeIn of key 1 = 0.5: S = 1, t = 1 / (2 - 1) = 1.
+    const std::vector<double> k{0.0, 1.0}, e{0, 0.5, 0.5, 0};
+    EXPECT_EQ(ease(k, e, -1.0), 0.0);
+    EXPECT_EQ(ease(k, e, 0.0), 0.0);
+    EXPECT_EQ(ease(k, e, 0.25), 0.125);     // u < eOut: t u^2 / eOut
+    EXPECT_EQ(ease(k, e, 0.5), 0.5);        // t (2u - eOut)
+    EXPECT_EQ(ease(k, e, 0.875), 0.96875);  // 1 - t (1 - u)^2 / eIn
+    EXPECT_EQ(ease(k, e, 1.0), 1.0);
+    EXPECT_EQ(ease(k, e, 2.0), 1.0);
+    // S = 2 > 1: both halve to 0.5, as above.
+    EXPECT_EQ(ease(k, {0, 1, 1, 0}, 0.25), 0.125);
+    EXPECT_EQ(ease(k, {0, -1, 0, 0}, 0.25), 0.25);  // S < 0: u unchanged
+    EXPECT_EQ(ease(k, {}, 0.25), 0.25);             // no pairs: 0 0, linear
+    // Three keys: the fraction within the interval (the spec's rule): 0.75 is u = 0.5.
+    EXPECT_EQ(ease({0, 0.5, 1}, {}, 0.75), 0.5);
+    EXPECT_FALSE(ease({}, {}, 0.5).has_value());  // no keys: no event
+}
+
+TEST(Routes, TimeSensorEaseInEaseOutPositionInterpolator) {
+    World w(R"(
+DEF Clock TimeSensor { loop TRUE cycleInterval 4 }
+DEF Ease EaseInEaseOut { key [0 1] easeInEaseOut [0 0.5, 0.5 0] }
+DEF Mover PositionInterpolator { key [0 1] keyValue [0 0 0, 8 0 0] }
+DEF T Transform {}
+ROUTE Clock.fraction_changed TO Ease.set_fraction
+ROUTE Ease.modifiedFraction_changed TO Mover.set_fraction
+ROUTE Mover.value_changed TO T.set_translation
+)",
+            "#X3D V3.3 utf8\nPROFILE Immersive\n");
+    EXPECT_TRUE(w.messages().empty()) << w.messages();
+    w.animator->evaluate(1.0);  // fraction 0.25 -> 0.125 (above) -> x = 8 * 0.125
+    EXPECT_EQ(w.field("T", "translation"), (std::vector<double>{1, 0, 0}));
+    w.animator->evaluate(3.5);  // 0.875 -> 0.96875 -> 7.75
+    EXPECT_EQ(w.field("T", "translation"), (std::vector<double>{7.75, 0, 0}));
+}
+
+TEST(Routes, SplineAndSquadNodesDriveFields) {
+    World w(R"(
+DEF Clock TimeSensor { loop TRUE cycleInterval 4 }
+DEF P SplinePositionInterpolator { key [0 0.5 1] keyValue [0 0 0, 1 0 0, 3 0 0]
+                                   keyVelocity [1 0 0, -1 0 0, 4 0 0] normalizeVelocity TRUE }
+DEF S SplineScalarInterpolator { key [0 0.25 0.5 1] keyValue [1 0 -1 1] closed TRUE }
+DEF Q SquadOrientationInterpolator { key [0 0.5 1] keyValue [0 0 1 0, 0 0 1 0.785398, 0 0 1 3] }
+DEF T Transform {}
+DEF M Material {}
+ROUTE Clock.fraction_changed TO P.set_fraction
+ROUTE Clock.fraction_changed TO S.set_fraction
+ROUTE Clock.fraction_changed TO Q.set_fraction
+ROUTE P.value_changed TO T.set_translation
+ROUTE S.value_changed TO M.set_transparency
+ROUTE Q.value_changed TO T.set_rotation
+)",
+            "#X3D V3.3 utf8\nPROFILE Immersive\n");
+    EXPECT_TRUE(w.messages().empty()) << w.messages();
+    w.animator->evaluate(1.0);  // fraction 0.25
+    // As Spline.PositionsAndKeyVelocities: 1.25 with normalised velocities.
+    EXPECT_EQ(w.field("T", "translation"), (std::vector<double>{1.25, 0, 0}));
+    // Closed scalar, f = 0.25 is key 1: its value 0.
+    EXPECT_EQ(w.field("M", "transparency"), std::vector<double>{0.0});
+    // The Squad node's value is the function's (both read the same doubles).
+    EXPECT_EQ(
+        w.field("T", "rotation"),
+        interpolate_squad(std::vector<double>{0, 0.5, 1},
+                          std::vector<double>{0, 0, 1, 0, 0, 0, 1, 0.785398, 0, 0, 1, 3}, 0.25));
+    // f = 0.125: T_0 = (0 - -1) / 2 = 0.5 scaled by 2 h0 / (h2 + h0) = 2/3; T_1 = (-1 - 1) / 2 =
+    // -1 scaled by 1: 0.5 + 0.125 / 3 + 0.125 = 2/3 (a few ulps: 1/3 rounds).
+    w.animator->evaluate(0.5);
+    EXPECT_NEAR(w.field("M", "transparency")[0], 2.0 / 3.0, 1e-15);
 }
 
 }  // namespace

@@ -287,7 +287,11 @@ TEST(X3dXml, HeadProfilesAndUnknownElements) {
     ASSERT_TRUE(s.ok()) << messages(s);
     EXPECT_EQ(s.tree.roots.size(), 1u);
     EXPECT_EQ(s.stats.skipped_nodes.at("GeoViewpoint"), 2u);
-    EXPECT_EQ(s.diagnostics.warning_count(), 2u) << messages(s);  // one per unknown type
+    // One per unknown type, and the IMPORT and EXPORT of names no DEF gives (ignored, as a ROUTE
+    // naming no DEF is).
+    EXPECT_EQ(s.diagnostics.warning_count(), 4u) << messages(s);
+    EXPECT_NE(messages(s).find("IMPORT names 'a', which no DEF before it names; ignored"),
+              std::string::npos);
 }
 
 TEST(X3dXml, EncodingsByteOrderMarkAndLineEnds) {
