@@ -105,9 +105,10 @@ struct Names {
          type = intern("type"), access = intern("accessType"), value = intern("value"),
          url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField"),
          from_node = intern("fromNode"), from_field = intern("fromField"),
-         to_node = intern("toNode"), to_field = intern("toField");
+         to_node = intern("toNode"), to_field = intern("toField"), version = intern("version"),
+         category = intern("category"), conversion_factor = intern("conversionFactor");
     // Elements of the encoding.
-    Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"),
+    Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"), unit = intern("unit"),
          proto_interface = intern("ProtoInterface"), proto_body = intern("ProtoBody"),
          field = intern("field"), field_value = intern("fieldValue"), is = intern("IS"),
          connect = intern("connect"), proto_declare = intern("ProtoDeclare"),
@@ -140,6 +141,7 @@ class XmlReader {
     enum class Role : uint8_t {
         Document,
         X3d,
+        Head,  // <head>: meta, component, unit
         Scene,
         Skip,
         Leaf,
@@ -255,6 +257,7 @@ class XmlReader {
 
     // ---- elements -------------------------------------------------------------------------------
     void start_element(const XmlElement& e);
+    void unit(const XmlElement& e);
     void end_element();
     void content_element(const XmlElement& e);
     void node_start(const XmlElement& e, const NodeTypeDecl* decl);
@@ -349,6 +352,8 @@ class XmlReader {
     std::vector<Child> children_;      // child nodes of the open elements, innermost last
     std::vector<NodeId> roots_;
     XmlProtoDecl* recording_ = nullptr;  // the ProtoBody being recorded
+    FileUnits units_;                    // the <unit> elements of <head>
+    std::string version_;                // <X3D version>
     size_t record_depth_ = 0;
 
     std::unordered_map<const xmlChar*, Name>
