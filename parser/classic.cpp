@@ -143,7 +143,7 @@ class Reader {
         const std::string_view factor = expect_word(f, "a conversion factor");
         if (f.proto_depth > 0 || !f.whole_file) return;  // a PROTO body's UNIT: not the file's
         const std::string why = add_unit(units_, category, factor, {f.file, keyword.offset});
-        if (!why.empty()) warn(f, keyword.offset, why, "unit-statement");
+        if (!why.empty()) warn(f, keyword.offset, why, "unit:" + why);
     }
 
     // Skips a balanced { ... } or [ ... ] group whose opening token is next.
@@ -903,7 +903,7 @@ class Reader {
 
     Target scene_;
     bool in_piece_ = false;
-    FileUnits units_;  // the file's UNIT statements so far
+    FileUnits units_;        // the file's UNIT statements so far
     size_t next_piece_ = 0;  // the first piece not yet taken or dropped
     NodeTree& tree_;
     const Registry& registry_;

@@ -22,8 +22,8 @@ std::string add_unit(FileUnits& units, std::string_view category, std::string_vi
     const auto [end, ec] = std::from_chars(factor.data(), factor.data() + factor.size(), value);
     if (ec != std::errc() || end != factor.data() + factor.size() || !std::isfinite(value) ||
         value <= 0.0)
-        return "UNIT " + std::string(category) + ": the conversion factor '" +
-               std::string(factor) + "' is not a positive number; the statement is ignored";
+        return "UNIT " + std::string(category) + ": the conversion factor '" + std::string(factor) +
+               "' is not a positive number; the statement is ignored";
     // 7.2.5.5: at most one UNIT statement per category.
     static constexpr const char* kSeen[] = {"length", "angle", "mass", "force"};
     const size_t bit = static_cast<size_t>(slot - &units.length);

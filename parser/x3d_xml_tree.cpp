@@ -13,7 +13,7 @@ void XmlReader::unit(const XmlElement& e) {
     required(e, n_.name, "unit");
     const std::string factor = required(e, n_.conversion_factor, "unit");
     const std::string why = add_unit(units_, trim(category), trim(factor), {e.file, e.offset});
-    if (!why.empty()) warn(e.file, e.offset, why, "unit-statement");
+    if (!why.empty()) warn(e.file, e.offset, why, "unit:" + why);
 }
 
 void XmlReader::start_element(const XmlElement& e) {
@@ -45,7 +45,7 @@ void XmlReader::start_element(const XmlElement& e) {
             if (tag == n_.scene) return push(make_open(Role::Scene, e));
             if (tag == n_.head) return push(make_open(Role::Head, e));
             warn(e.file, e.offset, "element <" + tag_text(e) + "> outside <Scene> ignored",
-                     "xml-outside-scene:" + tag_text(e));
+                 "xml-outside-scene:" + tag_text(e));
             return push(make_open(Role::Skip, e));
         case Role::Head:
             if (tag == n_.unit) unit(e);

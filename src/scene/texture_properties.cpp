@@ -75,8 +75,8 @@ void Builder::read_texture_properties(NodeId id, TextureSampling& sampling) {
 
     const FieldView border = tree_.get(id, "borderColor"_n);
     if (border.numbers.size() == 4) {
-        sampling.border_color = Vec4(border.numbers[0], border.numbers[1], border.numbers[2],
-                                     border.numbers[3]);
+        sampling.border_color =
+            Vec4(border.numbers[0], border.numbers[1], border.numbers[2], border.numbers[3]);
         for (int c = 0; c < 4; ++c)
             if (!std::isfinite(sampling.border_color[c])) sampling.border_color[c] = 0.0;
     }
