@@ -1,7 +1,7 @@
-// X3D UNIT statements (19775-1 3.3, 7.2.5.5; 4.3.6): a file may give its lengths, angles, masses and
-// forces in units of its own. vrmlray converts every file to the initial base units (metre, radian,
-// kilogram, newton), so that each file's UNITs apply to it alone and an Inline's content is aligned
-// to the file that includes it.
+// X3D UNIT statements (19775-1 3.3, 7.2.5.5; 4.3.6): a file may give its lengths, angles, masses
+// and forces in units of its own. vrmlray converts every file to the initial base units (metre,
+// radian, kilogram, newton), so that each file's UNITs apply to it alone and an Inline's content is
+// aligned to the file that includes it.
 //
 // Lengths are converted by a scale, not value by value: every length of a file lives in that file's
 // coordinate system (positions, sizes, radii, Fog distances, interpolated translations), so one

@@ -1,7 +1,7 @@
 // How a texture is sampled: X3D TextureProperties (19775-1, 18.4.9) boundary modes and filters, in
 // the form both the scene (which reads them) and the tracer (which samples) use. The defaults are
-// what a texture without TextureProperties gets: bilinear, repeated or clamped to the edge texels as
-// its repeatS/repeatT say.
+// what a texture without TextureProperties gets: bilinear, repeated or clamped to the edge texels
+// as its repeatS/repeatT say.
 #pragma once
 #include <cstdint>
 
@@ -10,10 +10,10 @@
 namespace vr {
 
 enum class TextureWrap : uint8_t {
-    Repeat,          // REPEAT
-    ClampToEdge,     // CLAMP_TO_EDGE, and CLAMP (see docs/input.md): never a texel from outside
-    ClampToBoundary, // CLAMP_TO_BOUNDARY: outside the image the samples are borderColor
-    MirroredRepeat,  // MIRRORED_REPEAT: every other copy of the image mirrored
+    Repeat,           // REPEAT
+    ClampToEdge,      // CLAMP_TO_EDGE, and CLAMP (see docs/input.md): never a texel from outside
+    ClampToBoundary,  // CLAMP_TO_BOUNDARY: outside the image the samples are borderColor
+    MirroredRepeat,   // MIRRORED_REPEAT: every other copy of the image mirrored
 };
 
 enum class TextureFilter : uint8_t {

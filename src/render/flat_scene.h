@@ -18,7 +18,7 @@ struct Texture {
     int height = 0;
     int channels = 0;  // 1 intensity, 2 intensity+alpha, 3 RGB, 4 RGBA (VRML's texture types)
     std::vector<float> texels;  // channels floats a texel, row 0 = BOTTOM of the image (VRML t = 0)
-    TextureSampling sampling;  // wrap modes and filter (TextureProperties)
+    TextureSampling sampling;   // wrap modes and filter (TextureProperties)
 };
 
 // A resolved Appearance: VRML Material fields plus our hints.

@@ -117,8 +117,8 @@ struct Appearance {
 struct VertexData {
     std::vector<Vec3> coords;
     std::vector<Vec3> normals;
-    std::vector<Vec3> colors;    // RGB
-    std::vector<double> alphas;  // ColorRGBA: the alpha of each colour; empty for Color
+    std::vector<Vec3> colors;        // RGB
+    std::vector<double> alphas;      // ColorRGBA: the alpha of each colour; empty for Color
     std::vector<double> fog_depths;  // FogCoordinate depth, per coordinate; empty: none
     std::vector<Vec2> texcoords;
     bool has_texcoord_node = false;  // a TextureCoordinate node was given (even if empty)
