@@ -73,6 +73,7 @@ class Reader {
             result.ok = false;
         }
         pieces.stop();
+        result.units = units_;
         // The last few megabytes release_before kept (it frees in steps) would stay resident
         // through the scene build, the peak of a large scene's memory.
         scene_.sources.release_all(file);
@@ -132,6 +133,19 @@ class Reader {
                  "component level");
     }
 
+    // UNIT category name conversionFactor. Read by the main reader only: the units belong to the
+    // whole file (parser/units.h).
+    void unit_statement(Frame& f) {
+        not_in_piece(f);
+        const Token keyword = f.lexer.next();
+        const std::string_view category = expect_word(f, "a unit category (length, angle, ...)");
+        expect_word(f, "a unit name");
+        const std::string_view factor = expect_word(f, "a conversion factor");
+        if (f.proto_depth > 0 || !f.whole_file) return;  // a PROTO body's UNIT: not the file's
+        const std::string why = add_unit(units_, category, factor, {f.file, keyword.offset});
+        if (!why.empty()) warn(f, keyword.offset, why, "unit:" + why);
+    }
+
     // Skips a balanced { ... } or [ ... ] group whose opening token is next.
     void skip_group(Frame& f) {
         Token open = f.lexer.next();
@@ -186,14 +200,13 @@ class Reader {
                 expect_word(f, "a profile name");
                 return kNullNode;
             }
-            if (w == "COMPONENT" || w == "UNIT") {
+            if (w == "UNIT") {
+                unit_statement(f);
+                return kNullNode;
+            }
+            if (w == "COMPONENT") {
                 f.lexer.next();
                 const Token name = expect(f, TokenKind::Word, "a component name");
-                if (w == "UNIT") {
-                    expect_word(f, "a unit name");
-                    expect_word(f, "a conversion factor");
-                    return kNullNode;
-                }
                 std::string_view level = f.lexer.text(name);
                 if (f.lexer.peek().kind == TokenKind::Word &&
                     f.lexer.text(f.lexer.peek()).front() == ':')
@@ -926,6 +939,7 @@ class Reader {
 
     Target scene_;
     bool in_piece_ = false;
+    FileUnits units_;        // the file's UNIT statements so far
     size_t next_piece_ = 0;  // the first piece not yet taken or dropped
     NodeTree& tree_;
     const Registry& registry_;

@@ -7,6 +7,7 @@
 
 #include "parser/load.h"
 #include "parser/proto.h"
+#include "parser/units.h"
 
 namespace vr {
 
@@ -19,6 +20,8 @@ struct ClassicResult {
     std::vector<NodeId> roots;
     std::shared_ptr<ProtoScope> protos;  // the file's top-level PROTOs (for EXTERNPROTO lookups)
     bool ok = true;                      // false: a syntax error stopped the reader
+    FileUnits units;                     // the file's UNIT statements
+    std::string x3d_version;             // XML: the <X3D version> attribute (classic: the header)
 };
 
 // Reads the text of source file `file` (already in scene.sources) into scene.tree.

@@ -337,9 +337,11 @@ class Loader {
                 result.ok = false;
                 break;
         }
+        if (result.units.any()) apply_units(file, enc, header, first_node, result);
         // Inlines read below append their own imports and routes after this file's.
         const size_t end_import = scene_.tree.imports.size(), end_route = scene_.tree.routes.size();
-        if (result.ok && options_.resolve_inlines) resolve_inlines(file, first_node, inline_depth);
+        if (result.ok && options_.resolve_inlines)
+            resolve_inlines(file, first_node, inline_depth, result.units.length);
         if (result.ok) resolve_imports(first_import, end_import, first_route, end_route);
         return result;
     }
@@ -380,7 +382,25 @@ class Loader {
         }
     }
 
-    void resolve_inlines(uint32_t file, size_t first_node, size_t depth) {
+    // UNIT statements (parser/units.h): allowed from X3D 3.3 on, but a file that has them means
+    // them, so they are applied either way. Lengths are left to the scene build's scale.
+    void apply_units(uint32_t file, Encoding enc, const std::string& header, size_t first_node,
+                     const ClassicResult& result) {
+        std::string version;
+        if (enc == Encoding::X3dXml) version = result.x3d_version;
+        if (enc == Encoding::X3dClassic && header.rfind("#X3D V", 0) == 0)
+            version = header.substr(6, header.find(' ', 6) - 6);
+        if (!units_allowed(version))
+            scene_.diagnostics.warning(
+                result.units.first,
+                "UNIT statements need X3D 3.3 or later, and this file is " +
+                    (version.empty() ? std::string(encoding_name(enc)) : "X3D " + version) +
+                    "; its units are applied anyway",
+                "unit-version");
+        convert_angles(scene_.tree, file, first_node, result.units.angle);
+    }
+
+    void resolve_inlines(uint32_t file, size_t first_node, size_t depth, double length) {
         static const Name kInline = intern("Inline");
         static const Name kUrl = intern("url");
         NodeTree& tree = scene_.tree;
@@ -392,10 +412,11 @@ class Loader {
             if (list.empty()) continue;  // an Inline with no URL loads nothing, as specified
             SourceLoc where = tree.nodes[id].loc;
             auto loaded = load_inline(list, file, where, depth);
-            if (loaded) {
-                tree.inline_roots[static_cast<NodeId>(id)] = loaded->roots;
-                inline_file_[static_cast<NodeId>(id)] = loaded->file;
-            }
+            if (!loaded) continue;
+            tree.inline_roots[static_cast<NodeId>(id)] = loaded->roots;
+            inline_file_[static_cast<NodeId>(id)] = loaded->file;
+            if (loaded->length != length)
+                tree.inline_length_scale[static_cast<NodeId>(id)] = loaded->length / length;
         }
     }
 
@@ -429,10 +450,13 @@ class Loader {
                           tree.routes.begin() + static_cast<ptrdiff_t>(end_route));
     }
 
+    // An inlined file: its top-level nodes, its source, and metres per its length unit.
     struct InlineFile {
         std::vector<NodeId> roots;
         uint32_t file = 0;
+        double length = 1.0;
     };
+
     std::optional<InlineFile> load_inline(const std::vector<std::string>& urls, uint32_t from,
                                           SourceLoc where, size_t depth) {
         UrlFailures failures;
@@ -477,8 +501,9 @@ class Loader {
             stack_.push_back(key);
             ClassicResult r = read_demoting_errors(file, depth + 1, "Inline");
             stack_.pop_back();
-            inline_cache_[key] = {r.roots, file};
-            return inline_cache_[key];
+            InlineFile loaded{std::move(r.roots), file, r.units.length};
+            inline_cache_[key] = loaded;
+            return loaded;
         }
         scene_.diagnostics.warning(where, "Inline not loaded: " + failures.message(),
                                    "inline-missing:" + failures.reasons);
@@ -617,6 +642,7 @@ static LoadedScene load_scene_source(SourceText text, const std::string& path,
             loader.enter_main_file(path);
             ClassicResult r = loader.read_source(file, 0);
             scene.tree.roots = std::move(r.roots);
+            scene.tree.root_length_scale = r.units.length;
         } catch (const std::bad_alloc&) {
             scene.diagnostics.error_in_file(path, "out of memory while reading the scene");
         }

@@ -125,6 +125,11 @@ struct NodeTree {
 
     // Inline nodes that were resolved: the top-level nodes of the file they name.
     std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;
+    // UNIT length factors (parser/units.h), applied by the scene build as a uniform scale: metres
+    // per length unit of the main file, and per resolved Inline the scale that takes its file's
+    // lengths into those of the file holding the Inline (absent: 1).
+    double root_length_scale = 1.0;
+    std::unordered_map<NodeId, double> inline_length_scale;
 
     // Field access. `registry` supplies defaults for fields the file did not set.
     FieldView get(NodeId node, Name field) const;

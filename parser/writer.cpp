@@ -25,10 +25,21 @@ class Writer {
     std::string run() {
         out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n"
                                                 : "#VRML V2.0 utf8\n\n";
+        // The read file's lengths are still in its UNIT (parser/units.h; angles are radians now):
+        // X3D says so with a UNIT statement, VRML97, which has none, with a scale around it all.
+        const double length = tree_.root_length_scale;
+        const bool scaled = length != 1.0 && target_ != Encoding::X3dClassic;
+        if (length != 1.0 && !scaled) out_ += "UNIT length unit " + format_number(length) + "\n\n";
+        if (scaled) {
+            const std::string s = format_number(length);
+            out_ += "Transform {\n  scale " + s + " " + s + " " + s + "\n  children [\n";
+        }
         for (NodeId root : tree_.roots) {
-            write_node(root, 0);
+            if (scaled) indent(2);
+            write_node(root, scaled ? 2 : 0);
             out_ += "\n";
         }
+        if (scaled) out_ += "  ]\n}\n";
         return std::move(out_);
     }
 

@@ -182,6 +182,8 @@ ClassicResult XmlReader::read(uint32_t file) {
     ctxt_ = nullptr;
     result.ok = !failed_;
     result.roots = std::move(roots_);
+    result.units = units_;
+    result.x3d_version = version_;
     return result;
 }
 

@@ -106,9 +106,11 @@ struct Names {
          url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField"),
          from_node = intern("fromNode"), from_field = intern("fromField"),
          to_node = intern("toNode"), to_field = intern("toField"), inline_def = intern("inlineDEF"),
-         imported_def = intern("importedDEF"), local_def = intern("localDEF"), as = intern("AS");
+         imported_def = intern("importedDEF"), local_def = intern("localDEF"), as = intern("AS"),
+         version = intern("version"), category = intern("category"),
+         conversion_factor = intern("conversionFactor");
     // Elements of the encoding.
-    Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"),
+    Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"), unit = intern("unit"),
          proto_interface = intern("ProtoInterface"), proto_body = intern("ProtoBody"),
          field = intern("field"), field_value = intern("fieldValue"), is = intern("IS"),
          connect = intern("connect"), proto_declare = intern("ProtoDeclare"),
@@ -141,6 +143,7 @@ class XmlReader {
     enum class Role : uint8_t {
         Document,
         X3d,
+        Head,  // <head>: meta, component, unit
         Scene,
         Skip,
         Leaf,
@@ -258,6 +261,7 @@ class XmlReader {
 
     // ---- elements -------------------------------------------------------------------------------
     void start_element(const XmlElement& e);
+    void unit(const XmlElement& e);
     void end_element();
     void content_element(const XmlElement& e);
     void node_start(const XmlElement& e, const NodeTypeDecl* decl);
@@ -354,6 +358,8 @@ class XmlReader {
     std::vector<NodeId> roots_;
     XmlProtoDecl* recording_ = nullptr;  // the ProtoBody being recorded
     std::unordered_map<Name, uint32_t> imported_;  // IMPORT AS names -> tree.imports
+    FileUnits units_;                              // the <unit> elements of <head>
+    std::string version_;                          // <X3D version>
     size_t record_depth_ = 0;
 
     std::unordered_map<const xmlChar*, Name>

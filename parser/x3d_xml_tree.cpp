@@ -9,6 +9,15 @@ namespace vr::x3d_xml_detail {
 
 // ---- elements -----------------------------------------------------------------------------------
 
+// <unit category="length" name="km" conversionFactor="1000"/> (parser/units.h).
+void XmlReader::unit(const XmlElement& e) {
+    const std::string category = required(e, n_.category, "unit");
+    required(e, n_.name, "unit");
+    const std::string factor = required(e, n_.conversion_factor, "unit");
+    const std::string why = add_unit(units_, trim(category), trim(factor), {e.file, e.offset});
+    if (!why.empty()) warn(e.file, e.offset, why, "unit:" + why);
+}
+
 void XmlReader::start_element(const XmlElement& e) {
     if (recording_) {
         record(e);
@@ -27,16 +36,22 @@ void XmlReader::start_element(const XmlElement& e) {
             push(make_open(Role::Skip, e));
             return;
         case Role::Document:
-            if (tag == n_.x3d) return push(make_open(Role::X3d, e));
+            if (tag == n_.x3d) {
+                if (const XmlAttr* v = e.find(n_.version)) version_ = trim(attr_text(e, *v));
+                return push(make_open(Role::X3d, e));
+            }
             if (tag == n_.scene) return push(make_open(Role::Scene, e));
             fail(e.file, e.offset,
                  "not an X3D document: the root element is <" + tag_text(e) + ">, expected <X3D>");
         case Role::X3d:
             if (tag == n_.scene) return push(make_open(Role::Scene, e));
-            if (tag != n_.head)
-                warn(e.file, e.offset, "element <" + tag_text(e) + "> outside <Scene> ignored",
-                     "xml-outside-scene:" + tag_text(e));
+            if (tag == n_.head) return push(make_open(Role::Head, e));
+            warn(e.file, e.offset, "element <" + tag_text(e) + "> outside <Scene> ignored",
+                 "xml-outside-scene:" + tag_text(e));
             return push(make_open(Role::Skip, e));
+        case Role::Head:
+            if (tag == n_.unit) unit(e);
+            return push(make_open(Role::Skip, e));  // meta, component, unit: nothing inside
         case Role::ProtoDeclare:
             if (tag == n_.proto_interface) return push(make_open(Role::ProtoInterface, e));
             if (tag == n_.proto_body) {

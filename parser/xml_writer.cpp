@@ -110,7 +110,12 @@ class XmlWriter {
                 "' xmlns:xsd='http://www.w3.org/2001/XMLSchema-instance' "
                 "xsd:noNamespaceSchemaLocation='https://www.web3d.org/specifications/x3d-" +
                 version + ".xsd'>\n";
-        out_ += "  <head>\n    <meta name='generator' content='vrmlray convert'/>\n  </head>\n";
+        out_ += "  <head>\n";
+        // The read file's lengths are still in its UNIT (parser/units.h); angles are radians now.
+        if (tree_.root_length_scale != 1.0)
+            out_ += "    <unit category='length' name='unit' conversionFactor='" +
+                    format_number(tree_.root_length_scale) + "'/>\n";
+        out_ += "    <meta name='generator' content='vrmlray convert'/>\n  </head>\n";
         out_ += "  <Scene>\n";
         for (NodeId root : tree_.roots) write_node(root, 2, kNoName);
         out_ += "  </Scene>\n</X3D>\n";

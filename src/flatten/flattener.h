@@ -143,7 +143,7 @@ class Flattener {
     int32_t texture_of(sg::Index t);
 
     int32_t load_image(const std::vector<std::string>& urls, const std::filesystem::path& from_file,
-                       bool repeat_s, bool repeat_t, const sg::Origin& origin);
+                       const TextureSampling& sampling, const sg::Origin& origin);
 
     const Scene& scene_;
     const FlattenOptions& options_;

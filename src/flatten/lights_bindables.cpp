@@ -138,7 +138,9 @@ Background Flattener::make_background(const sg::Background& b, const Mat4& m) {
     // Colours and angles already match (the scene build made them).
     for (int face = 0; face < 6; ++face) {
         if (b.urls[face].empty()) continue;
-        out.panorama[face] = load_image(b.urls[face], b.from_file, false, false, b.origin);
+        TextureSampling clamped;  // a cube face never wraps
+        clamped.wrap_s = clamped.wrap_t = TextureWrap::ClampToEdge;
+        out.panorama[face] = load_image(b.urls[face], b.from_file, clamped, b.origin);
     }
     return out;
 }

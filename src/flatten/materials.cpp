@@ -1,6 +1,7 @@
 // Materials (deduplicated, hints applied, gas parameters resolved) and textures (pixel textures,
-// image files resolved by URL and loaded once per file and repeat mode).
+// image files resolved by URL and loaded once per file and way of sampling it).
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "flatten/flattener.h"
@@ -131,8 +132,7 @@ int32_t Flattener::texture_of(sg::Index t) {
         out.width = tex.width;
         out.height = tex.height;
         out.channels = tex.components;
-        out.repeat_s = tex.repeat_s;
-        out.repeat_t = tex.repeat_t;
+        out.sampling = tex.sampling;
         out.texels.resize(size_t(tex.width) * tex.height * tex.components);
         for (size_t p = 0; p < tex.pixels.size(); ++p)
             for (int c = 0; c < tex.components; ++c) {
@@ -144,15 +144,15 @@ int32_t Flattener::texture_of(sg::Index t) {
         out_.textures.push_back(std::move(out));
         index = int32_t(out_.textures.size() - 1);
     } else {
-        index = load_image(tex.urls, tex.from_file, tex.repeat_s, tex.repeat_t, tex.origin);
+        index = load_image(tex.urls, tex.from_file, tex.sampling, tex.origin);
     }
     texture_index_[t] = index;
     return index;
 }
 
 int32_t Flattener::load_image(const std::vector<std::string>& urls,
-                              const std::filesystem::path& from_file, bool repeat_s, bool repeat_t,
-                              const sg::Origin& origin) {
+                              const std::filesystem::path& from_file,
+                              const TextureSampling& sampling, const sg::Origin& origin) {
     std::vector<std::filesystem::path> roots = options_.allowed_roots;
     if (roots.empty()) roots = scene_.allowed_roots;
     std::filesystem::path from = from_file;
@@ -161,7 +161,12 @@ int32_t Flattener::load_image(const std::vector<std::string>& urls,
     for (const std::string& url : urls) {
         const std::filesystem::path path = resolve_or_note(url, from, roots, failures, true);
         if (path.empty()) continue;
-        const std::string key = path.string() + (repeat_s ? "|S" : "|s") + (repeat_t ? "T" : "t");
+        // One image per file and way of sampling it (the border colour bit for bit).
+        std::string key = path.string() + "|" + std::to_string(int(sampling.wrap_s)) +
+                          std::to_string(int(sampling.wrap_t)) +
+                          std::to_string(int(sampling.filter));
+        for (int c = 0; c < 4; ++c)
+            key += "," + std::to_string(std::bit_cast<uint64_t>(sampling.border_color[c]));
         if (const auto it = image_index_.find(key); it != image_index_.end()) return it->second;
         ImageData image;
         std::string error;
@@ -174,8 +179,7 @@ int32_t Flattener::load_image(const std::vector<std::string>& urls,
         out.height = image.height;
         out.channels = image.channels;
         out.texels = std::move(image.texels);
-        out.repeat_s = repeat_s;
-        out.repeat_t = repeat_t;
+        out.sampling = sampling;
         out_.textures.push_back(std::move(out));
         const int32_t index = int32_t(out_.textures.size() - 1);
         image_index_[key] = index;

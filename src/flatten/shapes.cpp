@@ -201,6 +201,7 @@ Mesh Flattener::object_mesh(const TriMesh& t) {
     mesh.uvs = t.uvs;
     mesh.colors = t.colors;
     mesh.alphas = t.alphas;
+    mesh.fog_depths = t.fog_depths;
     return mesh;
 }
 
@@ -235,6 +236,7 @@ Mesh Flattener::world_mesh(const TriMesh& t, const Mat4& m, uint32_t shading) {
             if (!mesh.uvs.empty()) std::swap(mesh.uvs[c + 1], mesh.uvs[c + 2]);
             if (!mesh.colors.empty()) std::swap(mesh.colors[c + 1], mesh.colors[c + 2]);
             if (!mesh.alphas.empty()) std::swap(mesh.alphas[c + 1], mesh.alphas[c + 2]);
+            if (!mesh.fog_depths.empty()) std::swap(mesh.fog_depths[c + 1], mesh.fog_depths[c + 2]);
         }
     }
     return mesh;

@@ -53,6 +53,7 @@ sg::IndexedFaceSet elevation_grid_faces(const sg::ElevationGrid& grid, bool want
     faces.data.normals = grid.data.normals;
     faces.data.colors = grid.data.colors;
     faces.data.alphas = grid.data.alphas;
+    faces.data.fog_depths = grid.data.fog_depths;
     faces.data.has_texcoord_node = grid.data.has_texcoord_node;
     if (!grid.data.texcoords.empty()) {
         faces.data.texcoords = grid.data.texcoords;

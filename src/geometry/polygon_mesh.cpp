@@ -243,6 +243,12 @@ void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttri
                 mesh.colors.push_back(ifs.data.colors[source]);
                 if (!ifs.data.alphas.empty()) mesh.alphas.push_back(ifs.data.alphas[source]);
             }
+            if (!ifs.data.fog_depths.empty()) {
+                // A depth per coordinate; a shorter list repeats its last depth (as
+                // view3dscene reads fog_coordinate.x3dv's `depth 0.5`).
+                const std::vector<double>& d = ifs.data.fog_depths;
+                mesh.fog_depths.push_back(d[std::min<size_t>(size_t(c), d.size() - 1)]);
+            }
             if (at.want_uvs) {
                 mesh.uvs.push_back(
                     at.texcoord.usable

@@ -16,8 +16,9 @@ struct TriMesh {
         normals;               // per corner (3 a triangle), unit, object space; empty: flat shading
     std::vector<Vec2> uvs;     // per corner; empty: none
     std::vector<Vec3> colors;  // per corner; empty: the material's colour
-    std::vector<double> alphas;  // per corner with `colors` (ColorRGBA); empty: RGB colours
-    bool solid = true;           // false: two-sided
+    std::vector<double> alphas;      // per corner with `colors` (ColorRGBA); empty: RGB colours
+    std::vector<double> fog_depths;  // per corner (FogCoordinate); empty: none
+    bool solid = true;               // false: two-sided
     size_t triangle_count() const { return triangles.size() / 3; }
     double area() const;  // sum of triangle areas (tests, info)
 };

@@ -104,4 +104,8 @@ double fog_factor(const Fog& fog, double d) {
     return std::exp(-d / (range - d));
 }
 
+double fog_coordinate_factor(double depth) {
+    return std::isfinite(depth) ? 1.0 - std::clamp(depth, 0.0, 1.0) : 1.0;
+}
+
 }  // namespace vr

@@ -36,5 +36,9 @@ class BackgroundModel {
 //   EXPONENTIAL: f = exp(-d / (visibilityRange - d)) for d < visibilityRange, else 0
 // A visibilityRange of 0 disables fog (f = 1). The background is not fogged (VRML97 Background).
 double fog_factor(const Fog& fog, double distance);
+// The same factor where a FogCoordinate gives the point's fog depth d (X3D 24.4.3): f = 1 - d, d
+// clamped to its range [0, 1], whatever the Fog's type and visibilityRange (which still switches
+// fog on), as view3dscene reads the specification. NaN reads as no fog.
+double fog_coordinate_factor(double depth);
 
 }  // namespace vr

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/texture_sampling.h"
 
 namespace vr {
 
@@ -17,8 +18,7 @@ struct Texture {
     int height = 0;
     int channels = 0;  // 1 intensity, 2 intensity+alpha, 3 RGB, 4 RGBA (VRML's texture types)
     std::vector<float> texels;  // channels floats a texel, row 0 = BOTTOM of the image (VRML t = 0)
-    bool repeat_s = true;
-    bool repeat_t = true;
+    TextureSampling sampling;   // wrap modes and filter (TextureProperties)
 };
 
 // A resolved Appearance: VRML Material fields plus our hints.
@@ -76,7 +76,10 @@ struct Mesh {
     std::vector<Vec2> uvs;       // per corner; empty: no texture coordinates
     std::vector<Vec3> colors;    // per corner (Color node); empty: material colour
     std::vector<double> alphas;  // per corner with `colors` (ColorRGBA); empty: RGB colours
-    bool solid = true;           // false: both sides are lit (two-sided)
+    // Per corner (FogCoordinate): the fog amount in [0, 1] that replaces the distance's; empty:
+    // none.
+    std::vector<double> fog_depths;
+    bool solid = true;  // false: both sides are lit (two-sided)
     uint32_t shading = 0;
     size_t triangle_count() const { return triangles.size() / 3; }
 };

@@ -280,7 +280,8 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
     }
 
     if (scene_.fog.kind != FogKind::None) {
-        const double f = fog_factor(scene_.fog, s.t * len);
+        const double f = s.has_fog_depth ? fog_coordinate_factor(s.fog_depth)
+                                         : fog_factor(scene_.fog, s.t * len);
         color = f * color + (1.0 - f) * scene_.fog.color;
         alpha = (1.0 - f) + f * alpha;
     }

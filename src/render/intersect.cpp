@@ -312,6 +312,11 @@ SurfaceHit triangle_surface(const Mesh& m, uint32_t triangle, const Ray& ray, do
         hit.has_alpha = true;
         hit.alpha = b0 * m.alphas[c0] + b1 * m.alphas[c0 + 1] + b2 * m.alphas[c0 + 2];
     }
+    if (m.fog_depths.size() >= c0 + 3) {
+        hit.has_fog_depth = true;
+        hit.fog_depth =
+            b0 * m.fog_depths[c0] + b1 * m.fog_depths[c0 + 1] + b2 * m.fog_depths[c0 + 2];
+    }
     return hit;
 }
 

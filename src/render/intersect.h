@@ -203,6 +203,8 @@ struct SurfaceHit {
     Vec3 color{1.0};
     bool has_alpha = false;  // the colour is a ColorRGBA: its alpha replaces the transparency
     double alpha = 1.0;
+    bool has_fog_depth = false;  // FogCoordinate: fog_depth is the fog amount (render/background.h)
+    double fog_depth = 0.0;
     uint32_t shading = 0;
     bool gas = false;  // a gas sphere (SPEC section 6); the opaque integrator shades it as opaque
 };

@@ -9,23 +9,58 @@ namespace {
 double clamp01(double v) { return std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 0.0; }
 Vec3 clamp01(const Vec3& v) { return Vec3(clamp01(v.x), clamp01(v.y), clamp01(v.z)); }
 
-// Texel index and weight along one axis for a coordinate in texel units (centre of texel i at i +
-// 0.5).
-void axis_lookup(double x, int size, bool repeat, int& i0, int& i1, double& frac) {
-    double f = std::floor(x - 0.5);
-    frac = (x - 0.5) - f;
-    long long a = static_cast<long long>(f), b = a + 1;
-    if (repeat) {
-        a %= size;
-        if (a < 0) a += size;
-        b %= size;
-        if (b < 0) b += size;
-    } else {
-        a = std::clamp<long long>(a, 0, size - 1);
-        b = std::clamp<long long>(b, 0, size - 1);
+// The texel of integer index `a` (any integer) along an axis of `size` texels under `wrap`; -1:
+// outside the image, where ClampToBoundary samples the border colour.
+long long wrap_index(long long a, int size, TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::Repeat:
+            a %= size;
+            return a < 0 ? a + size : a;
+        case TextureWrap::ClampToEdge:
+            return std::clamp<long long>(a, 0, size - 1);
+        case TextureWrap::ClampToBoundary:
+            return a < 0 || a >= size ? -1 : a;
+        case TextureWrap::MirroredRepeat: {
+            long long p = a % (2 * size);
+            if (p < 0) p += 2 * size;
+            return p < size ? p : 2 * size - 1 - p;
+        }
     }
-    i0 = int(a);
-    i1 = int(b);
+    return 0;
+}
+
+// The coordinate brought into a range where the texel arithmetic stays exact in integers, without
+// changing what it samples: the fraction for Repeat (period 1), the remainder of 2 for
+// MirroredRepeat (period 2), [0, 1] for ClampToEdge, [-1, 2] for ClampToBoundary (all border
+// beyond).
+double reduce(double s, TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::Repeat:
+            return s - std::floor(s);
+        case TextureWrap::ClampToEdge:
+            return std::clamp(s, 0.0, 1.0);
+        case TextureWrap::ClampToBoundary:
+            return std::clamp(s, -1.0, 2.0);
+        case TextureWrap::MirroredRepeat:
+            return s - 2.0 * std::floor(0.5 * s);
+    }
+    return s;
+}
+
+// Texel indices (-1: border) and weight along one axis for a coordinate in texel units (centre of
+// texel i at i + 0.5): bilinear between i0 and i1, or the texel x falls in (i0 = i1, frac 0).
+void axis_lookup(double x, int size, TextureWrap wrap, TextureFilter filter, long long& i0,
+                 long long& i1, double& frac) {
+    if (filter == TextureFilter::Nearest) {
+        i0 = i1 = wrap_index(static_cast<long long>(std::floor(x)), size, wrap);
+        frac = 0.0;
+        return;
+    }
+    const double f = std::floor(x - 0.5);
+    frac = (x - 0.5) - f;
+    const auto a = static_cast<long long>(f);
+    i0 = wrap_index(a, size, wrap);
+    i1 = wrap_index(a + 1, size, wrap);
 }
 
 }  // namespace
@@ -38,16 +73,24 @@ TexelValue sample_texture(const Texture& tex, Vec2 st, bool clamp) {
         return out;
     if (!std::isfinite(st.x)) st.x = 0.0;
     if (!std::isfinite(st.y)) st.y = 0.0;
-    // Keep coordinates in a range where the integer conversions below are exact.
-    const bool repeat_s = tex.repeat_s && !clamp, repeat_t = tex.repeat_t && !clamp;
-    double s = repeat_s ? st.x - std::floor(st.x) : std::clamp(st.x, 0.0, 1.0);
-    double t = repeat_t ? st.y - std::floor(st.y) : std::clamp(st.y, 0.0, 1.0);
-    int x0, x1, y0, y1;
+    TextureSampling sampling = tex.sampling;
+    if (clamp) sampling.wrap_s = sampling.wrap_t = TextureWrap::ClampToEdge;
+    const double s = reduce(st.x, sampling.wrap_s), t = reduce(st.y, sampling.wrap_t);
+    long long x0, x1, y0, y1;
     double fx, fy;
-    axis_lookup(s * w, w, repeat_s, x0, x1, fx);
-    axis_lookup(t * h, h, repeat_t, y0, y1, fy);
+    axis_lookup(s * w, w, sampling.wrap_s, sampling.filter, x0, x1, fx);
+    axis_lookup(t * h, h, sampling.wrap_t, sampling.filter, y0, y1, fy);
+    // The border colour in the texture's channels: I (its red), I A, RGB or RGBA.
+    const Vec4& b = sampling.border_color;
+    const double border[4][4] = {
+        {b.x, 0, 0, 0}, {b.x, b.w, 0, 0}, {b.x, b.y, b.z, 0}, {b.x, b.y, b.z, b.w}};
     double v[4] = {0.0, 0.0, 0.0, 0.0};
-    auto add = [&](int x, int y, double weight) {
+    auto add = [&](long long x, long long y, double weight) {
+        if (weight == 0.0) return;
+        if (x < 0 || y < 0) {
+            for (int c = 0; c < ch; ++c) v[c] += weight * border[ch - 1][c];
+            return;
+        }
         const float* p = tex.texels.data() + (size_t(y) * size_t(w) + size_t(x)) * size_t(ch);
         for (int c = 0; c < ch; ++c) v[c] += weight * p[c];
     };

@@ -257,6 +257,8 @@ Scene Builder::build() {
     scene_.allowed_roots = loaded_.allowed_roots;
     scene_.groups.emplace_back();  // the root
     scene_.groups[Scene::kRoot].origin.type = intern("(root)");
+    if (tree_.root_length_scale != 1.0)
+        scale_lengths(scene_.groups[Scene::kRoot], tree_.root_length_scale);
     add_children(Scene::kRoot, tree_.roots);
     return std::move(scene_);
 }
@@ -423,6 +425,9 @@ sg::Index Builder::make_group(NodeId id) {
             group.inline_content = true;
             const auto it = tree_.inline_roots.find(id);
             if (it != tree_.inline_roots.end() && boolean(id, "load"_n)) children = it->second;
+            if (const auto scale = tree_.inline_length_scale.find(id);
+                scale != tree_.inline_length_scale.end())
+                scale_lengths(group, scale->second);
             break;
         }
         case ChildKind::CADFace:
@@ -436,6 +441,14 @@ sg::Index Builder::make_group(NodeId id) {
     scene_.groups[index] = group;
     add_children(index, children);
     return index;
+}
+
+// A file's UNIT length factor (parser/units.h) as the scale of the group holding its top-level
+// nodes: every length of the file lives in that group's coordinate system.
+void Builder::scale_lengths(sg::Group& group, double scale) {
+    group.transform_kind = sg::GroupTransform::Matrix;
+    group.transform = static_cast<sg::Index>(scene_.matrices.size());
+    scene_.matrices.push_back(Mat4(Mat3(scale)));
 }
 
 std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
@@ -559,8 +572,18 @@ sg::Index Builder::texture(NodeId id) {
     sg::Texture tex;
     tex.origin = origin(id);
     if (t == "ImageTexture"_n || t == "PixelTexture"_n) {
-        tex.repeat_s = boolean(id, "repeatS"_n);
-        tex.repeat_t = boolean(id, "repeatT"_n);
+        // 18.4.9: a TextureProperties node overrides repeatS and repeatT.
+        // (VRML97's textures have no such field.)
+        const bool has_props = tree_.decl(id) && tree_.decl(id)->find("textureProperties"_n);
+        if (const NodeId props = has_props ? node(id, "textureProperties"_n) : kNullNode;
+            props != kNullNode) {
+            read_texture_properties(props, tex.sampling);
+        } else {
+            tex.sampling.wrap_s =
+                boolean(id, "repeatS"_n) ? TextureWrap::Repeat : TextureWrap::ClampToEdge;
+            tex.sampling.wrap_t =
+                boolean(id, "repeatT"_n) ? TextureWrap::Repeat : TextureWrap::ClampToEdge;
+        }
     }
     if (t == "ImageTexture"_n) {
         tex.kind = sg::TextureKind::Image;

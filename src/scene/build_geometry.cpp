@@ -353,6 +353,14 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
                 data.alphas.push_back(rgba.numbers[i]);
         }
     }
+    // X3D 24.4.3 (VRML97's geometry has no fogCoord field).
+    if (tree_.decl(id) && tree_.decl(id)->find("fogCoord"_n))
+        if (const NodeId c = node(id, "fogCoord"_n); c != kNullNode) {
+            if (type(c) == "FogCoordinate"_n)
+                data.fog_depths = numbers(c, "depth"_n);
+            else
+                warn(c, "wrong-type", "is not a FogCoordinate node; ignored");
+        }
     NodeId t = node(id, "texCoord"_n);
     if (t != kNullNode && type(t) == "MultiTextureCoordinate"_n) {
         const auto inner = nodes(t, "texCoord"_n);

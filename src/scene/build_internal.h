@@ -131,6 +131,7 @@ class Builder {
     std::optional<sg::ChildRef> make_child(NodeId node);
     void add_children(sg::Index group, std::span<const NodeId> children);
     sg::Index make_group(NodeId node);
+    void scale_lengths(sg::Group& group, double scale);
     std::optional<sg::ChildRef> make_shape(NodeId node);
     sg::Index appearance(NodeId node);
     sg::Index material(NodeId node);
@@ -141,6 +142,8 @@ class Builder {
     sg::Index make_fog(NodeId node);
     sg::Index make_navigation_info(NodeId node);
     void read_texture_transform(NodeId node, sg::Appearance& appearance);
+    // ---- texture_properties.cpp
+    void read_texture_properties(NodeId node, TextureSampling& sampling);
 
     // build_geometry.cpp
     sg::Geometry make_geometry(NodeId node);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/texture_sampling.h"
 #include "parser/node_tree.h"
 #include "parser/source.h"
 
@@ -101,8 +102,7 @@ struct Texture {
     // components)
     int width = 0, height = 0, components = 0;
     std::vector<uint32_t> pixels;
-    bool repeat_s = false;
-    bool repeat_t = false;
+    TextureSampling sampling;  // repeatS/repeatT, or the TextureProperties node
 };
 
 struct Appearance {
@@ -117,8 +117,9 @@ struct Appearance {
 struct VertexData {
     std::vector<Vec3> coords;
     std::vector<Vec3> normals;
-    std::vector<Vec3> colors;    // RGB
-    std::vector<double> alphas;  // ColorRGBA: the alpha of each colour; empty for Color
+    std::vector<Vec3> colors;        // RGB
+    std::vector<double> alphas;      // ColorRGBA: the alpha of each colour; empty for Color
+    std::vector<double> fog_depths;  // FogCoordinate depth, per coordinate; empty: none
     std::vector<Vec2> texcoords;
     bool has_texcoord_node = false;  // a TextureCoordinate node was given (even if empty)
 };

@@ -66,6 +66,9 @@ for f in fog/fog_linear.wrl background/background_texture1.wrl; do
 done
 expect 0 "info on car.x3d" -- "$bin" info "$corpus/x3d/castle-engine-demo-models/x3d/car/car.x3d"
 grep -Eq '^camera      no Viewpoint: framed from \+Z at \(.* .* 16\.[0-9]+\), fieldOfView 0.785398$' "$work/out.txt" && pass || fail "info names the framing camera of car.x3d"
+# X3D UNIT (docs/input.md: Units): the km cylinder and the inlined metre one, both 1 m in radius.
+expect 0 "info on units.x3d" -- "$bin" info "$corpus/x3d/castle-engine-demo-models/x3d/units.x3d"
+grep -q '^bounds      (-1 -1 -1) .. (4 1 1)$' "$work/out.txt" && pass || fail "units.x3d: bounds in metres ($(grep '^bounds' "$work/out.txt"))"
 
 # shellcheck source=tests/cli/anim_corpus.sh
 . "$src/tests/cli/anim_corpus.sh"

@@ -250,7 +250,7 @@ TEST(Flatten, PixelTextureAndMissingImage) {
     const Texture& t = f.flat.textures[0];
     EXPECT_EQ(t.width, 2);
     EXPECT_EQ(t.channels, 3);
-    EXPECT_FALSE(t.repeat_s);
+    EXPECT_EQ(t.sampling.wrap_s, TextureWrap::ClampToEdge);
     EXPECT_EQ(t.texels[0], 1.0f);
     EXPECT_EQ(t.texels[4], 1.0f);
     EXPECT_TRUE(has_message(f.diagnostics, "does-not-exist.png"));

@@ -32,7 +32,7 @@ TEST(RenderTexture, BilinearRepeatAndClamp) {
     // Repeat: s = 1.0 sits between texel 1 and texel 0 of the next tile.
     EXPECT_NEAR(sample_texture(t, Vec2(1.0, 0.5)).rgb.x, 0.5, kTolerance);
     EXPECT_NEAR(sample_texture(t, Vec2(1.25, 0.5)).rgb.x, 0.0, kTolerance);
-    t.repeat_s = false;
+    t.sampling.wrap_s = TextureWrap::ClampToEdge;
     EXPECT_NEAR(sample_texture(t, Vec2(1.0, 0.5)).rgb.x, 1.0, kTolerance);
     EXPECT_NEAR(sample_texture(t, Vec2(-3.0, 0.5)).rgb.x, 0.0, kTolerance);
     // Non-finite coordinates read as 0 instead of spreading NaN.
