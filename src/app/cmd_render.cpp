@@ -18,6 +18,7 @@
 #include "flatten/flatten.h"
 #include "image/image.h"
 #include "render/render.h"
+#include "render/sky_map.h"
 
 namespace vr {
 namespace {
@@ -419,6 +420,19 @@ int run_render(const RenderCommand& command) {
     RenderTimings timings;
     int code = prepare(cmd, world, output, loaded, timings.parse);
     if (code != kExitOk) return code;
+    if (!cmd.options.sky_file.empty() && !cmd.options.sky_map) {
+        std::string error;
+        code = load_sky_map(cmd.options.sky_file, cmd.options.sky_map, error) ? kExitOk
+                                                                               : kExitBadInput;
+        if (code != kExitOk)
+            std::cerr << "vrmlray: error: --sky wants R,G,B or an image file: " << error << "\n";
+        else if (cmd.options.sky_map->fixed() > 0)
+            report_warning(cmd.options.sky_file,
+                           std::to_string(cmd.options.sky_map->fixed()) +
+                               " negative or non-finite texel values taken as 0",
+                           cmd.common.quiet);
+        if ((code = agreed(world, code, "reading the sky image")) != kExitOk) return code;
+    }
     Diagnostics anim_diagnostics;
     Animator animator(loaded.tree, anim_diagnostics);
     print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);
