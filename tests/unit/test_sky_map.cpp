@@ -62,8 +62,10 @@ TEST(SkyMap, ZenithIsTheTopRowAndMinusZTheMiddleColumn) {
                  {{0, 0.5 * std::sqrt(2.0), -0.5 * std::sqrt(2.0)}, 0.5, 0.25}};
     for (const auto& c : cases) {
         sky_map_uv(c.w, u, v);
-        // A few ulps of atan2 and acos.
-        EXPECT_NEAR(u, c.u, 1e-15) << c.w.x << " " << c.w.y << " " << c.w.z;
+        // A few ulps of atan2 and acos. At the poles every u is the same point.
+        if (std::abs(c.w.y) < 1.0) {
+            EXPECT_NEAR(u, c.u, 1e-15) << c.w.x << " " << c.w.z;
+        }
         EXPECT_NEAR(v, c.v, 1e-15) << c.w.x << " " << c.w.y << " " << c.w.z;
     }
 }
@@ -74,8 +76,8 @@ TEST(SkyMap, TexelCentresGiveTheTexelAndBilinearInBetween) {
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
             const Vec3 got = map.radiance(direction_of((i + 0.5) / w, (j + 0.5) / h));
-            // Float texels; the direction's round trip costs ~1e-15 of a texel step.
-            for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], distinct(i, j)[c], 1e-12) << i << j;
+            // Float texels (~3e-8 of these values); the direction's round trip costs ~1e-15.
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], distinct(i, j)[c], 1e-7) << i << j;
         }
     // Half-way between columns 2 and 3 of row 1, and across the seam between columns 7 and 0.
     const Vec3 mid = map.radiance(direction_of(3.0 / w, 1.5 / h));

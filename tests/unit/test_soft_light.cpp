@@ -608,7 +608,9 @@ TEST(SoftLightGas, OpaqueSphereCoveringPartOfTheLightTakesTheOverlapOfTwoCaps) {
         ASSERT_GT(a.x, 0.0);
         // V to E at 99% per point; the gas's 2e-3 extent changes the overlap by ~1e-6.
         EXPECT_NEAR(b.x / a.x, exact, 2.0 * e) << "offset " << offset;
-        if (offset == 0.5) EXPECT_NEAR(exact, 0.5, 0.1);  // about half of it
+        if (offset == 0.4) {
+            EXPECT_NEAR(exact, 0.5, 0.02);  // two caps of ~0.1 rad 0.08 apart: about half
+        }
     }
 }
 
