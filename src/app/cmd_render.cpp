@@ -423,7 +423,7 @@ int run_render(const RenderCommand& command) {
     if (!cmd.options.sky_file.empty() && !cmd.options.sky_map) {
         std::string error;
         code = load_sky_map(cmd.options.sky_file, cmd.options.sky_map, error) ? kExitOk
-                                                                               : kExitBadInput;
+                                                                              : kExitBadInput;
         if (code != kExitOk)
             std::cerr << "vrmlray: error: --sky wants R,G,B or an image file: " << error << "\n";
         else if (cmd.options.sky_map->fixed() > 0)

@@ -30,7 +30,7 @@ class BackgroundModel {
   private:
     Vec3 gradient(const Vec3& local) const;
     const FlatScene& scene_;
-    std::optional<Vec3> constant_;  // --background, or a Background of one sky colour only
+    std::optional<Vec3> constant_;     // --background, or a Background of one sky colour only
     const SkyMap* sky_map_ = nullptr;  // instead of the default black: --sky FILE, no Background
     Mat3 background_from_world_{1.0};
 };

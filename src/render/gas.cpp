@@ -879,8 +879,8 @@ GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end,
                     if (!lighting.lights) continue;
                     for (uint32_t l : (*lighting.light_sets)[g.light_set]) {
                         const Light& light = (*lighting.lights)[l];
-                        L += T * w * light_weight(light, p, true, lighting, stats) *
-                             g.sigma_rho * light.color;
+                        L += T * w * light_weight(light, p, true, lighting, stats) * g.sigma_rho *
+                             light.color;
                     }
                 }
             }

@@ -50,7 +50,7 @@ struct RenderOptions {
     double line_width = 1.0;   // pixels: lines of IndexedLineSet and LineSet
     double point_size = 1.0;   // pixels: the diameter of PointSet points
     // Soft light (SPEC section 13); all off by default.
-    std::optional<Vec3> sky;        // sky light colour: adds diffuse * sky * A(p)
+    std::optional<Vec3> sky;  // sky light colour: adds diffuse * sky * A(p)
     // --sky FILE: the image's path, and the map itself once read (run_render): the sky light's
     // radiance instead of a colour, and the background where the scene binds none.
     std::string sky_file;

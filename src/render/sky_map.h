@@ -5,9 +5,10 @@
 // middle column looks along -Z (the default VRML view), a quarter to its right along +X, a quarter
 // to its left along -X, its left and right edges along +Z. For a unit direction w:
 //   u = 0.5 + atan2(w.x, -w.z) / (2 pi)  in [0, 1),   v = acos(w.y) / pi  in [0, 1],
-// and texel (i, j) (i from the left, j from the top) has its centre at ((i + 0.5) / W, (j + 0.5) / H).
-// Filtering is bilinear between the four nearest texel centres, wrapping around in u and clamped
-// at the poles in v, so that every value lies between the map's smallest and largest texels.
+// and texel (i, j) (i from the left, j from the top) has its centre at ((i + 0.5) / W, (j + 0.5) /
+// H). Filtering is bilinear between the four nearest texel centres, wrapping around in u and
+// clamped at the poles in v, so that every value lies between the map's smallest and largest
+// texels.
 #pragma once
 #include <memory>
 #include <string>

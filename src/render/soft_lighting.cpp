@@ -299,8 +299,8 @@ Vec3 SoftLighting::sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& 
     out += stratified_mean<Vec3>(
         n, 0.5 * kPi, CapMeasure::Cosine, point_key(seed_ ^ 0x5c1e5, p, n),
         [&](const Vec3& w) {
-            const double v = shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0,
-                                               counts);
+            const double v =
+                shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0, counts);
             return v > 0.0 ? v * (map.radiance(w) - lowest) : Vec3(0.0);
         },
         [&](const Vec3& v) {

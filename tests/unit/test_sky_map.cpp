@@ -57,8 +57,12 @@ TEST(SkyMap, ZenithIsTheTopRowAndMinusZTheMiddleColumn) {
     const struct {
         Vec3 w;
         double u, v;
-    } cases[] = {{{0, 0, -1}, 0.5, 0.5},  {{1, 0, 0}, 0.75, 0.5}, {{-1, 0, 0}, 0.25, 0.5},
-                 {{0, 0, 1}, 0.0, 0.5},   {{0, 1, 0}, 0.5, 0.0},  {{0, -1, 0}, 0.5, 1.0},
+    } cases[] = {{{0, 0, -1}, 0.5, 0.5},
+                 {{1, 0, 0}, 0.75, 0.5},
+                 {{-1, 0, 0}, 0.25, 0.5},
+                 {{0, 0, 1}, 0.0, 0.5},
+                 {{0, 1, 0}, 0.5, 0.0},
+                 {{0, -1, 0}, 0.5, 1.0},
                  {{0, 0.5 * std::sqrt(2.0), -0.5 * std::sqrt(2.0)}, 0.5, 0.25}};
     for (const auto& c : cases) {
         sky_map_uv(c.w, u, v);
@@ -143,9 +147,8 @@ TEST(SkyMap, ConstantMapIsTheSkyColourTimesTheOcclusion) {
     const Vec3 colour(0.3, 0.6, 0.9);
     const OneSphere s(Vec3(0.4, 2.0, 0.1), 0.8);
     RenderOptions with_map, with_colour;
-    with_map.sky_map = std::make_shared<const SkyMap>(make_image(16, 8, [&](int, int) {
-        return colour;
-    }));
+    with_map.sky_map =
+        std::make_shared<const SkyMap>(make_image(16, 8, [&](int, int) { return colour; }));
     with_colour.sky = colour;
     for (double e : kTolerances) {
         with_map.light_tolerance = with_colour.light_tolerance = e;
@@ -161,10 +164,10 @@ TEST(SkyMap, ConstantMapIsTheSkyColourTimesTheOcclusion) {
 }
 
 TEST(SkyMap, TwoColourMapUnderOneSphereIsTheClosedForm) {
-    // Upper half `up`, lower half `down`. A surface tilted by alpha from +Y sees the cosine-weighted
-    // share (1 + cos alpha) / 2 of the upper half and (1 - cos alpha) / 2 of the lower (the sky
-    // view factor); a sphere wholly above both the surface and the horizon takes (r/d)^2 cos theta
-    // from the upper share (SPEC 13's closed form).
+    // Upper half `up`, lower half `down`. A surface tilted by alpha from +Y sees the
+    // cosine-weighted share (1 + cos alpha) / 2 of the upper half and (1 - cos alpha) / 2 of the
+    // lower (the sky view factor); a sphere wholly above both the surface and the horizon takes
+    // (r/d)^2 cos theta from the upper share (SPEC 13's closed form).
     const Vec3 up(0.2, 0.5, 1.0), down(0.4, 0.3, 0.1);
     auto map = std::make_shared<const SkyMap>(
         make_image(64, 512, [&](int, int j) { return j < 256 ? up : down; }));
@@ -234,14 +237,14 @@ TEST(SkyMap, BackgroundShowsTheTexelsUnlessTheSceneHasABackground) {
     for (int c = 0; c < 3; ++c) {
         // Float pixels: 1e-6 of values below 1.
         EXPECT_NEAR(at_51[c], distinct(5, 1)[c], 1e-6);
-        EXPECT_NEAR(ahead[c],
-                    0.25 * (distinct(3, 1)[c] + distinct(4, 1)[c] + distinct(3, 2)[c] +
-                            distinct(4, 2)[c]),
-                    1e-6);
-        EXPECT_NEAR(right[c],
-                    0.25 * (distinct(5, 1)[c] + distinct(6, 1)[c] + distinct(5, 2)[c] +
-                            distinct(6, 2)[c]),
-                    1e-6);
+        EXPECT_NEAR(
+            ahead[c],
+            0.25 * (distinct(3, 1)[c] + distinct(4, 1)[c] + distinct(3, 2)[c] + distinct(4, 2)[c]),
+            1e-6);
+        EXPECT_NEAR(
+            right[c],
+            0.25 * (distinct(5, 1)[c] + distinct(6, 1)[c] + distinct(5, 2)[c] + distinct(6, 2)[c]),
+            1e-6);
     }
     // A bound Background wins over the map, and --background over both.
     scene.background.present = true;

@@ -534,8 +534,7 @@ struct GasAreaScene {
     }
     Vec3 run(const Ray& ray, bool area, double light_tolerance, double tolerance = 1e-4) const {
         GasStats stats;
-        return gas.integrate(ray, kInf, lighting(area, light_tolerance), tolerance, stats)
-            .radiance;
+        return gas.integrate(ray, kInf, lighting(area, light_tolerance), tolerance, stats).radiance;
     }
 };
 
