@@ -29,6 +29,7 @@
 #include "image/image.h"
 #include "render/camera.h"
 #include "render/render.h"
+#include "render/sky_map.h"
 #include "scene/build.h"
 
 namespace py = pybind11;
@@ -420,8 +421,11 @@ Image trace(const SceneData& s, const CommandLine& cmd, const ProgressFn& progre
     Camera camera;
     std::string error;
     if (!make_camera(flat, rc.options, camera, error)) throw Failure{kExitUsage, error, {}};
+    RenderOptions options = rc.options;
+    if (!options.sky_file.empty() && !load_sky_map(options.sky_file, options.sky_map, error))
+        throw Failure{kExitBadInput, "sky=: " + error, {}};
     RenderStats stats;
-    Image image = render_image(flat, camera, rc.options, progress, stats, &flat.spheres);
+    Image image = render_image(flat, camera, options, progress, stats, &flat.spheres);
     if (stats.timed_out)
         throw Failure{
             kExitBadInput,

@@ -203,7 +203,9 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--background", texts.background,
                   "Background colour R,G,B (overrides the scene's Background)");
     r->add_option("--sky", texts.sky,
-                  "Sky light R,G,B: adds diffuse * sky * ambient occlusion at opaque surfaces");
+                  "Sky light R,G,B: adds diffuse * sky * ambient occlusion at opaque surfaces; or "
+                  "an equirectangular image FILE.hdr|exr (+Y up), also the background unless the "
+                  "scene has one");
     r->add_option("--ao-distance", o.ao_distance,
                   "Sky light: occluders farther than this do not count (default: unlimited)")
         ->check(CLI::PositiveNumber);
@@ -359,6 +361,12 @@ bool map_render(const Texts& texts, RenderCommand& render) {
           std::tuple{&texts.sky, &render.options.sky, "--sky"}}) {
         if (text->empty()) continue;
         *target = parse_rgb(*text);
+        // Anything but numbers and commas is an image's path, read by run_render.
+        if (!*target && target == &render.options.sky &&
+            text->find_first_not_of("0123456789.,+-eE ") != std::string::npos) {
+            render.options.sky_file = *text;
+            continue;
+        }
         if (!*target) {
             std::cerr << "vrmlray: error: " << name
                       << " wants R,G,B (three numbers separated by commas)\n";

@@ -21,6 +21,7 @@
 #include "flatten/flatten.h"
 #include "image/image.h"
 #include "render/render.h"
+#include "render/sky_map.h"
 
 namespace vr {
 namespace {
@@ -699,6 +700,19 @@ int run_render(const RenderCommand& command) {
     FramePlan plan = plan_frames(cmd, world);
     int code = prepare(cmd, world, plan, output, loaded, timings.parse);
     if (code != kExitOk) return code;
+    if (!cmd.options.sky_file.empty() && !cmd.options.sky_map) {
+        std::string error;
+        code = load_sky_map(cmd.options.sky_file, cmd.options.sky_map, error) ? kExitOk
+                                                                              : kExitBadInput;
+        if (code != kExitOk)
+            std::cerr << "vrmlray: error: --sky wants R,G,B or an image file: " << error << "\n";
+        else if (cmd.options.sky_map->fixed() > 0)
+            report_warning(cmd.options.sky_file,
+                           std::to_string(cmd.options.sky_map->fixed()) +
+                               " negative or non-finite texel values taken as 0",
+                           cmd.common.quiet);
+        if ((code = agreed(world, code, "reading the sky image")) != kExitOk) return code;
+    }
     Diagnostics anim_diagnostics;
     Animator animator(loaded.tree, anim_diagnostics);
     print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);

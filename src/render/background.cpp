@@ -29,9 +29,14 @@ Vec3 ramp(const std::vector<Vec3>& colors, const std::vector<double>& angles, do
 
 }  // namespace
 
-BackgroundModel::BackgroundModel(const FlatScene& scene, const std::optional<Vec3>& override_color)
+BackgroundModel::BackgroundModel(const FlatScene& scene, const std::optional<Vec3>& override_color,
+                                 const SkyMap* sky_map)
     : scene_(scene), constant_(override_color) {
     const Background& bg = scene.background;
+    if (!constant_ && !bg.present && sky_map) {
+        sky_map_ = sky_map;
+        return;
+    }
     bool panorama = false;
     for (int32_t t : bg.panorama) panorama = panorama || t >= 0;
     if (!constant_ && bg.sky_colors.size() <= 1 && bg.ground_colors.empty() && !panorama)
@@ -58,6 +63,7 @@ Vec3 BackgroundModel::gradient(const Vec3& v) const {
 
 Vec3 BackgroundModel::radiance(const Vec3& dir) const {
     if (constant_) return *constant_;
+    if (sky_map_) return sky_map_->radiance(dir);
     const Background& bg = scene_.background;
     Vec3 v = background_from_world_ * dir;
     double len = glm::length(v);

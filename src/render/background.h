@@ -5,13 +5,16 @@
 
 #include "core/math.h"
 #include "render/flat_scene.h"
+#include "render/sky_map.h"
 
 namespace vr {
 
 class BackgroundModel {
   public:
-    // `override` (--background) replaces the scene's Background with a constant colour.
-    BackgroundModel(const FlatScene& scene, const std::optional<Vec3>& override_color);
+    // `override` (--background) replaces the scene's Background with a constant colour; else a
+    // `sky_map` (--sky FILE) is the background of a scene that binds no Background node.
+    BackgroundModel(const FlatScene& scene, const std::optional<Vec3>& override_color,
+                    const SkyMap* sky_map = nullptr);
 
     // Radiance arriving from world direction `dir` (any length). VRML97 Background / X3D 24.4.1:
     //   sky: skyColor[0] at the zenith, skyColor[i+1] at skyAngle[i] from the zenith, linear in the
@@ -27,7 +30,8 @@ class BackgroundModel {
   private:
     Vec3 gradient(const Vec3& local) const;
     const FlatScene& scene_;
-    std::optional<Vec3> constant_;  // --background, or a Background of one sky colour only
+    std::optional<Vec3> constant_;     // --background, or a Background of one sky colour only
+    const SkyMap* sky_map_ = nullptr;  // instead of the default black: --sky FILE, no Background
     Mat3 background_from_world_{1.0};
 };
 

@@ -379,11 +379,15 @@ void GasVolume::collect_events(const Ray& ray, double t_end, std::vector<Event>&
 }
 
 double GasVolume::light_weight(const Light& light, const Vec3& p, bool ambient,
-                               const SurfaceTransmittance& surfaces, GasStats& stats) const {
+                               const Lighting& lighting, GasStats& stats) const {
     const LightIncidence inc = light_incidence(light, p);
     if (!(inc.factor > 0.0)) return 0.0;
+    const SurfaceTransmittance& surfaces = lighting.surfaces;
     double visibility = 1.0;
-    if (!light.headlight) {
+    if (lighting.is_area(light)) {
+        ++stats.visibility_rays;
+        visibility = lighting.area_visibility(light, p);
+    } else if (!light.headlight) {
         ++stats.visibility_rays;
         Ray shadow;
         shadow.o = p;
@@ -565,6 +569,7 @@ struct GasVolume::LightPass {
     const bool directional = light.kind == LightKind::Directional;
     const bool ambient_varies = !directional;
     const bool shadowed = light.intensity > 0.0 && !light.headlight;
+    const bool area = lighting.is_area(light);  // V_l by its own integral: no sharp shadow edges
     const double w_max = (ambient_varies ? light.ambient_intensity : 0.0) + light.intensity;
     const Vec3& u = ray.d;
 
@@ -587,7 +592,10 @@ struct GasVolume::LightPass {
             if (!(factor > 0.0)) return 0.0;
         }
         double visibility = shadowed ? 1.0 : 0.0, depth = 0.0;  // V = visibility * exp(-depth)
-        if (shadowed) {
+        if (shadowed && area) {
+            ++stats.visibility_rays;
+            visibility = lighting.area_visibility(light, at);  // gas on the way included
+        } else if (shadowed) {
             ++stats.visibility_rays;
             Ray shadow;
             shadow.o = at;
@@ -730,7 +738,7 @@ struct GasVolume::LightPass {
         fr.begin = fr.end = k.pool.begin();
         fr.mid = 0.5 * (pc.a + pc.b);
         fr.point = ray.at(fr.mid);
-        if (shadowed) shadow_cuts(p, fr);
+        if (shadowed && !area) shadow_cuts(p, fr);
         k.cuts.push_back(pc.b);
         std::sort(k.cuts.begin() + 1, k.cuts.end() - 1);
         for (size_t i = 0; i + 1 < k.cuts.size(); ++i) {
@@ -746,7 +754,7 @@ struct GasVolume::LightPass {
     // Global adaptive refinement (QUADPACK's QAG idea) to three quarters of the tolerance: the
     // panel with the largest error estimate gets the higher-order rule or is halved (see Panel)
     // until the estimates add up to little enough.
-    void refine(double tolerance) {
+    void refine(double tolerance, double floor) {
         std::vector<Panel>& panels = k.panels;
         auto by_error = [](const Panel& x, const Panel& y) { return x.error < y.error; };
         std::make_heap(panels.begin(), panels.end(), by_error);
@@ -754,11 +762,13 @@ struct GasVolume::LightPass {
         double value = 0.0, error = 0.0;
         for (const Panel& pn : panels) value += pn.value, error += pn.error;
         for (;;) {
-            if (error <= 0.75 * tolerance * std::abs(value) || panels.size() >= max_panels) {
+            if (error <= 0.75 * tolerance * std::abs(value) + floor ||
+                panels.size() >= max_panels) {
                 // The running sums drift by rounding: decide on fresh ones.
                 value = error = 0.0;
                 for (const Panel& pn : panels) value += pn.value, error += pn.error;
-                if (error <= 0.75 * tolerance * std::abs(value) || panels.size() >= max_panels)
+                if (error <= 0.75 * tolerance * std::abs(value) + floor ||
+                    panels.size() >= max_panels)
                     break;
             }
             if (panels.empty() || panels.front().error == 0.0) break;
@@ -789,6 +799,10 @@ struct GasVolume::LightPass {
         if (!(w_max > 0.0)) return;
         double remaining = order_pieces();
         if (k.order.empty()) return;
+        // An area light's V_l is itself known to an absolute error (--light-tolerance): finer
+        // quadrature than that error times the unshadowed integral would chase its noise.
+        const double floor =
+            area ? lighting.area_tolerance * (light.intensity / w_max) * remaining : 0.0;
         k.pool.blocks.clear();
         k.intervals.clear();
         k.panels.clear();
@@ -805,7 +819,7 @@ struct GasVolume::LightPass {
             remaining -= bound;
             start_panels(p, found);
         }
-        refine(tolerance);
+        refine(tolerance, floor);
         for (const Panel& pn : k.panels) {
             const uint32_t p = k.intervals[pn.interval].piece;
             const double s = scale(p);
@@ -865,8 +879,8 @@ GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end,
                     if (!lighting.lights) continue;
                     for (uint32_t l : (*lighting.light_sets)[g.light_set]) {
                         const Light& light = (*lighting.lights)[l];
-                        L += T * w * light_weight(light, p, true, lighting.surfaces, stats) *
-                             g.sigma_rho * light.color;
+                        L += T * w * light_weight(light, p, true, lighting, stats) * g.sigma_rho *
+                             light.color;
                     }
                 }
             }

@@ -91,6 +91,17 @@ class GasVolume {
         const std::vector<std::vector<uint32_t>>* light_sets = nullptr;
         const Light* headlight = nullptr;
         SurfaceTransmittance surfaces;  // null: nothing but gas can block light
+        // An area light's V_l from a gas point (SPEC 13): the share of its solid angle seen,
+        // through surfaces and gas, to --light-tolerance. Null: every light is a point.
+        std::function<double(const Light& light, const Vec3& p)> area_visibility;
+        // area_visibility's absolute error: the quadrature of an area light's term stops refining
+        // at this times the term's unshadowed bound (on top of the relative tolerance).
+        double area_tolerance = 0.0;
+        bool is_area(const Light& light) const {
+            return area_visibility && !light.headlight &&
+                   (light.kind == LightKind::Directional ? light.angular_radius > 0.0
+                                                         : light.source_radius > 0.0);
+        }
     };
 
     // Integrates along `ray` (unit direction) from 0 to t_end (kInf: no opaque hit) to the relative
@@ -119,8 +130,8 @@ class GasVolume {
                         std::vector<Piece>& pieces, std::vector<Vec3>& coef) const;
     // att * spot * (ambient + intensity * V) at p, V by a shadow ray through the BVH (with ambient
     // = false: att * spot * intensity * V). For the brute-force reference.
-    double light_weight(const Light& light, const Vec3& p, bool ambient,
-                        const SurfaceTransmittance& surfaces, GasStats& stats) const;
+    double light_weight(const Light& light, const Vec3& p, bool ambient, const Lighting& lighting,
+                        GasStats& stats) const;
     // Calls visit(sphere index) for every gas sphere that meets the light fan of the segment [A,
     // B]: the spheres that can lie on the path from a point of the segment to the light (a
     // superset).

@@ -42,7 +42,7 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
     : scene_(scene),
       accel_(accel),
       options_(options),
-      background_(scene, options.background),
+      background_(scene, options.background, options.sky_map.get()),
       gas_(gas && !gas->empty() ? gas : nullptr),
       lines_(scene, camera, options.width, options.height, options.line_width, options.point_size) {
     const Vec3 view = camera.forward();
@@ -69,7 +69,7 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
     for (const Light& l : lights_)
         area_lights = area_lights || (l.kind == LightKind::Directional ? l.angular_radius > 0.0
                                                                        : l.source_radius > 0.0);
-    if (options.sky || area_lights) {
+    if (options.sky || options.sky_map || area_lights) {
         soft_ = std::make_unique<SoftLighting>(scene, accel, gas_, options);
         sky_ = options.sky.value_or(Vec3(0.0));
     }
@@ -78,6 +78,12 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
         gas_lighting_.light_sets = &scene_.light_sets;
         gas_lighting_.headlight = has_headlight_ ? &headlight_ : nullptr;
         gas_lighting_.surfaces = [this](const Ray& r) { return accel_.transmittance(r); };
+        gas_lighting_.area_tolerance = options.light_tolerance;
+        if (area_lights)
+            gas_lighting_.area_visibility = [this](const Light& light, const Vec3& p) {
+                SoftLightCounts unused;  // the gas counts these as its visibility evaluations
+                return soft_->light_visibility(light, p, Vec3(0.0), Vec3(0.0), unused);
+            };
     }
 }
 
@@ -87,8 +93,12 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
     Vec3 color = look.emissive;
     const double exponent = look.shininess * 128.0;
     if (soft_ && soft_->sky()) {
-        const double a = soft_->sky_visibility(hit.p, hit.p_error, ng, ns, counters.soft);
-        color += a * sky_ * look.diffuse;
+        if (soft_->sky_map()) {
+            color += soft_->sky_radiance(hit.p, hit.p_error, ng, ns, counters.soft) * look.diffuse;
+        } else {
+            const double a = soft_->sky_visibility(hit.p, hit.p_error, ng, ns, counters.soft);
+            color += a * sky_ * look.diffuse;
+        }
     }
 
     auto add_light = [&](const Light& light) {

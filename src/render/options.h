@@ -1,12 +1,15 @@
 // Everything a render can be told from the command line, with its default (SPEC section 1).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "core/math.h"
 
 namespace vr {
+
+class SkyMap;  // render/sky_map.h
 
 enum class CameraMode : uint8_t { FromViewpoint, Perspective, Ortho };
 enum class SpheresOption : uint8_t { FromHints, Opaque, Gas };
@@ -47,7 +50,11 @@ struct RenderOptions {
     double line_width = 1.0;   // pixels: lines of IndexedLineSet and LineSet
     double point_size = 1.0;   // pixels: the diameter of PointSet points
     // Soft light (SPEC section 13); all off by default.
-    std::optional<Vec3> sky;        // sky light colour: adds diffuse * sky * A(p)
+    std::optional<Vec3> sky;  // sky light colour: adds diffuse * sky * A(p)
+    // --sky FILE: the image's path, and the map itself once read (run_render): the sky light's
+    // radiance instead of a colour, and the background where the scene binds none.
+    std::string sky_file;
+    std::shared_ptr<const SkyMap> sky_map;
     double ao_distance = kInf;      // sky light: occluders farther than this do not count
     double light_tolerance = 1e-3;  // absolute error of A(p) and of each area light's visibility
     double aperture = 0.0;          // thin lens radius, scene units; 0: a pinhole

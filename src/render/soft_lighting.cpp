@@ -141,7 +141,8 @@ SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const Gas
       tolerance_(options.light_tolerance),
       ao_distance_(options.ao_distance),
       seed_(options.seed),
-      sky_(options.sky.has_value()) {
+      sky_(options.sky.has_value() || options.sky_map),
+      sky_map_(options.sky_map) {
     spheres_only_ = scene.quadrics.empty() && scene.meshes.empty() && scene.instances.empty() &&
                     gas_ == nullptr;
     for (const Sphere& s : scene.spheres) {
@@ -197,43 +198,50 @@ bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max
     return true;
 }
 
-double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng,
-                                   const Vec3& axis, double theta_max, CapMeasure measure,
-                                   double reach, const Vec3& target, double target_radius,
-                                   uint64_t key, SoftLightCounts& counts) const {
+double SoftLighting::shadow_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng,
+                                       const Vec3& w, double reach, const Vec3& target,
+                                       double target_radius, SoftLightCounts& counts) const {
+    if (!(glm::dot(w, ng) > 0.0)) return 0.0;  // below the surface itself
+    Ray ray;
+    if (target_radius > 0.0) {
+        // To the near side of the sphere light along w (its closest approach if w grazes it).
+        const Vec3 v = target - p;
+        const double b = glm::dot(w, v);
+        const double disc = b * b - (glm::dot(v, v) - target_radius * target_radius);
+        const double t = disc > 0.0 ? b - std::sqrt(disc) : b;
+        ray = spawn_ray_to(p, p_error, ng, p + t * w);
+    } else {
+        ray = spawn_ray(p, p_error, ng, w);
+        ray.t_max = reach;
+    }
+    ++counts.rays;
+    double v = accel_.transmittance(ray);
+    if (gas_ && v > 0.0) v *= std::exp(-gas_->optical_depth(ray));
+    return std::isfinite(v) ? v : 0.0;
+}
+
+namespace {
+
+// The mean of f(w) over the cone about `axis` (uniform in its measure) on R = 8 independently
+// jittered stratified patterns of m x m directions, m = 4, 8, ... 128, stopping once
+// `converged(variance of the replicas' means)` holds. Value is double or Vec3 (per channel);
+// `done` says whether it converged before the largest patterns.
+template <class Value, class F, class Converged>
+Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key, F&& f,
+                      Converged&& converged, bool& done) {
     constexpr int kReplicas = 8;
-    constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t, 7 dof
     const double scale = measure == CapMeasure::Cosine
                              ? std::pow(std::sin(theta_max), 2)
                              : 2.0 * std::pow(std::sin(0.5 * theta_max), 2);
     const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
     const Vec3 tx = glm::normalize(glm::cross(helper, axis));
     const Vec3 ty = glm::cross(axis, tx);
-    auto visible = [&](const Vec3& w) {
-        if (!(glm::dot(w, ng) > 0.0)) return 0.0;  // below the surface itself
-        Ray ray;
-        if (target_radius > 0.0) {
-            // To the near side of the sphere light along w (its closest approach if w grazes it).
-            const Vec3 v = target - p;
-            const double b = glm::dot(w, v);
-            const double disc = b * b - (glm::dot(v, v) - target_radius * target_radius);
-            const double t = disc > 0.0 ? b - std::sqrt(disc) : b;
-            ray = spawn_ray_to(p, p_error, ng, p + t * w);
-        } else {
-            ray = spawn_ray(p, p_error, ng, w);
-            ray.t_max = reach;
-        }
-        ++counts.rays;
-        double v = accel_.transmittance(ray);
-        if (gas_ && v > 0.0) v *= std::exp(-gas_->optical_depth(ray));
-        return std::isfinite(v) ? v : 0.0;
-    };
-    ++counts.sampled_points;
-    double mean = 0.0;
+    Value mean(0.0);
+    done = true;
     for (int m = 4, round = 0; m <= 128; m *= 2, ++round) {
-        double sum = 0.0, sum2 = 0.0;
+        Value sum(0.0), sum2(0.0);
         for (int r = 0; r < kReplicas; ++r) {
-            double replica = 0.0;
+            Value replica(0.0);
             for (int cell = 0; cell < m * m; ++cell) {
                 const uint64_t index = 2 * uint64_t(cell);
                 const double u = ((cell % m) + sample_uniform(key, r, round, index)) / m;
@@ -242,18 +250,67 @@ double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec
                 double cos_t, sin_t;
                 ring_angle(measure, scale, u, cos_t, sin_t);
                 const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
-                replica += visible(w);
+                replica += f(w);
             }
             replica /= double(m * m);
             sum += replica;
             sum2 += replica * replica;
         }
-        mean = sum / kReplicas;
-        const double variance = std::max(0.0, (sum2 - sum * mean) / (kReplicas - 1));
-        if (kStudent99 * std::sqrt(variance / kReplicas) <= tolerance_) return mean;
+        mean = sum / double(kReplicas);
+        const Value variance = glm::max(Value(0.0), (sum2 - sum * mean) / double(kReplicas - 1));
+        if (converged(variance / double(kReplicas))) return mean;
     }
-    ++counts.unconverged;
+    done = false;
     return mean;
+}
+
+constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t, 7 dof
+
+}  // namespace
+
+double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng,
+                                   const Vec3& axis, double theta_max, CapMeasure measure,
+                                   double reach, const Vec3& target, double target_radius,
+                                   uint64_t key, SoftLightCounts& counts) const {
+    ++counts.sampled_points;
+    bool done = true;
+    const double mean = stratified_mean<double>(
+        axis, theta_max, measure, key,
+        [&](const Vec3& w) {
+            return shadow_visibility(p, p_error, ng, w, reach, target, target_radius, counts);
+        },
+        [&](double v) { return kStudent99 * std::sqrt(v) <= tolerance_; }, done);
+    if (!done) ++counts.unconverged;
+    return mean;
+}
+
+Vec3 SoftLighting::sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& n,
+                                SoftLightCounts& counts) const {
+    // L = lowest + (L - lowest): the constant part by A(p) (a hard bound where the caps apply),
+    // the rest, which is 0 on a constant map, by sampling it with the visibility.
+    const SkyMap& map = *sky_map_;
+    const Vec3 lowest = map.lowest(), range = map.highest() - lowest;
+    Vec3 out(0.0);
+    if (lowest.x > 0.0 || lowest.y > 0.0 || lowest.z > 0.0)
+        out = lowest * sky_visibility(p, p_error, ng, n, counts);
+    if (!(range.x > 0.0 || range.y > 0.0 || range.z > 0.0)) return out;
+    ++counts.sampled_points;
+    bool done = true;
+    out += stratified_mean<Vec3>(
+        n, 0.5 * kPi, CapMeasure::Cosine, point_key(seed_ ^ 0x5c1e5, p, n),
+        [&](const Vec3& w) {
+            const double v =
+                shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0, counts);
+            return v > 0.0 ? v * (map.radiance(w) - lowest) : Vec3(0.0);
+        },
+        [&](const Vec3& v) {
+            const Vec3 half = kStudent99 * glm::sqrt(v);
+            return half.x <= tolerance_ * range.x && half.y <= tolerance_ * range.y &&
+                   half.z <= tolerance_ * range.z;
+        },
+        done);
+    if (!done) ++counts.unconverged;
+    return out;
 }
 
 double SoftLighting::sky_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng,
@@ -287,7 +344,10 @@ double SoftLighting::light_visibility(const Light& light, const Vec3& p, const V
     if (spheres_only_ &&
         exact_share(p, axis, theta_max, CapMeasure::SolidAngle, reach, near, false, share, counts))
         return share;
-    return sampled_share(p, p_error, ng, axis, theta_max, CapMeasure::SolidAngle, reach,
+    // A point in the gas has no surface: the whole light counts (every direction of its cone lies
+    // within pi/2 of the axis).
+    const Vec3 n = glm::dot(ng, ng) > 0.0 ? ng : axis;
+    return sampled_share(p, p_error, n, axis, theta_max, CapMeasure::SolidAngle, reach,
                          light.position, radius, point_key(seed_ ^ 0x5eed, p, light.position),
                          counts);
 }

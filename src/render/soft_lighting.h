@@ -12,6 +12,7 @@
 // counted (SoftLightCounts::unconverged).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/ray.h"
@@ -19,6 +20,7 @@
 #include "render/flat_scene.h"
 #include "render/gas.h"
 #include "render/options.h"
+#include "render/sky_map.h"
 #include "render/soft_light.h"
 
 namespace vr {
@@ -66,16 +68,29 @@ class SoftLighting {
     SoftLighting(const FlatScene& scene, const Accel& accel, const GasVolume* gas,
                  const RenderOptions& options);
     bool sky() const { return sky_; }
+    // The --sky FILE map, or null (a colour, or no sky light).
+    const SkyMap* sky_map() const { return sky_map_.get(); }
 
     // A(p) at surface point p (rounding bound p_error) with geometric normal ng and shading normal
     // n, both facing the viewer.
     double sky_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& n,
                           SoftLightCounts& counts) const;
+    // With a sky map: (1/pi) * integral over the hemisphere about n of V(p, w) L(w) max(n.w, 0) dw
+    // per channel, to the absolute error tolerance * (the channel's largest texel): the part up to
+    // the smallest texel as A(p) (hard bound where the caps apply), the rest sampled (99%).
+    Vec3 sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& n,
+                      SoftLightCounts& counts) const;
     // V_l of an area light (source_radius or angular_radius > 0) from p.
+    // A zero `ng` is a point in the gas, with no surface.
     double light_visibility(const Light& light, const Vec3& p, const Vec3& p_error, const Vec3& ng,
                             SoftLightCounts& counts) const;
 
   private:
+    // The shadow-ray visibility along unit w from p: to the near side of the sphere light
+    // (`target`, `target_radius` > 0), else up to `reach`; 0 below the surface ng.
+    double shadow_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& w,
+                             double reach, const Vec3& target, double target_radius,
+                             SoftLightCounts& counts) const;
     // The open share of the cone by shadow rays (the sampling path). `target_radius` > 0: the rays
     // end on the sphere light of that radius at `target`; else they run `reach` far.
     double sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& axis,
@@ -92,6 +107,7 @@ class SoftLighting {
     double ao_distance_;
     uint64_t seed_;
     bool sky_ = false;
+    std::shared_ptr<const SkyMap> sky_map_;
     bool spheres_only_ = false;  // the fast path applies
     SphereOccluders occluders_;
 };

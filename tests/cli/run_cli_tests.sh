@@ -60,6 +60,17 @@ expect 2 "--aperture with the centre sampler" -- "$bin" render "$soft" --apertur
 expect_stderr "aperture needs several samples per pixel spread over the lens: pick a sampler" "lens message says to pick a sampler"
 expect 2 "bad --sky" -- "$bin" render "$soft" --sky 1,2 -W 8 -H 8 -o "$work/x.png"
 expect 0 "sky light, area lights and a lens render" -- "$bin" render "$soft" --sky 0.3,0.3,0.3 --ao-distance 2 --light-tolerance 1e-2 --aperture 0.05 --sampler jitter --spp 4 -W 24 -H 16 -q -o "$work/soft.png"
+# --sky FILE: a constant EXR (an empty scene's background, written by vrmlray) lights as --sky R,G,B does;
+# with a Background node in the scene, the map does not show behind it either.
+printf '#VRML V2.0 utf8\nWorldInfo {}\n' >"$work/empty.wrl"
+"$bin" render "$work/empty.wrl" --background 0.25,0.5,0.75 -W 16 -H 8 -q -o "$work/sky_const.exr"
+{ cat "$soft"; echo 'Background { skyColor 0.1 0.1 0.1 }'; } >"$work/soft_bg.wrl"
+"$bin" render "$work/soft_bg.wrl" --sky 0.25,0.5,0.75 --ao-distance 2 --light-tolerance 1e-2 -W 24 -H 16 -q -o "$work/sky_rgb.exr"
+expect 0 "--sky with an EXR image" -- "$bin" render "$work/soft_bg.wrl" --sky "$work/sky_const.exr" --ao-distance 2 --light-tolerance 1e-2 -W 24 -H 16 -q -o "$work/sky_map.exr"
+# E = 1e-2 times the largest texel (0.75) bounds each pixel's sky term (diffuse <= 1).
+expect 0 "a constant sky image equals --sky R,G,B within the tolerance" -- "$bin" compare "$work/sky_map.exr" "$work/sky_rgb.exr" --max-abs 0.0075
+expect 3 "a missing sky image" -- "$bin" render "$soft" --sky "$work/no_sky.hdr" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "error: --sky wants R,G,B or an image file: .*no_sky.hdr" "missing sky image message"
 "$bin" render "$soft" -W 32 -H 24 -q -o "$work/soft_area.png"
 sed 's/value 0.6/value 0/; s/value 0.08/value 0/' "$soft" >"$work/soft_point.wrl"
 "$bin" render "$work/soft_point.wrl" -W 32 -H 24 -q -o "$work/soft_point.png"

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
 #include "render/accel.h"
 #include "render/camera.h"
+#include "render/gas.h"
 #include "render/render.h"
 #include "render/sampling.h"
 #include "render/soft_light.h"
@@ -485,6 +487,144 @@ TEST(SoftLight, ThinLensRaysMeetAtTheFocusAndSpreadOverTheLens) {
     EXPECT_FALSE(make_camera(scene, o, camera, error));
     EXPECT_NE(error.find("pick a sampler"), std::string::npos) << error;
 }
+
+// ----- Area lights in the gas (SPEC 13 with section 6) -----
+
+namespace gas_area {
+
+// A gas scene with opaque occluders; its tracer parts built as the integrator builds them.
+struct GasAreaScene {
+    FlatScene scene = empty_scene();
+    GasVolume gas;
+    Accel accel;
+    std::vector<Light> lights;
+    std::unique_ptr<SoftLighting> soft;
+
+    void add_gas(const Vec3& c, double r, double sigma) {
+        Material m;
+        m.density = sigma;
+        m.albedo = Vec3(0.8, 0.6, 0.4);
+        add_sphere(scene, c, r, add_shading(scene, m));
+        scene.spheres.back().gas = true;
+    }
+    void add_opaque(const Vec3& c, double r) { add_sphere(scene, c, r, add_shading(scene, {})); }
+    void finish(const Light& light, double light_tolerance) {
+        lights = {light};
+        scene.lights = lights;
+        scene.light_sets[0] = {0};
+        RenderOptions o;
+        o.light_tolerance = light_tolerance;
+        gas.build(scene, o);
+        accel.build(scene, 1);
+        soft = std::make_unique<SoftLighting>(scene, accel, &gas, o);
+    }
+    // The lighting the integrator hands the gas; `area` false: without area_visibility.
+    GasVolume::Lighting lighting(bool area, double light_tolerance) const {
+        GasVolume::Lighting l;
+        l.lights = &lights;
+        l.light_sets = &scene.light_sets;
+        l.surfaces = [this](const Ray& r) { return accel.transmittance(r); };
+        l.area_tolerance = light_tolerance;
+        if (area)
+            l.area_visibility = [this](const Light& light, const Vec3& p) {
+                SoftLightCounts counts;
+                return soft->light_visibility(light, p, Vec3(0.0), Vec3(0.0), counts);
+            };
+        return l;
+    }
+    Vec3 run(const Ray& ray, bool area, double light_tolerance, double tolerance = 1e-4) const {
+        GasStats stats;
+        return gas.integrate(ray, kInf, lighting(area, light_tolerance), tolerance, stats).radiance;
+    }
+};
+
+Ray unit_ray(const Vec3& o, const Vec3& d) {
+    Ray r;
+    r.o = o;
+    r.d = glm::normalize(d);
+    return r;
+}
+
+Light sphere_light(const Vec3& at, double source_radius) {
+    Light l;
+    l.kind = LightKind::Point;
+    l.position = at;
+    l.radius = 1e9;
+    l.source_radius = source_radius;
+    return l;
+}
+
+TEST(SoftLightGas, TinySphereLightIsThePointLight) {
+    // A self-shadowing gas sphere beside an opaque one: as sourceRadius -> 0 the share of the
+    // light seen through the gas becomes the point light's transmittance.
+    const Ray ray = unit_ray(Vec3(0.2, 0.1, 5.0), Vec3(0, 0, -1));
+    const Vec3 at(3.0, 4.0, 2.0);
+    auto scene_with = [&](double radius, double e) {
+        auto s = std::make_unique<GasAreaScene>();
+        s->add_gas(Vec3(0.0), 1.0, 1.5);
+        s->add_opaque(Vec3(1.2, 1.6, 0.6), 0.3);  // a sharp shadow across the gas
+        s->finish(sphere_light(at, radius), e);
+        return s;
+    };
+    const auto point = scene_with(0.0, 1e-3);
+    const Vec3 want = point->run(ray, false, 1e-3);
+    ASSERT_GT(want.x, 0.0);
+    for (double e : {1e-2, 1e-3}) {
+        const auto area = scene_with(1e-4, e);
+        const Vec3 got = area->run(ray, true, e);
+        // The same integral with V = 1: the scale of V's absolute error E.
+        GasAreaScene open;
+        open.add_gas(Vec3(0.0), 1.0, 1.5);
+        open.finish(sphere_light(at, 0.0), e);
+        const Vec3 unshadowed = open.run(ray, false, e);
+        for (int c = 0; c < 3; ++c)
+            // V to E (99% per point), the quadrature to 1e-4 relative, and the rest of the
+            // tolerance for the shadow edge a radius of 1e-4 blurs over ~1e-4 of the ray.
+            EXPECT_NEAR(got[c], want[c], 2.0 * e * unshadowed[c] + 1e-4 * want[c]) << e;
+    }
+}
+
+TEST(SoftLightGas, OpaqueSphereCoveringPartOfTheLightTakesTheOverlapOfTwoCaps) {
+    // A tiny, thin gas sphere at the origin sees the light through the occluder's cap only: its
+    // light drops by the share of the light's cap that the occluder's cap covers.
+    const Vec3 light_at(0.0, 0.0, 10.0);
+    const double light_radius = 1.0, light_half = std::asin(light_radius / 10.0);
+    const Ray ray = unit_ray(Vec3(1.0, 0.0, 0.0), Vec3(-1, 0, 0));
+    for (double offset : {0.4, 0.5, 0.75}) {
+        const Vec3 c(offset, 0.0, 5.0);
+        const double r = 0.5;
+        const double occ_half = std::asin(r / glm::length(c));
+        const double gamma = std::acos(c.z / glm::length(c));
+        const double exact = 1.0 - cap_overlap(light_half, occ_half, gamma) /
+                                       (2.0 * kPi * (1.0 - std::cos(light_half)));
+        const double e = 1e-3;
+        GasAreaScene open, covered;
+        for (GasAreaScene* s : {&open, &covered}) s->add_gas(Vec3(0.0), 1e-3, 1e-2);
+        covered.add_opaque(c, r);
+        open.finish(sphere_light(light_at, light_radius), e);
+        covered.finish(sphere_light(light_at, light_radius), e);
+        const Vec3 a = open.run(ray, true, e), b = covered.run(ray, true, e);
+        ASSERT_GT(a.x, 0.0);
+        // V to E at 99% per point; the gas's 2e-3 extent changes the overlap by ~1e-6.
+        EXPECT_NEAR(b.x / a.x, exact, 2.0 * e) << "offset " << offset;
+        if (offset == 0.4) {
+            EXPECT_NEAR(exact, 0.5, 0.02);  // two caps of ~0.1 rad 0.08 apart: about half
+        }
+    }
+}
+
+TEST(SoftLightGas, LightsWithoutTheHintsIgnoreTheAreaPath) {
+    // The integrator hands the gas area_visibility whenever any light has a hint: a light without
+    // one must shade the gas bit for bit as before.
+    GasAreaScene s;
+    s.add_gas(Vec3(0.0), 1.0, 1.5);
+    s.add_opaque(Vec3(1.2, 1.6, 0.6), 0.3);
+    s.finish(sphere_light(Vec3(3.0, 4.0, 2.0), 0.0), 1e-3);
+    const Ray ray = unit_ray(Vec3(0.2, 0.1, 5.0), Vec3(0, 0, -1));
+    EXPECT_EQ(s.run(ray, true, 1e-3), s.run(ray, false, 1e-3));
+}
+
+}  // namespace gas_area
 
 }  // namespace
 }  // namespace vr
