@@ -66,9 +66,15 @@ def with_viewpoint(text, pos):
     return "\n".join(lines)
 
 
-def bounds_of(vrmlray, scene):
+def info_of(vrmlray, scene):
+    """The scene's bounds (None if it has none) and whether it has a Background node."""
     out = subprocess.run([vrmlray, "info", scene], capture_output=True, text=True,
                          timeout=TIMEOUT).stdout
+    has_background = re.search(r"^\s+(Texture)?Background\s+\d+$", out, re.M) is not None
+    return bounds_in(out), has_background
+
+
+def bounds_in(out):
     m = re.search(r"^bounds\s+\((\S+) (\S+) (\S+)\) \.\. \((\S+) (\S+) (\S+)\)", out, re.M)
     if not m:
         return None
@@ -77,18 +83,19 @@ def bounds_of(vrmlray, scene):
 
 
 def prepare(vrmlray, scene):
-    """Rewrites the copy `scene` in place with the framing Viewpoint; a note when it could not."""
-    b = bounds_of(vrmlray, scene)
+    """Rewrites the copy `scene` in place with the framing Viewpoint. Returns a note when it could
+    not, and whether the scene has a Background."""
+    b, has_background = info_of(vrmlray, scene)
     if not b:
-        return "no bounds: own camera"
+        return "no bounds: own camera", has_background
     text, zipped = read_text(scene)
     new = with_viewpoint(text, fit_position(*b))
     if new is None:
-        return "no place for a Viewpoint: own camera"
+        return "no place for a Viewpoint: own camera", has_background
     data = new.encode("utf-8")
     os.chmod(scene, 0o644)
     open(scene, "wb").write(gzip.compress(data) if zipped else data)
-    return ""
+    return "", has_background
 
 
 def run(cmd, what):
@@ -102,9 +109,13 @@ def run(cmd, what):
 
 def compare_one(vrmlray, scene, out_dir, stem):
     ours, theirs = f"{out_dir}/{stem}_vr.png", f"{out_dir}/{stem}_v3d.png"
-    notes = [prepare(vrmlray, scene)]
-    notes.append(run([vrmlray, "render", scene, "-W", str(W), "-H", str(H), "-q", "-o", ours],
-                     "vrmlray"))
+    note, has_background = prepare(vrmlray, scene)
+    notes = [note]
+    # Without a Background both programs have a default: view3dscene's dark grey (26/255) here too,
+    # so that black unlit geometry is seen (or not) alike.
+    default_bg = [] if has_background else ["--background", "0.102,0.102,0.102"]
+    notes.append(run([vrmlray, "render", scene, "-W", str(W), "-H", str(H), "-q", "-o", ours,
+                      *default_bg], "vrmlray"))
     notes.append(run(view3dscene_cmd(scene, W, H, "--screenshot", "0", theirs), "view3dscene"))
     if not (os.path.exists(ours) and os.path.exists(theirs)):
         return None, 0, 0, "; ".join(n for n in notes if n) or "no image"
