@@ -3,12 +3,14 @@
 
 Every scene gets the same camera in both programs: a copy of the corpus under WORK_DIR (so that
 relative URLs still resolve) where each file starts with a Viewpoint looking down -Z that frames the
-scene's bounds (vrmlray info) at 320x240, as vrmlray's own framing does. Both render the copy; the
+scene's bounds (vrmlray info) at 320x240, as vrmlray's own framing does, and, when it has none, a
+purple Background (the two programs' default backgrounds differ). Both render the copy; the
 silhouettes (pixels unlike the border's commonest colour) are compared by intersection over union.
 Lighting models differ between ray tracers and browsers; where objects are does not.
 
     tools/setup.sh                                        # view3dscene, xvfb, xauth among the rest
     tools/browser_compare.py build/vrmlray WORK_DIR [--corpus DIR] [--only SUBSTRING] [--table F]
+                             [--vrmlray-args '--sampler grid --spp 4']
 Writes WORK_DIR/results.tsv and a Markdown table (worst first) to --table or standard output;
 WORK_DIR/side/ holds vrmlray | view3dscene pairs when ImageMagick's montage is installed.
 Runs under one xvfb-run unless DISPLAY is set; each program gets a per-file timeout.
@@ -23,6 +25,9 @@ FOV = 0.785398  # the spec's default fieldOfView, on the smaller side (240) in b
 FOLDERS = ("vrml97", "x3dv", "x3d")
 SKIP_DIRS = re.compile(r"/(bad|warning|warnings|error|errors)/")
 SCENE_EXT = re.compile(r"\.(wrl|wrz|x3dv|x3dvz|x3d|x3dz)(\.gz)?$")
+# A file without a Background gets this one in both programs (their defaults differ: black and dark
+# grey), far from black, white and the greys of lit and unlit surfaces, which it must stand out from.
+BACKGROUND = "0.6 0 0.6"
 TIMEOUT = 120  # seconds per program and file: view3dscene takes ~1 s, vrmlray a few at most
 
 
@@ -46,14 +51,17 @@ def read_text(path):
     return (gzip.decompress(data) if zipped else data).decode("utf-8", "replace"), zipped
 
 
-def with_viewpoint(text, pos):
-    """The scene text with a bound-first Viewpoint at `pos`; None when there is nowhere to put it."""
+def with_viewpoint(text, pos, background):
+    """The scene text with a bound-first Viewpoint at `pos` (and the comparison's Background when
+    `background`); None when there is nowhere to put them."""
     p = " ".join(f"{v:.6g}" for v in pos)
     if text.lstrip().startswith("<"):
         m = re.search(r"<Scene\b[^>]*?>", text)
         if not m or m.group(0).endswith("/>"):
             return None
         vp = f"<Viewpoint position='{p}' orientation='0 0 1 0' fieldOfView='{FOV}'/>"
+        if background:
+            vp += f"<Background skyColor='{BACKGROUND}'/>"
         return text[:m.end()] + vp + text[m.end():]
     if text.startswith("#VRML V1.0"):
         return None  # one root node; its own camera stays
@@ -62,7 +70,8 @@ def with_viewpoint(text, pos):
     while k < len(lines) and (not lines[k].strip() or lines[k].lstrip().startswith("#") or
                               lines[k].split()[0] in ("PROFILE", "COMPONENT", "META", "UNIT")):
         k += 1
-    lines.insert(k, f"Viewpoint {{ position {p} orientation 0 0 1 0 fieldOfView {FOV} }}")
+    lines.insert(k, f"Viewpoint {{ position {p} orientation 0 0 1 0 fieldOfView {FOV} }}" +
+                 (f" Background {{ skyColor {BACKGROUND} }}" if background else ""))
     return "\n".join(lines)
 
 
@@ -83,19 +92,18 @@ def bounds_in(out):
 
 
 def prepare(vrmlray, scene):
-    """Rewrites the copy `scene` in place with the framing Viewpoint. Returns a note when it could
-    not, and whether the scene has a Background."""
+    """Rewrites the copy `scene` in place with the framing Viewpoint; a note when it could not."""
     b, has_background = info_of(vrmlray, scene)
     if not b:
-        return "no bounds: own camera", has_background
+        return "no bounds: own camera"
     text, zipped = read_text(scene)
-    new = with_viewpoint(text, fit_position(*b))
+    new = with_viewpoint(text, fit_position(*b), not has_background)
     if new is None:
-        return "no place for a Viewpoint: own camera", has_background
+        return "no place for a Viewpoint: own camera"
     data = new.encode("utf-8")
     os.chmod(scene, 0o644)
     open(scene, "wb").write(gzip.compress(data) if zipped else data)
-    return "", has_background
+    return ""
 
 
 def run(cmd, what):
@@ -107,15 +115,11 @@ def run(cmd, what):
     return "" if r.returncode == 0 else f"{what} exit {r.returncode}"
 
 
-def compare_one(vrmlray, scene, out_dir, stem):
+def compare_one(vrmlray, scene, out_dir, stem, extra=()):
     ours, theirs = f"{out_dir}/{stem}_vr.png", f"{out_dir}/{stem}_v3d.png"
-    note, has_background = prepare(vrmlray, scene)
-    notes = [note]
-    # Without a Background both programs have a default: view3dscene's dark grey (26/255) here too,
-    # so that black unlit geometry is seen (or not) alike.
-    default_bg = [] if has_background else ["--background", "0.102,0.102,0.102"]
+    notes = [prepare(vrmlray, scene)]
     notes.append(run([vrmlray, "render", scene, "-W", str(W), "-H", str(H), "-q", "-o", ours,
-                      *default_bg], "vrmlray"))
+                      *extra], "vrmlray"))
     notes.append(run(view3dscene_cmd(scene, W, H, "--screenshot", "0", theirs), "view3dscene"))
     if not (os.path.exists(ours) and os.path.exists(theirs)):
         return None, 0, 0, "; ".join(n for n in notes if n) or "no image"
@@ -157,6 +161,7 @@ def main():
                                                      "../../shared/corpus"))
     ap.add_argument("--only", default="", help="compare only paths containing this")
     ap.add_argument("--table", help="write the Markdown table here")
+    ap.add_argument("--vrmlray-args", default="", help="more render options, e.g. '--spp 4'")
     args = ap.parse_args()
     if not os.environ.get("DISPLAY") and shutil.which("xvfb-run"):
         # One X server for the whole run instead of one per file.
@@ -174,7 +179,8 @@ def main():
                 shutil.copytree(os.path.join(args.corpus, folder), os.path.join(copy, folder))
             stem = rel.replace(os.sep, "__")
             try:
-                v, na, nb, note = compare_one(vrmlray, os.path.join(copy, rel), out_dir, stem)
+                v, na, nb, note = compare_one(vrmlray, os.path.join(copy, rel), out_dir, stem,
+                                              args.vrmlray_args.split())
             except (OSError, subprocess.SubprocessError, ValueError, AssertionError) as e:
                 v, na, nb, note = None, 0, 0, f"not compared: {e}"  # one file, not the run
             rows.append((rel, v, na, nb, note))
