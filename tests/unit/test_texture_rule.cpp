@@ -3,6 +3,7 @@
 // modulates in every version.
 #include <gtest/gtest.h>
 
+#include "corpus.h"
 #include "flatten/flatten.h"
 #include "parser/load.h"
 #include "render/camera.h"
@@ -101,6 +102,21 @@ TEST(TextureRule, HeaderVersion) {
                                 "<X3D profile='Full' version = \"4.1\">"),
               4);
     EXPECT_EQ(x3d_major_version("<?xml version=\"1.0\"?><X3D profile='Full'><Scene/></X3D>"), 0);
+}
+
+TEST(TextureRuleCorpus, RealFilesCarryTheirHeadersVersion) {
+    VR_CORPUS_FOLDER(corpus, "");
+    // The one X3D 4.0 file of the corpus (its DOCTYPE names "X3D 4.0" before the element does),
+    // an X3D 3.2 classic file and a VRML97 one: the version that reaches the scene builder.
+    const std::pair<const char*, int> files[] = {
+        {"x3d/castle-engine-demo-models/svg/cge_logo_fixed_z.x3d", 4},
+        {"x3dv/castle-engine-demo-models/texturing_advanced/inlined_pixel_textures.x3dv", 3},
+        {"vrml97/castle-engine-demo-models/vrml_2/cones.wrl", 0}};
+    for (const auto& [name, major] : files) {
+        const LoadedScene loaded = load_scene(corpus / name);
+        ASSERT_FALSE(loaded.x3d_major.empty()) << name;
+        EXPECT_EQ(loaded.x3d_major[0], major) << name;
+    }
 }
 
 }  // namespace
