@@ -102,9 +102,8 @@ void Flattener::add_lines(const sg::Geometry& g, const sg::Shape& shape, const M
     const Vec3 plain =
         app && app->material != sg::kNone ? out_.materials[material].emissive : Vec3(1.0);
     // Opacity by the rules of surfaces: a ColorRGBA's alpha, else 1 - Material.transparency.
-    const double plain_alpha = app && app->material != sg::kNone
-                                   ? 1.0 - out_.materials[material].transparency
-                                   : 1.0;
+    const double plain_alpha =
+        app && app->material != sg::kNone ? 1.0 - out_.materials[material].transparency : 1.0;
     auto color = [&](size_t i) { return p.colors.empty() ? plain : p.colors[i]; };
     auto alpha = [&](size_t i) {
         const double a = p.alphas.empty() ? plain_alpha : p.alphas[i];

@@ -163,7 +163,7 @@ TEST(Lines, TranslucentMarkBlendsOverWhatIsBehindIt) {
     const Image im = render(s);
     for (int x = 5; x <= 15; ++x) {
         if (x == 10) continue;  // the quad's edge runs through this pixel's centre
-        const double u = (x + 0.5 - 5.5) / 10.0;  // along the line, both ends at one depth
+        const double u = (x + 0.5 - 5.5) / 10.0;   // along the line, both ends at one depth
         const double behind = x > 10 ? 1.0 : 0.0;  // white quad or black background
         // float output of exact sums of a few products: a few ulps.
         EXPECT_NEAR(at(im, x, 10)[0], 0.25 * (1.0 - u) + 0.75 * behind, 1e-6) << x;
@@ -190,8 +190,9 @@ const float* centre_of(const std::string& text, Image& keep) {
 TEST(Lines, ColorRgbaAndMaterialTransparencyAreTheMarksOpacity) {
     // Over a blue background: a red point of ColorRGBA alpha 0.5, then a line whose Material says
     // emissiveColor red, transparency 0.75 (opacity 0.25), through the centre.
-    const std::string head = "#X3D V3.3 utf8\nPROFILE Immersive\nViewpoint { position 0 0 5 }\n"
-                             "Background { skyColor 0 0 1 }\n";
+    const std::string head =
+        "#X3D V3.3 utf8\nPROFILE Immersive\nViewpoint { position 0 0 5 }\n"
+        "Background { skyColor 0 0 1 }\n";
     Image keep;
     const float* p = centre_of(head + R"(Shape { geometry PointSet {
         coord Coordinate { point [0 0 0] } color ColorRGBA { color [1 0 0 0.5] } } })",

@@ -148,9 +148,8 @@ TEST(TextLayout, GlyphsAdvanceByFreeTypesAdvancesAndKerning) {
         EXPECT_NEAR(g.origin.x, pen, 1e-12) << char(g.code);
         EXPECT_EQ(g.origin.y, 0.0);  // the first baseline at y = 0 (minor FIRST)
         EXPECT_EQ(g.scale, Vec2(2.0));
-        const double kern = k + 1 < layout.glyphs.size()
-                                ? ft.kerning(g.code, layout.glyphs[k + 1].code)
-                                : 0.0;
+        const double kern =
+            k + 1 < layout.glyphs.size() ? ft.kerning(g.code, layout.glyphs[k + 1].code) : 0.0;
         pen += (ft.advance(g.code) + kern) * text.font.size;
     }
 }
