@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -169,6 +170,34 @@ static Encoding detect_encoding(std::string_view text, std::string& header) {
     return Encoding::Unknown;
 }
 
+// The X3D major version a file's header states: "#X3D V4.0 utf8" or the version attribute of the
+// <X3D> element (after any XML declaration, DOCTYPE and comments, within the first 64 KiB); 0 for
+// VRML and for a header without a version.
+int x3d_major_version(std::string_view text) {
+    auto digit_at = [&](size_t i) {
+        return i < text.size() && text[i] >= '0' && text[i] <= '9' ? text[i] - '0' : 0;
+    };
+    size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+    if (text.compare(start, 6, "#X3D V") == 0) return digit_at(start + 6);
+    const std::string_view head = text.substr(0, 1 << 16);
+    size_t tag = head.find("<X3D");
+    while (tag != std::string_view::npos && tag + 4 < head.size() &&
+           std::isalnum(static_cast<unsigned char>(head[tag + 4])))
+        tag = head.find("<X3D", tag + 4);  // <X3DSomething> is another element
+    if (tag == std::string_view::npos) return 0;
+    const size_t close = head.find('>', tag);
+    const std::string_view element = head.substr(tag, close - tag);
+    for (size_t v = element.find("version"); v != std::string_view::npos;
+         v = element.find("version", v + 7)) {
+        size_t i = element.find_first_not_of(" \t\r\n", v + 7);
+        if (i == std::string_view::npos || element[i] != '=') continue;
+        i = element.find_first_not_of(" \t\r\n", i + 1);
+        if (i == std::string_view::npos || (element[i] != '\'' && element[i] != '"')) continue;
+        return digit_at(size_t(element.data() - text.data()) + i + 1);
+    }
+    return 0;
+}
+
 static bool is_under(const fs::path& path, const fs::path& root) {
     auto r = root.begin(), p = path.begin();
     for (; r != root.end(); ++r, ++p) {
@@ -300,6 +329,8 @@ class Loader {
         std::string header;
         Encoding enc = detect_encoding(src.text, header);
         if (file == 0) scene_.encoding = enc;
+        if (scene_.x3d_major.size() <= file) scene_.x3d_major.resize(file + 1, 0);
+        scene_.x3d_major[file] = uint8_t(x3d_major_version(src.text));
         ClassicResult result;
         const size_t first_node = scene_.tree.nodes.size();
         const size_t first_import = scene_.tree.imports.size(),

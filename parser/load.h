@@ -43,6 +43,9 @@ struct LoadedScene {
     NodeTree tree;
     ReadStats stats;
     Encoding encoding = Encoding::Unknown;
+    // Per source file: the X3D major version its header states (0: VRML or unstated). Rules that
+    // changed between versions follow the file a node stands in (an Inline keeps its own).
+    std::vector<uint8_t> x3d_major;
     std::filesystem::path main_file;
     // Folders URLs are confined to: the sandbox folder + LoadOptions::allowed_roots; empty: not
     // confined.
@@ -57,6 +60,10 @@ LoadedScene load_scene(const std::filesystem::path& path, const LoadOptions& opt
 // relative URLs.
 LoadedScene load_scene_text(std::string text, const std::string& path,
                             const LoadOptions& options = {});
+
+// The X3D major version a file's text states in its header ("#X3D V4.0 utf8", <X3D version='4.0'>);
+// 0 for VRML and for none.
+int x3d_major_version(std::string_view text);
 
 // Resolves a URL found in `from_file` (relative, absolute or file:) to a local path. An empty
 // `allowed_roots` allows any path; otherwise the path, symbolic links and `..` resolved, must lie

@@ -11,51 +11,13 @@ Lighting models differ between the two programs; silhouettes (where objects are)
 A scene without a Viewpoint gets one in a copy under WORK_DIR (view3dscene frames such files its own
 way): the camera vrmlray's framing note names.
 """
-import os, re, struct, subprocess, sys, zlib
+import os, re, subprocess, sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from silhouette import iou, mask, read_png, view3dscene_cmd  # noqa: E402
 
 TIMES = [0.0, 0.5, 1.0]
 W, H = 320, 240
-
-
-def read_png(path):
-    data = open(path, "rb").read()
-    pos, chunks, width = 8, [], 0
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR":
-            width, height, depth, ctype = struct.unpack(">IIBB", body[:10])
-            assert depth == 8 and ctype in (2, 6), (path, depth, ctype)
-            channels = 3 if ctype == 2 else 4
-        elif kind == b"IDAT":
-            chunks.append(body)
-        pos += 12 + n
-    raw = zlib.decompress(b"".join(chunks))
-    stride = width * channels
-    rows, prev = [], bytearray(stride)
-    for y in range(height):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - channels] if i >= channels else 0
-            b, c = prev[i], prev[i - channels] if i >= channels else 0
-            p = (0, a, b, (a + b) // 2, None)[f] if f < 4 else None
-            if f == 4:
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                p = a if pa <= pb and pa <= pc else b if pb <= pc else c
-            line[i] = (line[i] + p) & 255
-        rows.append([tuple(line[x * channels:x * channels + 3]) for x in range(width)])
-        prev = line
-    return rows
-
-
-def mask(rows):
-    bg = rows[0][0]  # a corner: background in every frame these scenes have
-    return {(x, y) for y, r in enumerate(rows) for x, p in enumerate(r)
-            if max(abs(p[i] - bg[i]) for i in range(3)) > 24}
-
-
-def iou(a, b):
-    return len(a & b) / len(a | b) if a | b else 1.0
 
 
 def main():
@@ -77,9 +39,9 @@ def main():
                 text = "\n".join(lines)
             scene = f"{work}/{stem}_vp{os.path.splitext(scene)[1]}"
             open(scene, "w").write(text)
-        subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 640x480x24", "view3dscene", scene,
-                        "--geometry", f"{W}x{H}", "--screenshot-range", "0", "0.5", "3",
-                        f"{work}/{stem}_v3d_@counter(1).png"], capture_output=True, timeout=120)
+        subprocess.run(view3dscene_cmd(scene, W, H, "--screenshot-range", "0", "0.5", "3",
+                                       f"{work}/{stem}_v3d_@counter(1).png"),
+                       capture_output=True, timeout=120)
         ours, theirs = [], []
         for k, t in enumerate(TIMES):
             out = f"{work}/{stem}_vr_{k}.png"

@@ -29,6 +29,7 @@ MaterialKey key_of(const Material& m) {
     put(m.reflectivity);
     put(m.ior);
     put(m.texture);
+    put(m.texture_modulates);
     for (int c = 0; c < 3; ++c) put3(m.texture_transform[c]);
     put(m.sphere_mode);
     put(m.density);
@@ -69,6 +70,7 @@ Material Flattener::resolve_material(const sg::Shape& shape, const sg::Geometry&
     const sg::Appearance* app =
         shape.appearance == sg::kNone ? nullptr : &scene_.appearances[shape.appearance];
     if (app && app->texture != sg::kNone) out.texture = texture_of(app->texture);
+    out.texture_modulates = app && app->texture_modulates;
     if (app && app->has_texture_transform) {
         const sg::TextureTransform& t = app->texture_transform;
         out.texture_transform =

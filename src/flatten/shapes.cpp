@@ -1,6 +1,7 @@
 // Shapes and instances: spheres, quadrics, world meshes, mesh prototypes placed as instances, and
 // the exact shapes recovered from tessellated meshes.
 #include <algorithm>
+#include <cmath>
 
 #include "flatten/flattener.h"
 #include "scene/transform.h"
@@ -100,16 +101,25 @@ void Flattener::add_lines(const sg::Geometry& g, const sg::Shape& shape, const M
         shape.appearance == sg::kNone ? nullptr : &scene_.appearances[shape.appearance];
     const Vec3 plain =
         app && app->material != sg::kNone ? out_.materials[material].emissive : Vec3(1.0);
+    // Opacity by the rules of surfaces: a ColorRGBA's alpha, else 1 - Material.transparency.
+    const double plain_alpha =
+        app && app->material != sg::kNone ? 1.0 - out_.materials[material].transparency : 1.0;
     auto color = [&](size_t i) { return p.colors.empty() ? plain : p.colors[i]; };
+    auto alpha = [&](size_t i) {
+        const double a = p.alphas.empty() ? plain_alpha : p.alphas[i];
+        return std::isfinite(a) ? std::clamp(a, 0.0, 1.0) : 1.0;
+    };
     auto world = [&](size_t i) { return transform_point(m, p.positions[i]); };
     if (p.points) {
-        for (size_t i = 0; i < p.positions.size(); ++i) out_.points.push_back({world(i), color(i)});
+        for (size_t i = 0; i < p.positions.size(); ++i)
+            out_.points.push_back({world(i), color(i), alpha(i)});
         return;
     }
     for (size_t k = 0; k < p.starts.size(); ++k) {
         const size_t end = k + 1 < p.starts.size() ? p.starts[k + 1] : p.positions.size();
         for (size_t i = p.starts[k]; i + 1 < end; ++i)
-            out_.segments.push_back({world(i), world(i + 1), color(i), color(i + 1)});
+            out_.segments.push_back(
+                {world(i), world(i + 1), color(i), color(i + 1), alpha(i), alpha(i + 1)});
     }
 }
 

@@ -101,6 +101,15 @@ class FreeTypeFont final : public Font {
             return 0.0;
         return double(face_->glyph->advance.x) / face_->units_per_EM;
     }
+    double kerning(char32_t left, char32_t right) const override {
+        std::lock_guard<std::mutex> hold(lock_);
+        if (!FT_HAS_KERNING(face_)) return 0.0;
+        FT_Vector k{};
+        if (FT_Get_Kerning(face_, FT_Get_Char_Index(face_, FT_ULong(left)),
+                           FT_Get_Char_Index(face_, FT_ULong(right)), FT_KERNING_UNSCALED, &k))
+            return 0.0;
+        return double(k.x) / face_->units_per_EM;
+    }
     GlyphShape glyph(char32_t code, double tolerance) const override {
         std::lock_guard<std::mutex> hold(lock_);  // an FT_Face is not thread-safe
         GlyphShape g;

@@ -24,6 +24,9 @@ class Font {
     virtual double ascender() const = 0;              // em units, above the baseline (> 0)
     virtual double descender() const = 0;             // em units, below the baseline (< 0)
     virtual double advance(char32_t code) const = 0;  // em units, no kerning
+    // Em units added to `left`'s advance when `right` follows it on screen (the font's kern table;
+    // 0 without one; GPOS kerning would need a shaper).
+    virtual double kerning(char32_t left, char32_t right) const = 0;
     // The glyph of a Unicode code point (the font's missing-glyph box if it has none). Curves are
     // split until no chord is further than `tolerance` em from its curve.
     virtual GlyphShape glyph(char32_t code, double tolerance) const = 0;

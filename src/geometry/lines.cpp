@@ -95,6 +95,8 @@ Polylines line_geometry(const sg::LineSet& l, NodeReport& report) {
             open = true;
             out.positions.push_back(l.coords[size_t(c.coord)]);
             if (colors_ok) out.colors.push_back(l.colors[size_t(c.color)]);
+            if (colors_ok && l.alphas.size() == l.colors.size())
+                out.alphas.push_back(l.alphas[size_t(c.color)]);
         }
     }
     return out;

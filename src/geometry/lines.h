@@ -23,6 +23,7 @@ namespace vr {
 struct Polylines {
     std::vector<Vec3> positions;   // object space, finite
     std::vector<Vec3> colors;      // per position; empty: the material's colour
+    std::vector<double> alphas;    // per position (ColorRGBA); empty: the material's opacity
     std::vector<uint32_t> starts;  // polyline i: positions [starts[i], starts[i + 1] or the end)
     bool points = false;           // PointSet: each position is a point, `starts` empty
 };

@@ -47,6 +47,19 @@ struct Line {
     }
 };
 
+// Kerning moves a pair closer (or apart) by a distance the font gives for the pair as seen, left
+// glyph first: it joins the advance of the one on the left, which reading right to left is the
+// later character.
+void add_kerning(Line& line, const Font& font, const sg::FontStyle& f) {
+    for (size_t k = 0; k + 1 < line.codes.size(); ++k) {
+        const char32_t a = line.codes[k], b = line.codes[k + 1];
+        if (f.left_to_right)
+            line.advances[k] += font.kerning(a, b) * f.size;
+        else
+            line.advances[k + 1] += font.kerning(b, a) * f.size;
+    }
+}
+
 std::vector<Line> measured_lines(const sg::Text& text, const Font& font) {
     const sg::FontStyle& f = text.font;
     std::vector<Line> lines(text.strings.size());
@@ -56,6 +69,7 @@ std::vector<Line> measured_lines(const sg::Text& text, const Font& font) {
         line.codes = decode_utf8(text.strings[i]);
         for (char32_t c : line.codes)
             line.advances.push_back(f.horizontal ? font.advance(c) * f.size : f.size);
+        if (f.horizontal) add_kerning(line, font, f);
         const double natural = line.extent();
         if (i < text.length.size() && text.length[i] > 0.0 && natural > 0.0)
             line.factor = text.length[i] / natural;

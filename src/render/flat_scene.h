@@ -34,6 +34,8 @@ struct Material {
     double ior = 1.0;             // hint
     int32_t texture = -1;         // index into FlatScene::textures
     Mat3 texture_transform{1.0};  // applied to (s, t, 1)
+    // X3D 4: an RGB texture multiplies the colour; VRML97 and X3D 3: it replaces it.
+    bool texture_modulates = false;
     // Gas hints (SPEC section 6); negative/unset values mean "use the global option or the
     // default".
     int8_t sphere_mode = -1;  // -1 unset, else SphereMode
@@ -159,12 +161,14 @@ struct Bounds3 {
 // Lines and points (IndexedLineSet, LineSet, PointSet): world-space marks of a fixed size on the
 // screen (--line-width, --point-size pixels), unlit, seen by camera rays only (render/lines.h).
 struct LineSegment {
-    Vec3 a, b;              // world
-    Vec3 color_a, color_b;  // at a and at b
+    Vec3 a, b;                            // world
+    Vec3 color_a, color_b;                // at a and at b
+    double alpha_a = 1.0, alpha_b = 1.0;  // opacity at a and b: the mark over what is behind it
 };
 struct PointMark {
     Vec3 position;  // world
     Vec3 color;
+    double alpha = 1.0;
 };
 
 struct FlatScene {

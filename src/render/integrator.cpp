@@ -156,6 +156,15 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
     return color;
 }
 
+SampleValue Integrator::trace_behind(const Ray& ray, RayCounters& counters) const {
+    SampleValue v = trace(ray, 0, 1.0, counters);
+    // With --alpha the colour leaves out the background that reaches the pixel (SPEC section 9), so
+    // that colour + (1 - alpha) * background, the image composited over its background, is the
+    // opaque image again. A clean miss gives exactly 0.
+    if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
+    return v;
+}
+
 SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
     if (!lines_.empty()) {
@@ -163,15 +172,19 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
         Hit hit;
         const double t_surface = accel_.intersect(ray, hit) ? hit.t : kInf;
         SampleValue mark;
-        mark.alpha = 1.0;
-        if (lines_.nearest(ray, t_surface, mark.color)) return mark;
+        double opacity = 1.0;
+        if (lines_.nearest(ray, t_surface, mark.color, opacity)) {
+            mark.alpha = 1.0;
+            if (opacity >= 1.0) return mark;
+            // A translucent mark over what the ray sees behind it (surfaces and background; a
+            // farther mark is not seen through a nearer one), as Material.transparency blends.
+            const SampleValue behind = trace_behind(ray, counters);
+            mark.color = opacity * mark.color + (1.0 - opacity) * behind.color;
+            mark.alpha = opacity + (1.0 - opacity) * behind.alpha;
+            return mark;
+        }
     }
-    SampleValue v = trace(ray, 0, 1.0, counters);
-    // With --alpha the colour leaves out the background that reaches the pixel (SPEC section 9), so
-    // that colour + (1 - alpha) * background, the image composited over its background, is the
-    // opaque image again. A clean miss gives exactly 0.
-    if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
-    return v;
+    return trace_behind(ray, counters);
 }
 
 SampleValue Integrator::trace(const Ray& ray, int depth, double weight,

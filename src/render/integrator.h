@@ -89,6 +89,9 @@ class Integrator {
                      const Vec3& to_viewer, RayCounters& counters) const;
 
   private:
+    // A camera ray past any line or point mark: trace() with the --alpha rule applied.
+    SampleValue trace_behind(const Ray& ray, RayCounters& counters) const;
+
     const FlatScene& scene_;
     const Accel& accel_;
     const RenderOptions& options_;

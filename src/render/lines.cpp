@@ -35,23 +35,26 @@ LineOverlay::LineOverlay(const FlatScene& scene, const Camera& camera, int width
     cells_.resize(size_t(cells_x_) * size_t(cells_y_));
     for (const LineSegment& s : scene.segments) {
         Vec3 a = s.a, b = s.b, ca = s.color_a, cb = s.color_b;
+        double aa = s.alpha_a, ab = s.alpha_b;
         if (!ortho_) {
             // Clip to the part in front of the camera (depth > a millionth of the far end's).
             const double da = glm::dot(a - origin_, forward_), db = glm::dot(b - origin_, forward_);
             const double near = 1e-6 * std::max(da, db);
             if (!(near > 0.0)) continue;
-            auto clip = [&](Vec3& p, Vec3& c, double dp, const Vec3& q, const Vec3& cq, double dq) {
+            auto clip = [&](Vec3& p, Vec3& c, double& o, double dp, const Vec3& q, const Vec3& cq,
+                            double oq, double dq) {
                 if (dp >= near) return;
                 const double u = (near - dp) / (dq - dp);
                 p = p + u * (q - p);
                 c = c + u * (cq - c);
+                o = o + u * (oq - o);
             };
-            clip(a, ca, da, b, cb, db);
-            clip(b, cb, db, s.a, s.color_a, da);
+            clip(a, ca, aa, da, b, cb, ab, db);
+            clip(b, cb, ab, db, s.a, s.color_a, s.alpha_a, da);
         }
         Mark m;
         if (!project(a, m.a, m.za) || !project(b, m.b, m.zb)) continue;
-        m.pa = a, m.pb = b, m.ca = ca, m.cb = cb;
+        m.pa = a, m.pb = b, m.ca = ca, m.cb = cb, m.aa = aa, m.ab = ab;
         m.radius = 0.5 * line_width;
         add(m);
     }
@@ -59,6 +62,7 @@ LineOverlay::LineOverlay(const FlatScene& scene, const Camera& camera, int width
         Mark m;
         if (!project(p.position, m.a, m.za)) continue;
         m.b = m.a, m.zb = m.za, m.pa = m.pb = p.position, m.ca = m.cb = p.color;
+        m.aa = m.ab = p.alpha;
         m.radius = 0.5 * point_size;
         add(m);
     }
@@ -100,7 +104,7 @@ Vec2 LineOverlay::pixel_of(const Ray& ray) const {
                 half_height_ - glm::dot(ray.d, up_) / (z * pixel_));
 }
 
-bool LineOverlay::nearest(const Ray& ray, double t_surface, Vec3& color) const {
+bool LineOverlay::nearest(const Ray& ray, double t_surface, Vec3& color, double& alpha) const {
     if (marks_.empty()) return false;
     const Vec2 q = pixel_of(ray);
     const int cx = int(std::floor(q.x / kCell)), cy = int(std::floor(q.y / kCell));
@@ -123,6 +127,7 @@ bool LineOverlay::nearest(const Ray& ray, double t_surface, Vec3& color) const {
         if (!(t <= t_surface + slack) || !(t < best)) continue;
         best = t;
         color = m.ca + u * (m.cb - m.ca);
+        alpha = m.aa + u * (m.ab - m.aa);
     }
     return best < kInf;
 }

@@ -24,8 +24,8 @@ class LineOverlay {
                 double line_width, double point_size);
     bool empty() const { return marks_.empty(); }
     // The nearest mark on camera ray `ray` (unit direction) no further than `t_surface` (+inf: no
-    // surface); false if none.
-    bool nearest(const Ray& ray, double t_surface, Vec3& color) const;
+    // surface), with its colour and opacity there; false if none.
+    bool nearest(const Ray& ray, double t_surface, Vec3& color, double& alpha) const;
 
   private:
     // A segment or point projected to the image: pixel coordinates and camera depth of both ends.
@@ -34,6 +34,7 @@ class LineOverlay {
         double za = 0, zb = 0;  // depth along the view axis (perspective) or 1 (ortho)
         Vec3 pa, pb;            // world
         Vec3 ca, cb;            // colours
+        double aa = 1, ab = 1;  // opacities
         double radius = 0;      // pixels
     };
     bool project(const Vec3& world, Vec2& pixel, double& depth) const;

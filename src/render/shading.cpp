@@ -145,8 +145,12 @@ SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit) {
         const Texture& tex = scene.textures[size_t(m->texture)];
         Vec3 st = m->texture_transform * Vec3(hit.uv, 1.0);
         TexelValue tv = sample_texture(tex, Vec2(st.x, st.y));
+        // A grey texture modulates in every version; an RGB one replaces the colour in VRML97
+        // and X3D 3 (17.2.2.4 there) and modulates it in X3D 4.
         if (tex.channels <= 2)
             look.diffuse = clamp01(tv.rgb.x) * base;
+        else if (m->texture_modulates)
+            look.diffuse = clamp01(tv.rgb) * base;
         else
             look.diffuse = clamp01(tv.rgb);
         if (tex.channels == 2 || tex.channels == 4) look.transparency = 1.0 - clamp01(tv.a);

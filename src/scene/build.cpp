@@ -493,8 +493,12 @@ sg::Index Builder::appearance(NodeId id) {
     }
     if (const NodeId tt = node(id, "textureTransform"_n); tt != kNullNode)
         read_texture_transform(tt, a);
+    const uint32_t file = a.origin.loc.file;
+    a.texture_modulates =
+        a.texture != sg::kNone && file < loaded_.x3d_major.size() && loaded_.x3d_major[file] >= 4;
     sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
-    if (!a.has_texture_transform) {
+    // The key has no room for the rule: X3D 4 appearances are not shared (few files are large).
+    if (!a.has_texture_transform && !a.texture_modulates) {
         const uint64_t key = (uint64_t(a.material) << 32) | a.texture;
         index = same_appearance_.find_or_add(key, index);
     }

@@ -268,6 +268,10 @@ sg::LineSet Builder::make_lines(NodeId id) {
             l.colors = vec3s(c, "color"_n);
         else
             warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+        if (type(c) == "ColorRGBA"_n) {
+            const FieldView rgba = tree_.get(c, "color"_n);
+            for (size_t i = 3; i < rgba.numbers.size(); i += 4) l.alphas.push_back(rgba.numbers[i]);
+        }
     }
     if (l.kind == sg::LineKind::Indexed) {
         l.coord_index = integers(id, "coordIndex"_n);

@@ -110,6 +110,9 @@ struct Appearance {
     Index material = kNone;  // into Scene::materials; kNone: no Material (unlit)
     Index texture = kNone;   // into Scene::textures
     bool has_texture_transform = false;
+    // X3D 4 (17.2.2.4): an RGB texture modulates diffuseColor or the Color node; VRML97 and X3D 3
+    // let it replace them. Set from the version of the file the Appearance stands in.
+    bool texture_modulates = false;
     TextureTransform texture_transform;
 };
 
@@ -219,6 +222,7 @@ struct LineSet {
     LineKind kind = LineKind::Indexed;
     std::vector<Vec3> coords;
     std::vector<Vec3> colors;
+    std::vector<double> alphas;  // ColorRGBA: the alpha of each colour; empty for Color
     std::vector<int32_t> coord_index, color_index;  // Indexed: polylines separated by -1
     std::vector<int32_t> vertex_count;              // Strips: vertices of each polyline
     bool color_per_vertex = true;                   // Indexed: FALSE is a colour a polyline

@@ -151,6 +151,65 @@ TEST(Lines, TheyCastNoShadowAndShadeNothing) {
     EXPECT_EQ(plain.rgba, with.rgba);
 }
 
+TEST(Lines, TranslucentMarkBlendsOverWhatIsBehindIt) {
+    // The line of line_scene at opacity 0.25 in front of an unlit (white) quad over the right half
+    // of the view, the black background on the left: 0.25 * the line's colour + 0.75 * behind.
+    FlatScene s = line_scene();
+    s.segments[0].alpha_a = s.segments[0].alpha_b = 0.25;
+    Material unlit;
+    unlit.lit = false;
+    add_quad(s, Vec3(0, -5, -7), Vec3(5, -5, -7), Vec3(5, 5, -7), Vec3(0, 5, -7),
+             add_shading(s, unlit));
+    const Image im = render(s);
+    for (int x = 5; x <= 15; ++x) {
+        if (x == 10) continue;  // the quad's edge runs through this pixel's centre
+        const double u = (x + 0.5 - 5.5) / 10.0;   // along the line, both ends at one depth
+        const double behind = x > 10 ? 1.0 : 0.0;  // white quad or black background
+        // float output of exact sums of a few products: a few ulps.
+        EXPECT_NEAR(at(im, x, 10)[0], 0.25 * (1.0 - u) + 0.75 * behind, 1e-6) << x;
+        EXPECT_NEAR(at(im, x, 10)[1], 0.75 * behind, 1e-6) << x;
+        EXPECT_NEAR(at(im, x, 10)[2], 0.25 * u + 0.75 * behind, 1e-6) << x;
+        EXPECT_NEAR(at(im, x, 10)[3], x > 10 ? 1.0 : 0.25, 1e-6) << x;
+    }
+}
+
+// The centre pixel of a 21x21 render of scene text with 5 px points.
+const float* centre_of(const std::string& text, Image& keep) {
+    LoadedScene loaded = load_scene_text(text, "t.x3dv");
+    EXPECT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
+    Diagnostics diagnostics;
+    const Scene scene = build_scene(loaded, diagnostics);
+    FlattenOptions fo;
+    FlattenStats stats;
+    const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
+    EXPECT_EQ(diagnostics.warning_count(), 0u) << diagnostics.format(loaded.sources);
+    keep = render(flat, 5.0, 5.0);
+    return at(keep, 10, 10);
+}
+
+TEST(Lines, ColorRgbaAndMaterialTransparencyAreTheMarksOpacity) {
+    // Over a blue background: a red point of ColorRGBA alpha 0.5, then a line whose Material says
+    // emissiveColor red, transparency 0.75 (opacity 0.25), through the centre.
+    const std::string head =
+        "#X3D V3.3 utf8\nPROFILE Immersive\nViewpoint { position 0 0 5 }\n"
+        "Background { skyColor 0 0 1 }\n";
+    Image keep;
+    const float* p = centre_of(head + R"(Shape { geometry PointSet {
+        coord Coordinate { point [0 0 0] } color ColorRGBA { color [1 0 0 0.5] } } })",
+                               keep);
+    // Exact halves and quarters of 0/1 values: float rounding only.
+    EXPECT_NEAR(p[0], 0.5, 1e-6);
+    EXPECT_NEAR(p[2], 0.5, 1e-6);
+    EXPECT_NEAR(p[3], 0.5, 1e-6);  // alpha leaves the background out (SPEC section 9)
+    p = centre_of(head + R"(Shape {
+        appearance Appearance { material Material { emissiveColor 1 0 0 transparency 0.75 } }
+        geometry IndexedLineSet { coord Coordinate { point [-1 0 0, 1 0 0] } coordIndex [0 1] } })",
+                  keep);
+    EXPECT_NEAR(p[0], 0.25, 1e-6);
+    EXPECT_NEAR(p[1], 0.0, 1e-6);
+    EXPECT_NEAR(p[2], 0.75, 1e-6);
+}
+
 sg::LineSet indexed(std::vector<int32_t> coord_index) {
     sg::LineSet l;
     l.coords = {Vec3(0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};

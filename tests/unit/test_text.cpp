@@ -124,22 +124,51 @@ struct FreeTypeMetrics {
         EXPECT_EQ(FT_Load_Char(face, c, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING), 0);
         return double(face->glyph->advance.x) / face->units_per_EM;
     }
+    double kerning(char32_t left, char32_t right) const {
+        FT_Vector k{};
+        EXPECT_EQ(FT_Get_Kerning(face, FT_Get_Char_Index(face, left),
+                                 FT_Get_Char_Index(face, right), FT_KERNING_UNSCALED, &k),
+                  0);
+        return double(k.x) / face->units_per_EM;
+    }
 };
 
-TEST(TextLayout, GlyphsAdvanceByFreeTypesAdvancesWithoutKerning) {
+TEST(TextLayout, GlyphsAdvanceByFreeTypesAdvancesAndKerning) {
     VR_NEED_FONTS();
     const FreeTypeMetrics ft(font->file());
-    // "AV" and "To" are kerned pairs in DejaVu Sans: the layout must not use the kerning.
+    // "AV" and "To" are kerned pairs in DejaVu Sans (its kern table): each pair's distance is the
+    // first glyph's advance plus the pair's kerning, as a browser lays text out.
     const sg::Text text = text_of({"AVTo\u00E9"});
     const TextLayout layout = layout_text(text, *font);
     ASSERT_EQ(layout.glyphs.size(), 5u);
     double pen = 0.0;
-    for (const PlacedGlyph& g : layout.glyphs) {
+    for (size_t k = 0; k < layout.glyphs.size(); ++k) {
+        const PlacedGlyph& g = layout.glyphs[k];
         // The same sums in the same order: equal to rounding.
         EXPECT_NEAR(g.origin.x, pen, 1e-12) << char(g.code);
         EXPECT_EQ(g.origin.y, 0.0);  // the first baseline at y = 0 (minor FIRST)
         EXPECT_EQ(g.scale, Vec2(2.0));
-        pen += ft.advance(g.code) * text.font.size;
+        const double kern =
+            k + 1 < layout.glyphs.size() ? ft.kerning(g.code, layout.glyphs[k + 1].code) : 0.0;
+        pen += (ft.advance(g.code) + kern) * text.font.size;
+    }
+}
+
+TEST(TextLayout, KernedPairIsCloserThanTheSumOfAdvances) {
+    VR_NEED_FONTS();
+    const FreeTypeMetrics ft(font->file());
+    // DejaVu Sans pulls V under A's arm (-131/2048 em); the layout's V starts that much earlier.
+    ASSERT_LT(ft.kerning(U'A', U'V'), 0.0) << "the matched sans font has no AV kerning";
+    for (bool ltr : {true, false}) {
+        sg::Text text = text_of({"AV"});
+        text.font.left_to_right = ltr;
+        const TextLayout layout = layout_text(text, *font);
+        ASSERT_EQ(layout.glyphs.size(), 2u);
+        // Read right to left, "AV" shows as VA: the pair kerned is then (V, A).
+        const PlacedGlyph& left = ltr ? layout.glyphs[0] : layout.glyphs[1];
+        const PlacedGlyph& right = ltr ? layout.glyphs[1] : layout.glyphs[0];
+        const double want = (ft.advance(left.code) + ft.kerning(left.code, right.code)) * 2.0;
+        EXPECT_NEAR(right.origin.x - left.origin.x, want, 1e-12) << "left to right " << ltr;
     }
 }
 
