@@ -79,7 +79,9 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
         j["soft_light"] = {{"bounded_points", s.exact_points},
                            {"sampled_points", s.sampled_points},
                            {"unconverged_points", s.unconverged},
-                           {"sampled_rays", s.rays}};
+                           {"sampled_rays", s.rays},
+                           {"caps_per_bounded_point",
+                            s.exact_points ? double(s.caps) / double(s.exact_points) : 0.0}};
     }
     j["tracer_bytes"] = stats.tracer_bytes;
     j["peak_memory_mb"] = peak_memory_mb();

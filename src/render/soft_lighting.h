@@ -4,12 +4,21 @@
 // Fast path (hard bound): in a scene whose only primitives are opaque spheres, with no gas, the
 // closed part of a region of directions is exactly a union of spherical caps (one per sphere; an
 // --ao-distance or a light's distance trims a cap to a smaller cap), integrated by open_share()
-// with a deterministic bound. Everything else (meshes, boxes, see-through surfaces, gas as an
-// attenuator, an occluder straddling a sphere light) takes the sampling path: shadow rays on R = 8
-// independently jittered stratified patterns of m x m directions (m = 4, 8, ... 128), stopping
-// once the Student-t 99% interval of their mean is within the tolerance. That bound is a
-// confidence level, not a certainty; where the 128 x 128 patterns do not reach it the point is
-// counted (SoftLightCounts::unconverged).
+// with a deterministic bound.
+//
+// Sampling path: shadow rays on R = 8 independently jittered stratified patterns of m x m
+// directions (m = 4, 8, ... 128), stopping once the Student-t 99% interval of their mean is within
+// the tolerance. That bound is a confidence level, not a certainty; where the 128 x 128 patterns
+// do not reach it the point is counted (SoftLightCounts::unconverged).
+//
+// Mixed scenes (opaque spheres beside meshes, cylinders, see-through surfaces or gas, as a
+// ball-and-stick molecule): the opaque spheres' visibility V_s is a union of caps and the rest's
+// transmittance T multiplies it, so share = S_caps - D with D = the measure of V_s (1 - T): S_caps
+// by the cap integral to E/2 (hard), D by the sampling path to E/2 (99%), where a direction
+// inside a cap costs no ray and D's variance is only that of what the other geometry closes in
+// the open directions. Where the rest is cylinders, cones, boxes and triangles, balls bound it
+// (a few along each cylinder): outside their caps D's integrand is 0 without a ray, and a point
+// whose region meets no such cap has D = 0 exactly.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -24,11 +33,13 @@
 namespace vr {
 
 struct SoftLightCounts {
-    uint64_t exact_points = 0;    // fast path: evaluations with a hard bound
-    uint64_t sampled_points = 0;  // sampling path
+    uint64_t exact_points = 0;    // cap integrals with a hard bound (fast path and mixed scenes)
+    uint64_t sampled_points = 0;  // sampling path (alone, or the mixed scenes' correction)
     uint64_t unconverged = 0;     // sampling path stopped at its cap above the tolerance
     uint64_t rays = 0;            // sampling path shadow rays
+    uint64_t caps = 0;            // caps integrated, summed over the cap integrals
     void add(const SoftLightCounts& o) {
+        caps += o.caps;
         exact_points += o.exact_points;
         sampled_points += o.sampled_points;
         unconverged += o.unconverged;
@@ -76,15 +87,31 @@ class SoftLighting {
                             SoftLightCounts& counts) const;
 
   private:
-    // The open share of the cone by shadow rays (the sampling path). `target_radius` > 0: the rays
-    // end on the sphere light of that radius at `target`; else they run `reach` far.
+    // The open share of the cone by shadow rays (the sampling path), to `tolerance`.
+    // `target_radius` > 0: the rays end on the sphere light of that radius at `target`; else they
+    // run `reach` far. With `closed` (mixed scenes) it is D instead: the share closed by the rays
+    // but by none of these caps (a direction inside one costs no ray).
     double sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& axis,
                          double theta_max, CapMeasure measure, double reach, const Vec3& target,
-                         double target_radius, uint64_t key, SoftLightCounts& counts) const;
-    // The fast path; false when it does not apply here (an occluder straddles the light).
-    bool exact_share(const Vec3& p, const Vec3& axis, double theta_max, CapMeasure measure,
-                     double reach, double light_near, bool skip_own, double& share,
-                     SoftLightCounts& counts) const;
+                         double target_radius, uint64_t key, double tolerance,
+                         const std::vector<DirectionCap>* closed,
+                         const std::vector<DirectionCap>* maybe, SoftLightCounts& counts) const;
+    // The caps of the balls that bound the other geometry in the cone; false when p lies in one.
+    bool gather_bounds(const Vec3& p, const Vec3& axis, double theta_max, double reach,
+                       const std::vector<DirectionCap>& closed,
+                       std::vector<DirectionCap>& caps) const;
+    // The caps the opaque spheres close in the cone; false when the cap integral does not apply
+    // (an occluder straddles the light; a mixed scene with too many caps to pay), `inside` when p
+    // lies in a sphere (all closed).
+    bool gather_caps(const Vec3& p, const Vec3& axis, double theta_max, double reach,
+                     double light_near, bool skip_own, std::vector<DirectionCap>& caps,
+                     bool& inside) const;
+    // The share of the cone: by the cap integral alone (spheres only), by sampling alone (no
+    // opaque spheres, or the cap integral does not apply) or by both (mixed scenes).
+    double share(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& axis,
+                 double theta_max, CapMeasure measure, double reach, double light_near,
+                 const Vec3& target, double target_radius, uint64_t key,
+                 SoftLightCounts& counts) const;
 
     const Accel& accel_;
     const GasVolume* gas_;
@@ -93,7 +120,10 @@ class SoftLighting {
     uint64_t seed_;
     bool sky_ = false;
     bool spheres_only_ = false;  // the fast path applies
+    bool mixed_ = false;         // opaque spheres beside other geometry: caps and sampling
+    bool bounded_ = false;       // mixed, and balls bound all the other geometry (`others_`)
     SphereOccluders occluders_;
+    SphereOccluders others_;
 };
 
 }  // namespace vr
