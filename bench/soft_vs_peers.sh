@@ -106,7 +106,7 @@ vr() {  # MODE TOLERANCE OUT
 }
 
 echo "load: $(cat /proc/loadavg)  size ${width}x$height  runs $runs"
-rows=$work/rows.tsv
+rows=$work/rows_${modes// /_}_${width}x$height.tsv  # one per run, so that runs of other modes may overlap
 : >"$rows"
 printf '%-5s %-8s %-18s %9s %11s %11s\n' mode renderer setting seconds rmse "rmse(own)"
 for mode in $modes; do

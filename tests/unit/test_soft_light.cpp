@@ -374,13 +374,16 @@ TEST(SoftLight, SpheresBesideAMeshAreWithinToleranceOfBruteForce) {
                                        light.position, light.source_radius);
     EXPECT_GT(lref.value, 0.02);  // a penumbra, not a trivial case
     EXPECT_LT(lref.value, 0.98);
-    for (double e : kTolerances) {
+    // Not 1e-4: the square's edge across the light needs more than the sampling path's 8 x 128^2
+    // rays for it (such a point is counted unconverged, and its bound is not claimed).
+    for (double e : {1e-2, 1e-3}) {
         RenderOptions o;
         o.light_tolerance = e;
         const SoftLighting soft(c.scene, c.accel, nullptr, o);
         SoftLightCounts counts;
         const double vis = soft.light_visibility(light, p, Vec3(1e-15), n, counts);
         EXPECT_EQ(counts.sampled_points, 1u);
+        EXPECT_EQ(counts.unconverged, 0u);
         EXPECT_NEAR(vis, lref.value, e + 4.0 * lref.standard_error) << "E " << e;
     }
 }
