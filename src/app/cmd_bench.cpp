@@ -22,13 +22,14 @@ namespace vr {
 namespace {
 
 struct Setting {
-    std::string series;  // the plot line it belongs to: the sampler, "gas tolerance" or "light tolerance"
+    std::string
+        series;  // the plot line it belongs to: the sampler, "gas tolerance" or "light tolerance"
     std::string sampler;
     int spp = 1;
     double threshold =
         0.0;  // adaptive: --adaptive-threshold; statistical: --noise-threshold; else unused
     double tolerance = 1e-4;
-    int depth = 3;  // adaptive: --adaptive-depth
+    int depth = 3;                 // adaptive: --adaptive-depth
     double light_tolerance = 0.0;  // --light-tolerance; 0: the command line's
 };
 
@@ -141,9 +142,9 @@ bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
             << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ','
             << r.setting.tolerance << ','
             << (r.setting.light_tolerance > 0.0 ? std::to_string(r.setting.light_tolerance) : "")
-            << ',' << r.seconds << ',' << r.rays_per_pixel << ','
-            << r.rays_per_second << ',' << r.metrics.rmse << ',' << r.metrics.psnr << ','
-            << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
+            << ',' << r.seconds << ',' << r.rays_per_pixel << ',' << r.rays_per_second << ','
+            << r.metrics.rmse << ',' << r.metrics.psnr << ',' << r.metrics.max_abs << ','
+            << r.metrics.ssim << '\n';
     }
     return bool(csv);
 }
@@ -162,11 +163,10 @@ int run_bench(const BenchCommand& cmd) {
     const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(),
                                  [](const Sphere& s) { return s.gas; });
 
-    const bool soft_light =
-        cmd.options.sky.has_value() ||
-        std::any_of(flat.lights.begin(), flat.lights.end(), [](const Light& l) {
-            return l.source_radius > 0.0 || l.angular_radius > 0.0;
-        });
+    const bool soft_light = cmd.options.sky.has_value() ||
+                            std::any_of(flat.lights.begin(), flat.lights.end(), [](const Light& l) {
+                                return l.source_radius > 0.0 || l.angular_radius > 0.0;
+                            });
     const std::vector<Setting> ladder =
         default_ladder(cmd.samplers, gas, soft_light, cmd.options.tolerance);
     const std::string stem = stem_of(cmd.scene);
@@ -183,8 +183,8 @@ int run_bench(const BenchCommand& cmd) {
         std::string name = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
                            std::to_string(cmd.options.height);
         if (s.series == "light tolerance") {
-            ref = Setting{"reference", "center", 1, 0.0, cmd.options.tolerance, 3,
-                          kLightReferenceTolerance};
+            ref = Setting{
+                "reference", "center", 1, 0.0, cmd.options.tolerance, 3, kLightReferenceTolerance};
             return name + "-center-light1e-4.exr";
         }
         const bool gas_series = s.series == "gas tolerance";
@@ -245,7 +245,8 @@ int run_bench(const BenchCommand& cmd) {
         std::sort(seconds.begin(), seconds.end());
         row.seconds = seconds[seconds.size() / 2];  // median
         Setting unused;
-        const std::string wanted = cmd.reference.empty() ? reference_path(s, unused) : cmd.reference;
+        const std::string wanted =
+            cmd.reference.empty() ? reference_path(s, unused) : cmd.reference;
         if (reference.width == 0 || wanted != ref_path) {
             std::string path;
             if (int code = reference_for(s, reference, path); code != kExitOk) return code;

@@ -88,11 +88,11 @@ std::vector<Sphere> bounding_balls(const FlatScene& scene) {
         const Vec3 ez = Vec3(q.world_from_object * glm::dvec4(0, 0, half.z, 0));
         const Vec3 centre = Vec3(q.world_from_object * glm::dvec4(0, 0, 0, 1));
         Vec3 e[3] = {ex, ey, ez};
-        std::sort(e, e + 3, [](const Vec3& a, const Vec3& b) {
-            return glm::length(a) > glm::length(b);
-        });
+        std::sort(e, e + 3,
+                  [](const Vec3& a, const Vec3& b) { return glm::length(a) > glm::length(b); });
         const double across = std::max(glm::length(e[1] + e[2]), glm::length(e[1] - e[2]));
-        const int slices = std::clamp(int(std::ceil(glm::length(e[0]) / std::max(across, 1e-300))), 1, 8);
+        const int slices =
+            std::clamp(int(std::ceil(glm::length(e[0]) / std::max(across, 1e-300))), 1, 8);
         const Vec3 step = e[0] / double(slices);
         // A slice's farthest corner from its centre (the axes need not be orthogonal).
         double radius = 0.0;
@@ -111,7 +111,8 @@ std::vector<Sphere> bounding_balls(const FlatScene& scene) {
             const Vec3& b = m.positions[m.triangles[3 * t + 1]];
             const Vec3& c = m.positions[m.triangles[3 * t + 2]];
             const Vec3 mid = (a + b + c) / 3.0;
-            const double r = std::max({glm::length(a - mid), glm::length(b - mid), glm::length(c - mid)});
+            const double r =
+                std::max({glm::length(a - mid), glm::length(b - mid), glm::length(c - mid)});
             add(mid, r * (1.0 + 1e-9) + 1e-12);
         }
     return balls;
@@ -209,8 +210,7 @@ SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const Gas
     mixed_ = !spheres_only_ && !opaque.empty();
     if (spheres_only_ || mixed_) occluders_.build(opaque);
     bounded_ = mixed_ && scene.instances.empty() && scene.segments.empty() &&
-               scene.points.empty() && gas_ == nullptr &&
-               opaque.size() == scene.spheres.size();
+               scene.points.empty() && gas_ == nullptr && opaque.size() == scene.spheres.size();
     if (bounded_) others_.build(bounding_balls(scene));
 }
 
@@ -288,7 +288,8 @@ double SoftLighting::share(const Vec3& p, const Vec3& p_error, const Vec3& ng, c
         counts.caps += caps.size();
         // The two parts' bounds add up to the tolerance; spheres only: all of it for the caps.
         const double cap_tolerance = mixed_ ? 0.5 * tolerance_ : tolerance_;
-        const double open = open_share(axis, theta_max, measure, caps, cap_tolerance, scratch).value;
+        const double open =
+            open_share(axis, theta_max, measure, caps, cap_tolerance, scratch).value;
         if (!mixed_ || !(open > 0.0)) return open;
         thread_local std::vector<DirectionCap> bounds;
         const bool culled = bounded_ && gather_bounds(p, axis, theta_max, reach, caps, bounds);
@@ -374,8 +375,8 @@ double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec
         // A correction whose patterns all agree (nothing but the caps closes anything, say)
         // has no spread to judge by: it stops only once an occluder closing a share `tolerance`
         // would have been met with 99% probability, (1 - E)^n <= 0.01.
-        const bool dense = !closed || variance > 0.0 ||
-                           double(kReplicas) * m * m * tolerance >= kLn100;
+        const bool dense =
+            !closed || variance > 0.0 || double(kReplicas) * m * m * tolerance >= kLn100;
         if (dense && kStudent99 * std::sqrt(variance / kReplicas) <= tolerance) return mean;
     }
     ++counts.unconverged;
