@@ -134,17 +134,18 @@ void print_fastest(const std::vector<Row>& rows, bool own_references) {
 // The table, one row per setting; false when it cannot be written.
 bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
     std::ofstream csv(csv_path);
-    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,light_tolerance,seconds,rays_per_"
-           "pixel,rays_per_second,rmse,psnr,max_abs,ssim\n";
+    // light_tolerance last, so that the columns before it stay where scripts read them.
+    csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_"
+           "second,rmse,psnr,max_abs,ssim,light_tolerance\n";
     for (const Row& r : rows) {
         csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ','
             << r.setting.threshold << ','
             << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ','
-            << r.setting.tolerance << ','
+            << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ','
+            << r.rays_per_second << ',' << r.metrics.rmse << ',' << r.metrics.psnr << ','
+            << r.metrics.max_abs << ',' << r.metrics.ssim << ','
             << (r.setting.light_tolerance > 0.0 ? std::to_string(r.setting.light_tolerance) : "")
-            << ',' << r.seconds << ',' << r.rays_per_pixel << ',' << r.rays_per_second << ','
-            << r.metrics.rmse << ',' << r.metrics.psnr << ',' << r.metrics.max_abs << ','
-            << r.metrics.ssim << '\n';
+            << '\n';
     }
     return bool(csv);
 }
