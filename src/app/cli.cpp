@@ -90,7 +90,7 @@ struct Texts {
     std::string spheres = "hints", camera = "viewpoint", background, albedo, emission, sky;
     std::string position, look_at, up;  // camera overrides, X,Y,Z
     bool recover = false, no_recover = false;
-    std::string bench_spheres = "hints";
+    std::string bench_spheres = "hints", bench_sky;
 };
 
 void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
@@ -308,9 +308,10 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
         ->check(CLI::Range(1, 65536));
     std::vector<std::string> series = sampler_name_list();
     series.push_back("tolerance");
-    b->add_option(
-         "--samplers", bench.samplers,
-         "Series to run, comma-separated: " + sampler_names(" ") + " tolerance (default: all)")
+    series.push_back("light-tolerance");
+    b->add_option("--samplers", bench.samplers,
+                  "Series to run, comma-separated: " + sampler_names(" ") +
+                      " tolerance light-tolerance (default: all)")
         ->delimiter(',')
         ->check(CLI::IsMember(series));
     b->add_option("--tolerance", bench.options.tolerance,
@@ -330,6 +331,14 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
         ->check(CLI::NonNegativeNumber);
     b->add_option("--threads", bench.options.threads, "Threads (0: all cores)")
         ->check(CLI::Range(0, 1024));
+    b->add_option("--sky", texts.bench_sky,
+                  "Sky light R,G,B (adds the light tolerance series, as area lights do)");
+    b->add_option("--ao-distance", bench.options.ao_distance,
+                  "Sky light: occluders farther than this do not count (default: unlimited)")
+        ->check(CLI::PositiveNumber);
+    b->add_option("--light-tolerance", bench.options.light_tolerance,
+                  "Light tolerance of the sampler series (default 1e-3)")
+        ->check(CLI::Range(1e-7, 0.5));
     add_common(b, common, texts);
     return b;
 }
@@ -458,6 +467,10 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
     if (cmd.command == Subcommand::Bench) {
         cmd.bench.common = cmd.common;
         cmd.bench.options.spheres = label_value(kSpheresLabels, texts.bench_spheres);
+        if (!texts.bench_sky.empty() && !(cmd.bench.options.sky = parse_rgb(texts.bench_sky))) {
+            std::cerr << "vrmlray: error: --sky wants R,G,B (three numbers separated by commas)\n";
+            return kExitUsage;
+        }
     }
     return cmd.command == Subcommand::None ? kExitUsage : -1;
 }

@@ -22,14 +22,19 @@ namespace vr {
 namespace {
 
 struct Setting {
-    std::string series;  // the plot line it belongs to: the sampler, or "gas tolerance"
+    std::string
+        series;  // the plot line it belongs to: the sampler, "gas tolerance" or "light tolerance"
     std::string sampler;
     int spp = 1;
     double threshold =
         0.0;  // adaptive: --adaptive-threshold; statistical: --noise-threshold; else unused
     double tolerance = 1e-4;
-    int depth = 3;  // adaptive: --adaptive-depth
+    int depth = 3;                 // adaptive: --adaptive-depth
+    double light_tolerance = 0.0;  // --light-tolerance; 0: the command line's
 };
+
+// The light tolerance series' reference is this much tighter than its tightest setting.
+constexpr double kLightReferenceTolerance = 1e-4;
 
 struct Row {
     Setting setting;
@@ -43,6 +48,7 @@ bool render_once(const FlatScene& flat, const RenderOptions& base, const Setting
     o.sampler = s.sampler;
     o.spp = s.spp;
     o.tolerance = s.tolerance;
+    if (s.light_tolerance > 0.0) o.light_tolerance = s.light_tolerance;
     if (s.sampler == "adaptive") {
         o.adaptive_threshold = s.threshold;
         o.adaptive_depth = s.depth;
@@ -65,7 +71,7 @@ std::string stem_of(const std::string& scene) {
 // all at the given gas tolerance; for gas scenes also the centre sampler at falling integrator
 // tolerance.
 std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bool gas,
-                                    double tolerance) {
+                                    bool soft_light, double tolerance) {
     std::vector<Setting> ladder;
     auto wanted = [&](const char* name) {
         return samplers.empty() ||
@@ -90,6 +96,9 @@ std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bo
     if (gas && (samplers.empty() || wanted("tolerance")))
         for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6})
             ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
+    if (soft_light && (samplers.empty() || wanted("light-tolerance")))
+        for (double tol : {1e-1, 3e-2, 1e-2, 3e-3, 1e-3})
+            ladder.push_back({"light tolerance", "center", 1, 0.0, tolerance, 3, tol});
     return ladder;
 }
 
@@ -107,7 +116,7 @@ void print_fastest(const std::vector<Row>& rows, bool own_references) {
         std::map<std::string, double> best;
         for (const Row& r : rows) {
             if (r.metrics.rmse > target) continue;
-            if (own_references && r.setting.series == "gas tolerance") continue;
+            if (own_references && r.setting.series != r.setting.sampler) continue;
             auto [it, fresh] = best.emplace(r.setting.series, r.seconds);
             if (!fresh) it->second = std::min(it->second, r.seconds);
         }
@@ -125,15 +134,18 @@ void print_fastest(const std::vector<Row>& rows, bool own_references) {
 // The table, one row per setting; false when it cannot be written.
 bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
     std::ofstream csv(csv_path);
+    // light_tolerance last, so that the columns before it stay where scripts read them.
     csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_"
-           "second,rmse,psnr,max_abs,ssim\n";
+           "second,rmse,psnr,max_abs,ssim,light_tolerance\n";
     for (const Row& r : rows) {
         csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ','
             << r.setting.threshold << ','
             << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ','
             << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ','
             << r.rays_per_second << ',' << r.metrics.rmse << ',' << r.metrics.psnr << ','
-            << r.metrics.max_abs << ',' << r.metrics.ssim << '\n';
+            << r.metrics.max_abs << ',' << r.metrics.ssim << ','
+            << (r.setting.light_tolerance > 0.0 ? std::to_string(r.setting.light_tolerance) : "")
+            << '\n';
     }
     return bool(csv);
 }
@@ -152,45 +164,56 @@ int run_bench(const BenchCommand& cmd) {
     const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(),
                                  [](const Sphere& s) { return s.gas; });
 
-    const std::vector<Setting> ladder = default_ladder(cmd.samplers, gas, cmd.options.tolerance);
+    const bool soft_light = cmd.options.sky.has_value() ||
+                            std::any_of(flat.lights.begin(), flat.lights.end(), [](const Light& l) {
+                                return l.source_radius > 0.0 || l.angular_radius > 0.0;
+                            });
+    const std::vector<Setting> ladder =
+        default_ladder(cmd.samplers, gas, soft_light, cmd.options.tolerance);
     const std::string stem = stem_of(cmd.scene);
     const std::string csv_path = cmd.csv.empty() ? stem + "-bench.csv" : cmd.csv;
     const std::string plot_path = cmd.plot.empty() ? stem + "-bench.png" : cmd.plot;
 
     // References: given (--reference, then used for every series), or rendered and cached under a
     // name that holds the settings they depend on: a fine grid (and for gas tolerance 1e-8) for the
-    // sampler series, and for the gas tolerance series the same centre sampling at tolerance 1e-8,
-    // so that that series shows the integrator's error alone, not the missing anti-aliasing.
+    // sampler series; for the tolerance series the same centre sampling at a much tighter
+    // tolerance (gas 1e-8, light kLightReferenceTolerance), so that a series shows its
+    // integrator's error alone, not the missing anti-aliasing.
     std::string error;
+    auto reference_path = [&](const Setting& s, Setting& ref) {
+        std::string name = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
+                           std::to_string(cmd.options.height);
+        if (s.series == "light tolerance") {
+            ref = Setting{
+                "reference", "center", 1, 0.0, cmd.options.tolerance, 3, kLightReferenceTolerance};
+            return name + "-center-light1e-4.exr";
+        }
+        const bool gas_series = s.series == "gas tolerance";
+        ref = gas_series ? Setting{"reference", "center", 1, 0.0, 1e-8}
+                         : Setting{"reference", "grid", cmd.reference_spp, 0.0, 1e-8};
+        return name +
+               (gas_series ? std::string("-center") : "-grid" + std::to_string(cmd.reference_spp)) +
+               (gas ? "-tol1e-8" : "") + ".exr";
+    };
     auto reference_for = [&](const Setting& s, Image& image, std::string& path) -> int {
-        if (!cmd.reference.empty()) {
-            path = cmd.reference;
-        } else {
-            const bool tolerance_series = s.series == "gas tolerance";
-            const Setting ref = tolerance_series
-                                    ? Setting{"reference", "center", 1, 0.0, 1e-8}
-                                    : Setting{"reference", "grid", cmd.reference_spp, 0.0, 1e-8};
-            path = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
-                   std::to_string(cmd.options.height) +
-                   (tolerance_series ? std::string("-center")
-                                     : "-grid" + std::to_string(cmd.reference_spp)) +
-                   (gas ? "-tol1e-8" : "") + ".exr";
-            if (!std::filesystem::exists(path)) {
-                if (!cmd.common.quiet)
-                    std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", "
-                              << ref.spp << " samples per pixel" << (gas ? ", tolerance 1e-8" : "")
-                              << ") ...\n";
-                RenderStats stats;
-                if (!render_once(flat, cmd.options, ref, image, stats, error)) {
-                    std::cerr << "vrmlray: error: " << error << "\n";
-                    return kExitUsage;
-                }
-                if (!write_image(path, image, false, error)) {
-                    std::cerr << "vrmlray: error: " << error << "\n";
-                    return kExitOutput;
-                }
-                return kExitOk;
+        Setting ref;
+        path = cmd.reference.empty() ? reference_path(s, ref) : cmd.reference;
+        if (cmd.reference.empty() && !std::filesystem::exists(path)) {
+            if (!cmd.common.quiet)
+                std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", "
+                          << ref.spp << " samples per pixel" << (gas ? ", tolerance 1e-8" : "")
+                          << (ref.light_tolerance > 0.0 ? ", light tolerance 1e-4" : "")
+                          << ") ...\n";
+            RenderStats stats;
+            if (!render_once(flat, cmd.options, ref, image, stats, error)) {
+                std::cerr << "vrmlray: error: " << error << "\n";
+                return kExitUsage;
             }
+            if (!write_image(path, image, false, error)) {
+                std::cerr << "vrmlray: error: " << error << "\n";
+                return kExitOutput;
+            }
+            return kExitOk;
         }
         if (!read_image(path, image, error)) {
             std::cerr << "vrmlray: error: " << error << "\n";
@@ -200,7 +223,6 @@ int run_bench(const BenchCommand& cmd) {
     };
     Image reference;
     std::string ref_path, used_refs;
-    bool have_center = false;  // the reference in `reference` is the centre-sampled one
     std::vector<Row> rows;
     const double pixels = double(cmd.options.width) * cmd.options.height;
     std::printf("%-13s %-11s %5s %9s %5s %9s %9s %8s %9s %10s %8s %10s %8s\n", "series", "sampler",
@@ -223,12 +245,13 @@ int run_bench(const BenchCommand& cmd) {
         }
         std::sort(seconds.begin(), seconds.end());
         row.seconds = seconds[seconds.size() / 2];  // median
-        const bool want_center = cmd.reference.empty() && s.series == "gas tolerance";
-        if (reference.width == 0 || want_center != have_center) {
+        Setting unused;
+        const std::string wanted =
+            cmd.reference.empty() ? reference_path(s, unused) : cmd.reference;
+        if (reference.width == 0 || wanted != ref_path) {
             std::string path;
             if (int code = reference_for(s, reference, path); code != kExitOk) return code;
             ref_path = path;
-            have_center = want_center;
             if (used_refs.find(path) == std::string::npos)
                 used_refs += (used_refs.empty() ? "" : ", ") + path;
         }
@@ -239,7 +262,8 @@ int run_bench(const BenchCommand& cmd) {
         const bool adaptive = s.sampler == "adaptive";
         std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n",
                     s.series.c_str(), s.sampler.c_str(), s.spp, s.threshold,
-                    adaptive ? std::to_string(s.depth).c_str() : "-", s.tolerance, row.seconds,
+                    adaptive ? std::to_string(s.depth).c_str() : "-",
+                    s.light_tolerance > 0.0 ? s.light_tolerance : s.tolerance, row.seconds,
                     row.rays_per_pixel, row.rays_per_second * 1e-6, row.metrics.rmse,
                     row.metrics.psnr, row.metrics.max_abs, row.metrics.ssim);
         std::fflush(stdout);
