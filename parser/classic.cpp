@@ -844,8 +844,7 @@ class Reader {
             Piece& piece = pieces.get(next_piece_++);
             if (!piece.usable || tree_.nodes.size() + piece.tree.nodes.size() > limits_.max_nodes)
                 return;  // read here: the same messages, the same limit error
-            const NodeId base = append_tree(tree_, piece.tree);
-            pieces.recycle(std::move(piece.tree));
+            const NodeId base = append_tree(tree_, std::move(piece.tree));
             for (NodeId id : piece.roots) roots.push_back(id + base);
             // A skipped node's DEF (kNullNode: USE and ROUTE say so) stays kNullNode.
             for (const auto& [name, id] : piece.defs)

@@ -64,9 +64,6 @@ class PieceScheduler {
     Piece& get(size_t k);
     // Piece k is not needed: not read if no thread has begun it, and its memory freed.
     void drop(size_t k);
-    // A piece's tree that has been appended: emptied and kept for a later piece (see
-    // NodeTree::clear), or freed when enough are kept.
-    void recycle(NodeTree&& tree);
     // No piece is begun any more; returns when the running ones have ended.
     void stop();
 
@@ -75,7 +72,6 @@ class PieceScheduler {
     bool claim(size_t& k);  // the next piece to read, if any within the window (lock held)
     void read(size_t k, std::unique_lock<std::mutex>& lock);
     void work();
-    void retire(Piece& piece);  // frees the piece, keeping its tree for reuse (lock held)
 
     std::vector<Piece> pieces_;
     std::vector<State> state_;
@@ -86,15 +82,13 @@ class PieceScheduler {
     size_t next_ = 0;   // lowest piece no thread has claimed
     size_t front_ = 0;  // lowest piece the main reader has not taken
     size_t window_ = 4;
-    std::vector<NodeTree> spare_;  // an emptied tree of an appended or dropped piece
     bool stopped_ = false;
     std::vector<std::thread> threads_;
 };
 
 // Appends `piece` to `tree`: node ids, field, number, string and node-reference indices shifted,
-// node kinds re-indexed. Returns the id the piece's node 0 gets. The piece's strings are moved,
-// the rest copied: the piece is left to be cleared (PieceScheduler::recycle) or freed.
-NodeId append_tree(NodeTree& tree, NodeTree& piece);
+// node kinds re-indexed. Returns the id the piece's node 0 gets.
+NodeId append_tree(NodeTree& tree, NodeTree&& piece);
 // Adds the counts of a later part of the same file.
 void append_stats(ReadStats& stats, const ReadStats& later);
 

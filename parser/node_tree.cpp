@@ -60,24 +60,6 @@ uint32_t NodeTree::kind_of(const NodeTypeDecl* decl, Name type) {
     return cached = k;
 }
 
-void NodeTree::clear() {
-    // Everything but the pools' memory is reset through a fresh tree, so that a member added
-    // later is reset too.
-    Pool<Node> kept_nodes = std::move(nodes);
-    Pool<FieldEntry> kept_fields = std::move(fields);
-    Pool<double> kept_numbers = std::move(numbers);
-    Pool<NodeId> kept_refs = std::move(node_refs);
-    *this = NodeTree{};
-    kept_nodes.clear();
-    kept_fields.clear();
-    kept_numbers.clear();
-    kept_refs.clear();
-    nodes = std::move(kept_nodes);
-    fields = std::move(kept_fields);
-    numbers = std::move(kept_numbers);
-    node_refs = std::move(kept_refs);
-}
-
 FieldView NodeTree::view(const FieldEntry& entry) const { return view_in(*this, entry, false); }
 
 FieldView NodeTree::get(NodeId id, Name field) const {

@@ -131,10 +131,6 @@ struct NodeTree {
     std::string_view def_name(NodeId node) const { return name_text(nodes[node].def_name); }
     // The index in `kinds` of the pair, added if new.
     uint32_t kind_of(const NodeTypeDecl* decl, Name type);
-    // Empties the tree as if new, but keeps the pools' memory: a tree reused for the next piece of
-    // a file (classic_pieces.h) writes into pages that are already there, instead of the kernel
-    // zeroing fresh ones (a third of a large read's time went to that).
-    void clear();
 
   private:
     // Recently used kinds by hash of the pair (readers ask once per node), then all of them.

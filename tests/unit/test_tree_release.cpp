@@ -1,7 +1,6 @@
-// Memory a large scene's reading and building give back early (issue 16): a pool's front pages,
-// a piece's tree emptied for reuse, and the node tree freed while the scene is built from it.
-// Each must leave every value still to be read as it was: the scene built while its tree is freed
-// equals the one built from the whole tree.
+// Memory a large scene's build gives back early (issue 16): a pool's front pages, and the node
+// tree freed while the scene is built from it. Each must leave every value still to be read as it
+// was: the scene built while its tree is freed equals the one built from the whole tree.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -10,7 +9,6 @@
 
 #include "parser/load.h"
 #include "parser/node_tree.h"
-#include "parser/registry.h"
 #include "scene/build.h"
 #include "scene/tree_release.h"
 
@@ -38,29 +36,6 @@ TEST(TreeRelease, PoolFrontPagesGoBackAndTheRestKeepsItsValues) {
     for (size_t i = n - n / 8; i < n; ++i) ASSERT_EQ(pool[i], double(i)) << i;
     pool.push_back(-1.0);  // still growable
     EXPECT_EQ(pool.back(), -1.0);
-}
-
-TEST(TreeRelease, AClearedTreeReadsLikeANewOne) {
-    // A piece's tree is cleared and reused for the next piece: kinds, their cache and every
-    // field must be as in a new tree, or the next piece's nodes get the last one's kinds.
-    const Registry& reg = Registry::builtin();
-    const NodeTypeDecl* sphere = reg.lookup(Spec::Vrml97, intern("Sphere"));
-    const NodeTypeDecl* box = reg.lookup(Spec::Vrml97, intern("Box"));
-    ASSERT_TRUE(sphere && box);
-    NodeTree tree;
-    EXPECT_EQ(tree.kind_of(sphere, intern("Sphere")), 1u);
-    Node n;
-    n.kind = 1;
-    for (int i = 0; i < 100000; ++i) tree.add_node(n, 0);
-    tree.numbers.push_back(1.0);
-    tree.roots.push_back(0);
-    const size_t capacity = tree.nodes.capacity();
-    tree.clear();
-    EXPECT_TRUE(tree.nodes.empty() && tree.numbers.empty() && tree.roots.empty());
-    EXPECT_EQ(tree.kinds.size(), 1u);
-    EXPECT_EQ(tree.kind_of(box, intern("Box")), 1u);  // not the Sphere's cached kind
-    EXPECT_EQ(tree.decl(tree.add_node({1}, 0)), box);
-    EXPECT_EQ(tree.nodes.capacity(), capacity);  // the memory stays for the next piece
 }
 
 // A PyMOL-style export of `atoms` atoms (as tools/gen_molecule.py writes them), with radii and
