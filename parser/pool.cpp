@@ -59,6 +59,13 @@ void* resize(void* old, size_t old_bytes, size_t keep, size_t& bytes, bool& mapp
     return fresh;
 }
 
+size_t release_front(void* p, size_t from, size_t bytes, bool mapped) {
+    if (!mapped) return 0;
+    const size_t whole = bytes / kHuge * kHuge;  // mappings start on a kHuge boundary
+    if (whole > from) madvise(static_cast<char*>(p) + from, whole - from, MADV_DONTNEED);
+    return whole > from ? whole : from;
+}
+
 void release(void* p, size_t bytes, bool mapped) {
     if (mapped)
         munmap(p, bytes);

@@ -23,6 +23,10 @@ namespace pool_detail {
 // `mapped` says which `old` is and becomes which the result is. Throws std::bad_alloc.
 void* resize(void* old, size_t old_bytes, size_t keep, size_t& bytes, bool& mapped);
 void release(void* p, size_t bytes, bool mapped);
+// Gives the whole huge pages of a mapping's first `bytes` back to the kernel, those from `from`
+// (given back before) on; returns how many bytes from the start are given back now (a multiple of
+// the huge page size; 0 for heap blocks).
+size_t release_front(void* p, size_t from, size_t bytes, bool mapped);
 
 }  // namespace pool_detail
 
@@ -65,6 +69,7 @@ class Pool {
         std::swap(capacity_, other.capacity_);
         std::swap(bytes_, other.bytes_);
         std::swap(mapped_, other.mapped_);
+        std::swap(released_, other.released_);
     }
 
     size_t size() const { return size_; }
@@ -92,7 +97,10 @@ class Pool {
     void reserve(size_t n) {
         if (n > capacity_) set_capacity(n);
     }
-    void clear() { size_ = 0; }
+    void clear() {
+        size_ = 0;
+        released_ = 0;  // pages given back come again, zeroed, when written
+    }
     void push_back(const T& value) {
         if (size_ == capacity_) {
             const T copy = value;  // `value` may live in this pool
@@ -143,6 +151,15 @@ class Pool {
         return data_ + at;
     }
 
+    // The first `n` values will never be read again: the memory of whole pages under them goes
+    // back to the kernel (a large mapped pool only; reading there afterwards gives zeros). For a
+    // tree that is freed piece by piece while the scene is built from it.
+    void release_front(size_t n) {
+        n = n < size_ ? n : size_;
+        if (n * sizeof(T) > released_)
+            released_ = pool_detail::release_front(data_, released_, n * sizeof(T), mapped_);
+    }
+
   private:
     void grow(size_t min_capacity) {
         size_t n = capacity_ ? capacity_ * 2 : 16;
@@ -162,6 +179,7 @@ class Pool {
     size_t capacity_ = 0;
     size_t bytes_ = 0;  // allocated, >= capacity_ * sizeof(T)
     bool mapped_ = false;
+    size_t released_ = 0;  // bytes at the start given back by release_front
 };
 
 }  // namespace vr

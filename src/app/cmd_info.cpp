@@ -76,8 +76,7 @@ int run_info(const std::string& path, const CommonOptions& common) {
     // Each stage's input is released once the next has what it needs, so that their peaks do not
     // stack.
     Diagnostics diagnostics;
-    Scene scene = build_scene(loaded, diagnostics);
-    release_tree(loaded);
+    Scene scene = build_scene_releasing_tree(loaded, diagnostics);
     FlattenOptions fo;
     fo.scene_file = loaded.main_file;
     fo.allowed_roots = loaded.allowed_roots;

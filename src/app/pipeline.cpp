@@ -88,8 +88,8 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
                        FlatScene& flat, FlattenStats& stats, bool keep_tree) {
     const bool quiet = common.quiet;
     Diagnostics diagnostics;
-    Scene scene = build_scene(loaded, diagnostics);
-    if (!keep_tree) release_tree(loaded);
+    Scene scene = keep_tree ? build_scene(loaded, diagnostics)
+                            : build_scene_releasing_tree(loaded, diagnostics);
     flat = flatten_scene(scene, flatten_options(loaded, options, recover_spheres, common),
                          diagnostics, stats);
     scene = Scene{};  // before the diagnostics are printed and the caller builds its BVH

@@ -240,6 +240,7 @@ void Builder::count_references() {
     for (const auto& [inline_node, roots] : tree_.inline_roots)
         for (NodeId id : roots) refer(id);
     memo_.reserve(shared);
+    shared_nodes_ = shared;
 }
 
 size_t Builder::KeyHash::operator()(const MaterialKey& key) const {
@@ -292,9 +293,11 @@ void Builder::add_children(sg::Index group, std::span<const NodeId> children) {
     const size_t first = scene_.child_refs.size();
     scene_.child_refs.resize(first + children.size());
     size_t count = 0;
-    for (NodeId id : children) {
-        if (id == kNullNode || id >= tree_.nodes.size()) continue;
-        if (const auto ref = child(id)) scene_.child_refs[first + count++] = *ref;
+    for (size_t i = 0; i < children.size(); ++i) {
+        const NodeId id = children[i];
+        if (id != kNullNode && id < tree_.nodes.size())
+            if (const auto ref = child(id)) scene_.child_refs[first + count++] = *ref;
+        if (group == Scene::kRoot && release_) release_->built(i);
     }
     sg::Group& g = scene_.groups[group];
     g.first_child = static_cast<uint32_t>(first);
@@ -789,6 +792,18 @@ sg::Index Builder::make_navigation_info(NodeId id) {
 Scene build_scene(const LoadedScene& loaded, Diagnostics& diagnostics) {
     detail::Builder builder(loaded, diagnostics);
     return builder.build();
+}
+
+Scene build_scene_releasing_tree(LoadedScene& loaded, Diagnostics& diagnostics) {
+    Scene scene;
+    {
+        detail::Builder builder(loaded, diagnostics);
+        detail::TreeRelease release(loaded.tree, builder.has_shared_nodes());
+        builder.release_ = &release;
+        scene = builder.build();
+    }
+    loaded.tree = NodeTree{};  // parts of it read as zeros now
+    return scene;
 }
 
 }  // namespace vr

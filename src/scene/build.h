@@ -21,5 +21,10 @@
 namespace vr {
 
 Scene build_scene(const LoadedScene& loaded, Diagnostics& diagnostics);
+// The same scene, for a caller that needs the node tree no more: when the tree allows it (no DEF
+// shared by USE, no PROTO, ROUTE or Inline), the memory of the top-level nodes already built is
+// given back while the later ones are, so that the tree and the scene are not both held whole.
+// `loaded.tree` is empty afterwards.
+Scene build_scene_releasing_tree(LoadedScene& loaded, Diagnostics& diagnostics);
 
 }  // namespace vr

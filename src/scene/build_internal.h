@@ -11,6 +11,7 @@
 
 #include "parser/load.h"
 #include "scene/scene.h"
+#include "scene/tree_release.h"
 
 namespace vr::detail {
 
@@ -157,6 +158,9 @@ class Builder {
     const NodeTree& tree_;
     Diagnostics& diagnostics_;
     Scene scene_;
+    TreeRelease* release_ = nullptr;  // told as each top-level node is built, if set
+    // Some node is referred to twice (DEF/USE): built once, reached from several places.
+    bool has_shared_nodes() const { return shared_nodes_ > 0; }
 
   private:
     // What the builder remembers of a node the file refers to more than once (DEF/USE). A node
@@ -175,6 +179,7 @@ class Builder {
     void count_references();
     std::vector<uint64_t> referred_once_, referred_twice_;  // bit sets over the tree's nodes
     std::unordered_map<NodeId, Memo> memo_;
+    size_t shared_nodes_ = 0;
 
     // Content-equal nodes with no identity the renderer can see share one typed node: PyMOL writes
     // an identical Material and Appearance per atom, and a Sphere per atom with a few radii. The
