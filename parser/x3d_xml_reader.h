@@ -356,7 +356,7 @@ class XmlReader {
     std::vector<FieldEntry> scratch_;  // fields of the open nodes, innermost last
     std::vector<Child> children_;      // child nodes of the open elements, innermost last
     std::vector<NodeId> roots_;
-    XmlProtoDecl* recording_ = nullptr;  // the ProtoBody being recorded
+    XmlProtoDecl* recording_ = nullptr;            // the ProtoBody being recorded
     std::unordered_map<Name, uint32_t> imported_;  // IMPORT AS names -> tree.imports
     FileUnits units_;                              // the <unit> elements of <head>
     std::string version_;                          // <X3D version>

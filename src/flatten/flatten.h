@@ -38,8 +38,8 @@
 // * Textures: URLs resolved with resolve_url from the file the node stands in, limited to
 //   FlattenOptions::allowed_roots (or Scene::allowed_roots when empty; both empty: anywhere, as
 //   without --sandbox); loaded once per file and
-//   way of sampling it (core/texture_sampling.h). A texture that cannot be found or read, or has more than max_texture_pixels
-//   texels, is one warning; the shape renders untextured.
+//   way of sampling it (core/texture_sampling.h). A texture that cannot be found or read, or has
+//   more than max_texture_pixels texels, is one warning; the shape renders untextured.
 #pragma once
 #include <array>
 #include <filesystem>
