@@ -1,5 +1,6 @@
 // vrmlray render: load -> build scene -> flatten -> camera -> render -> write image.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -293,6 +294,7 @@ struct BuiltScene {
 struct FrameJob {
     int frame = 0;
     std::string output;
+    std::string write_to;   // where the image goes when not `output`: a file rank 0 is sent
     RenderOptions options;  // the frame's camera turn and threads
     const BuiltScene* scene = nullptr;
     std::vector<Sphere>* spheres_to_free = nullptr;  // the scene's last frame: its spheres may go
@@ -309,6 +311,7 @@ struct FrameRecord {
     RenderStats stats;
     RenderTimings timings;
     nlohmann::ordered_json json;  // render_stats_json of the frame (when --stats is given)
+    std::string sent;             // the temporary file to send to rank 0, which writes the frame
 };
 
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
@@ -379,10 +382,11 @@ int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene
     warn_after_render(cmd, camera, stats, px.covered, !empty_scene.empty());
 
     auto t3 = std::chrono::steady_clock::now();
+    const std::string& path = job.write_to.empty() ? output : job.write_to;
     const bool written =
         px.image8.channels > 0
-            ? write_image8(output, px.image8, cmd.options.srgb, error)
-            : write_image(output, px.image, {cmd.options.srgb, cmd.options.alpha}, error);
+            ? write_image8(path, px.image8, cmd.options.srgb, error)
+            : write_image(path, px.image, {cmd.options.srgb, cmd.options.alpha}, error);
     if (!written) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return agreed(world, kExitOutput, "writing");
@@ -449,9 +453,8 @@ int prepare(const RenderCommand& cmd, const World& world, const FramePlan& plan,
             const std::string& output, LoadedScene& loaded, double& parse_seconds) {
     bool has_pattern = false;
     std::string error;
-    // The first frame this process writes: rank 0 writes them all, unless frames are dealt out.
-    const int first = plan.by_rank ? world.rank() : 0;
-    const std::string first_output = frame_path(output, first, has_pattern, error);
+    // Rank 0 writes every frame, also those the others render.
+    const std::string first_output = frame_path(output, 0, has_pattern, error);
     if (!error.empty() || (cmd.frames > 1 && !has_pattern)) {
         std::cerr << "vrmlray: error: "
                   << (error.empty() ? "--frames " + std::to_string(cmd.frames) + " needs -o " +
@@ -466,8 +469,8 @@ int prepare(const RenderCommand& cmd, const World& world, const FramePlan& plan,
     }
     // Before anything is read or traced: a render whose file cannot be written is lost time.
     int code = kExitOk;
-    const bool writes = !plan.frames.empty() && (world.root() || plan.by_rank);
-    switch (writes ? check_output(first_output, cmd.options.alpha, error) : OutputCheck::kOk) {
+    switch (world.root() ? check_output(first_output, cmd.options.alpha, error)
+                         : OutputCheck::kOk) {
         case OutputCheck::kOk:
             break;
         case OutputCheck::kNoAlpha:
@@ -548,6 +551,59 @@ int frames_that_fit(const RenderCommand& cmd, const BuiltScene& first, int at_on
     return limit > 0.0 && each * at_once > limit ? 1 : at_once;
 }
 
+// A temporary file for frame k of this process, with the output's extension, which names the
+// image format.
+std::string sent_frame_path(const std::string& output, int k) {
+    std::error_code ec;
+    const std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+    const std::string name = "vrmlray-" + std::to_string(getpid()) + "-frame-" + std::to_string(k) +
+                             std::filesystem::path(output).extension().string();
+    return ((ec ? std::filesystem::path(".") : dir) / name).string();
+}
+
+std::vector<uint8_t> file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+// Rank 0 writes the frames the others rendered, in frame order, as each sends its own in that
+// order; their temporary files go whatever happened. `code`: what all agreed on after rendering.
+int write_sent_frames(const RenderCommand& cmd, const World& world, const std::string& output,
+                      const std::vector<FrameRecord>& records, int code) {
+    size_t mine = 0;
+    for (int k = 0; code == kExitOk && k < cmd.frames; ++k) {
+        const int owner = k % world.size();
+        if (owner == 0) continue;
+        if (world.rank() == owner) {
+            world.send(file_bytes(records[mine++].sent), 0);
+            continue;
+        }
+        if (!world.root()) continue;
+        const std::vector<uint8_t> bytes = world.receive(owner);
+        bool unused = false;
+        std::string error;
+        const std::string path = frame_path(output, k, unused, error);
+        std::ofstream out(path, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        out.close();
+        if (bytes.empty() || !out) {
+            std::cerr << "vrmlray: error: " << path << ": cannot write frame " << k
+                      << (bytes.empty() ? " (process " + std::to_string(owner) + " sent nothing)"
+                                        : std::string())
+                      << "\n";
+            code = kExitOutput;  // the rest are still received, so that no sender waits forever
+            for (int rest = k + 1; rest < cmd.frames; ++rest)
+                if (rest % world.size() != 0) world.receive(rest % world.size());
+        }
+    }
+    for (const FrameRecord& r : records)
+        if (!r.sent.empty()) {
+            std::error_code ec;
+            std::filesystem::remove(r.sent, ec);
+        }
+    return agreed(world, code, "writing the frames");
+}
+
 // Renders this process's frames, plan.at_once of them at a time, each of them on its share of
 // the threads; after an error no further frame is begun. The largest exit code of its frames;
 // `builds`: how many scenes were built.
@@ -597,6 +653,8 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
         bool unused = false;
         std::string error;
         job.output = frame_path(output, job.frame, unused, error);
+        // Another process's frame goes to a file of its own, which it then sends to rank 0.
+        if (plan.by_rank && !world.root()) job.write_to = sent_frame_path(job.output, job.frame);
         job.spheres_to_free = plan.at_once == 1 && i + 1 == n ? &scene->flat.spheres : nullptr;
         job.progress = plan.at_once == 1;
         job.write_stats = cmd.frames == 1;
@@ -604,7 +662,9 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
         job.timings.parse = i == 0 ? timings.parse : 0.0;
         job.timings.scene = i == 0 ? std::max(first_seconds, built_seconds) : built_seconds;
         job.timings.peak_scene_mb = peak;
-        return render_frame(frame_cmd, frame_world, loaded, job, t0, records[i]);
+        const int rendered = render_frame(frame_cmd, frame_world, loaded, job, t0, records[i]);
+        records[i].sent = job.write_to;  // removed after sending, or after a failure
+        return rendered;
     };
     auto work = [&] {
         while (worst.load() == kExitOk) {
@@ -724,7 +784,10 @@ int run_render(const RenderCommand& command) {
     size_t builds = 0;
     code = render_frames(cmd, command.common.quiet, world, plan, output, loaded, animator, timings,
                          t0, records, builds);
-    if (plan.by_rank) code = agreed(world, code, "rendering its frames");
+    if (plan.by_rank) {
+        code = agreed(world, code, "rendering its frames");
+        code = write_sent_frames(cmd, world, output, records, code);
+    }
     if (code != kExitOk || cmd.frames == 1 || cmd.stats_path.empty()) return code;
     return write_sequence_stats(cmd, world, plan, records, timings.parse, builds);
 }

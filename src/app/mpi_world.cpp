@@ -171,6 +171,22 @@ void World::gather_tiles(uint8_t* pixels, size_t pixel_bytes, int width, int hei
     }
 }
 
+void World::send(const std::vector<uint8_t>& data, int to) const {
+    if (!parallel()) return;
+    const uint64_t bytes = data.size();
+    g_mpi.send(&bytes, sizeof bytes, to);
+    g_mpi.send(data.data(), data.size(), to);
+}
+
+std::vector<uint8_t> World::receive(int from) const {
+    if (!parallel()) return {};
+    uint64_t bytes = 0;
+    g_mpi.recv(&bytes, sizeof bytes, from);
+    std::vector<uint8_t> data(bytes);
+    g_mpi.recv(data.data(), data.size(), from);
+    return data;
+}
+
 World& World::get() {
     static World world;
     return world;

@@ -38,6 +38,10 @@ class World {
     // process holds the tiles of its share (RenderOptions::tile_stride = size(), tile_offset =
     // rank()). Rank 0 receives every other process's tiles into it; the others send theirs.
     void gather_tiles(uint8_t* pixels, size_t pixel_bytes, int width, int height) const;
+    // Point to point: a byte string to process `to`, which takes it with receive(from) at the
+    // matching point of its own order (a frame file a process rendered, for rank 0 to write).
+    void send(const std::vector<uint8_t>& data, int to) const;
+    std::vector<uint8_t> receive(int from) const;
 
   private:
     World();
