@@ -361,7 +361,9 @@ TEST(SoftLight, SpheresBesideAMeshAreWithinToleranceOfBruteForce) {
         const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
         // At 1e-4 the sampling path may reach its 8 x 128^2-ray cap and count the point
         // unconverged (the bound is then not claimed, and --stats says so); above it must converge.
-        if (e >= 1e-3) EXPECT_EQ(counts.unconverged, 0u) << "E " << e;
+        if (e >= 1e-3) {
+            EXPECT_EQ(counts.unconverged, 0u) << "E " << e;
+        }
         // 99% confidence for the sampled part; the reference's own 4 standard errors.
         EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "E " << e;
     }
