@@ -87,7 +87,9 @@ void expect_same_scene(const std::string& text, std::string* messages = nullptr)
         const auto* sa = std::get_if<sg::Sphere>(&a.geometries[i].shape);
         const auto* sb = std::get_if<sg::Sphere>(&b.geometries[i].shape);
         ASSERT_EQ(sa == nullptr, sb == nullptr) << i;
-        if (sa) ASSERT_EQ(sa->radius, sb->radius) << i;
+        if (sa) {
+            ASSERT_EQ(sa->radius, sb->radius) << i;
+        }
     }
     EXPECT_EQ(d1.format(whole.sources), d2.format(freed.sources));
 }
