@@ -91,13 +91,27 @@ def bounds_in(out):
     return (v[:3], v[3:]) if all(math.isfinite(x) for x in v) else None
 
 
+def length_unit(text):
+    """Metres per the file's length unit: its UNIT length statement (classic or XML), else 1."""
+    m = re.search(r"^\s*UNIT\s+length\s+\S+\s+(\S+)", text, re.M) or re.search(
+        r"<unit\b(?=[^>]*category=['\"]length['\"])[^>]*conversionFactor=['\"]([^'\"]+)", text)
+    try:
+        f = float(m.group(1)) if m else 1.0
+    except ValueError:
+        f = 1.0
+    return f if f > 0 else 1.0
+
+
 def prepare(vrmlray, scene):
     """Rewrites the copy `scene` in place with the framing Viewpoint; a note when it could not."""
     b, has_background = info_of(vrmlray, scene)
     if not b:
         return "no bounds: own camera"
     text, zipped = read_text(scene)
-    new = with_viewpoint(text, fit_position(*b), not has_background)
+    # vrmlray info gives metres; the Viewpoint goes into the file, whose UNIT length scales it.
+    metres = length_unit(text)
+    pos = [c / metres for c in fit_position(*b)]
+    new = with_viewpoint(text, pos, not has_background)
     if new is None:
         return "no place for a Viewpoint: own camera"
     data = new.encode("utf-8")
