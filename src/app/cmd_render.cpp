@@ -583,9 +583,12 @@ int write_sent_frames(const RenderCommand& cmd, const World& world, const std::s
         bool unused = false;
         std::string error;
         const std::string path = frame_path(output, k, unused, error);
-        std::ofstream out(path, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-        out.close();
+        std::ofstream out;
+        if (!bytes.empty()) {
+            out.open(path, std::ios::binary);
+            out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+            out.close();
+        }
         if (bytes.empty() || !out) {
             std::cerr << "vrmlray: error: " << path << ": cannot write frame " << k
                       << (bytes.empty() ? " (process " + std::to_string(owner) + " sent nothing)"
