@@ -16,9 +16,7 @@ LineOverlay::LineOverlay(const FlatScene& scene, const Camera& camera, int width
       up_(camera.world_from_camera[1]),
       forward_(glm::normalize(-camera.world_from_camera[2])),
       half_width_(0.5 * width),
-      half_height_(0.5 * height),
-      width_(width),
-      height_(height) {
+      half_height_(0.5 * height) {
     if (scene.segments.empty() && scene.points.empty()) return;
     // The same image plane as CameraRays: one pixel is `pixel_` wide at unit depth (perspective)
     // or in world units (ortho).

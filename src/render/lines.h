@@ -44,7 +44,7 @@ class LineOverlay {
     bool ortho_ = false;
     Vec3 origin_{0.0}, right_{1, 0, 0}, up_{0, 1, 0}, forward_{0, 0, -1};
     double pixel_ = 1.0, half_width_ = 0.0, half_height_ = 0.0;
-    int width_ = 0, height_ = 0, cells_x_ = 0, cells_y_ = 0;
+    int cells_x_ = 0, cells_y_ = 0;
     std::vector<Mark> marks_;
     std::vector<std::vector<uint32_t>> cells_;  // marks touching each cell of kCell x kCell pixels
 };
