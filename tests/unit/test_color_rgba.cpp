@@ -10,26 +10,17 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene_text.h"
 
 namespace vr {
 namespace {
 
 Image render_text(const std::string& text, int size = 32) {
-    LoadedScene loaded = load_scene_text(text, "test.x3dv");
-    EXPECT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    FlattenStats stats;
-    const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
-    EXPECT_EQ(diagnostics.warning_count(), 0u) << diagnostics.format(loaded.sources);
+    const testing::FlattenedText f = testing::flatten_scene_text(text);
+    EXPECT_EQ(f.build_warnings, 0u) << f.messages;
     RenderOptions o;
     o.width = o.height = size;
-    Camera camera;
-    std::string error;
-    EXPECT_TRUE(make_camera(flat, o, camera, error)) << error;
-    RenderStats rs;
-    return render_image(flat, camera, o, nullptr, rs);
+    return testing::render_from_its_camera(f.flat, o);
 }
 
 const std::string kHeader = "#X3D V3.3 utf8\nPROFILE Immersive\n";

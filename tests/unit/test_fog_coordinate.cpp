@@ -11,6 +11,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene_text.h"
 
 namespace vr {
 namespace {
@@ -19,23 +20,13 @@ Image render_flat(const FlatScene& flat, int width, int height) {
     RenderOptions o;
     o.width = width;
     o.height = height;
-    Camera camera;
-    std::string error;
-    EXPECT_TRUE(make_camera(flat, o, camera, error)) << error;
-    RenderStats rs;
-    return render_image(flat, camera, o, nullptr, rs);
+    return testing::render_from_its_camera(flat, o);
 }
 
 FlatScene flatten_text(const std::string& text) {
-    LoadedScene loaded = load_scene_text(text, "test.x3dv");
-    EXPECT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    FlattenStats stats;
-    FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
-    EXPECT_EQ(diagnostics.warning_count(), 0u) << diagnostics.format(loaded.sources);
-    return flat;
+    testing::FlattenedText f = testing::flatten_scene_text(text);
+    EXPECT_EQ(f.build_warnings, 0u) << f.messages;
+    return std::move(f.flat);
 }
 
 // An unlit white quad filling a 32 x 32 orthographic view 5 units away, in a blue Fog.

@@ -9,6 +9,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene_text.h"
 
 namespace vr {
 namespace {
@@ -16,21 +17,11 @@ namespace {
 // The centre pixel of a 16x16 render of `text`, read as `path` (its extension picks nothing: the
 // header decides the encoding).
 Vec3 centre_pixel(const std::string& text, const std::string& path) {
-    LoadedScene loaded = load_scene_text(text, path);
-    EXPECT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    FlattenStats stats;
-    const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
-    EXPECT_EQ(diagnostics.warning_count(), 0u) << diagnostics.format(loaded.sources);
+    const testing::FlattenedText f = testing::flatten_scene_text(text, path);
+    EXPECT_EQ(f.build_warnings, 0u) << f.messages;
     RenderOptions o;
     o.width = o.height = 16;
-    Camera camera;
-    std::string error;
-    EXPECT_TRUE(make_camera(flat, o, camera, error)) << error;
-    RenderStats rs;
-    const Image im = render_image(flat, camera, o, nullptr, rs);
+    const Image im = testing::render_from_its_camera(f.flat, o);
     const float* p = &im.rgba[4 * (8 * 16 + 8)];
     return Vec3(p[0], p[1], p[2]);
 }
