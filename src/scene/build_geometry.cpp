@@ -81,6 +81,17 @@ std::vector<std::string_view> geometry_roles() {
     return out;
 }
 
+void Builder::read_colors(NodeId c, std::vector<Vec3>& colors, std::vector<double>& alphas) {
+    if (type(c) != "Color"_n && type(c) != "ColorRGBA"_n) {
+        warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
+        return;
+    }
+    colors = vec3s(c, "color"_n);
+    if (type(c) != "ColorRGBA"_n) return;
+    const FieldView rgba = tree_.get(c, "color"_n);
+    for (size_t i = 3; i < rgba.numbers.size(); i += 4) alphas.push_back(rgba.numbers[i]);
+}
+
 sg::Index Builder::geometry(NodeId id) {
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     sg::Geometry g = make_geometry(id);
@@ -263,16 +274,7 @@ sg::LineSet Builder::make_lines(NodeId id) {
         else
             warn(c, "wrong-type", "is not a coordinate node vrmlray reads; nothing to draw");
     }
-    if (const NodeId c = node(id, "color"_n); c != kNullNode) {
-        if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
-            l.colors = vec3s(c, "color"_n);
-        else
-            warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
-        if (type(c) == "ColorRGBA"_n) {
-            const FieldView rgba = tree_.get(c, "color"_n);
-            for (size_t i = 3; i < rgba.numbers.size(); i += 4) l.alphas.push_back(rgba.numbers[i]);
-        }
-    }
+    if (const NodeId c = node(id, "color"_n); c != kNullNode) read_colors(c, l.colors, l.alphas);
     if (l.kind == sg::LineKind::Indexed) {
         l.coord_index = integers(id, "coordIndex"_n);
         l.color_index = integers(id, "colorIndex"_n);
@@ -346,17 +348,8 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
         else
             warn(c, "wrong-type", "is not a Normal node; normals are generated");
     }
-    if (const NodeId c = node(id, "color"_n); c != kNullNode) {
-        if (type(c) == "Color"_n || type(c) == "ColorRGBA"_n)
-            data.colors = vec3s(c, "color"_n);
-        else
-            warn(c, "wrong-type", "is not a Color or ColorRGBA node; ignored");
-        if (type(c) == "ColorRGBA"_n) {
-            const FieldView rgba = tree_.get(c, "color"_n);
-            for (size_t i = 3; i < rgba.numbers.size(); i += 4)
-                data.alphas.push_back(rgba.numbers[i]);
-        }
-    }
+    if (const NodeId c = node(id, "color"_n); c != kNullNode)
+        read_colors(c, data.colors, data.alphas);
     // X3D 24.4.3 (VRML97's geometry has no fogCoord field).
     if (tree_.decl(id) && tree_.decl(id)->find("fogCoord"_n))
         if (const NodeId c = node(id, "fogCoord"_n); c != kNullNode) {

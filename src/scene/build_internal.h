@@ -120,6 +120,9 @@ class Builder {
 
     // ---- build_geometry.cpp
     sg::Index geometry(NodeId node);
+    // A geometry's `color` node `c`: its colours, and a ColorRGBA's alphas (empty for Color); any
+    // other node type is warned about and ignored.
+    void read_colors(NodeId c, std::vector<Vec3>& colors, std::vector<double>& alphas);
 
   private:
     // The field's value, checked against the kinds and SF/MF the caller reads it as.
