@@ -35,6 +35,21 @@ inline FlattenedText flatten_scene_text(const std::string& text,
     return out;
 }
 
+// A loaded scene built and flattened as `render` does (its Inlines' and textures' paths from its
+// own file); `messages` holds reading's diagnostics and then building's.
+inline FlattenedText flatten_loaded(const LoadedScene& loaded) {
+    Diagnostics diagnostics;
+    const Scene scene = build_scene(loaded, diagnostics);
+    FlattenOptions fo;
+    fo.scene_file = loaded.main_file;
+    FlattenStats stats;
+    FlattenedText out;
+    out.flat = flatten_scene(scene, fo, diagnostics, stats);
+    out.build_warnings = diagnostics.warning_count();
+    out.messages = loaded.diagnostics.format(loaded.sources) + diagnostics.format(loaded.sources);
+    return out;
+}
+
 // `flat` rendered from its own camera (its Viewpoint, else the framing) with `o`.
 inline Image render_from_its_camera(const FlatScene& flat, const RenderOptions& o) {
     Camera camera;

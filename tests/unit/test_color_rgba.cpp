@@ -85,13 +85,7 @@ TEST(ColorRgbaCorpus, QuadColorsShowTheCheckerboardThroughTheTransparentCorners)
     const std::filesystem::path file =
         corpus / "x3dv/castle-engine-demo-models/x3d/quad_colors.x3dv";
     ASSERT_TRUE(std::filesystem::exists(file)) << file;
-    LoadedScene loaded = load_scene(file);
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    fo.scene_file = loaded.main_file;
-    FlattenStats stats;
-    const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
+    const FlatScene flat = testing::flatten_loaded(load_scene(file)).flat;
     FlatScene opaque = flat;  // the same file with its alphas dropped, as before
     size_t with_alpha = 0;
     for (Mesh& m : opaque.meshes) {

@@ -12,6 +12,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene_text.h"
 #include "test_render_util.h"
 
 namespace vr {
@@ -264,14 +265,9 @@ TEST(LineGeometry, LineSetCountsAndPointSet) {
 
 // Share of pixels not showing the background.
 double covered(const std::filesystem::path& file, std::string& messages) {
-    LoadedScene loaded = load_scene(file);
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    fo.scene_file = loaded.main_file;
-    FlattenStats stats;
-    const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
-    messages = loaded.diagnostics.format(loaded.sources) + diagnostics.format(loaded.sources);
+    testing::FlattenedText f = testing::flatten_loaded(load_scene(file));
+    const FlatScene flat = std::move(f.flat);
+    messages = f.messages;
     RenderOptions o;
     o.width = 160;
     o.height = 120;

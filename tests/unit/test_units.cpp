@@ -15,6 +15,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene_text.h"
 #include "temp_path.h"
 
 namespace vr {
@@ -30,22 +31,11 @@ struct Rendered {
 
 Rendered render_loaded(LoadedScene loaded) {
     EXPECT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
-    Diagnostics diagnostics;
-    const Scene scene = build_scene(loaded, diagnostics);
-    FlattenOptions fo;
-    fo.scene_file = loaded.main_file;
-    FlattenStats stats;
-    const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
+    const testing::FlattenedText f = testing::flatten_loaded(loaded);
     RenderOptions o;
     o.width = 64;
     o.height = 48;
-    Camera camera;
-    std::string error;
-    EXPECT_TRUE(make_camera(flat, o, camera, error)) << error;
-    RenderStats rs;
-    Rendered out{flat.bounds(), render_image(flat, camera, o, nullptr, rs),
-                 loaded.diagnostics.format(loaded.sources) + diagnostics.format(loaded.sources)};
-    return out;
+    return Rendered{f.flat.bounds(), testing::render_from_its_camera(f.flat, o), f.messages};
 }
 
 Rendered render_text(const std::string& text, const std::string& name = "test.x3dv") {
