@@ -414,6 +414,29 @@ void Accel::prefetch_leaf(uint32_t first, uint32_t count) const {
     __builtin_prefetch(end - 1);  // the last line, when `begin` is not on a line's start
 }
 
+bool Accel::frustum_may_hit(const Frustum& f) const {
+    if (bvh_.empty()) return false;
+    // Depth first over the interior nodes whose boxes the frustum may reach; a leaf box it may
+    // reach ends the search. The node budget bounds the cost for a tile over dense geometry,
+    // where the answer is almost always yes after a few levels.
+    constexpr int kMaxNodes = 48;
+    uint32_t stack[kMaxNodes];
+    int top = 0, visited = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        if (++visited > kMaxNodes) return true;
+        const Bvh4Node& n = bvh_.nodes[stack[--top]];
+        for (int c = 0; c < n.lanes; ++c) {
+            const double lo[3] = {n.lo[0][c], n.lo[1][c], n.lo[2][c]};
+            const double hi[3] = {n.hi[0][c], n.hi[1][c], n.hi[2][c]};
+            if (f.separates(lo, hi)) continue;
+            if (n.count[c] > 0 || top == kMaxNodes) return true;
+            stack[top++] = n.child[c];
+        }
+    }
+    return false;
+}
+
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
     double t_max = ray.t_max;
     bool found = false;

@@ -9,6 +9,7 @@
 #include "core/ray.h"
 #include "render/bvh4.h"
 #include "render/flat_scene.h"
+#include "render/frustum.h"
 #include "render/intersect.h"
 
 namespace vr {
@@ -33,6 +34,10 @@ class Accel {
     // see-through sphere crossed through counts twice: t^2, SPEC section 5). Order independent, so
     // deterministic.
     double transmittance(const Ray& ray) const;
+
+    // False when no ray inside `f` can hit anything: every box of the BVH it reaches is outside
+    // one of the frustum's planes. Conservative: true after a few dozen nodes without an answer.
+    bool frustum_may_hit(const Frustum& f) const;
 
     // The hit's surface data; texture coordinates only when `want_uv` (they cost inverse
     // trigonometry).

@@ -128,6 +128,25 @@ CameraRays::CameraRays(const Camera& c, int width, int height)
     }
 }
 
+bool CameraRays::frustum(double x0, double y0, double x1, double y1, Frustum& f) const {
+    if (lens_radius_ > 0.0) return false;
+    // Corners in order around the rectangle; each plane holds the rays of one edge.
+    const Ray corner[4] = {(*this)(x0, y0), (*this)(x1, y0), (*this)(x1, y1), (*this)(x0, y1)};
+    const Ray middle = (*this)(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    for (int k = 0; k < 4; ++k) {
+        const Ray& a = corner[k];
+        const Ray& b = corner[(k + 1) % 4];
+        // Pinhole: the plane through the common origin holding both directions; orthographic:
+        // the plane holding the shared direction and the segment between the two origins.
+        Vec3 n = ortho_ ? glm::cross(a.d, b.o - a.o) : glm::cross(a.d, b.d);
+        const double inward = glm::dot(n, middle.o + middle.d - a.o);
+        if (!(std::fabs(inward) > 0.0) || !std::isfinite(inward)) return false;
+        f.normal[k] = inward > 0.0 ? n : -n;
+        f.point[k] = a.o;
+    }
+    return true;
+}
+
 void CameraRays::through_lens(Ray& r, double x, double y) const {
     uint64_t bx, by;
     std::memcpy(&bx, &x, sizeof bx);

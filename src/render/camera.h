@@ -7,6 +7,7 @@
 #include "core/math.h"
 #include "core/ray.h"
 #include "render/flat_scene.h"
+#include "render/frustum.h"
 #include "render/options.h"
 #include "render/sampling.h"
 
@@ -57,6 +58,9 @@ class CameraRays {
         if (lens_radius_ > 0.0) through_lens(r, x, y);
         return r;
     }
+    // The frustum of every ray this camera makes through image points in [x0, x1] x [y0, y1];
+    // false with a lens (its rays do not share a pyramid) or a view too degenerate to bound.
+    bool frustum(double x0, double y0, double x1, double y1, Frustum& f) const;
 
   private:
     // Moves the ray's origin to a point of the lens chosen by a hash of (x, y) and aims it at the

@@ -187,6 +187,13 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
     return trace_behind(ray, counters);
 }
 
+SampleValue Integrator::trace_camera_miss(const Ray& ray, RayCounters& counters) const {
+    ++counters.primary;
+    SampleValue v = background_sample(ray);
+    if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
+    return v;
+}
+
 SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
                               RayCounters& counters) const {
     if (!gas_) {

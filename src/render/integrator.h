@@ -66,6 +66,12 @@ class Integrator {
     // A camera ray: colour and alpha (1 - the weight with which the background reaches it); with
     // options.alpha the colour leaves that background out (premultiplied by alpha).
     SampleValue trace_camera_ray(const Ray& ray, RayCounters& counters) const;
+    // Whether a camera ray that meets no primitive of the Accel sees only the background: no gas
+    // and no line marks, which camera rays meet outside the Accel.
+    bool camera_misses_see_background() const { return !gas_ && lines_.empty(); }
+    // trace_camera_ray for a ray known to meet nothing (Accel::frustum_may_hit said so for its
+    // tile), without the BVH: the same value, bit for bit.
+    SampleValue trace_camera_miss(const Ray& ray, RayCounters& counters) const;
 
     // Any ray at recursion depth `depth` (camera rays: 0) whose contribution to the pixel is scaled
     // by `weight`.

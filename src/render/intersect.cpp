@@ -24,10 +24,35 @@ QuadricGeom make_quadric_geom(const Quadric& q) {
     g.kind = q.kind;
     g.parts =
         uint8_t((q.side ? kPartSide : 0) | (q.top ? kPartTop : 0) | (q.bottom ? kPartBottom : 0));
+    if (q.kind == QuadricKind::Cylinder || q.kind == QuadricKind::Cone) {
+        // Object points (x, y, z) with x^2 + z^2 <= r^2 map to at most sigma * r from the axis
+        // line, sigma the largest singular value of the map's x and z columns (from their 2x2
+        // Gram matrix). The bound is widened by 1e-6: the exact test uses the computed inverse
+        // object_from_world, whose inverse is world_from_object only to rounding; a map whose
+        // axis column and cross-section differ in scale by more than 1e6 gets no bound.
+        const Vec3 ex(q.world_from_object[0]), ey(q.world_from_object[1]),
+            ez(q.world_from_object[2]);
+        const double g11 = glm::dot(ex, ex), g22 = glm::dot(ez, ez), g12 = glm::dot(ex, ez);
+        const double half_gap = 0.5 * (g11 - g22);
+        const double sigma =
+            std::sqrt(0.5 * (g11 + g22) + std::sqrt(half_gap * half_gap + g12 * g12));
+        const double ey_len = glm::length(ey);
+        const double radius = g.half.x, half_height = g.half.y;
+        const bool conditioned = sigma > 0.0 && ey_len > 1e-6 * sigma && ey_len < 1e6 * sigma;
+        const Vec3 origin(q.world_from_object[3]);
+        const double bound = (radius * sigma + 1e-12 * half_height * ey_len) * (1.0 + 1e-6);
+        if (conditioned && radius > 0.0 && std::isfinite(bound) &&
+            std::isfinite(glm::dot(origin, origin))) {
+            g.axis_point = origin;
+            g.axis_dir = ey / ey_len;
+            g.axis_radius = bound;
+        }
+    }
     return g;
 }
 
 int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t, uint8_t* part) {
+    if (outside_axis_bound(q, ray)) return 0;
     const ObjectRay r = to_object_space(q, ray);
     const Vec3& o = r.o;
     const Vec3& d = r.d;

@@ -37,6 +37,11 @@ enum QuadricPart : uint8_t { kSide = 0, kTop = 1, kBottom = 2 };
 inline constexpr uint8_t kPartSide = 1, kPartTop = 2, kPartBottom = 4;
 
 struct QuadricGeom {
+    // Cylinders and cones lie within axis_radius of the world line axis_point + s * axis_dir
+    // (unit): a ray whose line passes farther from it misses, which a thin bond's box does not
+    // show. axis_radius 0: no such bound (other kinds, or a near-singular map).
+    Vec3 axis_point{0.0}, axis_dir{0.0};
+    double axis_radius = 0.0;
     double object_from_world[3][4];  // rows of the affine map
     Vec3 half;                       // half extents in object space (radius, half height, radius)
     QuadricKind kind;
@@ -118,6 +123,20 @@ inline ObjectRay to_object_space(const QuadricGeom& q, const Ray& r) {
 // numbers in play off the surface: seen on ellipsoids translated by 1e5).
 void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& world_p,
                     Vec3& world_error);
+
+// True when the ray's line passes farther than q.axis_radius from q's axis line, so that it meets
+// no part of q. Undecided (false) for rays within about 0.06 degrees of the axis direction, where
+// the cross product's rounding could mislead, and without a bound. The slack covers the rounding
+// of the distance (1e-10 of the numbers in play, far above a few ulps).
+inline bool outside_axis_bound(const QuadricGeom& q, const Ray& ray) {
+    const Vec3 n = glm::cross(ray.d, q.axis_dir);
+    const double nn = glm::dot(n, n);
+    if (!(nn > 1e-6 * glm::dot(ray.d, ray.d)) || q.axis_radius <= 0.0) return false;
+    const Vec3 w = ray.o - q.axis_point;
+    const double along = glm::dot(w, n);  // the lines' distance times |n|
+    const double limit = q.axis_radius + 1e-10 * (std::fabs(w.x) + std::fabs(w.y) + std::fabs(w.z));
+    return along * along > nn * (limit * limit);
+}
 
 // All surface crossings of the quadric in (0, t_max) (world t), unsorted; returns how many (0..4).
 int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t, uint8_t* part);

@@ -113,6 +113,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const Integrator integrator(scene, accel, camera, options, &gas);
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
+    const bool cull_empty_tiles = integrator.camera_misses_see_background();
     const std::vector<int> tiles = tiles_of(options);
     const int tile_count = int(tiles.size());
     if (tile_count == 0) {
@@ -158,10 +159,19 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                 std::fill(pixels.begin(), pixels.end(),
                           0.0f);  // skipped: the sink still gets every tile
             } else {
+                // A tile whose rays the BVH's boxes show to meet nothing sees the background:
+                // most of the image of a small or distant scene. Samples lie in the tile's
+                // pixels; the frustum is a pixel wider all round.
+                Frustum frustum;
+                const bool empty = cull_empty_tiles &&
+                                   camera_rays.frustum(x0 - 1, y0 - 1, x1 + 1, y1 + 1, frustum) &&
+                                   !accel.frustum_may_hit(frustum);
                 sample_tile(
                     camera.sampler, x0, y0, x1, y1, mine.scratch,
                     [&](double px, double py) {
-                        return integrator.trace_camera_ray(camera_rays(px, py), c);
+                        const Ray ray = camera_rays(px, py);
+                        return empty ? integrator.trace_camera_miss(ray, c)
+                                     : integrator.trace_camera_ray(ray, c);
                     },
                     [&](int x, int y, const SampleValue& v) {
                         float* out =

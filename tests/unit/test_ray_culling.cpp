@@ -1,0 +1,247 @@
+// The two shortcuts that let rays skip exact tests without changing any result: a tile whose
+// frustum the BVH's boxes clear sees only background (render/frustum.h), and a ray whose line
+// passes outside a cylinder's or cone's axis bound misses it (render/intersect.h). Each must never
+// skip what the exact path would hit, and each must actually skip something (else it costs and
+// saves nothing, and these tests could not fail).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "render/accel.h"
+#include "render/camera.h"
+#include "render/integrator.h"
+#include "render/render.h"
+#include "test_render_util.h"
+
+namespace vr {
+namespace {
+
+using Rng = std::mt19937_64;
+
+Vec3 random_unit(Rng& rng) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    return glm::normalize(Vec3(n(rng), n(rng), n(rng)));
+}
+
+// A random affine map: rotation, non-uniform scale, shear, translation by up to `offset`.
+Mat4 random_map(Rng& rng, double offset) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0), s(0.2, 3.0);
+    Mat4 shear(1.0);
+    shear[1][0] = 0.5 * u(rng);  // x += k * y
+    shear[2][1] = 0.5 * u(rng);  // y += k * z
+    return glm::translate(Mat4(1.0), offset * Vec3(u(rng), u(rng), u(rng))) *
+           glm::rotate(Mat4(1.0), 3.0 * u(rng), random_unit(rng)) *
+           glm::scale(Mat4(1.0), Vec3(s(rng), s(rng), s(rng))) * shear;
+}
+
+Quadric random_quadric(Rng& rng, QuadricKind kind, double offset, bool similarity) {
+    std::uniform_real_distribution<double> size(0.05, 2.0);
+    Quadric q;
+    q.kind = kind;
+    const double r = size(rng);
+    q.size = Vec3(2.0 * r, 2.0 * size(rng), 2.0 * r);
+    q.world_from_object =
+        similarity ? glm::translate(Mat4(1.0), offset * random_unit(rng)) *
+                         glm::rotate(Mat4(1.0), 2.0, random_unit(rng)) *
+                         glm::scale(Mat4(1.0), Vec3(size(rng)))
+                   : random_map(rng, offset);
+    q.object_from_world = glm::inverse(q.world_from_object);
+    return q;
+}
+
+// A point of the quadric's surface (side or cap), in world space.
+Vec3 surface_point(Rng& rng, const Quadric& q) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double r = 0.5 * q.size.x, h = 0.5 * q.size.y, phi = 2.0 * kPi * u(rng);
+    Vec3 p;
+    if (u(rng) < 0.7) {
+        const double y = h * (2.0 * u(rng) - 1.0);
+        const double rr = q.kind == QuadricKind::Cone ? r * (h - y) / (2.0 * h) : r;
+        p = Vec3(rr * std::cos(phi), y, rr * std::sin(phi));
+    } else {
+        const double rr = r * std::sqrt(u(rng));
+        p = Vec3(rr * std::cos(phi), -h, rr * std::sin(phi));
+    }
+    return Vec3(q.world_from_object * glm::dvec4(p, 1.0));
+}
+
+TEST(AxisBound, NeverRejectsARayTheExactTestHits) {
+    // Rays aimed at surface points (grazing ones included: the aim is the silhouette's own
+    // points, nudged by 1e-9 to 1e-15 of the size either way) and at random points around, for
+    // cylinders and cones under similarity and general affine maps, far from the origin too.
+    // The roots with the bound must equal those without it, bit for bit.
+    Rng rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int rays = 0, rejected = 0;
+    for (int i = 0; i < 400; ++i) {
+        const QuadricKind kind = i % 2 ? QuadricKind::Cone : QuadricKind::Cylinder;
+        const double offset = i % 4 < 2 ? 3.0 : 1e5;
+        const Quadric q = random_quadric(rng, kind, offset, i % 8 < 4);
+        const QuadricGeom bounded = make_quadric_geom(q);
+        ASSERT_GT(bounded.axis_radius, 0.0);
+        QuadricGeom exact = bounded;
+        exact.axis_radius = 0.0;
+        const Vec3 centre(q.world_from_object[3]);
+        for (int k = 0; k < 200; ++k) {
+            Ray ray;
+            ray.o = centre + 20.0 * random_unit(rng);
+            Vec3 target = k % 2 ? surface_point(rng, q) : centre + 3.0 * Vec3(u(rng), u(rng), u(rng));
+            target += std::pow(10.0, -9.0 - 6.0 * std::fabs(u(rng))) * random_unit(rng);
+            ray.d = target - ray.o;
+            if (k % 3 == 0) ray.d = glm::normalize(ray.d);
+            double t_bounded[4], t_exact[4];
+            uint8_t p_bounded[4], p_exact[4];
+            const int n_bounded = quadric_roots(bounded, ray, kInf, t_bounded, p_bounded);
+            const int n_exact = quadric_roots(exact, ray, kInf, t_exact, p_exact);
+            ASSERT_EQ(n_bounded, n_exact) << "quadric " << i << " ray " << k;
+            for (int j = 0; j < n_exact; ++j) ASSERT_EQ(t_bounded[j], t_exact[j]);
+            ++rays;
+            rejected += outside_axis_bound(bounded, ray) ? 1 : 0;
+        }
+    }
+    // Half the rays aim at random points of a box around the quadric: most of those pass outside.
+    EXPECT_GT(rejected, rays / 5) << rejected << " of " << rays;
+}
+
+TEST(AxisBound, RaysAlongTheAxisAreLeftToTheExactTest) {
+    Rng rng(3);
+    const Quadric q = random_quadric(rng, QuadricKind::Cylinder, 2.0, true);
+    const QuadricGeom g = make_quadric_geom(q);
+    Ray ray;
+    ray.o = g.axis_point - 10.0 * g.axis_dir;
+    ray.d = g.axis_dir;
+    EXPECT_FALSE(outside_axis_bound(g, ray));
+    double t[4];
+    uint8_t part[4];
+    EXPECT_EQ(quadric_roots(g, ray, kInf, t, part), 2);  // both caps
+}
+
+// Every pixel of the image equals the camera ray's value traced without the tile shortcut.
+void expect_render_equals_per_pixel_trace(const FlatScene& scene, RenderOptions options,
+                                          int min_culled_percent) {
+    Camera camera;
+    std::string error;
+    ASSERT_TRUE(make_camera(scene, options, camera, error)) << error;
+    RenderStats stats;
+    const Image image = render_image(scene, camera, options, nullptr, stats);
+    Accel accel;
+    accel.build(scene, 1);
+    const Integrator integrator(scene, accel, camera, options);
+    const CameraRays rays(camera, options.width, options.height);
+    RayCounters counters;
+    int culled = 0, tiles = 0;
+    for (int tile = 0; tile < tile_count(options.width, options.height); ++tile) {
+        const TileRect r = tile_rect(tile, options.width, options.height);
+        Frustum f;
+        const bool empty = rays.frustum(r.x0 - 1, r.y0 - 1, r.x1 + 1, r.y1 + 1, f) &&
+                           !accel.frustum_may_hit(f);
+        culled += empty ? 1 : 0;
+        ++tiles;
+        for (int y = r.y0; y < r.y1; ++y)
+            for (int x = r.x0; x < r.x1; ++x) {
+                const SampleValue v = integrator.trace_camera_ray(rays(x + 0.5, y + 0.5), counters);
+                const float* p = image.pixel(x, y);
+                ASSERT_EQ(p[0], float(v.color.x)) << x << "," << y;
+                ASSERT_EQ(p[1], float(v.color.y)) << x << "," << y;
+                ASSERT_EQ(p[2], float(v.color.z)) << x << "," << y;
+                ASSERT_EQ(p[3], float(v.alpha)) << x << "," << y;
+                if (!empty) continue;
+                // A culled tile: no ray through any point of it, edges and corners included,
+                // meets a primitive.
+                for (double dy : {0.0, 0.5, 1.0})
+                    for (double dx : {0.0, 0.5, 1.0}) {
+                        Hit hit;
+                        ASSERT_FALSE(accel.intersect(rays(x + dx, y + dy), hit))
+                            << "culled tile " << tile << " hides a hit at " << x + dx << ","
+                            << y + dy;
+                    }
+            }
+    }
+    EXPECT_GE(100 * culled, min_culled_percent * tiles) << culled << " of " << tiles << " culled";
+    EXPECT_LT(culled, tiles);  // something is seen
+}
+
+FlatScene random_cluster(Rng& rng, const Vec3& centre, double extent) {
+    FlatScene scene = testing::empty_scene();
+    const uint32_t shading = testing::add_shading(scene, Material());
+    std::uniform_real_distribution<double> u(-1.0, 1.0), r(0.02, 0.3);
+    for (int i = 0; i < 60; ++i)
+        testing::add_sphere(scene, centre + extent * Vec3(u(rng), u(rng), u(rng)), r(rng) * extent,
+                            shading);
+    for (int i = 0; i < 20; ++i) {
+        Quadric q = random_quadric(rng, i % 2 ? QuadricKind::Cylinder : QuadricKind::Box, 0.0, false);
+        q.world_from_object =
+            glm::translate(Mat4(1.0), centre + extent * Vec3(u(rng), u(rng), u(rng))) *
+            glm::scale(Mat4(1.0), Vec3(0.2 * extent)) * q.world_from_object;
+        q.object_from_world = glm::inverse(q.world_from_object);
+        q.shading = shading;
+        scene.quadrics.push_back(q);
+    }
+    Light light;
+    light.kind = LightKind::Directional;
+    light.direction = Vec3(-1.0, -2.0, -3.0);
+    testing::add_light(scene, light);
+    scene.background.present = true;
+    scene.background.sky_colors = {Vec3(0.1, 0.2, 0.3), Vec3(0.9, 0.5, 0.1)};  // a gradient
+    scene.background.sky_angles = {1.2};
+    return scene;
+}
+
+TEST(TileCulling, OneSmallSphereSeenWide) {
+    FlatScene scene = testing::empty_scene();
+    testing::add_sphere(scene, Vec3(0.3, -0.2, 0.0), 0.5, testing::add_shading(scene, Material()));
+    scene.headlight = true;
+    scene.viewpoints.push_back(testing::look_from(Vec3(0.0, 0.0, 6.0), 1.4));
+    RenderOptions options;
+    options.width = 200;
+    options.height = 120;
+    expect_render_equals_per_pixel_trace(scene, options, 70);
+    options.alpha = true;  // the miss path's alpha rule
+    expect_render_equals_per_pixel_trace(scene, options, 70);
+}
+
+TEST(TileCulling, ClustersUnderPerspectiveTelephotoAndOrthoViews) {
+    Rng rng(11);
+    for (double far : {0.0, 1e5}) {
+        const Vec3 centre(far, -0.5 * far, 2.0);
+        const FlatScene cluster = random_cluster(rng, centre, 1.0);
+        RenderOptions options;
+        options.width = 160;
+        options.height = 96;
+        FlatScene wide = cluster;
+        wide.viewpoints.push_back(testing::look_from(centre + Vec3(0.0, 0.0, 12.0), 1.0));
+        expect_render_equals_per_pixel_trace(wide, options, 20);
+        FlatScene tele = cluster;  // a few spheres fill a 1e-3 rad view
+        tele.viewpoints.push_back(testing::look_from(centre + Vec3(0.0, 0.0, 2000.0), 1e-3));
+        expect_render_equals_per_pixel_trace(tele, options, 0);
+        FlatScene ortho = wide;
+        ortho.viewpoints[0].ortho = true;
+        ortho.viewpoints[0].ortho_extent[0] = ortho.viewpoints[0].ortho_extent[1] = -4.0;
+        ortho.viewpoints[0].ortho_extent[2] = ortho.viewpoints[0].ortho_extent[3] = 4.0;
+        expect_render_equals_per_pixel_trace(ortho, options, 20);
+        FlatScene inside = cluster;  // the camera inside the scene's bounds
+        inside.viewpoints.push_back(testing::look_from(centre, 1.2));
+        expect_render_equals_per_pixel_trace(inside, options, 0);
+    }
+}
+
+TEST(TileCulling, ALensLeavesEveryTileToTheBvh) {
+    Rng rng(5);
+    const FlatScene scene = random_cluster(rng, Vec3(0.0), 1.0);
+    RenderOptions options;
+    options.width = options.height = 32;
+    Camera camera;
+    std::string error;
+    FlatScene seen = scene;
+    seen.viewpoints.push_back(testing::look_from(Vec3(0.0, 0.0, 30.0), 0.2));
+    ASSERT_TRUE(make_camera(seen, options, camera, error)) << error;
+    camera.lens_radius = 0.1;
+    const CameraRays rays(camera, options.width, options.height);
+    Frustum f;
+    EXPECT_FALSE(rays.frustum(0, 0, 16, 16, f));
+}
+
+}  // namespace
+}  // namespace vr
