@@ -224,11 +224,12 @@ namespace {
 
 // The mean of f(w) over the cone about `axis` (uniform in its measure) on R = 8 independently
 // jittered stratified patterns of m x m directions, m = 4, 8, ... 128, stopping once
-// `converged(variance of the replicas' means)` holds. Value is double or Vec3 (per channel);
-// `done` says whether it converged before the largest patterns.
+// `converged(variance of the replicas' means)` holds, asked only once the patterns hold
+// `min_samples` directions in all. Value is double or Vec3 (per channel); `done` says whether it
+// converged before the largest patterns.
 template <class Value, class F, class Converged>
-Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key, F&& f,
-                      Converged&& converged, bool& done) {
+Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key,
+                      double min_samples, F&& f, Converged&& converged, bool& done) {
     constexpr int kReplicas = 8;
     const double scale = measure == CapMeasure::Cosine
                              ? std::pow(std::sin(theta_max), 2)
@@ -258,13 +259,21 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
         }
         mean = sum / double(kReplicas);
         const Value variance = glm::max(Value(0.0), (sum2 - sum * mean) / double(kReplicas - 1));
-        if (converged(variance / double(kReplicas))) return mean;
+        if (double(kReplicas) * m * m >= min_samples && converged(variance / double(kReplicas)))
+            return mean;
     }
     done = false;
     return mean;
 }
 
 constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t, 7 dof
+
+// The t interval sees only what some ray has hit: a closed (or open) share q of the cone that every
+// ray misses leaves all replicas equal and the interval 0 wide, however large q. n stratified
+// directions miss a share q with probability at most exp(-n q) (each cell's jitter on its own), so
+// n >= ln(100) / tolerance rays hit any share as large as the tolerance at 99%, the interval's own
+// confidence. At 1e-1 that is the first patterns' 128 rays; at 1e-3 it is 8 x 32^2.
+double min_samples_to_see(double tolerance) { return std::log(100.0) / tolerance; }
 
 }  // namespace
 
@@ -275,7 +284,7 @@ double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec
     ++counts.sampled_points;
     bool done = true;
     const double mean = stratified_mean<double>(
-        axis, theta_max, measure, key,
+        axis, theta_max, measure, key, min_samples_to_see(tolerance_),
         [&](const Vec3& w) {
             return shadow_visibility(p, p_error, ng, w, reach, target, target_radius, counts);
         },
@@ -298,6 +307,7 @@ Vec3 SoftLighting::sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& 
     bool done = true;
     out += stratified_mean<Vec3>(
         n, 0.5 * kPi, CapMeasure::Cosine, point_key(seed_ ^ 0x5c1e5, p, n),
+        min_samples_to_see(tolerance_),
         [&](const Vec3& w) {
             const double v =
                 shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0, counts);

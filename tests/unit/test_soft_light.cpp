@@ -422,6 +422,38 @@ TEST(SoftLight, SamplingPathMeetsTheClosedFormAtItsConfidence) {
     EXPECT_GE(within, kPoints - 1);
 }
 
+TEST(SoftLight, SamplingPathFindsAnOccluderSmallerThanItsFirstPatterns) {
+    // Regression (bench/tachyon_sky_check.sh's scene): a small sphere closing 1 - A = 5e-3 of the
+    // sky, at tolerance 1e-3. The first patterns (8 x 4^2 = 128 rays) all miss it at about half the
+    // points; their 8 means were then all 1, the t interval of width 0 stopped the sampling and
+    // A = 1 came out, 5x the tolerance off. The rays must first be enough to hit any closed share
+    // as large as the tolerance with 99% probability.
+    Cluster c;
+    const uint32_t shading = add_shading(c.scene, Material{});
+    testing::add_quad(c.scene, Vec3(-50, -50, 0), Vec3(50, -50, 0), Vec3(50, 50, 0),
+                      Vec3(-50, 50, 0), shading);
+    const double d = 2.0, theta = 0.3, r = d * std::sqrt(5e-3 / std::cos(theta));
+    add_sphere(c.scene, d * Vec3(std::sin(theta), 0.0, std::cos(theta)), r, shading);
+    c.accel.build(c.scene, 1);
+    const double exact = 1.0 - (r / d) * (r / d) * std::cos(theta);
+    ASSERT_NEAR(1.0 - exact, 5e-3, 1e-12);
+    RenderOptions o;
+    o.sky = Vec3(1.0);
+    o.light_tolerance = 1e-3;
+    const SoftLighting soft(c.scene, c.accel, nullptr, o);
+    int within = 0;
+    constexpr int kPoints = 20;
+    for (int k = 0; k < kPoints; ++k) {
+        SoftLightCounts counts;
+        const Vec3 p(1e-13 * k, 0.0, 0.0), n(0.0, 0.0, 1.0);
+        const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+        EXPECT_EQ(counts.sampled_points, 1u);
+        EXPECT_GE(counts.rays, 4606u);  // ln(100) / 1e-3 rays at least
+        within += std::abs(a - exact) <= 1e-3 ? 1 : 0;
+    }
+    EXPECT_GE(within, kPoints - 1);
+}
+
 // ----- Whole renders -----
 
 // Spheres on a huge ground sphere, a sphere light and a sun disc, seen from above.
