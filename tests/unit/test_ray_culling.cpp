@@ -42,11 +42,10 @@ Quadric random_quadric(Rng& rng, QuadricKind kind, double offset, bool similarit
     q.kind = kind;
     const double r = size(rng);
     q.size = Vec3(2.0 * r, 2.0 * size(rng), 2.0 * r);
-    q.world_from_object =
-        similarity ? glm::translate(Mat4(1.0), offset * random_unit(rng)) *
-                         glm::rotate(Mat4(1.0), 2.0, random_unit(rng)) *
-                         glm::scale(Mat4(1.0), Vec3(size(rng)))
-                   : random_map(rng, offset);
+    q.world_from_object = similarity ? glm::translate(Mat4(1.0), offset * random_unit(rng)) *
+                                           glm::rotate(Mat4(1.0), 2.0, random_unit(rng)) *
+                                           glm::scale(Mat4(1.0), Vec3(size(rng)))
+                                     : random_map(rng, offset);
     q.object_from_world = glm::inverse(q.world_from_object);
     return q;
 }
@@ -87,7 +86,8 @@ TEST(AxisBound, NeverRejectsARayTheExactTestHits) {
         for (int k = 0; k < 200; ++k) {
             Ray ray;
             ray.o = centre + 20.0 * random_unit(rng);
-            Vec3 target = k % 2 ? surface_point(rng, q) : centre + 3.0 * Vec3(u(rng), u(rng), u(rng));
+            Vec3 target =
+                k % 2 ? surface_point(rng, q) : centre + 3.0 * Vec3(u(rng), u(rng), u(rng));
             target += std::pow(10.0, -9.0 - 6.0 * std::fabs(u(rng))) * random_unit(rng);
             ray.d = target - ray.o;
             if (k % 3 == 0) ray.d = glm::normalize(ray.d);
@@ -135,8 +135,8 @@ void expect_render_equals_per_pixel_trace(const FlatScene& scene, RenderOptions 
     for (int tile = 0; tile < tile_count(options.width, options.height); ++tile) {
         const TileRect r = tile_rect(tile, options.width, options.height);
         Frustum f;
-        const bool empty = rays.frustum(r.x0 - 1, r.y0 - 1, r.x1 + 1, r.y1 + 1, f) &&
-                           !accel.frustum_may_hit(f);
+        const bool empty =
+            rays.frustum(r.x0 - 1, r.y0 - 1, r.x1 + 1, r.y1 + 1, f) && !accel.frustum_may_hit(f);
         culled += empty ? 1 : 0;
         ++tiles;
         for (int y = r.y0; y < r.y1; ++y)
@@ -171,7 +171,8 @@ FlatScene random_cluster(Rng& rng, const Vec3& centre, double extent) {
         testing::add_sphere(scene, centre + extent * Vec3(u(rng), u(rng), u(rng)), r(rng) * extent,
                             shading);
     for (int i = 0; i < 20; ++i) {
-        Quadric q = random_quadric(rng, i % 2 ? QuadricKind::Cylinder : QuadricKind::Box, 0.0, false);
+        Quadric q =
+            random_quadric(rng, i % 2 ? QuadricKind::Cylinder : QuadricKind::Box, 0.0, false);
         q.world_from_object =
             glm::translate(Mat4(1.0), centre + extent * Vec3(u(rng), u(rng), u(rng))) *
             glm::scale(Mat4(1.0), Vec3(0.2 * extent)) * q.world_from_object;
