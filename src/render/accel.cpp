@@ -476,11 +476,17 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
     return found;
 }
 
-double Accel::transmittance(const Ray& ray) const {
+double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
     double t_max = ray.t_max;
     double result = 1.0;
     auto prefetch = [this](uint32_t first, uint32_t count) { prefetch_leaf(first, count); };
+    const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
+    if (blocker != nullptr && *blocker < prims_.size() && !(prim_transparency_[*blocker] > 0.0) &&
+        crossings(prims_[*blocker], ray, inv_a, tri_ray) > 0)
+        return 0.0;
+    uint32_t unused = 0;
+    uint32_t& found = blocker != nullptr ? *blocker : unused;
     if (spheres_only_ && !any_transparent_) {
         traverse_bvh4(
             bvh_, ray, t_max,
@@ -490,6 +496,7 @@ double Accel::transmittance(const Ray& ray) const {
                     double t[2];
                     if (sphere_roots(ray.o, ray.d, inv_a, s.center, s.radius, ray.t_max, t) > 0) {
                         result = 0.0;
+                        found = i;
                         return true;
                     }
                 }
@@ -498,7 +505,6 @@ double Accel::transmittance(const Ray& ray) const {
             prefetch);
         return result;
     }
-    const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
     if (!any_transparent_) {
         Hit hit;
         traverse_bvh4(
@@ -508,6 +514,7 @@ double Accel::transmittance(const Ray& ray) const {
                     double t_limit = ray.t_max;
                     if (test_primitive(prims_[i], ray, inv_a, tri_ray, t_limit, hit)) {
                         result = 0.0;
+                        found = i;
                         return true;
                     }
                 }
@@ -525,6 +532,7 @@ double Accel::transmittance(const Ray& ray) const {
                 double tr = prim_transparency_[i];
                 if (tr <= 0.0) {
                     result = 0.0;
+                    found = i;
                     return true;
                 }
                 for (int k = 0; k < n; ++k) result *= tr;

@@ -33,7 +33,13 @@ class Accel {
     // crosses it, else the product of transparency over every see-through surface crossing (a
     // see-through sphere crossed through counts twice: t^2, SPEC section 5). Order independent, so
     // deterministic.
-    double transmittance(const Ray& ray) const;
+    double transmittance(const Ray& ray) const { return transmittance(ray, nullptr); }
+    // The same, trying first the entry `*blocker` names (an index of leaf order, any value) and
+    // setting it to the opaque entry that blocks this ray, if one does. Shadow rays from
+    // neighbouring pixels are mostly blocked by the same primitive, which then costs one test
+    // instead of a traversal. The result does not depend on the hint: a blocking opaque entry
+    // makes it 0 whichever entry is found first.
+    double transmittance(const Ray& ray, uint32_t* blocker) const;
 
     // False when no ray inside `f` can hit anything: every box of the BVH it reaches is outside
     // one of the frustum's planes. Conservative: true after a few dozen nodes without an answer.

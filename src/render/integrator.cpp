@@ -123,7 +123,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                                  ? spawn_ray(hit.p, hit.p_error, ng, l)
                                  : spawn_ray_to(hit.p, hit.p_error, ng, light.position);
                 ++counters.shadow;
-                visibility = accel_.transmittance(shadow);
+                visibility = accel_.transmittance(shadow, &counters.shadow_blocker);
                 // Gas spheres on the way dim the light by their transmittance (SPEC section 5).
                 if (gas_ && visibility > 0.0) visibility *= std::exp(-gas_->optical_depth(shadow));
                 if (std::isnan(visibility))

@@ -39,6 +39,9 @@ struct RayCounters {
     uint64_t primary = 0, shadow = 0, secondary = 0;
     NonFiniteCounts nonfinite;
     SoftLightCounts soft;  // sky light and area lights (SPEC section 13)
+    // Not a count: this thread's last shadow-ray blocker, the hint of Accel::transmittance (any
+    // value is correct; the thread's next shadow ray tries it first).
+    uint32_t shadow_blocker = UINT32_MAX;
     void add(const RayCounters& o) {
         primary += o.primary;
         shadow += o.shadow;

@@ -246,3 +246,66 @@ TEST(TileCulling, ALensLeavesEveryTileToTheBvh) {
 
 }  // namespace
 }  // namespace vr
+
+namespace vr {
+namespace {
+
+// Spheres, cylinders, boxes and triangles, a third of them see-through.
+FlatScene mixed_scene(Rng& rng) {
+    FlatScene scene = testing::empty_scene();
+    Material clear;
+    clear.transparency = 0.5;
+    const uint32_t opaque = testing::add_shading(scene, Material());
+    const uint32_t see_through = testing::add_shading(scene, clear);
+    std::uniform_real_distribution<double> u(-4.0, 4.0), r(0.1, 0.8);
+    for (int i = 0; i < 80; ++i)
+        testing::add_sphere(scene, Vec3(u(rng), u(rng), u(rng)), r(rng),
+                            i % 3 ? opaque : see_through);
+    for (int i = 0; i < 30; ++i) {
+        Quadric q =
+            random_quadric(rng, i % 2 ? QuadricKind::Cylinder : QuadricKind::Box, 4.0, false);
+        q.shading = i % 3 ? opaque : see_through;
+        scene.quadrics.push_back(q);
+    }
+    for (int i = 0; i < 10; ++i) {
+        const Vec3 c(u(rng), u(rng), u(rng));
+        testing::add_quad(scene, c, c + Vec3(1.0, 0.0, 0.0), c + Vec3(1.0, 1.0, 0.2),
+                          c + Vec3(0.0, 1.0, 0.0), i % 3 ? opaque : see_through);
+    }
+    return scene;
+}
+
+TEST(ShadowHint, AnyHintGivesTheTransmittanceWithoutIt) {
+    // The hint is any entry, the last blocker (the renderer's case) or none; whatever it is, the
+    // transmittance is the same, see-through entries included (a see-through hint that the ray
+    // crosses must not end the search with 0).
+    Rng rng(17);
+    const FlatScene scene = mixed_scene(rng);
+    Accel accel;
+    accel.build(scene, 1);
+    std::uniform_real_distribution<double> u(-5.0, 5.0);
+    std::uniform_int_distribution<uint32_t> entry(0, uint32_t(accel.primitive_count() + 2));
+    uint32_t last = UINT32_MAX;
+    int blocked = 0, reused = 0;
+    for (int k = 0; k < 20000; ++k) {
+        Ray ray;
+        ray.o = Vec3(u(rng), u(rng), u(rng));
+        ray.d = Vec3(u(rng), u(rng), u(rng)) - ray.o;
+        ray.t_max = 1.0;
+        const double plain = accel.transmittance(ray);
+        uint32_t random_hint = entry(rng);
+        ASSERT_EQ(accel.transmittance(ray, &random_hint), plain) << "ray " << k;
+        const uint32_t before = last;
+        ASSERT_EQ(accel.transmittance(ray, &last), plain) << "ray " << k;
+        if (plain == 0.0) {
+            ++blocked;
+            ASSERT_LT(last, accel.primitive_count());  // the blocker is named for the next ray
+            reused += last == before ? 1 : 0;
+        }
+    }
+    EXPECT_GT(blocked, 1000);
+    EXPECT_GT(reused, 0);
+}
+
+}  // namespace
+}  // namespace vr
