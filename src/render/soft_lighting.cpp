@@ -200,7 +200,8 @@ bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max
 
 double SoftLighting::shadow_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng,
                                        const Vec3& w, double reach, const Vec3& target,
-                                       double target_radius, SoftLightCounts& counts) const {
+                                       double target_radius, SoftLightCounts& counts,
+                                       uint32_t& blocker) const {
     if (!(glm::dot(w, ng) > 0.0)) return 0.0;  // below the surface itself
     Ray ray;
     if (target_radius > 0.0) {
@@ -215,7 +216,7 @@ double SoftLighting::shadow_visibility(const Vec3& p, const Vec3& p_error, const
         ray.t_max = reach;
     }
     ++counts.rays;
-    double v = accel_.transmittance(ray);
+    double v = accel_.transmittance(ray, &blocker);
     if (gas_ && v > 0.0) v *= std::exp(-gas_->optical_depth(ray));
     return std::isfinite(v) ? v : 0.0;
 }
@@ -283,10 +284,13 @@ double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec
                                    uint64_t key, SoftLightCounts& counts) const {
     ++counts.sampled_points;
     bool done = true;
+    // Neighbouring directions are mostly blocked by the same primitive (a hint only).
+    uint32_t blocker = UINT32_MAX;
     const double mean = stratified_mean<double>(
         axis, theta_max, measure, key, min_samples_to_see(tolerance_),
         [&](const Vec3& w) {
-            return shadow_visibility(p, p_error, ng, w, reach, target, target_radius, counts);
+            return shadow_visibility(p, p_error, ng, w, reach, target, target_radius, counts,
+                                     blocker);
         },
         [&](double v) { return kStudent99 * std::sqrt(v) <= tolerance_; }, done);
     if (!done) ++counts.unconverged;
@@ -305,12 +309,13 @@ Vec3 SoftLighting::sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& 
     if (!(range.x > 0.0 || range.y > 0.0 || range.z > 0.0)) return out;
     ++counts.sampled_points;
     bool done = true;
+    uint32_t blocker = UINT32_MAX;
     out += stratified_mean<Vec3>(
         n, 0.5 * kPi, CapMeasure::Cosine, point_key(seed_ ^ 0x5c1e5, p, n),
         min_samples_to_see(tolerance_),
         [&](const Vec3& w) {
             const double v =
-                shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0, counts);
+                shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0, counts, blocker);
             return v > 0.0 ? v * (map.radiance(w) - lowest) : Vec3(0.0);
         },
         [&](const Vec3& v) {

@@ -88,10 +88,11 @@ class SoftLighting {
 
   private:
     // The shadow-ray visibility along unit w from p: to the near side of the sphere light
-    // (`target`, `target_radius` > 0), else up to `reach`; 0 below the surface ng.
+    // (`target`, `target_radius` > 0), else up to `reach`; 0 below the surface ng. `blocker`:
+    // the hint of Accel::transmittance, kept across one point's rays.
     double shadow_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& w,
                              double reach, const Vec3& target, double target_radius,
-                             SoftLightCounts& counts) const;
+                             SoftLightCounts& counts, uint32_t& blocker) const;
     // The open share of the cone by shadow rays (the sampling path). `target_radius` > 0: the rays
     // end on the sphere light of that radius at `target`; else they run `reach` far.
     double sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& axis,
