@@ -26,6 +26,8 @@ class BackgroundModel {
     //        is silent);
     //   panorama: six images on a cube in front of sky and ground, blended by their alpha.
     Vec3 radiance(const Vec3& dir) const;
+    // radiance() is one colour for every direction (--background, or one sky colour only).
+    bool uniform() const { return constant_.has_value(); }
 
   private:
     Vec3 gradient(const Vec3& local) const;

@@ -72,6 +72,8 @@ class Integrator {
     // Whether a camera ray that meets no primitive of the Accel sees only the background: no gas
     // and no line marks, which camera rays meet outside the Accel.
     bool camera_misses_see_background() const { return !gas_ && lines_.empty(); }
+    // Whether every miss sees the same background, whatever its direction.
+    bool uniform_background() const { return background_.uniform(); }
     // trace_camera_ray for a ray known to meet nothing (Accel::frustum_may_hit said so for its
     // tile), without the BVH: the same value, bit for bit.
     SampleValue trace_camera_miss(const Ray& ray, RayCounters& counters) const;

@@ -114,6 +114,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
     const bool cull_empty_tiles = integrator.camera_misses_see_background();
+    const bool one_uniform_sample =
+        camera.sampler.kind == SamplerKind::Center && integrator.uniform_background();
     const std::vector<int> tiles = tiles_of(options);
     const int tile_count = int(tiles.size());
     if (tile_count == 0) {
@@ -166,23 +168,32 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                 const bool empty = cull_empty_tiles &&
                                    camera_rays.frustum(x0 - 1, y0 - 1, x1 + 1, y1 + 1, frustum) &&
                                    !accel.frustum_may_hit(frustum);
-                sample_tile(
-                    camera.sampler, x0, y0, x1, y1, mine.scratch,
-                    [&](double px, double py) {
-                        const Ray ray = camera_rays(px, py);
-                        return empty ? integrator.trace_camera_miss(ray, c)
-                                     : integrator.trace_camera_ray(ray, c);
-                    },
-                    [&](int x, int y, const SampleValue& v) {
-                        float* out =
-                            &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
-                        out[0] = to_output(v.color.x, bad);
-                        out[1] = to_output(v.color.y, bad);
-                        out[2] = to_output(v.color.z, bad);
-                        if (!std::isfinite(v.alpha)) ++bad;
-                        out[3] =
-                            std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
-                    });
+                auto store = [&](int x, int y, const SampleValue& v) {
+                    float* out = &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
+                    out[0] = to_output(v.color.x, bad);
+                    out[1] = to_output(v.color.y, bad);
+                    out[2] = to_output(v.color.z, bad);
+                    if (!std::isfinite(v.alpha)) ++bad;
+                    out[3] = std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
+                };
+                if (empty && one_uniform_sample) {
+                    // One sample a pixel of a background that is the same in every direction:
+                    // every pixel of the tile gets the value of its first ray.
+                    const SampleValue v =
+                        integrator.trace_camera_miss(camera_rays(x0 + 0.5, y0 + 0.5), c);
+                    c.primary += uint64_t(x1 - x0) * uint64_t(y1 - y0) - 1;
+                    for (int y = y0; y < y1; ++y)
+                        for (int x = x0; x < x1; ++x) store(x, y, v);
+                } else {
+                    sample_tile(
+                        camera.sampler, x0, y0, x1, y1, mine.scratch,
+                        [&](double px, double py) {
+                            const Ray ray = camera_rays(px, py);
+                            return empty ? integrator.trace_camera_miss(ray, c)
+                                         : integrator.trace_camera_ray(ray, c);
+                        },
+                        store);
+                }
             }
             sink(x0, y0, x1, y1, pixels.data());
             rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);

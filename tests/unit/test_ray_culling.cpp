@@ -159,6 +159,8 @@ void expect_render_equals_per_pixel_trace(const FlatScene& scene, RenderOptions 
                     }
             }
     }
+    // One camera ray a pixel is counted, culled tiles filled from one ray included.
+    EXPECT_EQ(stats.primary_rays, uint64_t(options.width) * uint64_t(options.height));
     EXPECT_GE(100 * culled, min_culled_percent * tiles) << culled << " of " << tiles << " culled";
     EXPECT_LT(culled, tiles);  // something is seen
 }
