@@ -110,22 +110,10 @@ assert n == 1
 open("sky_grid.dat", "w").write(dat)
 EOF
 tachyon_cut() {  # IN.ppm OUT.ppm: drop the top row and the right column of a PPM48
-    /usr/bin/python3 - "$1" "$2" <<'EOF'
-import sys, numpy as np
-data = open(sys.argv[1], "rb").read()
-fields, pos = [], 0
-while len(fields) < 4:  # magic, width, height, maxval; no comments in Tachyon's files
-    while data[pos:pos + 1].isspace():
-        pos += 1
-    end = pos
-    while not data[end:end + 1].isspace():
-        end += 1
-    fields.append(data[pos:end])
-    pos = end
-w, h, maxval = int(fields[1]), int(fields[2]), int(fields[3])
-assert fields[0] == b"P6" and maxval == 65535
-pixels = np.frombuffer(data, dtype=">u2", count=w * h * 3, offset=pos + 1).reshape(h, w, 3)[1:, :-1]
-open(sys.argv[2], "wb").write(b"P6\n%d %d\n65535\n" % (w - 1, h - 1) + pixels.tobytes())
+    PYTHONPATH="$root/bench" /usr/bin/python3 - "$1" "$2" <<'EOF'
+import sys
+from ppm48 import read_ppm48, write_ppm48
+write_ppm48(sys.argv[2], read_ppm48(sys.argv[1])[1:, :-1])
 EOF
 }
 

@@ -53,23 +53,14 @@ tachyon plane.dat -res "$size" "$size" "${sky[@]}" -o plane.ppm >/dev/null
 tachyon plane_grid.dat -res $((size + 1)) $((size + 1)) "${sky[@]}" -o plane_grid.ppm >/dev/null
 tachyon sphere.dat -res "$size" "$size" "${sky[@]}" -o sphere.ppm >/dev/null
 
-/usr/bin/python3 - "$size" <<'EOF'
+PYTHONPATH="$root/bench" /usr/bin/python3 - "$size" <<'EOF'
 import math, sys
+import ppm48
 import numpy as np
 
 def read_ppm48(path):
-    data = open(path, "rb").read()
-    fields, pos = [], 0
-    while len(fields) < 4:
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        end = pos
-        while not data[end:end + 1].isspace():
-            end += 1
-        fields.append(data[pos:end])
-        pos = end
-    w, h = int(fields[1]), int(fields[2])
-    return np.frombuffer(data, dtype=">u2", count=w * h * 3, offset=pos + 1).reshape(h, w, 3) / 65535.0
+    return ppm48.read_ppm48(path) / 65535.0
+
 
 n = int(sys.argv[1])
 as_is = read_ppm48("plane.ppm")
