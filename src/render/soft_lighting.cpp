@@ -225,8 +225,8 @@ namespace {
 
 // The mean of f(w) over the cone about `axis` (uniform in its measure) on R = 8 independently
 // jittered stratified patterns of m x m directions, m = 4, 8, ... 128, stopping once
-// `converged(variance of the replicas' means)` holds, asked only once the patterns hold
-// `min_samples` directions in all. Value is double or Vec3 (per channel); `done` says whether it
+// `converged(variance of the replicas' means)` holds; patterns of fewer than `min_samples`
+// directions in all are skipped. Value is double or Vec3 (per channel); `done` says whether it
 // converged before the largest patterns.
 template <class Value, class F, class Converged>
 Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key,
@@ -241,6 +241,9 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
     Value mean(0.0);
     done = true;
     for (int m = 4, round = 0; m <= 128; m *= 2, ++round) {
+        // A round too small to stop is not traced: rounds are independent (each its own
+        // patterns, keyed by its number), so the result is the same as tracing it.
+        if (double(kReplicas) * m * m < min_samples && m < 128) continue;
         Value sum(0.0), sum2(0.0);
         for (int r = 0; r < kReplicas; ++r) {
             Value replica(0.0);
