@@ -32,6 +32,50 @@ float to_output(double v, uint64_t& nonfinite) {
     return float(std::clamp(v, -kMax, kMax));
 }
 
+// What render_tiles may skip: the BVH for a tile its boxes show to be empty (`cull`), and every
+// ray but one of such a tile when one sample a pixel sees a one-colour background (`fill`).
+struct EmptyTiles {
+    bool cull = false, fill = false;
+};
+
+// Traces tile r into `pixels` (RGBA rows of the tile).
+void trace_tile(const Camera& camera, const CameraRays& camera_rays, const Integrator& integrator,
+                const Accel& accel, const EmptyTiles& skip, const TileRect& r,
+                SamplerScratch& scratch, RayCounters& c, std::vector<float>& pixels) {
+    const int x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
+    uint64_t& bad = c.nonfinite.shading;
+    // A tile whose rays the BVH's boxes show to meet nothing sees the background: most of the
+    // image of a small or distant scene. Samples lie in the tile's pixels; the frustum is a pixel
+    // wider all round.
+    Frustum frustum;
+    const bool empty = skip.cull && camera_rays.frustum(x0 - 1, y0 - 1, x1 + 1, y1 + 1, frustum) &&
+                       !accel.frustum_may_hit(frustum);
+    auto store = [&](int x, int y, const SampleValue& v) {
+        float* out = &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
+        out[0] = to_output(v.color.x, bad);
+        out[1] = to_output(v.color.y, bad);
+        out[2] = to_output(v.color.z, bad);
+        if (!std::isfinite(v.alpha)) ++bad;
+        out[3] = std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
+    };
+    if (empty && skip.fill) {
+        // Every pixel of the tile gets the value of its first ray.
+        const SampleValue v = integrator.trace_camera_miss(camera_rays(x0 + 0.5, y0 + 0.5), c);
+        c.primary += uint64_t(x1 - x0) * uint64_t(y1 - y0) - 1;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) store(x, y, v);
+        return;
+    }
+    sample_tile(
+        camera.sampler, x0, y0, x1, y1, scratch,
+        [&](double px, double py) {
+            const Ray ray = camera_rays(px, py);
+            return empty ? integrator.trace_camera_miss(ray, c)
+                         : integrator.trace_camera_ray(ray, c);
+        },
+        store);
+}
+
 }  // namespace
 
 size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& options) {
@@ -113,9 +157,9 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const Integrator integrator(scene, accel, camera, options, &gas);
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
-    const bool cull_empty_tiles = integrator.camera_misses_see_background();
-    const bool one_uniform_sample =
-        camera.sampler.kind == SamplerKind::Center && integrator.uniform_background();
+    const EmptyTiles empty_tiles = {
+        integrator.camera_misses_see_background(),
+        camera.sampler.kind == SamplerKind::Center && integrator.uniform_background()};
     const std::vector<int> tiles = tiles_of(options);
     const int tile_count = int(tiles.size());
     if (tile_count == 0) {
@@ -146,7 +190,6 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     auto worker = [&](int id) {
         PerThread& mine = per_thread[size_t(id)];
         RayCounters& c = mine.rays;
-        uint64_t& bad = c.nonfinite.shading;
         for (;;) {
             const int index = next_tile.fetch_add(1, std::memory_order_relaxed);
             if (index >= tile_count) break;
@@ -161,39 +204,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                 std::fill(pixels.begin(), pixels.end(),
                           0.0f);  // skipped: the sink still gets every tile
             } else {
-                // A tile whose rays the BVH's boxes show to meet nothing sees the background:
-                // most of the image of a small or distant scene. Samples lie in the tile's
-                // pixels; the frustum is a pixel wider all round.
-                Frustum frustum;
-                const bool empty = cull_empty_tiles &&
-                                   camera_rays.frustum(x0 - 1, y0 - 1, x1 + 1, y1 + 1, frustum) &&
-                                   !accel.frustum_may_hit(frustum);
-                auto store = [&](int x, int y, const SampleValue& v) {
-                    float* out = &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
-                    out[0] = to_output(v.color.x, bad);
-                    out[1] = to_output(v.color.y, bad);
-                    out[2] = to_output(v.color.z, bad);
-                    if (!std::isfinite(v.alpha)) ++bad;
-                    out[3] = std::isfinite(v.alpha) ? float(std::clamp(v.alpha, 0.0, 1.0)) : 1.0f;
-                };
-                if (empty && one_uniform_sample) {
-                    // One sample a pixel of a background that is the same in every direction:
-                    // every pixel of the tile gets the value of its first ray.
-                    const SampleValue v =
-                        integrator.trace_camera_miss(camera_rays(x0 + 0.5, y0 + 0.5), c);
-                    c.primary += uint64_t(x1 - x0) * uint64_t(y1 - y0) - 1;
-                    for (int y = y0; y < y1; ++y)
-                        for (int x = x0; x < x1; ++x) store(x, y, v);
-                } else {
-                    sample_tile(
-                        camera.sampler, x0, y0, x1, y1, mine.scratch,
-                        [&](double px, double py) {
-                            const Ray ray = camera_rays(px, py);
-                            return empty ? integrator.trace_camera_miss(ray, c)
-                                         : integrator.trace_camera_ray(ray, c);
-                        },
-                        store);
-                }
+                trace_tile(camera, camera_rays, integrator, accel, empty_tiles, r, mine.scratch, c,
+                           pixels);
             }
             sink(x0, y0, x1, y1, pixels.data());
             rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);
