@@ -9,10 +9,14 @@
 #include <random>
 #include <string>
 
+#include "corpus.h"
+#include "flatten/flatten.h"
+#include "parser/load.h"
 #include "render/accel.h"
 #include "render/camera.h"
 #include "render/integrator.h"
 #include "render/render.h"
+#include "scene/build.h"
 #include "test_render_util.h"
 
 namespace vr {
@@ -227,6 +231,55 @@ TEST(TileCulling, ClustersUnderPerspectiveTelephotoAndOrthoViews) {
         FlatScene inside = cluster;  // the camera inside the scene's bounds
         inside.viewpoints.push_back(testing::look_from(centre, 1.2));
         expect_render_equals_per_pixel_trace(inside, options, 0);
+    }
+}
+
+TEST(TileCulling, RealExportsRenderAsWithoutTheShortcuts) {
+    // Ball-and-stick exports of PyMOL, Jmol (spheres and cylinders recovered from its meshes) and
+    // RasMol (VRML 1.0): every pixel equals the per-pixel trace, and every bond cylinder's roots
+    // for rays from the camera to points of its surface equal those without the axis bound.
+    VR_CORPUS_FOLDER(molecular, "molecular");
+    for (const char* file :
+         {"jmol/pept_ballstick.wrl", "pymol/c551_ballstick.wrl", "rasmol/c551_ballstick.wrl"}) {
+        SCOPED_TRACE(file);
+        const LoadedScene loaded = load_scene(molecular / file);
+        ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
+        Diagnostics diagnostics;
+        const Scene scene = build_scene(loaded, diagnostics);
+        FlattenOptions fo;
+        fo.scene_file = loaded.main_file;
+        fo.recover_spheres = true;
+        FlattenStats stats;
+        const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
+        ASSERT_GT(flat.spheres.size(), 10u);
+        RenderOptions options;
+        options.width = 160;
+        options.height = 120;
+        expect_render_equals_per_pixel_trace(flat, options, 1);
+
+        Camera camera;
+        std::string error;
+        ASSERT_TRUE(make_camera(flat, options, camera, error)) << error;
+        Rng rng(29);
+        int cylinders = 0;
+        for (const Quadric& q : flat.quadrics) {
+            if (q.kind != QuadricKind::Cylinder) continue;
+            ++cylinders;
+            const QuadricGeom bounded = make_quadric_geom(q);
+            QuadricGeom exact = bounded;
+            exact.axis_radius = 0.0;
+            for (int k = 0; k < 8; ++k) {
+                Ray ray;
+                ray.o = camera.position;
+                ray.d = surface_point(rng, q) - ray.o;
+                double tb[4], te[4];
+                uint8_t pb[4], pe[4];
+                const int nb = quadric_roots(bounded, ray, kInf, tb, pb);
+                ASSERT_EQ(nb, quadric_roots(exact, ray, kInf, te, pe));
+                for (int j = 0; j < nb; ++j) ASSERT_EQ(tb[j], te[j]);
+            }
+        }
+        EXPECT_GT(cylinders, 10) << "bonds are cylinders";
     }
 }
 
