@@ -156,13 +156,16 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
     return color;
 }
 
-SampleValue Integrator::trace_behind(const Ray& ray, RayCounters& counters) const {
-    SampleValue v = trace(ray, 0, 1.0, counters);
+SampleValue Integrator::alpha_rule(SampleValue v, const Ray& ray) const {
     // With --alpha the colour leaves out the background that reaches the pixel (SPEC section 9), so
     // that colour + (1 - alpha) * background, the image composited over its background, is the
     // opaque image again. A clean miss gives exactly 0.
     if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
     return v;
+}
+
+SampleValue Integrator::trace_behind(const Ray& ray, RayCounters& counters) const {
+    return alpha_rule(trace(ray, 0, 1.0, counters), ray);
 }
 
 SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
@@ -189,9 +192,7 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
 
 SampleValue Integrator::trace_camera_miss(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
-    SampleValue v = background_sample(ray);
-    if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
-    return v;
+    return alpha_rule(background_sample(ray), ray);
 }
 
 SampleValue Integrator::trace(const Ray& ray, int depth, double weight,

@@ -102,6 +102,8 @@ class Integrator {
   private:
     // A camera ray past any line or point mark: trace() with the --alpha rule applied.
     SampleValue trace_behind(const Ray& ray, RayCounters& counters) const;
+    // A camera ray's sample with the --alpha rule applied (the background it sees left out).
+    SampleValue alpha_rule(SampleValue v, const Ray& ray) const;
 
     const FlatScene& scene_;
     const Accel& accel_;

@@ -129,9 +129,10 @@ void to_world_space(const Mat4& w, const Vec3& p, const Vec3& p_error, Vec3& wor
 // the cross product's rounding could mislead, and without a bound. The slack covers the rounding
 // of the distance (1e-10 of the numbers in play, far above a few ulps).
 inline bool outside_axis_bound(const QuadricGeom& q, const Ray& ray) {
+    if (q.axis_radius <= 0.0) return false;  // boxes and ellipsoids pay one comparison
     const Vec3 n = glm::cross(ray.d, q.axis_dir);
     const double nn = glm::dot(n, n);
-    if (!(nn > 1e-6 * glm::dot(ray.d, ray.d)) || q.axis_radius <= 0.0) return false;
+    if (!(nn > 1e-6 * glm::dot(ray.d, ray.d))) return false;
     const Vec3 w = ray.o - q.axis_point;
     const double along = glm::dot(w, n);  // the lines' distance times |n|
     const double limit = q.axis_radius + 1e-10 * (std::fabs(w.x) + std::fabs(w.y) + std::fabs(w.z));

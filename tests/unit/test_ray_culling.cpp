@@ -110,6 +110,9 @@ TEST(AxisBound, NeverRejectsARayTheExactTestHits) {
 }
 
 TEST(AxisBound, RaysAlongTheAxisAreLeftToTheExactTest) {
+    // A ray down the axis (distance 0, a zero cross product) is not rejected and meets both caps.
+    // This checks the outcome only: the near-parallel guard itself is not isolated here, as the
+    // bound alone also keeps this ray.
     Rng rng(3);
     const Quadric q = random_quadric(rng, QuadricKind::Cylinder, 2.0, true);
     const QuadricGeom g = make_quadric_geom(q);
@@ -255,6 +258,8 @@ TEST(TileCulling, RealExportsRenderAsWithoutTheShortcuts) {
         RenderOptions options;
         options.width = 160;
         options.height = 120;
+        // At least 1% of the tiles culled: the molecule leaves the image's margins empty, so the
+        // shortcut runs on real files too (the exact share depends on each exporter's framing).
         expect_render_equals_per_pixel_trace(flat, options, 1);
 
         Camera camera;
