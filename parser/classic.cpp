@@ -51,6 +51,8 @@ class Reader {
           limits_(limits),
           resolver_(resolver) {}
 
+    void set_consumer(PieceConsumer* consumer) { consumer_ = consumer; }
+
     ClassicResult read_file(uint32_t file) {
         ClassicResult result;
         error_file_ = file;
@@ -74,6 +76,7 @@ class Reader {
         }
         pieces.stop();
         result.units = units_;
+        result.consumed = std::move(consumed_);
         // The last few megabytes release_before kept (it frees in steps) would stay resident
         // through the scene build, the peak of a large scene's memory.
         scene_.sources.release_all(file);
@@ -509,7 +512,7 @@ class Reader {
 
     NodeId make_node(Frame& f, const NodeTypeDecl* decl, Name type_name, const Token& at,
                      size_t mark) {
-        if (tree_.nodes.size() >= limits_.max_nodes)
+        if (tree_.nodes.size() + consumed_nodes_ >= limits_.max_nodes)
             fail(f, at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
         Node n;
         n.kind = tree_.kind_of(decl, type_name);
@@ -870,6 +873,7 @@ class Reader {
         const std::vector<uint32_t> starts = piece_starts(text, 0, piece_bytes());
         for (size_t k = 0; k < starts.size(); ++k) {
             pieces.emplace_back();
+            pieces.back().index = static_cast<uint32_t>(k);
             pieces.back().begin = starts[k];
             pieces.back().end =
                 k + 1 < starts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
@@ -886,18 +890,30 @@ class Reader {
             // With a token peeked, where the last statement ended is not known: read on.
             if (f.lexer.has_peek() && f.lexer.peek().offset < begin) return;
             if (f.lexer.has_peek() || f.lexer.position() > begin || !f.protos->protos.empty()) {
-                pieces.drop(next_piece_++);  // began inside a statement, or after a PROTO
+                drop_piece(pieces);  // began inside a statement, or after a PROTO
                 continue;
             }
             if (f.lexer.peek().offset < begin) return;  // the next statement starts before it
             Piece& piece = pieces.get(next_piece_++);
-            if (!piece.usable || tree_.nodes.size() + piece.tree.nodes.size() > limits_.max_nodes)
+            const size_t nodes = piece.consumed ? piece.nodes : piece.tree.nodes.size();
+            // A UNIT angle converts the file's nodes after reading: a consumed piece would miss it.
+            const bool units_apply = piece.consumed && units_.any();
+            if (!piece.usable || units_apply ||
+                tree_.nodes.size() + consumed_nodes_ + nodes > limits_.max_nodes) {
+                if (piece.consumed) consumer_->discard(piece.index);
                 return;  // read here: the same messages, the same limit error
-            const NodeId base = append_tree(tree_, std::move(piece.tree));
-            for (NodeId id : piece.roots) roots.push_back(id + base);
-            // A skipped node's DEF (kNullNode: USE and ROUTE say so) stays kNullNode.
-            for (const auto& [name, id] : piece.defs)
-                f.defs[name] = id == kNullNode ? id : id + base;
+            }
+            if (piece.consumed) {
+                consumed_.push_back({piece.index, static_cast<uint32_t>(roots.size()),
+                                     static_cast<uint32_t>(piece.roots.size()), piece.nodes});
+                consumed_nodes_ += piece.nodes;
+            } else {
+                const NodeId base = append_tree(tree_, std::move(piece.tree));
+                for (NodeId id : piece.roots) roots.push_back(id + base);
+                // A skipped node's DEF (kNullNode: USE and ROUTE say so) stays kNullNode.
+                for (const auto& [name, id] : piece.defs)
+                    f.defs[name] = id == kNullNode ? id : id + base;
+            }
             append_stats(scene_.stats, piece.stats);
             ++scene_.stats.pieces;
             scene_.diagnostics.append(piece.diagnostics);
@@ -907,6 +923,13 @@ class Reader {
             if (f.whole_file) scene_.sources.release_before(f.file, piece.end);
             piece = Piece{};
         }
+    }
+
+    // A piece the main reader has passed: what a consumer built of it goes too.
+    void drop_piece(PieceScheduler& pieces) {
+        const size_t k = next_piece_++;
+        pieces.drop(k);
+        if (consumer_) consumer_->discard(k);
     }
 
     // Reads one piece on its own, as the file's top level; any failure only makes it unusable.
@@ -929,6 +952,16 @@ class Reader {
         }
         piece.defs = std::move(frame.defs);
         piece.usable = piece.diagnostics.error_count() == 0;
+        const NodeTree& t = piece.tree;
+        // What the main reader must see (DEF names) or what lives outside the nodes stays a tree.
+        if (!consumer_ || !piece.usable || !piece.defs.empty() || !t.routes.empty() ||
+            !t.is_links.empty() || !t.exports.empty() || !t.imports.empty() ||
+            !t.inline_roots.empty() || !t.many_fields.empty())
+            return;
+        if (!consumer_->consume(piece.index, t, piece.roots)) return;
+        piece.consumed = true;
+        piece.nodes = static_cast<uint32_t>(t.nodes.size());
+        piece.tree = NodeTree{};
     }
 
     // A piece read on its own cannot see the PROTOs and DEFs of the file before it, nor may it
@@ -939,8 +972,11 @@ class Reader {
 
     Target scene_;
     bool in_piece_ = false;
-    FileUnits units_;        // the file's UNIT statements so far
-    size_t next_piece_ = 0;  // the first piece not yet taken or dropped
+    PieceConsumer* consumer_ = nullptr;    // the main file's, if any (never a piece reader's own)
+    std::vector<ConsumedPiece> consumed_;  // pieces it took, in file order
+    size_t consumed_nodes_ = 0;            // their nodes, counted against the node limit
+    FileUnits units_;                      // the file's UNIT statements so far
+    size_t next_piece_ = 0;                // the first piece not yet taken or dropped
     NodeTree& tree_;
     const Registry& registry_;
     Spec spec_;
@@ -955,9 +991,11 @@ class Reader {
 }  // namespace
 
 ClassicResult read_classic(LoadedScene& scene, uint32_t file, Spec spec, const LoadLimits& limits,
-                           const ExternProtoResolver& resolve_externproto) {
+                           const ExternProtoResolver& resolve_externproto,
+                           PieceConsumer* consumer) {
     Reader reader(Target{scene.sources, scene.diagnostics, scene.tree, scene.stats}, spec, limits,
                   resolve_externproto);
+    reader.set_consumer(consumer);
     return reader.read_file(file);
 }
 

@@ -18,14 +18,17 @@ using ExternProtoResolver = std::function<std::shared_ptr<const ProtoDecl>(
 
 struct ClassicResult {
     std::vector<NodeId> roots;
-    std::shared_ptr<ProtoScope> protos;  // the file's top-level PROTOs (for EXTERNPROTO lookups)
-    bool ok = true;                      // false: a syntax error stopped the reader
-    FileUnits units;                     // the file's UNIT statements
-    std::string x3d_version;             // XML: the <X3D version> attribute (classic: the header)
+    std::shared_ptr<ProtoScope> protos;   // the file's top-level PROTOs (for EXTERNPROTO lookups)
+    bool ok = true;                       // false: a syntax error stopped the reader
+    FileUnits units;                      // the file's UNIT statements
+    std::string x3d_version;              // XML: the <X3D version> attribute (classic: the header)
+    std::vector<ConsumedPiece> consumed;  // pieces the PieceConsumer took, places in `roots`
 };
 
-// Reads the text of source file `file` (already in scene.sources) into scene.tree.
+// Reads the text of source file `file` (already in scene.sources) into scene.tree. With a
+// `consumer`, pieces it takes are not added to the tree (ClassicResult::consumed).
 ClassicResult read_classic(LoadedScene& scene, uint32_t file, Spec spec, const LoadLimits& limits,
-                           const ExternProtoResolver& resolve_externproto);
+                           const ExternProtoResolver& resolve_externproto,
+                           PieceConsumer* consumer = nullptr);
 
 }  // namespace vr

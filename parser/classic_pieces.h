@@ -36,6 +36,7 @@ std::vector<uint32_t> piece_starts(std::string_view text, uint32_t begin, size_t
 
 // What a speculative read of one piece gives.
 struct Piece {
+    uint32_t index = 0;  // in file order
     uint32_t begin = 0, end = 0;
     NodeTree tree;
     Diagnostics diagnostics;
@@ -44,6 +45,9 @@ struct Piece {
     std::unordered_map<Name, NodeId> defs;
     bool usable =
         false;  // read to its end with no error and nothing that needs the rest of the file
+    // Taken by the PieceConsumer: `tree` is empty, `nodes` says how many nodes it held.
+    bool consumed = false;
+    uint32_t nodes = 0;
 };
 
 // Reads pieces on worker threads, in file order, a few ahead of the one the main reader needs

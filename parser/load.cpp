@@ -344,7 +344,9 @@ class Loader {
             case Encoding::Vrml97:
             case Encoding::X3dClassic: {
                 check_header(file, enc, header);
-                result = read_classic(scene_, file, spec_of(enc), options_.limits, resolver);
+                // Only the main file's pieces are consumed: Inline contents stay nodes.
+                result = read_classic(scene_, file, spec_of(enc), options_.limits, resolver,
+                                      file == 0 ? options_.piece_consumer.get() : nullptr);
                 break;
             }
             case Encoding::X3dXml:
@@ -667,6 +669,7 @@ static LoadedScene load_scene_source(SourceText text, const std::string& path,
     LoadedScene scene;
     set_roots(scene, path, options);
     uint32_t file = scene.sources.add(path, std::move(text));
+    bool read_again = false;
     run_on_large_stack([&] {
         try {
             Loader loader(scene, options);
@@ -674,10 +677,20 @@ static LoadedScene load_scene_source(SourceText text, const std::string& path,
             ClassicResult r = loader.read_source(file, 0);
             scene.tree.roots = std::move(r.roots);
             scene.tree.root_length_scale = r.units.length;
+            scene.consumed_pieces = std::move(r.consumed);
+            // A UNIT statement after consumed pieces converts angles they would lack (none
+            // before them: the reader reads such pieces itself). Rare enough to read again.
+            read_again = r.units.any() && !scene.consumed_pieces.empty();
         } catch (const std::bad_alloc&) {
             scene.diagnostics.error_in_file(path, "out of memory while reading the scene");
         }
     });
+    if (read_again) {
+        LoadOptions whole = options;
+        whole.piece_consumer = nullptr;
+        return load_scene_source(scene.sources.take_text(file), path, whole);
+    }
+    if (!scene.consumed_pieces.empty()) scene.piece_consumer = options.piece_consumer;
     return scene;
 }
 

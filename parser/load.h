@@ -2,11 +2,13 @@
 // tree.
 #pragma once
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "parser/diagnostics.h"
 #include "parser/node_tree.h"
+#include "parser/piece_consumer.h"
 #include "parser/registry.h"
 #include "parser/source.h"
 
@@ -35,6 +37,9 @@ struct LoadOptions {
     std::filesystem::path sandbox_dir;
     // Folders besides the sandbox's that URLs may reach (--allow-path); used only with `sandbox`.
     std::vector<std::filesystem::path> allowed_roots;
+    // Takes the main file's pieces as they are read (parser/piece_consumer.h); null: every piece
+    // joins the node tree. Only for callers that build the scene with it (render).
+    std::shared_ptr<PieceConsumer> piece_consumer;
 };
 
 struct LoadedScene {
@@ -50,6 +55,10 @@ struct LoadedScene {
     // Folders URLs are confined to: the sandbox folder + LoadOptions::allowed_roots; empty: not
     // confined.
     std::vector<std::filesystem::path> allowed_roots;
+    // The pieces LoadOptions::piece_consumer took, in file order, and the consumer that holds what
+    // it built of them (null when it took none): tree.roots lacks their top-level nodes.
+    std::vector<ConsumedPiece> consumed_pieces;
+    std::shared_ptr<PieceConsumer> piece_consumer;
     bool ok() const { return !diagnostics.has_errors(); }
 };
 

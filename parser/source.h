@@ -109,6 +109,8 @@ class SourceManager {
     void release_before(uint32_t file, uint32_t offset) const;
     // A reader is done with the whole file: gives back all of its pages at once.
     void release_all(uint32_t file) const;
+    // Moves a file's bytes out, to be read again elsewhere; this manager is not used afterwards.
+    SourceText take_text(uint32_t index) { return std::move(files_.at(index)->storage); }
 
   private:
     std::vector<std::unique_ptr<SourceFile>> files_;  // pointers stay valid while files are added

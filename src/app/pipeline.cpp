@@ -9,6 +9,7 @@
 #include "anim/animator.h"
 #include "render/render.h"
 #include "scene/build.h"
+#include "scene/fragments.h"
 
 namespace vr {
 
@@ -48,8 +49,11 @@ LoadOptions load_options(const CommonOptions& common) {
     return options;
 }
 
-bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene) {
-    scene = load_scene(path, load_options(common));
+bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
+                     bool build_pieces) {
+    LoadOptions options = load_options(common);
+    if (build_pieces) options.piece_consumer = std::make_shared<SceneFragments>();
+    scene = load_scene(path, options);
     print_diagnostics(scene.diagnostics, scene.sources, common.quiet);
     return scene.ok();
 }

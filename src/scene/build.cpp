@@ -215,7 +215,10 @@ std::filesystem::path Builder::file_of(NodeId n) const {
 // Graph
 
 Builder::Builder(const LoadedScene& loaded, Diagnostics& diagnostics)
-    : loaded_(loaded), tree_(loaded.tree), diagnostics_(diagnostics) {
+    : Builder(loaded, loaded.tree, diagnostics) {}
+
+Builder::Builder(const LoadedScene& loaded, const NodeTree& tree, Diagnostics& diagnostics)
+    : loaded_(loaded), tree_(tree), diagnostics_(diagnostics) {
     count_references();
 }
 
@@ -252,7 +255,9 @@ size_t Builder::KeyHash::operator()(const MaterialKey& key) const {
     return size_t(h ^ (h >> 31));
 }
 
-Scene Builder::build() {
+Scene Builder::build() { return build(tree_.roots); }
+
+Scene Builder::build(std::span<const NodeId> roots) {
     reserve();
     scene_.main_file = loaded_.main_file;
     scene_.allowed_roots = loaded_.allowed_roots;
@@ -260,7 +265,7 @@ Scene Builder::build() {
     scene_.groups[Scene::kRoot].origin.type = intern("(root)");
     if (tree_.root_length_scale != 1.0)
         scale_lengths(scene_.groups[Scene::kRoot], tree_.root_length_scale);
-    add_children(Scene::kRoot, tree_.roots);
+    add_root_children(roots);
     return std::move(scene_);
 }
 
@@ -277,12 +282,19 @@ void Builder::reserve() {
         if (kind <= ChildKind::CADFace) ++groups;
         if (kind == ChildKind::Transform) ++transforms;
     }
-    reserve_huge(scene_.groups, groups);
-    reserve_huge(scene_.shapes, shapes);
-    reserve_huge(scene_.translations, transforms);
     // Every child is a reference in the tree: an upper bound (pages past the end stay untouched).
     size_t refs = tree_.node_refs.size() + tree_.roots.size();
     for (const auto& [inline_node, roots] : tree_.inline_roots) refs += roots.size();
+    if (fragments_) {
+        const SceneFragments::Totals t = fragments_->totals();
+        groups += t.groups;
+        shapes += t.shapes;
+        transforms += t.translations;
+        refs += t.child_refs;
+    }
+    reserve_huge(scene_.groups, groups);
+    reserve_huge(scene_.shapes, shapes);
+    reserve_huge(scene_.translations, transforms);
     reserve_huge(scene_.child_refs, refs);
 }
 
@@ -302,6 +314,32 @@ void Builder::add_children(sg::Index group, std::span<const NodeId> children) {
     sg::Group& g = scene_.groups[group];
     g.first_child = static_cast<uint32_t>(first);
     g.child_count = static_cast<uint32_t>(count);
+}
+
+void Builder::add_root_children(std::span<const NodeId> roots) {
+    const std::vector<ConsumedPiece>& pieces = loaded_.consumed_pieces;
+    if (!fragments_ || pieces.empty()) return add_children(Scene::kRoot, roots);
+    // One block, as long as the sequential build's: a slot per top-level node read.
+    const size_t first = scene_.child_refs.size();
+    size_t slots = roots.size();
+    for (const ConsumedPiece& p : pieces) slots += p.roots;
+    scene_.child_refs.resize(first + slots);
+    size_t count = 0;
+    auto piece = pieces.begin();
+    for (size_t i = 0; i <= roots.size(); ++i) {
+        for (; piece != pieces.end() && piece->before_root == i; ++piece) {
+            const Scene* f = fragments_->find(piece->piece);
+            if (!f) throw std::logic_error("a consumed piece has no scene fragment");
+            splice(*f, piece->roots, first, count);
+            if (free_fragments_) fragments_->release(piece->piece);
+        }
+        if (i == roots.size()) break;
+        if (roots[i] != kNullNode && roots[i] < tree_.nodes.size())
+            if (const auto ref = child(roots[i])) scene_.child_refs[first + count++] = *ref;
+        if (release_) release_->built(i);
+    }
+    scene_.groups[Scene::kRoot].first_child = static_cast<uint32_t>(first);
+    scene_.groups[Scene::kRoot].child_count = static_cast<uint32_t>(count);
 }
 
 std::optional<sg::ChildRef> Builder::child(NodeId id) {
@@ -510,6 +548,21 @@ sg::Index Builder::appearance(NodeId id) {
     return index;
 }
 
+bool material_key(const sg::Material& m, MaterialKey& key) {
+    const double values[] = {m.diffuse_color.x,   m.diffuse_color.y,  m.diffuse_color.z,
+                             m.specular_color.x,  m.specular_color.y, m.specular_color.z,
+                             m.emissive_color.x,  m.emissive_color.y, m.emissive_color.z,
+                             m.ambient_intensity, m.shininess,        m.transparency,
+                             m.metallic,          m.roughness};
+    bool mergeable = m.hints == sg::kNone;  // hints belong to their node
+    key[0] = uint64_t(m.model);
+    for (size_t i = 0; i < std::size(values); ++i) {
+        mergeable = mergeable && std::isfinite(values[i]);  // warned per node by flattening
+        key[i + 1] = std::bit_cast<uint64_t>(values[i]);
+    }
+    return mergeable;
+}
+
 sg::Index Builder::material(NodeId id) {
     if (Memo* memo = shared(id); memo && memo->typed != sg::kNone) return memo->typed;
     sg::Material m;
@@ -546,18 +599,8 @@ sg::Index Builder::material(NodeId id) {
     m.transparency = number(id, "transparency"_n);
     m.hints = hints(id);
     sg::Index index = static_cast<sg::Index>(scene_.materials.size());
-    const double values[] = {m.diffuse_color.x,   m.diffuse_color.y,  m.diffuse_color.z,
-                             m.specular_color.x,  m.specular_color.y, m.specular_color.z,
-                             m.emissive_color.x,  m.emissive_color.y, m.emissive_color.z,
-                             m.ambient_intensity, m.shininess,        m.transparency,
-                             m.metallic,          m.roughness};
-    bool mergeable = m.hints == sg::kNone;  // hints belong to their node
-    MaterialKey key{uint64_t(m.model)};
-    for (size_t i = 0; i < std::size(values); ++i) {
-        mergeable = mergeable && std::isfinite(values[i]);  // warned per node by flattening
-        key[i + 1] = std::bit_cast<uint64_t>(values[i]);
-    }
-    if (mergeable) index = same_material_.try_emplace(key, index).first->second;
+    MaterialKey key;
+    if (material_key(m, key)) index = same_material_.try_emplace(key, index).first->second;
     if (index == scene_.materials.size()) scene_.materials.push_back(std::move(m));
     if (Memo* memo = shared(id)) memo->typed = index;
     return index;
@@ -789,8 +832,18 @@ sg::Index Builder::make_navigation_info(NodeId id) {
 
 }  // namespace detail
 
+namespace {
+SceneFragments* fragments_of(const LoadedScene& loaded) {
+    if (loaded.consumed_pieces.empty()) return nullptr;
+    auto* fragments = dynamic_cast<SceneFragments*>(loaded.piece_consumer.get());
+    if (!fragments) throw std::logic_error("consumed pieces without their scene fragments");
+    return fragments;
+}
+}  // namespace
+
 Scene build_scene(const LoadedScene& loaded, Diagnostics& diagnostics) {
     detail::Builder builder(loaded, diagnostics);
+    builder.fragments_ = fragments_of(loaded);
     return builder.build();
 }
 
@@ -800,9 +853,13 @@ Scene build_scene_releasing_tree(LoadedScene& loaded, Diagnostics& diagnostics) 
         detail::Builder builder(loaded, diagnostics);
         detail::TreeRelease release(loaded.tree, builder.has_shared_nodes());
         builder.release_ = &release;
+        builder.fragments_ = fragments_of(loaded);
+        builder.free_fragments_ = true;
         scene = builder.build();
     }
     loaded.tree = NodeTree{};  // parts of it read as zeros now
+    loaded.consumed_pieces.clear();
+    loaded.piece_consumer.reset();
     return scene;
 }
 

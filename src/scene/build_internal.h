@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "parser/load.h"
+#include "scene/fragments.h"
 #include "scene/scene.h"
 #include "scene/tree_release.h"
 
@@ -76,13 +77,21 @@ class FirstIndexMap {
     size_t size_ = 0;
 };
 
+// A material's merge key: its model and the bits of every value. False when it must not be merged
+// (hints belong to their node; a non-finite value is warned about per node by flattening).
+using MaterialKey = std::array<uint64_t, 15>;
+bool material_key(const sg::Material& m, MaterialKey& key);
+
 class Builder {
   public:
     static constexpr size_t kMaxDepth =
         2000;  // nesting through USE chains; each level is one stack frame
 
     Builder(const LoadedScene& loaded, Diagnostics& diagnostics);
-    Scene build();
+    // Builds from `tree` instead of loaded.tree (a piece of the file, src/scene/fragments.h).
+    Builder(const LoadedScene& loaded, const NodeTree& tree, Diagnostics& diagnostics);
+    Scene build();                               // from tree.roots
+    Scene build(std::span<const NodeId> roots);  // from these top-level nodes
 
     // ---- field readers: the file's value or the grammar's default (the node tree has both), so
     // C++ states no default. A field missing from the node's interface, or read as another type,
@@ -134,6 +143,9 @@ class Builder {
     std::optional<sg::ChildRef> child(NodeId node);
     std::optional<sg::ChildRef> make_child(NodeId node);
     void add_children(sg::Index group, std::span<const NodeId> children);
+    // The root's children: the top-level nodes, with the consumed pieces' fragments among them.
+    void add_root_children(std::span<const NodeId> roots);
+    void splice(const Scene& fragment, uint32_t read_roots, size_t root_first, size_t& root_count);
     sg::Index make_group(NodeId node);
     void scale_lengths(sg::Group& group, double scale);
     std::optional<sg::ChildRef> make_shape(NodeId node);
@@ -162,6 +174,10 @@ class Builder {
     Diagnostics& diagnostics_;
     Scene scene_;
     TreeRelease* release_ = nullptr;  // told as each top-level node is built, if set
+    // The fragments of the pieces loaded.consumed_pieces names; freed once spliced in if
+    // `free_fragments_`.
+    SceneFragments* fragments_ = nullptr;
+    bool free_fragments_ = false;
     // Some node is referred to twice (DEF/USE): built once, reached from several places.
     bool has_shared_nodes() const { return shared_nodes_ > 0; }
 
@@ -188,7 +204,6 @@ class Builder {
     // an identical Material and Appearance per atom, and a Sphere per atom with a few radii. The
     // first node's origin is kept (only non-finite values are reported against a Material, and
     // those are never merged).
-    using MaterialKey = std::array<uint64_t, 15>;  // the model and every value's bits
     struct KeyHash {
         size_t operator()(const MaterialKey& key) const;
     };

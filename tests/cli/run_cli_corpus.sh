@@ -88,5 +88,16 @@ while IFS= read -r -d '' f; do
         { fail "info $f in $piece-byte pieces differs from one thread's"; diff "$work/one.txt" "$work/many.txt" | head -4; }
 done < <(find "$corpus" -type f \( -name '*.wrl' -o -name '*.wrz' -o -name '*.x3dv' -o -name '*.gz' \) -print0 | sort -z)
 
+# --- the same for `render`, whose pieces become typed scene fragments as they are read (src/scene/fragments.h):
+# every molecular export (PyMOL, Jmol, RasMol) renders the same bytes in 4 KB pieces as read by one thread.
+while IFS= read -r -d '' f; do
+    VRMLRAY_PIECE_BYTES=0 "$bin" render "$f" -W 96 -H 72 -q -o "$work/one.png" >/dev/null 2>&1
+    one=$?
+    VRMLRAY_PIECE_BYTES=4096 "$bin" render "$f" -W 96 -H 72 -q -o "$work/many.png" >/dev/null 2>&1
+    many=$?
+    [ $one -eq $many ] && { [ $one -ne 0 ] || cmp -s "$work/one.png" "$work/many.png"; } && pass ||
+        fail "render $f in 4 KB pieces differs from one thread's (exit $one vs $many)"
+done < <(find "$corpus/molecular" -type f -name '*.wrl' -print0 2>/dev/null | sort -z)
+
 echo "cli corpus ($corpus): $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,0 +1,172 @@
+#include "scene/fragments.h"
+
+#include <algorithm>
+#include <bit>
+
+#include "scene/build_internal.h"
+
+namespace vr {
+
+namespace {
+
+// The node types whose build reads nothing but the node tree (no source file, URL or X3D version
+// of the loaded scene, which the main thread is still filling) and whose typed nodes the splice
+// knows how to renumber.
+bool buildable_on_its_own(const NodeTree& tree) {
+    static const Name kTypes[] = {intern("Transform"),  intern("Group"),    intern("Shape"),
+                                  intern("Appearance"), intern("Material"), intern("Sphere"),
+                                  intern("Box"),        intern("Cylinder"), intern("Cone")};
+    for (size_t k = 1; k < tree.kinds.size(); ++k)
+        if (std::find(std::begin(kTypes), std::end(kTypes), tree.kinds[k].type) == std::end(kTypes))
+            return false;
+    return true;
+}
+
+// What the splice renumbers, and nothing else: no lights, bindable nodes, textures, hints,
+// billboards or Inline contents, and every geometry one of the four primitives.
+bool splicable(const Scene& s) {
+    if (!s.textures.empty() || !s.lights.empty() || !s.viewpoints.empty() ||
+        !s.backgrounds.empty() || !s.fogs.empty() || !s.navigation_infos.empty() ||
+        !s.hints.empty() || !s.billboard_axes.empty())
+        return false;
+    for (const sg::Group& g : s.groups)
+        if (g.inline_content || g.billboard()) return false;
+    for (const sg::Geometry& g : s.geometries)
+        if (!std::holds_alternative<sg::Sphere>(g.shape) &&
+            !std::holds_alternative<sg::Box>(g.shape) &&
+            !std::holds_alternative<sg::Cylinder>(g.shape) &&
+            !std::holds_alternative<sg::Cone>(g.shape))
+            return false;
+    return true;
+}
+
+}  // namespace
+
+bool SceneFragments::consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) {
+    if (!buildable_on_its_own(tree)) return false;
+    static const LoadedScene kNothingElse;  // the builder reads only `tree` for these types
+    Diagnostics diagnostics;
+    detail::Builder builder(kNothingElse, tree, diagnostics);
+    auto scene = std::make_unique<Scene>(builder.build(roots));
+    if (!diagnostics.all().empty() || !builder.misreads().empty() || !splicable(*scene))
+        return false;
+    std::lock_guard lock(mutex_);
+    built_[piece] = std::move(scene);
+    return true;
+}
+
+void SceneFragments::discard(size_t piece) {
+    std::unique_ptr<Scene> gone;  // freed outside the lock
+    std::lock_guard lock(mutex_);
+    if (auto it = built_.find(piece); it != built_.end()) {
+        gone = std::move(it->second);
+        built_.erase(it);
+    }
+}
+
+const Scene* SceneFragments::find(size_t piece) const {
+    std::lock_guard lock(mutex_);
+    const auto it = built_.find(piece);
+    return it == built_.end() ? nullptr : it->second.get();
+}
+
+SceneFragments::Totals SceneFragments::totals() const {
+    std::lock_guard lock(mutex_);
+    Totals t;
+    for (const auto& [piece, s] : built_) {
+        t.groups += s->groups.size();
+        t.shapes += s->shapes.size();
+        t.translations += s->translations.size();
+        t.child_refs += s->child_refs.size();
+    }
+    return t;
+}
+
+namespace detail {
+
+// Appends fragment `f` (built by a Builder of its own from one piece) to the scene being built, as
+// if its top-level nodes had been built here, in file order: its root's children go to the root's
+// block from `root_count` on, everything else is renumbered by the sizes so far, and its materials,
+// appearances and spheres meet the same merge maps the tree's do.
+void Builder::splice(const Scene& f, uint32_t read_roots, size_t root_first, size_t& root_count) {
+    const auto group_base =
+        static_cast<uint32_t>(scene_.groups.size() - 1);  // f's root is not copied
+    const auto shape_base = static_cast<uint32_t>(scene_.shapes.size());
+    const auto translation_base = static_cast<uint32_t>(scene_.translations.size());
+    const auto matrix_base = static_cast<uint32_t>(scene_.matrices.size());
+    // f's child references past its root's block (which holds one slot per top-level node read)
+    // go to the end of ours.
+    const auto ref_base = static_cast<int64_t>(scene_.child_refs.size()) - read_roots;
+
+    std::vector<sg::Index> material(f.materials.size()), appearance(f.appearances.size()),
+        geometry(f.geometries.size());
+    for (size_t i = 0; i < f.materials.size(); ++i) {
+        const sg::Material& m = f.materials[i];
+        MaterialKey key;
+        sg::Index index = static_cast<sg::Index>(scene_.materials.size());
+        if (material_key(m, key)) index = same_material_.try_emplace(key, index).first->second;
+        if (index == scene_.materials.size()) scene_.materials.push_back(m);
+        material[i] = index;
+    }
+    for (size_t i = 0; i < f.appearances.size(); ++i) {
+        sg::Appearance a = f.appearances[i];
+        if (a.material != sg::kNone) a.material = material[a.material];
+        sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
+        if (!a.has_texture_transform && !a.texture_modulates)
+            index = same_appearance_.find_or_add((uint64_t(a.material) << 32) | a.texture, index);
+        if (index == scene_.appearances.size()) scene_.appearances.push_back(a);
+        appearance[i] = index;
+    }
+    for (size_t i = 0; i < f.geometries.size(); ++i) {
+        const sg::Geometry& g = f.geometries[i];
+        sg::Index index = static_cast<sg::Index>(scene_.geometries.size());
+        const auto* sphere = std::get_if<sg::Sphere>(&g.shape);
+        if (sphere && g.hints == sg::kNone)
+            index = same_sphere_.find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
+        if (index == scene_.geometries.size()) {
+            sg::Geometry copy;
+            copy.origin = g.origin;
+            copy.hints = g.hints;
+            std::visit(
+                [&copy](const auto& shape) {
+                    using T = std::decay_t<decltype(shape)>;
+                    if constexpr (std::is_copy_constructible_v<T>) copy.shape = shape;
+                },
+                g.shape);
+            scene_.geometries.push_back(std::move(copy));
+        }
+        geometry[i] = index;
+    }
+    for (sg::Shape s : f.shapes) {
+        if (s.appearance != sg::kNone) s.appearance = appearance[s.appearance];
+        if (s.geometry != sg::kNone) s.geometry = geometry[s.geometry];
+        scene_.shapes.push_back(s);
+    }
+    scene_.translations.insert(scene_.translations.end(), f.translations.begin(),
+                               f.translations.end());
+    scene_.matrices.insert(scene_.matrices.end(), f.matrices.begin(), f.matrices.end());
+    for (size_t g = 1; g < f.groups.size(); ++g) {
+        sg::Group group = f.groups[g];
+        group.first_child = static_cast<uint32_t>(group.first_child + ref_base);
+        if (group.transform_kind == sg::GroupTransform::Translation)
+            group.transform += translation_base;
+        else if (group.transform_kind == sg::GroupTransform::Matrix)
+            group.transform += matrix_base;
+        scene_.groups.push_back(group);
+    }
+    const auto renumber = [&](sg::ChildRef r) {  // unused slots (kNone) stay unused
+        if (r.index != sg::kNone)
+            r.index += r.kind == sg::NodeKind::Group ? group_base : shape_base;
+        return r;
+    };
+    const sg::Group& root = f.groups[Scene::kRoot];
+    for (uint32_t i = 0; i < root.child_count; ++i)
+        scene_.child_refs[root_first + root_count++] = renumber(f.child_refs[root.first_child + i]);
+    const size_t first = scene_.child_refs.size();
+    scene_.child_refs.resize(first + (f.child_refs.size() - read_roots));
+    for (size_t i = read_roots; i < f.child_refs.size(); ++i)
+        scene_.child_refs[first + i - read_roots] = renumber(f.child_refs[i]);
+}
+
+}  // namespace detail
+}  // namespace vr

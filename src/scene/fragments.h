@@ -1,0 +1,42 @@
+// Typed scene fragments built while a large file is read: the reader's worker threads hand each
+// piece of the main file (parser/piece_consumer.h) to SceneFragments, which builds the piece's
+// top-level nodes into a Scene of their own and lets the reader free the piece's node tree. The
+// scene build (build_scene) then splices the fragments in at their places among the top-level
+// nodes, so that the scene equals the one built from the whole tree: the same groups, shapes,
+// child lists and merged materials, appearances and spheres, in the same order.
+//
+// A piece is built only when that equality is plain: its nodes are grouping nodes, Shapes,
+// Appearances, Materials and the four primitive geometries, nothing in it has metadata, and its
+// build reports nothing (a warning stays with the node tree, so that messages keep their order).
+// Everything else is left to the tree.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+
+#include "parser/load.h"
+#include "scene/scene.h"
+
+namespace vr {
+
+class SceneFragments final : public PieceConsumer {
+  public:
+    bool consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) override;
+    void discard(size_t piece) override;
+
+    // The fragment of a consumed piece (built, not discarded); null if there is none.
+    const Scene* find(size_t piece) const;
+    // Frees a fragment once it is spliced in (build_scene_releasing_tree).
+    void release(size_t piece) { discard(piece); }
+    // The groups, shapes, translations and child references of all fragments, to size the scene.
+    struct Totals {
+        size_t groups = 0, shapes = 0, translations = 0, child_refs = 0;
+    };
+    Totals totals() const;
+
+  private:
+    mutable std::mutex mutex_;
+    std::unordered_map<size_t, std::unique_ptr<Scene>> built_;
+};
+
+}  // namespace vr

@@ -1,0 +1,288 @@
+// Pieces of a large file built into typed scene fragments while it is read (src/scene/fragments.h,
+// issue 16): the scene spliced from them must equal the one built from the whole node tree, field
+// by field and index by index, with the same messages in the same order, for real exports and for
+// the cases no export has (a warning, a DEF or a UNIT after the pieces, the node limit).
+// VRMLRAY_PIECE_BYTES forces pieces far smaller than a real run's 16 MB.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "corpus.h"
+#include "parser/load.h"
+#include "scene/build.h"
+#include "scene/fragments.h"
+
+namespace vr {
+namespace {
+
+namespace fs = std::filesystem;
+
+LoadedScene load_in_pieces(const fs::path& file, size_t piece, bool consume,
+                           LoadLimits limits = {}) {
+    setenv("VRMLRAY_PIECE_BYTES", std::to_string(piece).c_str(), 1);
+    LoadOptions options;
+    options.limits = limits;
+    if (consume) options.piece_consumer = std::make_shared<SceneFragments>();
+    LoadedScene scene = load_scene(file, options);
+    unsetenv("VRMLRAY_PIECE_BYTES");
+    return scene;
+}
+
+std::string loc(const sg::Origin& o) {
+    return std::string(o.type_text()) + "@" + std::to_string(o.loc.file) + ":" +
+           std::to_string(o.loc.offset) + "/" + std::string(o.def_text());
+}
+
+// "" when the two scenes are equal in every array the flattening reads; else the first difference.
+std::string scene_difference(const Scene& a, const Scene& b) {
+    std::ostringstream d;
+    auto count = [&](const char* what, size_t x, size_t y) {
+        if (x != y && d.str().empty()) d << what << " count " << x << " vs " << y;
+        return x == y;
+    };
+    if (!count("group", a.groups.size(), b.groups.size()) ||
+        !count("child_ref", a.child_refs.size(), b.child_refs.size()) ||
+        !count("translation", a.translations.size(), b.translations.size()) ||
+        !count("matrix", a.matrices.size(), b.matrices.size()) ||
+        !count("shape", a.shapes.size(), b.shapes.size()) ||
+        !count("geometry", a.geometries.size(), b.geometries.size()) ||
+        !count("appearance", a.appearances.size(), b.appearances.size()) ||
+        !count("material", a.materials.size(), b.materials.size()) ||
+        !count("texture", a.textures.size(), b.textures.size()) ||
+        !count("light", a.lights.size(), b.lights.size()) ||
+        !count("viewpoint", a.viewpoints.size(), b.viewpoints.size()) ||
+        !count("background", a.backgrounds.size(), b.backgrounds.size()) ||
+        !count("hints", a.hints.size(), b.hints.size()) ||
+        !count("billboard", a.billboard_axes.size(), b.billboard_axes.size()))
+        return d.str();
+    for (size_t i = 0; i < a.groups.size(); ++i) {
+        const sg::Group &x = a.groups[i], &y = b.groups[i];
+        if (loc(x.origin) != loc(y.origin) || x.first_child != y.first_child ||
+            x.child_count != y.child_count || x.transform != y.transform ||
+            x.transform_kind != y.transform_kind || x.singular != y.singular ||
+            x.inline_content != y.inline_content)
+            return "group " + std::to_string(i) + " (" + loc(x.origin) + ")";
+    }
+    for (size_t i = 0; i < a.child_refs.size(); ++i)
+        if (a.child_refs[i].kind != b.child_refs[i].kind ||
+            a.child_refs[i].index != b.child_refs[i].index)
+            return "child_ref " + std::to_string(i);
+    for (size_t i = 0; i < a.translations.size(); ++i)
+        if (a.translations[i] != b.translations[i]) return "translation " + std::to_string(i);
+    for (size_t i = 0; i < a.matrices.size(); ++i)
+        if (a.matrices[i] != b.matrices[i]) return "matrix " + std::to_string(i);
+    for (size_t i = 0; i < a.shapes.size(); ++i) {
+        const sg::Shape &x = a.shapes[i], &y = b.shapes[i];
+        if (loc(x.origin) != loc(y.origin) || x.appearance != y.appearance ||
+            x.geometry != y.geometry || x.hints != y.hints)
+            return "shape " + std::to_string(i);
+    }
+    for (size_t i = 0; i < a.geometries.size(); ++i) {
+        const sg::Geometry &x = a.geometries[i], &y = b.geometries[i];
+        bool same = loc(x.origin) == loc(y.origin) && x.hints == y.hints &&
+                    x.shape.index() == y.shape.index();
+        if (same && std::holds_alternative<sg::Sphere>(x.shape))
+            same = std::get<sg::Sphere>(x.shape).radius == std::get<sg::Sphere>(y.shape).radius;
+        if (same && std::holds_alternative<sg::Box>(x.shape))
+            same = std::get<sg::Box>(x.shape).size == std::get<sg::Box>(y.shape).size;
+        if (same && std::holds_alternative<sg::Cylinder>(x.shape)) {
+            const auto &p = std::get<sg::Cylinder>(x.shape), &q = std::get<sg::Cylinder>(y.shape);
+            same = p.radius == q.radius && p.height == q.height && p.side == q.side &&
+                   p.top == q.top && p.bottom == q.bottom;
+        }
+        if (same && std::holds_alternative<sg::Cone>(x.shape)) {
+            const auto &p = std::get<sg::Cone>(x.shape), &q = std::get<sg::Cone>(y.shape);
+            same = p.bottom_radius == q.bottom_radius && p.height == q.height && p.side == q.side &&
+                   p.bottom == q.bottom;
+        }
+        if (!same) return "geometry " + std::to_string(i) + " (" + loc(x.origin) + ")";
+    }
+    for (size_t i = 0; i < a.appearances.size(); ++i) {
+        const sg::Appearance &x = a.appearances[i], &y = b.appearances[i];
+        if (loc(x.origin) != loc(y.origin) || x.material != y.material || x.texture != y.texture ||
+            x.has_texture_transform != y.has_texture_transform ||
+            x.texture_modulates != y.texture_modulates)
+            return "appearance " + std::to_string(i);
+    }
+    for (size_t i = 0; i < a.materials.size(); ++i) {
+        const sg::Material &x = a.materials[i], &y = b.materials[i];
+        if (loc(x.origin) != loc(y.origin) || x.model != y.model ||
+            x.diffuse_color != y.diffuse_color || x.specular_color != y.specular_color ||
+            x.emissive_color != y.emissive_color || x.ambient_intensity != y.ambient_intensity ||
+            x.shininess != y.shininess || x.transparency != y.transparency ||
+            x.metallic != y.metallic || x.roughness != y.roughness || x.hints != y.hints)
+            return "material " + std::to_string(i);
+    }
+    return "";
+}
+
+// Reads `file` by one thread and in `piece`-byte pieces built as they are read; "" when the two
+// give the same scene and the same messages (reading and building), and the same exit.
+std::string difference(const fs::path& file, size_t piece, size_t* consumed = nullptr,
+                       LoadLimits limits = {}) {
+    LoadedScene one = load_in_pieces(file, 0, false, limits);
+    LoadedScene many = load_in_pieces(file, piece, true, limits);
+    if (consumed) *consumed = many.consumed_pieces.size();
+    const std::string r1 = one.diagnostics.format(one.sources);
+    const std::string r2 = many.diagnostics.format(many.sources);
+    if (r1 != r2) return "reading messages differ:\n" + r1 + "---\n" + r2;
+    if (one.ok() != many.ok()) return "one read failed";
+    if (!one.ok()) return "";
+    Diagnostics d1, d2;
+    const Scene a = build_scene_releasing_tree(one, d1);
+    const Scene b = build_scene_releasing_tree(many, d2);
+    if (many.piece_consumer) return "the fragments were not released";
+    const std::string m1 = d1.format(one.sources), m2 = d2.format(many.sources);
+    if (m1 != m2) return "build messages differ:\n" + m1 + "---\n" + m2;
+    return scene_difference(a, b);
+}
+
+TEST(SceneFragments, EveryCorpusFileBuildsAsFromTheWholeTree) {
+    VR_CORPUS_FOLDER(corpus, "");
+    size_t files = 0, built = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(corpus)) {
+        if (!entry.is_regular_file()) continue;
+        const std::string ext = entry.path().extension().string();
+        if (ext != ".wrl" && ext != ".wrz" && ext != ".x3dv" && ext != ".gz" && ext != ".x3dvz")
+            continue;
+        const size_t piece = std::max<size_t>(64, fs::file_size(entry.path()) / 200);
+        size_t consumed = 0;
+        EXPECT_EQ(difference(entry.path(), piece, &consumed), "") << entry.path();
+        ++files;
+        built += consumed > 0;
+    }
+    EXPECT_GT(files, 100u);
+    // The molecule exports (PyMOL spheres and sticks, RasMol, Jmol's spheres) and many plain
+    // scenes are built in pieces; a bound of 10 files says the path is taken, not skipped.
+    EXPECT_GT(built, 10u) << "pieces were built in " << built << " of " << files << " files";
+}
+
+TEST(SceneFragments, RealMoleculeExportsAreBuiltInPieces) {
+    VR_CORPUS_FOLDER(molecular, "molecular");
+    for (const char* name :
+         {"pymol/il2_spheres.wrl", "pymol/c551_ballstick.wrl", "pymol/pept_sticks.wrl"}) {
+        const fs::path file = molecular / name;
+        size_t consumed = 0;
+        EXPECT_EQ(difference(file, 4096, &consumed), "") << name;
+        // Every 4 KB piece of these files is atoms and bonds: nearly all are built.
+        EXPECT_GT(consumed, fs::file_size(file) / 4096 / 2) << name;
+    }
+}
+
+struct TempFile {
+    fs::path path;
+    explicit TempFile(const std::string& text, const char* name = "vrmlray_fragments.wrl")
+        : path(fs::temp_directory_path() / name) {
+        std::ofstream(path) << text;
+    }
+    ~TempFile() { fs::remove(path); }
+};
+
+// PyMOL-style atoms with radii, colours, shapes and transforms that vary, so that a renumbering
+// or a merge gone wrong shows.
+std::string atoms(int n, int seed) {
+    std::string s;
+    for (int i = 0; i < n; ++i) {
+        const int k = i + seed;
+        const char* geometry[] = {"Sphere { radius 0.5 }", "Box { size 1 2 3 }",
+                                  "Cylinder { radius 0.2 height 2 }", "Cone { }"};
+        s += "Transform { translation " + std::to_string(k % 7) + " " + std::to_string(k % 5) +
+             " 1" + (k % 11 == 0 ? " rotation 0 1 0 0.5" : "") +
+             " children [ Shape { appearance Appearance { material Material { diffuseColor 0." +
+             std::to_string(k % 4) + " 0.5 1 } } geometry " +
+             (k % 3 ? "Sphere { radius " + std::to_string(1 + k % 6) + " }"
+                    : std::string(geometry[k % 4])) +
+             " } Group { children Shape { geometry Sphere { radius 0.25 } } } ] }\n";
+    }
+    return s;
+}
+
+TEST(SceneFragments, CutsThatStayInTheTreeBuildAsFromTheWholeTree) {
+    const std::string header = "#VRML V2.0 utf8\n";
+    const std::string cases[] = {
+        // plain atoms: every piece is built
+        header + atoms(400, 0),
+        // a piece with a build warning (a bad radius, a singular scale) keeps its nodes, so
+        // the warning comes in its order among the others
+        header + atoms(150, 1) + "Shape { geometry Sphere { radius -1 } }\n" + atoms(100, 2) +
+            "Transform { scale 0 1 1 children Shape { geometry Box { } } }\n" + atoms(100, 3) +
+            "Shape { geometry Sphere { radius -2 } }\n",
+        // DEF in one piece, USE in a later one; lights and a viewpoint between atoms
+        header + atoms(100, 4) + "DEF M Material { diffuseColor 1 0 0 }\n" + atoms(100, 5) +
+            "Shape { appearance Appearance { material USE M } geometry Box { } }\n" +
+            "PointLight { location 1 2 3 }\nViewpoint { position 0 0 9 }\n" + atoms(100, 6),
+        // metadata hints and a texture inside atoms' pieces
+        header + atoms(100, 7) +
+            "Shape { appearance Appearance { texture ImageTexture { url \"x.png\" } } geometry "
+            "Box { } }\n" +
+            "Shape { geometry Sphere { radius 2 metadata MetadataSet { name \"vrmlray\" value [ "
+            "MetadataString { name \"sphere\" value \"gas\" } ] } } }\n" +
+            atoms(100, 8),
+        // unknown and unrendered node types among the atoms
+        header + atoms(100, 9) + "Unknown { x 1 }\nWorldInfo { }\nPointSet { }\n" + atoms(100, 10),
+    };
+    int n = 0;
+    for (const std::string& text : cases) {
+        TempFile file(text);
+        for (size_t piece : {64, 700, 4096}) {
+            size_t consumed = 0;
+            EXPECT_EQ(difference(file.path, piece, &consumed), "")
+                << "case " << n << ", pieces of " << piece << " bytes";
+            if (n == 0) {
+                EXPECT_GT(consumed, 0u);
+            }
+        }
+        ++n;
+    }
+}
+
+TEST(SceneFragments, AUnitStatementAfterBuiltPiecesReadsTheFileAgain) {
+    // X3D UNIT angle converts every rotation of the file, those before it too: the pieces built
+    // before it would lack that, so the file is read again without building pieces.
+    const std::string text = "#X3D V3.3 utf8\nPROFILE Interchange\n" + atoms(300, 11) +
+                             "UNIT angle degree 0.017453292519943295\n" + atoms(50, 12);
+    TempFile file(text, "vrmlray_fragments.x3dv");
+    LoadedScene many = load_in_pieces(file.path, 1024, true);
+    EXPECT_TRUE(many.consumed_pieces.empty());
+    EXPECT_EQ(difference(file.path, 1024), "");
+}
+
+TEST(SceneFragments, TheNodeLimitStopsAtTheSameNode) {
+    TempFile file("#VRML V2.0 utf8\n" + atoms(400, 13));
+    LoadLimits limits;
+    limits.max_nodes = 1500;  // reached in the middle of the file, well after the first piece
+    const std::string d = difference(file.path, 2048, nullptr, limits);
+    EXPECT_EQ(d, "");
+    LoadedScene many = load_in_pieces(file.path, 2048, true, limits);
+    EXPECT_FALSE(many.ok());
+    EXPECT_NE(many.diagnostics.format(many.sources).find("more than 1500 nodes (limit)"),
+              std::string::npos);
+}
+
+TEST(SceneFragments, AnAnimatedFilesSecondBuildStillHasTheFragments) {
+    // Frames of an animated scene build from the loaded file again (build_scene, the tree kept):
+    // the fragments must still be there, unchanged.
+    TempFile file("#VRML V2.0 utf8\n" + atoms(300, 14) +
+                  "DEF T TimeSensor { loop TRUE }\nDEF P PositionInterpolator { key [0 1] "
+                  "keyValue [0 0 0 1 1 1] }\nDEF X Transform { children Shape { geometry Box "
+                  "{ } } }\nROUTE T.fraction_changed TO P.set_fraction\nROUTE P.value_changed "
+                  "TO X.set_translation\n");
+    LoadedScene many = load_in_pieces(file.path, 1024, true);
+    ASSERT_TRUE(many.ok());
+    ASSERT_FALSE(many.consumed_pieces.empty());
+    Diagnostics d1, d2;
+    const Scene first = build_scene(many, d1);
+    const Scene second = build_scene(many, d2);
+    EXPECT_EQ(scene_difference(first, second), "");
+    LoadedScene one = load_in_pieces(file.path, 0, false);
+    Diagnostics d3;
+    EXPECT_EQ(scene_difference(build_scene(one, d3), second), "");
+}
+
+}  // namespace
+}  // namespace vr
