@@ -934,6 +934,13 @@ class Reader {
 
     // Reads one piece on its own, as the file's top level; any failure only makes it unusable.
     void read_piece(uint32_t file, Piece& piece) {
+        // The tree of the last piece this thread read and a consumer took, emptied: its memory
+        // serves the next piece.
+        static thread_local NodeTree spare;
+        if (spare.nodes.capacity() > 0) {
+            piece.tree = std::move(spare);
+            spare = NodeTree{};
+        }
         Reader reader(Target{scene_.sources, piece.diagnostics, piece.tree, piece.stats}, spec_,
                       limits_, resolver_);
         reader.in_piece_ = true;
@@ -961,6 +968,8 @@ class Reader {
         if (!consumer_->consume(piece.index, t, piece.roots)) return;
         piece.consumed = true;
         piece.nodes = static_cast<uint32_t>(t.nodes.size());
+        piece.tree.clear_keeping_memory();
+        spare = std::move(piece.tree);
         piece.tree = NodeTree{};
     }
 

@@ -60,6 +60,26 @@ uint32_t NodeTree::kind_of(const NodeTypeDecl* decl, Name type) {
     return cached = k;
 }
 
+void NodeTree::clear_keeping_memory() {
+    nodes.clear();
+    kinds.assign(1, NodeKind{});
+    fields.clear();
+    numbers.clear();
+    strings.clear();
+    node_refs.clear();
+    roots.clear();
+    many_fields.clear();
+    routes.clear();
+    is_links.clear();
+    exports.clear();
+    imports.clear();
+    inline_roots.clear();
+    root_length_scale = 1.0;
+    inline_length_scale.clear();
+    kind_cache_.fill(0);
+    kind_index_.clear();
+}
+
 FieldView NodeTree::view(const FieldEntry& entry) const { return view_in(*this, entry, false); }
 
 FieldView NodeTree::get(NodeId id, Name field) const {

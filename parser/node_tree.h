@@ -157,6 +157,9 @@ struct NodeTree {
     std::string_view def_name(NodeId node) const { return name_text(nodes[node].def_name); }
     // The index in `kinds` of the pair, added if new.
     uint32_t kind_of(const NodeTypeDecl* decl, Name type);
+    // Empties the tree for another piece of a file, keeping its pools' memory, which a new tree
+    // would take from the kernel again, zeroed page by page.
+    void clear_keeping_memory();
 
   private:
     // Recently used kinds by hash of the pair (readers ask once per node), then all of them.
