@@ -285,17 +285,11 @@ void Builder::reserve() {
     // Every child is a reference in the tree: an upper bound (pages past the end stay untouched).
     size_t refs = tree_.node_refs.size() + tree_.roots.size();
     for (const auto& [inline_node, roots] : tree_.inline_roots) refs += roots.size();
-    if (fragments_) {
-        const SceneFragments::Totals t = fragments_->totals();
-        groups += t.groups;
-        shapes += t.shapes;
-        transforms += t.translations;
-        refs += t.child_refs;
-    }
-    reserve_huge(scene_.groups, groups);
-    reserve_huge(scene_.shapes, shapes);
-    reserve_huge(scene_.translations, transforms);
-    reserve_huge(scene_.child_refs, refs);
+    // (Fragments come as chunks of their own.)
+    scene_.groups.reserve(groups);
+    scene_.shapes.reserve(shapes);
+    scene_.translations.reserve(transforms);
+    scene_.child_refs.reserve(refs);
 }
 
 void Builder::add_children(sg::Index group, std::span<const NodeId> children) {
@@ -328,7 +322,7 @@ void Builder::add_root_children(std::span<const NodeId> roots) {
     auto piece = pieces.begin();
     for (size_t i = 0; i <= roots.size(); ++i) {
         for (; piece != pieces.end() && piece->before_root == i; ++piece) {
-            const Scene* f = fragments_->find(piece->piece);
+            Scene* f = fragments_->find(piece->piece);
             if (!f) throw std::logic_error("a consumed piece has no scene fragment");
             splice(*f, piece->roots, first, count);
             if (free_fragments_) fragments_->release(piece->piece);

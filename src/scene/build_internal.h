@@ -145,7 +145,9 @@ class Builder {
     void add_children(sg::Index group, std::span<const NodeId> children);
     // The root's children: the top-level nodes, with the consumed pieces' fragments among them.
     void add_root_children(std::span<const NodeId> roots);
-    void splice(const Scene& fragment, uint32_t read_roots, size_t root_first, size_t& root_count);
+    // Takes fragment's groups, child references, translations and shapes as chunks of the scene
+    // (free_fragments_; else copies of them).
+    void splice(Scene& fragment, uint32_t read_roots, size_t root_first, size_t& root_count);
     sg::Index make_group(NodeId node);
     void scale_lengths(sg::Group& group, double scale);
     std::optional<sg::ChildRef> make_shape(NodeId node);

@@ -64,38 +64,46 @@ void SceneFragments::discard(size_t piece) {
     }
 }
 
-const Scene* SceneFragments::find(size_t piece) const {
+Scene* SceneFragments::find(size_t piece) {
     std::lock_guard lock(mutex_);
     const auto it = built_.find(piece);
     return it == built_.end() ? nullptr : it->second.get();
 }
 
-SceneFragments::Totals SceneFragments::totals() const {
-    std::lock_guard lock(mutex_);
-    Totals t;
-    for (const auto& [piece, s] : built_) {
-        t.groups += s->groups.size();
-        t.shapes += s->shapes.size();
-        t.translations += s->translations.size();
-        t.child_refs += s->child_refs.size();
-    }
-    return t;
-}
-
 namespace detail {
 
-// Appends fragment `f` (built by a Builder of its own from one piece) to the scene being built, as
-// if its top-level nodes had been built here, in file order: its root's children go to the root's
-// block from `root_count` on, everything else is renumbered by the sizes so far, and its materials,
-// appearances and spheres meet the same merge maps the tree's do.
-void Builder::splice(const Scene& f, uint32_t read_roots, size_t root_first, size_t& root_count) {
+namespace {
+
+// A fragment's array without its first `front` elements (its root's group or child block, which
+// the scene has in its own root): taken when `take`, else copied.
+template <class T>
+std::vector<T> without_front(Chunks<T>& chunks, size_t front, bool take) {
+    std::vector<T> v;
+    if (take) {
+        v = std::move(chunks).take_all();
+        v.erase(v.begin(), v.begin() + std::ptrdiff_t(std::min(front, v.size())));
+    } else {
+        v.reserve(chunks.size() - front);
+        for (size_t i = front; i < chunks.size(); ++i) v.push_back(chunks[i]);
+    }
+    return v;
+}
+
+}  // namespace
+
+// Adds fragment `f` (built by a Builder of its own from one piece) to the scene being built, as if
+// its top-level nodes had been built here, in file order: its root's children go to the root's
+// block from `root_count` on; its other groups, child blocks, translations and shapes become
+// chunks of the scene, renumbered by the sizes so far; its materials, appearances and spheres meet
+// the same merge maps the tree's do. So the arrays equal the sequential build's, index by index.
+void Builder::splice(Scene& f, uint32_t read_roots, size_t root_first, size_t& root_count) {
+    const bool take = free_fragments_;
     const auto group_base =
-        static_cast<uint32_t>(scene_.groups.size() - 1);  // f's root is not copied
+        static_cast<uint32_t>(scene_.groups.size() - 1);  // f's root is not kept
     const auto shape_base = static_cast<uint32_t>(scene_.shapes.size());
     const auto translation_base = static_cast<uint32_t>(scene_.translations.size());
     const auto matrix_base = static_cast<uint32_t>(scene_.matrices.size());
-    // f's child references past its root's block (which holds one slot per top-level node read)
-    // go to the end of ours.
+    // f's child blocks after its root's (one slot per top-level node read) follow ours.
     const auto ref_base = static_cast<int64_t>(scene_.child_refs.size()) - read_roots;
 
     std::vector<sg::Index> material(f.materials.size()), appearance(f.appearances.size()),
@@ -124,7 +132,7 @@ void Builder::splice(const Scene& f, uint32_t read_roots, size_t root_first, siz
         if (sphere && g.hints == sg::kNone)
             index = same_sphere_.find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
         if (index == scene_.geometries.size()) {
-            sg::Geometry copy;
+            sg::Geometry copy;  // only the four primitives (splicable): plain values
             copy.origin = g.origin;
             copy.hints = g.hints;
             std::visit(
@@ -137,35 +145,36 @@ void Builder::splice(const Scene& f, uint32_t read_roots, size_t root_first, siz
         }
         geometry[i] = index;
     }
-    for (sg::Shape s : f.shapes) {
-        if (s.appearance != sg::kNone) s.appearance = appearance[s.appearance];
-        if (s.geometry != sg::kNone) s.geometry = geometry[s.geometry];
-        scene_.shapes.push_back(s);
-    }
-    scene_.translations.insert(scene_.translations.end(), f.translations.begin(),
-                               f.translations.end());
     scene_.matrices.insert(scene_.matrices.end(), f.matrices.begin(), f.matrices.end());
-    for (size_t g = 1; g < f.groups.size(); ++g) {
-        sg::Group group = f.groups[g];
-        group.first_child = static_cast<uint32_t>(group.first_child + ref_base);
-        if (group.transform_kind == sg::GroupTransform::Translation)
-            group.transform += translation_base;
-        else if (group.transform_kind == sg::GroupTransform::Matrix)
-            group.transform += matrix_base;
-        scene_.groups.push_back(group);
-    }
+
     const auto renumber = [&](sg::ChildRef r) {  // unused slots (kNone) stay unused
         if (r.index != sg::kNone)
             r.index += r.kind == sg::NodeKind::Group ? group_base : shape_base;
         return r;
     };
-    const sg::Group& root = f.groups[Scene::kRoot];
+    const sg::Group root = f.groups[Scene::kRoot];
     for (uint32_t i = 0; i < root.child_count; ++i)
         scene_.child_refs[root_first + root_count++] = renumber(f.child_refs[root.first_child + i]);
-    const size_t first = scene_.child_refs.size();
-    scene_.child_refs.resize(first + (f.child_refs.size() - read_roots));
-    for (size_t i = read_roots; i < f.child_refs.size(); ++i)
-        scene_.child_refs[first + i - read_roots] = renumber(f.child_refs[i]);
+
+    std::vector<sg::Group> groups = without_front(f.groups, 1, take);
+    for (sg::Group& g : groups) {
+        g.first_child = static_cast<uint32_t>(g.first_child + ref_base);
+        if (g.transform_kind == sg::GroupTransform::Translation)
+            g.transform += translation_base;
+        else if (g.transform_kind == sg::GroupTransform::Matrix)
+            g.transform += matrix_base;
+    }
+    std::vector<sg::ChildRef> refs = without_front(f.child_refs, read_roots, take);
+    for (sg::ChildRef& r : refs) r = renumber(r);
+    std::vector<sg::Shape> shapes = without_front(f.shapes, 0, take);
+    for (sg::Shape& s : shapes) {
+        if (s.appearance != sg::kNone) s.appearance = appearance[s.appearance];
+        if (s.geometry != sg::kNone) s.geometry = geometry[s.geometry];
+    }
+    scene_.groups.adopt(std::move(groups));
+    scene_.child_refs.adopt(std::move(refs));
+    scene_.translations.adopt(without_front(f.translations, 0, take));
+    scene_.shapes.adopt(std::move(shapes));
 }
 
 }  // namespace detail

@@ -24,15 +24,11 @@ class SceneFragments final : public PieceConsumer {
     bool consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) override;
     void discard(size_t piece) override;
 
-    // The fragment of a consumed piece (built, not discarded); null if there is none.
-    const Scene* find(size_t piece) const;
+    // The fragment of a consumed piece (built, not discarded); null if there is none. The scene
+    // build takes its arrays when it frees it afterwards (release), else copies them.
+    Scene* find(size_t piece);
     // Frees a fragment once it is spliced in (build_scene_releasing_tree).
     void release(size_t piece) { discard(piece); }
-    // The groups, shapes, translations and child references of all fragments, to size the scene.
-    struct Totals {
-        size_t groups = 0, shapes = 0, translations = 0, child_refs = 0;
-    };
-    Totals totals() const;
 
   private:
     mutable std::mutex mutex_;

@@ -27,6 +27,7 @@
 #include "core/texture_sampling.h"
 #include "parser/node_tree.h"
 #include "parser/source.h"
+#include "scene/chunks.h"
 
 namespace vr::sg {
 
@@ -342,13 +343,15 @@ namespace vr {
 
 struct Scene {
     static constexpr sg::Index kRoot = 0;
-    std::vector<sg::Group> groups;         // groups[kRoot]: the main file's top-level nodes
-    std::vector<sg::ChildRef> child_refs;  // every group's children, a block per group
-    std::vector<Vec3> translations;        // GroupTransform::Translation
-    std::vector<Mat4> matrices;  // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
+    // The arrays a node per atom fills are chunks (chunks.h): fragments built while reading are
+    // taken in, not copied.
+    Chunks<sg::Group> groups;         // groups[kRoot]: the main file's top-level nodes
+    Chunks<sg::ChildRef> child_refs;  // every group's children, a block per group
+    Chunks<Vec3> translations;        // GroupTransform::Translation
+    std::vector<Mat4> matrices;       // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
     std::vector<Vec3>
         billboard_axes;  // GroupTransform::Billboard: axisOfRotation; (0,0,0): screen-aligned
-    std::vector<sg::Shape> shapes;
+    Chunks<sg::Shape> shapes;
     std::vector<sg::Geometry> geometries;
     std::vector<sg::Appearance> appearances;
     std::vector<sg::Material> materials;
@@ -366,7 +369,7 @@ struct Scene {
     }
 
     std::span<const sg::ChildRef> children_of(const sg::Group& group) const {
-        return {child_refs.data() + group.first_child, group.child_count};
+        return child_refs.span(group.first_child, group.child_count);
     }
     // The group's transform; only for groups with has_transform().
     Mat4 local_from_child(const sg::Group& group) const {

@@ -284,5 +284,29 @@ TEST(SceneFragments, AnAnimatedFilesSecondBuildStillHasTheFragments) {
     EXPECT_EQ(scene_difference(build_scene(one, d3), second), "");
 }
 
+TEST(Chunks, AdoptedChunksKeepTheirPlacesAndLaterElementsGoToANewChunk) {
+    Chunks<int> c;
+    c.reserve(4);
+    c.push_back(0);
+    c.resize(3);  // a block of 2 after element 0
+    c[1] = 1, c[2] = 2;
+    c.adopt({3, 4, 5});
+    c.adopt({});           // nothing
+    c.emplace_back() = 6;  // not into the adopted chunk: that would move it
+    c.resize(9);           // a block of 2, in one chunk: a span of it is contiguous
+    c[7] = 7, c[8] = 8;
+    c.adopt({9});
+    ASSERT_EQ(c.size(), 10u);
+    for (int i = 0; i < 10; ++i) EXPECT_EQ(c[size_t(i)], i) << i;
+    EXPECT_EQ(c.span(7, 2)[1], 8);
+    EXPECT_EQ(&c.span(7, 2)[1], &c[8]);
+    int expected = 0;
+    for (int v : c) EXPECT_EQ(v, expected++);
+    EXPECT_EQ(expected, 10);
+    const std::vector<int> all = std::move(c).take_all();
+    EXPECT_EQ(all, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+    EXPECT_TRUE(c.empty());
+}
+
 }  // namespace
 }  // namespace vr
