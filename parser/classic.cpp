@@ -347,6 +347,11 @@ class Reader {
                     return outer->second;
                 }
             }
+            if (it == f.defs.end() && outer_uses_ && !f.is_values && !f.outer_defs) {
+                // A piece's USE of a DEF before it: the main reader resolves it (take_pieces).
+                ++scene_.stats.use_count;
+                return outer_node(name);
+            }
             if (it == f.defs.end())
                 fail(f, nt,
                      "USE of '" + std::string(f.lexer.text(nt)) +
@@ -512,8 +517,10 @@ class Reader {
 
     NodeId make_node(Frame& f, const NodeTypeDecl* decl, Name type_name, const Token& at,
                      size_t mark) {
-        if (tree_.nodes.size() + consumed_nodes_ >= limits_.max_nodes)
-            fail(f, at, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
+        // Ids from kFirstOuterNode on stand for a piece's outer USEs: the limit stays below them.
+        const size_t limit = std::min<size_t>(limits_.max_nodes, kFirstOuterNode);
+        if (tree_.nodes.size() + consumed_nodes_ >= limit)
+            fail(f, at, "more than " + std::to_string(limit) + " nodes (limit)");
         Node n;
         n.kind = tree_.kind_of(decl, type_name);
         n.loc = {f.file, at.offset};
@@ -903,13 +910,19 @@ class Reader {
                 if (piece.consumed) consumer_->discard(piece.index);
                 return;  // read here: the same messages, the same limit error
             }
+            std::vector<NodeId> outer;
+            if (!resolve_outer(f, piece.outer_uses, outer)) {
+                if (piece.consumed) consumer_->discard(piece.index);
+                return;  // read here: the same error message
+            }
             if (piece.consumed) {
                 consumed_.push_back({piece.index, static_cast<uint32_t>(roots.size()),
-                                     static_cast<uint32_t>(piece.roots.size()), piece.nodes});
+                                     static_cast<uint32_t>(piece.roots.size()), piece.nodes,
+                                     std::move(outer)});
                 consumed_nodes_ += piece.nodes;
             } else {
-                const NodeId base = append_tree(tree_, std::move(piece.tree));
-                for (NodeId id : piece.roots) roots.push_back(id + base);
+                const NodeId base = append_tree(tree_, std::move(piece.tree), outer);
+                for (NodeId id : piece.roots) roots.push_back(appended_id(id, base, outer));
                 // A skipped node's DEF (kNullNode: USE and ROUTE say so) stays kNullNode.
                 for (const auto& [name, id] : piece.defs)
                     f.defs[name] = id == kNullNode ? id : id + base;
@@ -923,6 +936,29 @@ class Reader {
             if (f.whole_file) scene_.sources.release_before(f.file, piece.end);
             piece = Piece{};
         }
+    }
+
+    // The nodes a piece's outer USEs name, as the file's DEFs stand where the piece begins; false
+    // if one names no DEF (a single-thread read reports it there).
+    static bool resolve_outer(const Frame& f, const std::vector<Name>& names,
+                              std::vector<NodeId>& nodes) {
+        for (Name name : names) {
+            const auto it = f.defs.find(name);
+            if (it == f.defs.end()) return false;
+            nodes.push_back(it->second);
+        }
+        return true;
+    }
+
+    // A piece's reference to the node an earlier DEF names (piece_consumer.h).
+    NodeId outer_node(Name name) {
+        const auto [it, added] = outer_index_.try_emplace(
+            name, kFirstOuterNode + static_cast<NodeId>(outer_uses_->size()));
+        if (added) {
+            if (outer_uses_->size() >= kNullNode - kFirstOuterNode - 1) throw std::bad_alloc();
+            outer_uses_->push_back(name);
+        }
+        return it->second;
     }
 
     // A piece the main reader has passed: what a consumer built of it goes too.
@@ -944,6 +980,7 @@ class Reader {
         Reader reader(Target{scene_.sources, piece.diagnostics, piece.tree, piece.stats}, spec_,
                       limits_, resolver_);
         reader.in_piece_ = true;
+        reader.outer_uses_ = &piece.outer_uses;
         Frame frame{Lexer(scene_.sources.file(file).text, piece.begin, piece.end),
                     file,
                     {},
@@ -981,11 +1018,13 @@ class Reader {
 
     Target scene_;
     bool in_piece_ = false;
-    PieceConsumer* consumer_ = nullptr;    // the main file's, if any (never a piece reader's own)
-    std::vector<ConsumedPiece> consumed_;  // pieces it took, in file order
-    size_t consumed_nodes_ = 0;            // their nodes, counted against the node limit
-    FileUnits units_;                      // the file's UNIT statements so far
-    size_t next_piece_ = 0;                // the first piece not yet taken or dropped
+    PieceConsumer* consumer_ = nullptr;  // the main file's, if any (never a piece reader's own)
+    std::vector<Name>* outer_uses_ = nullptr;       // a piece reader's: names USEd from before it
+    std::unordered_map<Name, NodeId> outer_index_;  // and the outer node each stands as
+    std::vector<ConsumedPiece> consumed_;           // pieces it took, in file order
+    size_t consumed_nodes_ = 0;                     // their nodes, counted against the node limit
+    FileUnits units_;                               // the file's UNIT statements so far
+    size_t next_piece_ = 0;                         // the first piece not yet taken or dropped
     NodeTree& tree_;
     const Registry& registry_;
     Spec spec_;

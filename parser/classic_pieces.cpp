@@ -118,7 +118,7 @@ void PieceScheduler::stop() {
     threads_.clear();
 }
 
-NodeId append_tree(NodeTree& tree, NodeTree&& piece) {
+NodeId append_tree(NodeTree& tree, NodeTree&& piece, std::span<const NodeId> outer) {
     const auto node_base = static_cast<NodeId>(tree.nodes.size());
     const auto field_base = static_cast<uint32_t>(tree.fields.size());
     const auto number_base = static_cast<uint32_t>(tree.numbers.size());
@@ -145,7 +145,7 @@ NodeId append_tree(NodeTree& tree, NodeTree&& piece) {
     tree.numbers.insert(tree.numbers.end(), piece.numbers.begin(), piece.numbers.end());
     for (std::string& s : piece.strings) tree.strings.push_back(std::move(s));
     tree.node_refs.reserve(tree.node_refs.size() + piece.node_refs.size());
-    for (NodeId r : piece.node_refs) tree.node_refs.push_back(r == kNullNode ? r : r + node_base);
+    for (NodeId r : piece.node_refs) tree.node_refs.push_back(appended_id(r, node_base, outer));
     piece = NodeTree{};  // its memory goes before the next piece is appended
     return node_base;
 }

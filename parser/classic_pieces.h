@@ -18,6 +18,7 @@
 
 #include "parser/diagnostics.h"
 #include "parser/node_tree.h"
+#include "parser/piece_consumer.h"
 
 namespace vr {
 
@@ -43,6 +44,7 @@ struct Piece {
     ReadStats stats;
     std::vector<NodeId> roots;
     std::unordered_map<Name, NodeId> defs;
+    std::vector<Name> outer_uses;  // names USEd from before the piece: outer node k is the k-th
     bool usable =
         false;  // read to its end with no error and nothing that needs the rest of the file
     // Taken by the PieceConsumer: `tree` is empty, `nodes` says how many nodes it held.
@@ -91,8 +93,13 @@ class PieceScheduler {
 };
 
 // Appends `piece` to `tree`: node ids, field, number, string and node-reference indices shifted,
-// node kinds re-indexed. Returns the id the piece's node 0 gets.
-NodeId append_tree(NodeTree& tree, NodeTree&& piece);
+// node kinds re-indexed, outer node k (piece_consumer.h) replaced by outer[k]. Returns the id the
+// piece's node 0 gets.
+NodeId append_tree(NodeTree& tree, NodeTree&& piece, std::span<const NodeId> outer = {});
+// A piece's node reference (a root, say) as it reads in `tree` after append_tree gave `base`.
+inline NodeId appended_id(NodeId id, NodeId base, std::span<const NodeId> outer) {
+    return id == kNullNode ? id : is_outer_node(id) ? outer[id - kFirstOuterNode] : id + base;
+}
 // Adds the counts of a later part of the same file.
 void append_stats(ReadStats& stats, const ReadStats& later);
 

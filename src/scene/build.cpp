@@ -242,6 +242,10 @@ void Builder::count_references() {
     for (NodeId id : tree_.roots) refer(id);
     for (const auto& [inline_node, roots] : tree_.inline_roots)
         for (NodeId id : roots) refer(id);
+    // A consumed piece's USEs of the tree's nodes (fragments.h) refer to them too.
+    if (&tree_ == &loaded_.tree)
+        for (const ConsumedPiece& p : loaded_.consumed_pieces)
+            for (NodeId id : p.outer_nodes) refer(id);
     memo_.reserve(shared);
     shared_nodes_ = shared;
 }
@@ -324,7 +328,7 @@ void Builder::add_root_children(std::span<const NodeId> roots) {
         for (; piece != pieces.end() && piece->before_root == i; ++piece) {
             Scene* f = fragments_->find(piece->piece);
             if (!f) throw std::logic_error("a consumed piece has no scene fragment");
-            splice(*f, piece->roots, first, count);
+            splice(*f, *piece, first, count);
             if (free_fragments_) fragments_->release(piece->piece);
         }
         if (i == roots.size()) break;
@@ -505,6 +509,8 @@ std::optional<sg::ChildRef> Builder::make_shape(NodeId id) {
 // Appearance
 
 sg::Index Builder::appearance(NodeId id) {
+    // A piece's USE of an Appearance DEF'd before it (fragments.h): the splice resolves it.
+    if (is_outer_node(id)) return id;
     Memo* memo = shared(id);
     if (memo && memo->typed != sg::kNone) return memo->typed;
     if (type(id) != "Appearance"_n) {

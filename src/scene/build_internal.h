@@ -147,7 +147,7 @@ class Builder {
     void add_root_children(std::span<const NodeId> roots);
     // Takes fragment's groups, child references, translations and shapes as chunks of the scene
     // (free_fragments_; else copies of them).
-    void splice(Scene& fragment, uint32_t read_roots, size_t root_first, size_t& root_count);
+    void splice(Scene& fragment, const ConsumedPiece& piece, size_t root_first, size_t& root_count);
     sg::Index make_group(NodeId node);
     void scale_lengths(sg::Group& group, double scale);
     std::optional<sg::ChildRef> make_shape(NodeId node);

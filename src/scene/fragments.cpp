@@ -22,6 +22,25 @@ bool buildable_on_its_own(const NodeTree& tree) {
     return true;
 }
 
+// USEs of DEFs before the piece (outer nodes) only as a Shape's appearance, the pattern of
+// exporters that DEF an Appearance once and USE it for every atom: the splice looks those up in
+// the scene being built. Anywhere else the fragment would lack the node.
+bool outer_uses_are_appearances(const NodeTree& tree, std::span<const NodeId> roots) {
+    static const Name kShape = intern("Shape"), kAppearance = intern("appearance");
+    size_t outer = 0, as_appearance = 0;
+    for (NodeId r : tree.node_refs) outer += is_outer_node(r);
+    for (NodeId r : roots)
+        if (is_outer_node(r)) return false;
+    if (outer == 0) return true;
+    for (NodeId id = 0; id < tree.nodes.size(); ++id) {
+        if (tree.type(id) != kShape) continue;
+        for (const FieldEntry& e : tree.set_fields(id))
+            if (e.name == kAppearance && e.type.kind == ValueKind::Node && e.count == 1)
+                as_appearance += is_outer_node(tree.node_refs[e.begin]);
+    }
+    return outer == as_appearance;
+}
+
 // What the splice renumbers, and nothing else: no lights, bindable nodes, textures, hints,
 // billboards or Inline contents, and every geometry one of the four primitives.
 bool splicable(const Scene& s) {
@@ -43,7 +62,7 @@ bool splicable(const Scene& s) {
 }  // namespace
 
 bool SceneFragments::consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) {
-    if (!buildable_on_its_own(tree)) return false;
+    if (!buildable_on_its_own(tree) || !outer_uses_are_appearances(tree, roots)) return false;
     static const LoadedScene kNothingElse;  // the builder reads only `tree` for these types
     Diagnostics diagnostics;
     detail::Builder builder(kNothingElse, tree, diagnostics);
@@ -96,7 +115,8 @@ std::vector<T> without_front(Chunks<T>& chunks, size_t front, bool take) {
 // block from `root_count` on; its other groups, child blocks, translations and shapes become
 // chunks of the scene, renumbered by the sizes so far; its materials, appearances and spheres meet
 // the same merge maps the tree's do. So the arrays equal the sequential build's, index by index.
-void Builder::splice(Scene& f, uint32_t read_roots, size_t root_first, size_t& root_count) {
+void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, size_t& root_count) {
+    const uint32_t read_roots = piece.roots;
     const bool take = free_fragments_;
     const auto group_base =
         static_cast<uint32_t>(scene_.groups.size() - 1);  // f's root is not kept
@@ -168,7 +188,16 @@ void Builder::splice(Scene& f, uint32_t read_roots, size_t root_first, size_t& r
     for (sg::ChildRef& r : refs) r = renumber(r);
     std::vector<sg::Shape> shapes = without_front(f.shapes, 0, take);
     for (sg::Shape& s : shapes) {
-        if (s.appearance != sg::kNone) s.appearance = appearance[s.appearance];
+        if (is_outer_node(s.appearance)) {
+            // An Appearance DEF'd before the piece: built with the tree's nodes before this
+            // fragment (the shared node's memo gives its index). Only one DEF'd where nothing
+            // builds it (an inactive Switch choice) is built first here, its material and
+            // appearance then numbered after this fragment's own: the same scene, other indices.
+            const NodeId node = piece.outer_nodes[s.appearance - kFirstOuterNode];
+            s.appearance = node == kNullNode ? sg::kNone : this->appearance(node);
+        } else if (s.appearance != sg::kNone) {
+            s.appearance = appearance[s.appearance];
+        }
         if (s.geometry != sg::kNone) s.geometry = geometry[s.geometry];
     }
     scene_.groups.adopt(std::move(groups));

@@ -129,5 +129,25 @@ TEST(ParallelRead, AMoleculeExportIsReadInPieces) {
     fs::remove(file);
 }
 
+TEST(ParallelRead, PiecesMayUseWhatADefBeforeThemNames) {
+    // S3's pattern (bench/peers.sh): an Appearance DEF'd among the first atoms, USEd by every
+    // later one. The pieces are read on their own and their USEs resolved where they join.
+    const fs::path file = fs::temp_directory_path() / "vrmlray_parallel_use.wrl";
+    {
+        std::ofstream out(file);
+        out << "#VRML V2.0 utf8\nShape { appearance DEF M Appearance { material Material { } } "
+               "geometry Box { } }\nDEF S Sphere { radius 2 }\n";
+        for (int i = 0; i < 3000; ++i)
+            out << "Transform { translation " << i << " 0 0 children Shape { appearance USE M "
+                << "geometry " << (i % 2 ? "USE S" : "Sphere { radius 1 }") << " } }\n";
+        out << "USE S\n";
+    }
+    const LoadedScene one = load_with_pieces(file, 0);
+    const LoadedScene many = load_with_pieces(file, 4096);
+    EXPECT_EQ(difference(one, many), "");
+    EXPECT_GT(many.stats.pieces, 30u);  // ~200 KB in 4 KB pieces
+    fs::remove(file);
+}
+
 }  // namespace
 }  // namespace vr

@@ -241,6 +241,58 @@ TEST(SceneFragments, CutsThatStayInTheTreeBuildAsFromTheWholeTree) {
     }
 }
 
+TEST(SceneFragments, PiecesThatUseAnAppearanceDefinedBeforeThemAreBuilt) {
+    // The peer harness's S3 (bench/peers.sh) DEFs an Appearance per colour among its first atoms
+    // and USEs it in every later one: each piece USEs what a DEF before it names.
+    std::string text = "#VRML V2.0 utf8\n";
+    for (int c = 0; c < 4; ++c)
+        text += "Transform { children Shape { appearance DEF M" + std::to_string(c) +
+                " Appearance { material Material { diffuseColor 0." + std::to_string(c + 1) +
+                " 0.5 0.5 } } geometry Sphere { radius 1 } } }\n";
+    for (int i = 0; i < 600; ++i)
+        text += "Transform { translation " + std::to_string(i) + " 0 0 children Shape { " +
+                "appearance USE M" + std::to_string(i % 4) + " geometry Sphere { radius 0." +
+                std::to_string(1 + i % 9) + " } } }\n";
+    TempFile file(text);
+    for (size_t piece : {256, 4096}) {
+        size_t consumed = 0;
+        EXPECT_EQ(difference(file.path, piece, &consumed), "") << piece;
+        EXPECT_GT(consumed, text.size() / piece / 2) << piece;
+    }
+}
+
+TEST(SceneFragments, OuterUsesThatAreNoAppearanceBuildAsFromTheWholeTree) {
+    const std::string header = "#VRML V2.0 utf8\n";
+    const std::string cases[] = {
+        // a Material USEd as an appearance: the builder's warning, in its place
+        header +
+            "DEF A Material { diffuseColor 1 0 0 }\nShape { appearance Appearance { "
+            "material USE A } geometry Box { } }\n" +
+            atoms(200, 20) + "Shape { appearance USE A geometry Box { } }\n" + atoms(200, 21),
+        // a skipped node's DEF USEd as an appearance; a geometry and a whole group USEd
+        header +
+            "DEF U Unknown { }\nDEF G Sphere { radius 3 }\nDEF T Transform { children "
+            "Shape { geometry Box { } } }\n" +
+            atoms(150, 22) + "Shape { appearance USE U geometry USE G }\nUSE T\n" +
+            "Group { children USE T }\n" + atoms(150, 23),
+        // an Appearance whose material has hints (never merged with another): used again,
+        // not built again
+        header +
+            "Shape { appearance DEF N Appearance { material Material { metadata MetadataSet { "
+            "name \"vrmlray\" value [ MetadataFloat { name \"reflectivity\" value 0.5 } ] } } } "
+            "geometry Box { } }\n" +
+            atoms(150, 24) + "Shape { appearance USE N geometry Sphere { } }\n" + atoms(150, 25),
+    };
+    int n = 0;
+    for (const std::string& text : cases) {
+        TempFile file(text);
+        for (size_t piece : {64, 700, 4096})
+            EXPECT_EQ(difference(file.path, piece), "")
+                << "case " << n << ", pieces of " << piece << " bytes";
+        ++n;
+    }
+}
+
 TEST(SceneFragments, AUnitStatementAfterBuiltPiecesReadsTheFileAgain) {
     // X3D UNIT angle converts every rotation of the file, those before it too: the pieces built
     // before it would lack that, so the file is read again without building pieces.
