@@ -20,7 +20,10 @@ std::string_view encoding_name(Encoding encoding);
 struct LoadLimits {
     size_t max_nesting_depth = 1000;  // nodes inside nodes (also bounds the reader's recursion)
     size_t max_proto_depth = 64;      // PROTO instances inside PROTO bodies
-    size_t max_nodes = 50'000'000;    // total nodes, including expanded PROTO bodies
+    // Total nodes, including expanded PROTO bodies. A 4 GiB PyMOL-style export (some 15 million
+    // atoms, 5 nodes each) stays below; a file that reaches it without being built in pieces holds
+    // a tree of some 4 GB (20 bytes a node, a field entry or two each) when it is refused.
+    size_t max_nodes = 100'000'000;
     size_t max_inline_depth = 16;
     size_t max_inline_files = 1000;
     size_t max_file_bytes = size_t(4) << 30;  // after decompression
