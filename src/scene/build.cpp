@@ -326,7 +326,7 @@ void Builder::add_root_children(std::span<const NodeId> roots) {
     auto piece = pieces.begin();
     for (size_t i = 0; i <= roots.size(); ++i) {
         for (; piece != pieces.end() && piece->before_root == i; ++piece) {
-            Scene* f = fragments_->find(piece->piece);
+            Scene* f = fragments_->fragment(piece->piece);
             if (!f) throw std::logic_error("a consumed piece has no scene fragment");
             splice(*f, *piece, first, count);
             if (free_fragments_) fragments_->release(piece->piece);
@@ -833,13 +833,22 @@ sg::Index Builder::make_navigation_info(NodeId id) {
 }  // namespace detail
 
 namespace {
-SceneFragments* fragments_of(const LoadedScene& loaded) {
+FragmentStore* fragments_of(const LoadedScene& loaded) {
     if (loaded.consumed_pieces.empty()) return nullptr;
-    auto* fragments = dynamic_cast<SceneFragments*>(loaded.piece_consumer.get());
+    auto* fragments = dynamic_cast<FragmentStore*>(loaded.piece_consumer.get());
     if (!fragments) throw std::logic_error("consumed pieces without their scene fragments");
     return fragments;
 }
 }  // namespace
+
+std::optional<Scene> build_fragment(const NodeTree& tree, std::span<const NodeId> roots,
+                                    Diagnostics& diagnostics) {
+    static const LoadedScene kNothingElse;  // a fragment's nodes read nothing but `tree`
+    detail::Builder builder(kNothingElse, tree, diagnostics);
+    Scene scene = builder.build(roots);
+    if (!builder.misreads().empty()) return std::nullopt;
+    return scene;
+}
 
 Scene build_scene(const LoadedScene& loaded, Diagnostics& diagnostics) {
     detail::Builder builder(loaded, diagnostics);

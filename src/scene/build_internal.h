@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "parser/load.h"
-#include "scene/fragments.h"
+#include "scene/build.h"
 #include "scene/scene.h"
 #include "scene/tree_release.h"
 
@@ -178,7 +178,7 @@ class Builder {
     TreeRelease* release_ = nullptr;  // told as each top-level node is built, if set
     // The fragments of the pieces loaded.consumed_pieces names; freed once spliced in if
     // `free_fragments_`.
-    SceneFragments* fragments_ = nullptr;
+    FragmentStore* fragments_ = nullptr;
     bool free_fragments_ = false;
     // Some node is referred to twice (DEF/USE): built once, reached from several places.
     bool has_shared_nodes() const { return shared_nodes_ > 0; }

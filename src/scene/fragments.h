@@ -15,20 +15,21 @@
 #include <unordered_map>
 
 #include "parser/load.h"
+#include "scene/build.h"
 #include "scene/scene.h"
 
 namespace vr {
 
-class SceneFragments final : public PieceConsumer {
+class SceneFragments final : public PieceConsumer, public FragmentStore {
   public:
     bool consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) override;
     void discard(size_t piece) override;
 
     // The fragment of a consumed piece (built, not discarded); null if there is none. The scene
     // build takes its arrays when it frees it afterwards (release), else copies them.
-    Scene* find(size_t piece);
+    Scene* fragment(size_t piece) override;
     // Frees a fragment once it is spliced in (build_scene_releasing_tree).
-    void release(size_t piece) { discard(piece); }
+    void release(size_t piece) override { discard(piece); }
 
   private:
     mutable std::mutex mutex_;
