@@ -13,6 +13,7 @@
 #include "parser/classic_pieces.h"
 #include "parser/load.h"
 #include "parser/tree_compare.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -132,7 +133,7 @@ TEST(ParallelRead, AMoleculeExportIsReadInPieces) {
 TEST(ParallelRead, PiecesMayUseWhatADefBeforeThemNames) {
     // S3's pattern (bench/peers.sh): an Appearance DEF'd among the first atoms, USEd by every
     // later one. The pieces are read on their own and their USEs resolved where they join.
-    const fs::path file = fs::temp_directory_path() / "vrmlray_parallel_use.wrl";
+    const fs::path file = test::temp_path("vrmlray_parallel_use").string() + ".wrl";
     {
         std::ofstream out(file);
         out << "#VRML V2.0 utf8\nShape { appearance DEF M Appearance { material Material { } } "

@@ -16,6 +16,7 @@
 #include "parser/load.h"
 #include "scene/build.h"
 #include "scene/fragments.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -174,10 +175,10 @@ TEST(SceneFragments, RealMoleculeExportsAreBuiltInPieces) {
     }
 }
 
-struct TempFile {
+struct TempFile {  // a name of this process's own: CTest runs the tests in parallel processes
     fs::path path;
-    explicit TempFile(const std::string& text, const char* name = "vrmlray_fragments.wrl")
-        : path(fs::temp_directory_path() / name) {
+    explicit TempFile(const std::string& text, const char* extension = ".wrl")
+        : path(test::temp_path("vrmlray_fragments").string() + extension) {
         std::ofstream(path) << text;
     }
     ~TempFile() { fs::remove(path); }
@@ -298,7 +299,7 @@ TEST(SceneFragments, AUnitStatementAfterBuiltPiecesReadsTheFileAgain) {
     // before it would lack that, so the file is read again without building pieces.
     const std::string text = "#X3D V3.3 utf8\nPROFILE Interchange\n" + atoms(300, 11) +
                              "UNIT angle degree 0.017453292519943295\n" + atoms(50, 12);
-    TempFile file(text, "vrmlray_fragments.x3dv");
+    TempFile file(text, ".x3dv");
     LoadedScene many = load_in_pieces(file.path, 1024, true);
     EXPECT_TRUE(many.consumed_pieces.empty());
     EXPECT_EQ(difference(file.path, 1024), "");
