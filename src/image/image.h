@@ -13,27 +13,9 @@
 #include <vector>
 
 #include "core/huge_pages.h"
+#include "core/no_fill.h"
 
 namespace vr {
-
-// std::allocator, except that resize() leaves new elements unset (default-initialised).
-template <class T>
-struct NoFillAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = NoFillAllocator<U>;
-    };
-    NoFillAllocator() = default;
-    template <class U>
-    NoFillAllocator(const NoFillAllocator<U>&) {}
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        if constexpr (sizeof...(Args) == 0)
-            ::new (static_cast<void*>(p)) U;
-        else
-            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
 
 struct Image {
     int width = 0;

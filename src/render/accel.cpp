@@ -70,7 +70,7 @@ void Accel::build_prototypes(const FlatScene& scene, int threads) {
     prototypes_.assign(scene.prototypes.size(), Prototype());
     for (size_t pi = 0; pi < scene.prototypes.size(); ++pi) {
         const Mesh& m = scene.prototypes[pi];
-        std::vector<BuildBox> boxes;
+        BuildBoxes boxes;
         for (uint32_t t = 0; t < m.triangle_count(); ++t) {
             BuildBox box;
             if (triangle_box(m, t, t, box)) boxes.push_back(box);
@@ -136,7 +136,7 @@ void Accel::build(const FlatScene& scene, int threads) {
 
     // One box per candidate, made in parallel; the skipped ones are removed afterwards.
     const uint32_t first_instance = first_triangle + uint32_t(triangle_refs.size());
-    std::vector<BuildBox> boxes;
+    BuildBoxes boxes;
     resize_huge(boxes, size_t(first_instance) + scene.instances.size());
     parallel_chunks(
         boxes.size(), chunks_for(boxes.size(), threads), [&](size_t begin, size_t end, int) {

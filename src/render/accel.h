@@ -75,19 +75,20 @@ class Accel {
     void prefetch_leaf(uint32_t first, uint32_t count) const;
 
     const FlatScene* scene_ = nullptr;
-    Bvh4 bvh_;                              // collapsed from the binary build, which is not kept
-    std::vector<uint32_t> prims_;           // packed references in leaf order
-    std::vector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
+    Bvh4 bvh_;  // collapsed from the binary build, which is not kept
+    // The arrays a primitive fills are written by parallel loops after resize() (core/no_fill.h).
+    NoFillVector<uint32_t> prims_;           // packed references in leaf order
+    NoFillVector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;
     bool spheres_only_ = false;  // every primitive is a sphere: prims_[i] is sphere i
 
-    std::vector<SphereGeom> spheres_;
-    std::vector<uint32_t>
+    NoFillVector<SphereGeom> spheres_;
+    NoFillVector<uint32_t>
         sphere_shading_;  // the sphere's Shading index: scene.spheres is not read after build
-    std::vector<QuadricGeom> quadrics_;
-    std::vector<uint32_t> quadric_source_;
-    std::vector<TriangleGeom> triangles_;
-    std::vector<uint32_t> triangle_mesh_, triangle_index_;
+    NoFillVector<QuadricGeom> quadrics_;
+    NoFillVector<uint32_t> quadric_source_;
+    NoFillVector<TriangleGeom> triangles_;
+    NoFillVector<uint32_t> triangle_mesh_, triangle_index_;
 
     // Mesh instances (FlatScene::instances): each prototype's triangles once, in object space,
     // under a BVH of its own; each instance one entry of the scene's BVH.

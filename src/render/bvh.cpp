@@ -97,7 +97,7 @@ struct Range {
 // and appended, with their child offsets shifted.
 class Builder {
   public:
-    Builder(std::vector<BuildBox>& boxes, const BvhBuildOptions& options)
+    Builder(BuildBoxes& boxes, const BvhBuildOptions& options)
         : boxes_(boxes), options_(options) {}
 
     // Builds the subtree over `range`: returns its root and appends the descendants' pairs to
@@ -320,13 +320,13 @@ class Builder {
         return k;
     }
 
-    std::vector<BuildBox>& boxes_;
+    BuildBoxes& boxes_;
     const BvhBuildOptions& options_;
 };
 
 }  // namespace
 
-Bvh build_bvh(std::vector<BuildBox> boxes, const BvhBuildOptions& options) {
+Bvh build_bvh(BuildBoxes boxes, const BvhBuildOptions& options) {
     Bvh bvh;
     if (boxes.empty()) return bvh;
     Builder builder(boxes, options);

@@ -16,6 +16,7 @@
 
 #include "core/float_error.h"
 #include "core/math.h"
+#include "core/no_fill.h"
 #include "core/ray.h"
 
 namespace vr {
@@ -28,6 +29,8 @@ struct BuildBox {
     uint32_t unused;
 };
 static_assert(sizeof(BuildBox) == 32);
+// Filled by parallel loops after resize(): see core/no_fill.h.
+using BuildBoxes = NoFillVector<BuildBox>;
 
 // Interior nodes: the children are nodes[offset] and nodes[offset + 1] (offset even). Leaves:
 // `count` primitives starting at `offset` in Bvh::order.
@@ -74,7 +77,7 @@ struct BvhBuildOptions {
 
 // Builds over `boxes` (consumed: reordered). Deterministic: the result does not depend on
 // `threads`.
-Bvh build_bvh(std::vector<BuildBox> boxes, const BvhBuildOptions& options);
+Bvh build_bvh(BuildBoxes boxes, const BvhBuildOptions& options);
 
 // One float ulp further down / up (finite values; infinities stay).
 inline float float_step_down(float f) {

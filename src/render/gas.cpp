@@ -303,7 +303,7 @@ bool meets_point_fan(const Vec3& light, const Vec3& A, const Vec3& B, const Vec3
 
 void GasVolume::build(const FlatScene& scene, const RenderOptions& options) {
     spheres_.clear();
-    std::vector<BuildBox> boxes;
+    BuildBoxes boxes;
     for (const Sphere& s : scene.spheres) {
         if (!s.gas || !(s.radius > 0.0)) continue;
         const Shading& sh = scene.shadings[s.shading];

@@ -54,14 +54,14 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
     EXPECT_EQ(sizeof(BvhNode), 32u);
     Rng rng(1);
     std::uniform_real_distribution<double> pos(-100.0, 100.0);
-    std::vector<BuildBox> boxes;
+    BuildBoxes boxes;
     for (uint32_t i = 0; i < 5000; ++i) {
         Vec3 c(pos(rng), pos(rng), pos(rng));
         boxes.push_back(make_build_box(c - Vec3(1.0), c + Vec3(1.0), i));
     }
     // Coincident boxes must still give small leaves.
     for (uint32_t i = 5000; i < 5100; ++i) boxes.push_back(make_build_box(Vec3(0.0), Vec3(1.0), i));
-    const std::vector<BuildBox> original = boxes;
+    const BuildBoxes original = boxes;
     BvhBuildOptions options;
     Bvh bvh = build_bvh(boxes, options);
     ASSERT_EQ(bvh.order.size(), original.size());
@@ -99,7 +99,7 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
 TEST(Bvh, ParallelBuildEqualsSerialBuild) {
     Rng rng(2);
     std::uniform_real_distribution<double> pos(-100.0, 100.0);
-    std::vector<BuildBox> boxes;
+    BuildBoxes boxes;
     for (uint32_t i = 0; i < 200000; ++i) {
         Vec3 c(pos(rng), pos(rng), pos(rng));
         boxes.push_back(make_build_box(c - Vec3(0.5), c + Vec3(0.5), i));
@@ -191,7 +191,7 @@ TEST(Bvh, DepthIsBoundedOnSkewedScenes) {
 // Boxes growing by 1.4x from 1e-37 to 1e38 push SAH far past the depth limit, where median splits
 // take over: the tree stays within the traversal stack.
 TEST(Bvh, DepthLimitTakesOver) {
-    std::vector<BuildBox> boxes;
+    BuildBoxes boxes;
     double x = 1e-37;
     for (uint32_t i = 0; x < 1e38; ++i, x *= 1.4)
         boxes.push_back(make_build_box(Vec3(x), Vec3(x * 1.1), i));
@@ -217,12 +217,12 @@ TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> pos(-100.0, 100.0), size(0.01, 5.0);
     for (size_t count : {1u, 2u, 3u, 5u, 17u, 1000u, 40000u}) {
-        std::vector<BuildBox> boxes;
+        BuildBoxes boxes;
         for (uint32_t i = 0; i < count; ++i) {
             const Vec3 lo(pos(rng), pos(rng), pos(rng));
             boxes.push_back(make_build_box(lo, lo + Vec3(size(rng), size(rng), size(rng)), i));
         }
-        const std::vector<BuildBox> original = boxes;
+        const BuildBoxes original = boxes;
         const Bvh binary = build_bvh(boxes, BvhBuildOptions());
         const Bvh4 wide = collapse_bvh(binary);
         std::vector<int> seen(count, 0);
