@@ -97,8 +97,7 @@ struct Range {
 // and appended, with their child offsets shifted.
 class Builder {
   public:
-    Builder(BuildBoxes& boxes, const BvhBuildOptions& options)
-        : boxes_(boxes), options_(options) {}
+    Builder(BuildBoxes& boxes, const BvhBuildOptions& options) : boxes_(boxes), options_(options) {}
 
     // Builds the subtree over `range`: returns its root and appends the descendants' pairs to
     // `out`.
