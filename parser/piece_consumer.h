@@ -14,8 +14,8 @@ namespace vr {
 
 // A piece read on its own may USE what a DEF before it names: such a node stands in the piece's
 // tree as kFirstOuterNode + k, the piece's k-th such name, until the main reader, arriving at the
-// piece, finds those DEFs (Piece::outer_uses, ConsumedPiece::outer_nodes). Readers keep node ids
-// below it (LoadLimits caps the node count there).
+// piece, finds those DEFs (Piece::outer_uses, ConsumedPiece::outer_nodes). The reader keeps node
+// ids below it (its node limit never exceeds it).
 constexpr NodeId kFirstOuterNode = 0xC0000000u;
 inline bool is_outer_node(NodeId id) { return id >= kFirstOuterNode && id != kNullNode; }
 

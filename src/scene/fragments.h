@@ -6,7 +6,8 @@
 // child lists and merged materials, appearances and spheres, in the same order.
 //
 // A piece is built only when that equality is plain: its nodes are grouping nodes, Shapes,
-// Appearances, Materials and the four primitive geometries, nothing in it has metadata, and its
+// Appearances, Materials and the four primitive geometries, nothing in it has metadata, a USE of
+// a DEF before the piece stands only as a Shape's appearance (the splice looks it up), and its
 // build reports nothing (a warning stays with the node tree, so that messages keep their order).
 // Everything else is left to the tree.
 #pragma once
@@ -32,7 +33,7 @@ class SceneFragments final : public PieceConsumer, public FragmentStore {
     void release(size_t piece) override { discard(piece); }
 
   private:
-    mutable std::mutex mutex_;
+    std::mutex mutex_;
     std::unordered_map<size_t, std::unique_ptr<Scene>> built_;
 };
 
