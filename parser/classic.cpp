@@ -1,6 +1,7 @@
 #include "parser/classic.h"
 
 #include <algorithm>
+#include <atomic>
 #include <thread>
 #include <unordered_set>
 
@@ -147,6 +148,7 @@ class Reader {
         if (f.proto_depth > 0 || !f.whole_file) return;  // a PROTO body's UNIT: not the file's
         const std::string why = add_unit(units_, category, factor, {f.file, keyword.offset});
         if (!why.empty()) warn(f, keyword.offset, why, "unit:" + why);
+        if (units_.angle != 1.0) angle_unit_ = true;  // pieces read from now on stay trees
     }
 
     // Skips a balanced { ... } or [ ... ] group whose opening token is next.
@@ -904,7 +906,7 @@ class Reader {
             Piece& piece = pieces.get(next_piece_++);
             const size_t nodes = piece.consumed ? piece.nodes : piece.tree.nodes.size();
             // A UNIT angle converts the file's nodes after reading: a consumed piece would miss it.
-            const bool units_apply = piece.consumed && units_.any();
+            const bool units_apply = piece.consumed && units_.angle != 1.0;
             if (!piece.usable || units_apply ||
                 tree_.nodes.size() + consumed_nodes_ + nodes > limits_.max_nodes) {
                 if (piece.consumed) consumer_->discard(piece.index);
@@ -998,8 +1000,8 @@ class Reader {
         piece.usable = piece.diagnostics.error_count() == 0;
         const NodeTree& t = piece.tree;
         // What the main reader must see (DEF names) or what lives outside the nodes stays a tree.
-        if (!consumer_ || !piece.usable || !piece.defs.empty() || !t.routes.empty() ||
-            !t.is_links.empty() || !t.exports.empty() || !t.imports.empty() ||
+        if (!consumer_ || angle_unit_ || !piece.usable || !piece.defs.empty() ||
+            !t.routes.empty() || !t.is_links.empty() || !t.exports.empty() || !t.imports.empty() ||
             !t.inline_roots.empty() || !t.many_fields.empty())
             return;
         if (!consumer_->consume(piece.index, t, piece.roots)) return;
@@ -1023,8 +1025,11 @@ class Reader {
     std::unordered_map<Name, NodeId> outer_index_;  // and the outer node each stands as
     std::vector<ConsumedPiece> consumed_;           // pieces it took, in file order
     size_t consumed_nodes_ = 0;                     // their nodes, counted against the node limit
-    FileUnits units_;                               // the file's UNIT statements so far
-    size_t next_piece_ = 0;                         // the first piece not yet taken or dropped
+    // The main reader has read a UNIT angle: the workers stop consuming (a header's UNIT is read
+    // long before a worker ends its first piece; a later one makes take_pieces discard instead).
+    std::atomic<bool> angle_unit_{false};
+    FileUnits units_;        // the file's UNIT statements so far
+    size_t next_piece_ = 0;  // the first piece not yet taken or dropped
     NodeTree& tree_;
     const Registry& registry_;
     Spec spec_;

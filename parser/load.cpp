@@ -678,9 +678,10 @@ static LoadedScene load_scene_source(SourceText text, const std::string& path,
             scene.tree.roots = std::move(r.roots);
             scene.tree.root_length_scale = r.units.length;
             scene.consumed_pieces = std::move(r.consumed);
-            // A UNIT statement after consumed pieces converts angles they would lack (none
-            // before them: the reader reads such pieces itself). Rare enough to read again.
-            read_again = r.units.any() && !scene.consumed_pieces.empty();
+            // A UNIT angle after consumed pieces converts angles they would lack (none before
+            // them: the reader reads such pieces itself). Rare enough to read again. Other units
+            // need nothing: lengths scale the root group, mass and force no field drawn.
+            read_again = r.units.angle != 1.0 && !scene.consumed_pieces.empty();
         } catch (const std::bad_alloc&) {
             scene.diagnostics.error_in_file(path, "out of memory while reading the scene");
         }

@@ -2,6 +2,7 @@
 // read (build.h: FragmentStore; src/scene/fragments.h builds them).
 #include <algorithm>
 #include <bit>
+#include <iterator>
 
 #include "scene/build_internal.h"
 
@@ -19,8 +20,7 @@ std::vector<T> without_front(Chunks<T>& chunks, size_t front, bool take) {
         v = std::move(chunks).take_all();
         v.erase(v.begin(), v.begin() + std::ptrdiff_t(std::min(front, v.size())));
     } else {
-        v.reserve(chunks.size() - front);
-        for (size_t i = front; i < chunks.size(); ++i) v.push_back(chunks[i]);
+        v.assign(std::next(chunks.begin(), std::ptrdiff_t(front)), chunks.end());
     }
     return v;
 }

@@ -9,9 +9,11 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace vr::test {
 
@@ -57,6 +59,26 @@ inline CorpusLookup lookup_corpus(const std::string& subfolder = "") {
         return out;
     }
     return out;
+}
+
+// The classic-encoding files under `folder` (.wrl, .wrz, .x3dv and gzip), sorted: what the tests of
+// reading in pieces cut up.
+inline std::vector<std::filesystem::path> classic_files(const std::filesystem::path& folder) {
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
+        if (!entry.is_regular_file()) continue;
+        const std::string ext = entry.path().extension().string();
+        if (ext == ".wrl" || ext == ".wrz" || ext == ".x3dv" || ext == ".gz" || ext == ".x3dvz")
+            files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// A piece size (VRMLRAY_PIECE_BYTES) that cuts `file` into about 200 pieces, never below 64 bytes:
+// small files are cut at most lines.
+inline size_t small_piece_bytes(const std::filesystem::path& file) {
+    return std::max<size_t>(64, std::filesystem::file_size(file) / 200);
 }
 
 }  // namespace vr::test

@@ -56,17 +56,11 @@ std::string difference(const LoadedScene& one, const LoadedScene& many) {
 TEST(ParallelRead, EveryCorpusFileReadsAsWithOneThread) {
     VR_CORPUS_FOLDER(corpus, "");
     size_t files = 0, cut = 0;
-    for (const auto& entry : fs::recursive_directory_iterator(corpus)) {
-        if (!entry.is_regular_file()) continue;
-        const std::string ext = entry.path().extension().string();
-        if (ext != ".wrl" && ext != ".wrz" && ext != ".x3dv" && ext != ".gz" && ext != ".x3dvz")
-            continue;
-        // About 200 pieces a file, and never below 64 bytes: small files are cut at most lines.
-        const size_t piece = std::max<size_t>(64, fs::file_size(entry.path()) / 200);
-        const LoadedScene one = load_with_pieces(entry.path(), 0);
-        const LoadedScene many = load_with_pieces(entry.path(), piece);
+    for (const fs::path& file : test::classic_files(corpus)) {
+        const LoadedScene one = load_with_pieces(file, 0);
+        const LoadedScene many = load_with_pieces(file, test::small_piece_bytes(file));
         EXPECT_EQ(one.stats.pieces, 0u);
-        EXPECT_EQ(difference(one, many), "") << entry.path();
+        EXPECT_EQ(difference(one, many), "") << file;
         ++files;
         cut += many.stats.pieces > 0;
     }

@@ -5,6 +5,7 @@
 // VRMLRAY_PIECE_BYTES forces pieces far smaller than a real run's 16 MB.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -41,26 +42,21 @@ std::string loc(const sg::Origin& o) {
 
 // "" when the two scenes are equal in every array the flattening reads; else the first difference.
 std::string scene_difference(const Scene& a, const Scene& b) {
-    std::ostringstream d;
-    auto count = [&](const char* what, size_t x, size_t y) {
-        if (x != y && d.str().empty()) d << what << " count " << x << " vs " << y;
-        return x == y;
+    const auto sizes = [](const Scene& s) {
+        return std::array<size_t, 14>{
+            s.groups.size(),   s.child_refs.size(),    s.translations.size(), s.matrices.size(),
+            s.shapes.size(),   s.geometries.size(),    s.appearances.size(),  s.materials.size(),
+            s.textures.size(), s.lights.size(),        s.viewpoints.size(),   s.backgrounds.size(),
+            s.hints.size(),    s.billboard_axes.size()};
     };
-    if (!count("group", a.groups.size(), b.groups.size()) ||
-        !count("child_ref", a.child_refs.size(), b.child_refs.size()) ||
-        !count("translation", a.translations.size(), b.translations.size()) ||
-        !count("matrix", a.matrices.size(), b.matrices.size()) ||
-        !count("shape", a.shapes.size(), b.shapes.size()) ||
-        !count("geometry", a.geometries.size(), b.geometries.size()) ||
-        !count("appearance", a.appearances.size(), b.appearances.size()) ||
-        !count("material", a.materials.size(), b.materials.size()) ||
-        !count("texture", a.textures.size(), b.textures.size()) ||
-        !count("light", a.lights.size(), b.lights.size()) ||
-        !count("viewpoint", a.viewpoints.size(), b.viewpoints.size()) ||
-        !count("background", a.backgrounds.size(), b.backgrounds.size()) ||
-        !count("hints", a.hints.size(), b.hints.size()) ||
-        !count("billboard", a.billboard_axes.size(), b.billboard_axes.size()))
-        return d.str();
+    static const char* const kArrays[14] = {
+        "group",    "child_ref", "translation", "matrix",    "shape",      "geometry", "appearance",
+        "material", "texture",   "light",       "viewpoint", "background", "hints",    "billboard"};
+    const auto na = sizes(a), nb = sizes(b);
+    for (size_t k = 0; k < na.size(); ++k)
+        if (na[k] != nb[k])
+            return std::string(kArrays[k]) + " count " + std::to_string(na[k]) + " vs " +
+                   std::to_string(nb[k]);
     for (size_t i = 0; i < a.groups.size(); ++i) {
         const sg::Group &x = a.groups[i], &y = b.groups[i];
         if (loc(x.origin) != loc(y.origin) || x.first_child != y.first_child ||
@@ -146,14 +142,9 @@ std::string difference(const fs::path& file, size_t piece, size_t* consumed = nu
 TEST(SceneFragments, EveryCorpusFileBuildsAsFromTheWholeTree) {
     VR_CORPUS_FOLDER(corpus, "");
     size_t files = 0, built = 0;
-    for (const auto& entry : fs::recursive_directory_iterator(corpus)) {
-        if (!entry.is_regular_file()) continue;
-        const std::string ext = entry.path().extension().string();
-        if (ext != ".wrl" && ext != ".wrz" && ext != ".x3dv" && ext != ".gz" && ext != ".x3dvz")
-            continue;
-        const size_t piece = std::max<size_t>(64, fs::file_size(entry.path()) / 200);
+    for (const fs::path& file : test::classic_files(corpus)) {
         size_t consumed = 0;
-        EXPECT_EQ(difference(entry.path(), piece, &consumed), "") << entry.path();
+        EXPECT_EQ(difference(file, test::small_piece_bytes(file), &consumed), "") << file;
         ++files;
         built += consumed > 0;
     }
