@@ -414,6 +414,16 @@ void Accel::prefetch_leaf(uint32_t first, uint32_t count) const {
     __builtin_prefetch(end - 1);  // the last line, when `begin` is not on a line's start
 }
 
+bool Accel::leaf_may_meet(const Frustum& f, uint32_t first, uint32_t count) const {
+    for (uint32_t i = first; i < first + count; ++i) {
+        const uint32_t ref = spheres_only_ ? pack_prim(PrimKind::Sphere, i) : prims_[i];
+        if (prim_kind(ref) != PrimKind::Sphere) return true;  // its box has said maybe
+        const SphereGeom& s = spheres_[prim_index(ref)];
+        if (!f.separates_ball(s.center, s.radius)) return true;
+    }
+    return false;
+}
+
 bool Accel::frustum_may_hit(const Frustum& f) const {
     if (bvh_.empty()) return false;
     // Depth first over the interior nodes whose boxes the frustum may reach; a leaf box it may
@@ -430,7 +440,11 @@ bool Accel::frustum_may_hit(const Frustum& f) const {
             const double lo[3] = {n.lo[0][c], n.lo[1][c], n.lo[2][c]};
             const double hi[3] = {n.hi[0][c], n.hi[1][c], n.hi[2][c]};
             if (f.separates(lo, hi)) continue;
-            if (n.count[c] > 0 || top == kMaxNodes) return true;
+            if (n.count[c] > 0) {
+                if (leaf_may_meet(f, n.child[c], uint32_t(n.count[c]))) return true;
+                continue;
+            }
+            if (top == kMaxNodes) return true;
             stack[top++] = n.child[c];
         }
     }

@@ -41,8 +41,9 @@ class Accel {
     // makes it 0 whichever entry is found first.
     double transmittance(const Ray& ray, uint32_t* blocker) const;
 
-    // False when no ray inside `f` can hit anything: every box of the BVH it reaches is outside
-    // one of the frustum's planes. Conservative: true after a few dozen nodes without an answer.
+    // False when no ray inside `f` can hit anything: every box of the BVH it reaches, and every
+    // sphere of a leaf whose box it reaches, is outside one of the frustum's planes.
+    // Conservative: true after a few dozen nodes without an answer.
     bool frustum_may_hit(const Frustum& f) const;
 
     // The hit's surface data; texture coordinates only when `want_uv` (they cost inverse
@@ -71,6 +72,9 @@ class Accel {
     bool test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hit,
                        bool brute_force = false) const;
     int instance_crossings(uint32_t index, const Ray& ray) const;
+    // False when every primitive of the leaf [first, first + count) of leaf order is a sphere
+    // outside one of the frustum's planes.
+    bool leaf_may_meet(const Frustum& f, uint32_t first, uint32_t count) const;
     // Fetches what the leaf [first, first + count) of leaf order will read.
     void prefetch_leaf(uint32_t first, uint32_t count) const;
 

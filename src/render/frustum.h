@@ -31,6 +31,23 @@ struct Frustum {
         }
         return false;
     }
+
+    // True when the ball of `radius` about `center` lies outside one plane by more than the
+    // rounding of the distance (as above): tighter than its box, whose corners reach much farther
+    // into the view when the sphere is near and the view wide.
+    bool separates_ball(const Vec3& center, double radius) const {
+        for (int k = 0; k < 4; ++k) {
+            const Vec3& n = normal[k];
+            const Vec3 d = center - point[k];
+            const double length = glm::length(n);
+            const double s = glm::dot(n, d) + radius * length;
+            double scale = radius * length;
+            for (int a = 0; a < 3; ++a)
+                scale += std::fabs(n[a]) * (std::fabs(center[a]) + std::fabs(point[k][a]));
+            if (s < -1e-12 * scale) return true;
+        }
+        return false;
+    }
 };
 
 }  // namespace vr

@@ -212,6 +212,20 @@ TEST(TileCulling, OneSmallSphereSeenWide) {
     expect_render_equals_per_pixel_trace(scene, options, 70);
 }
 
+TEST(TileCulling, ANearSphereIsCulledByItselfNotByItsBox) {
+    // The peer harness's S1: a unit sphere 2 units away under a 90 degree view. Its box's near face
+    // alone fills the image's height, so box tests trace about half the tiles; the sphere's own
+    // disc covers 15% of the image, and tiles outside it are filled from one ray.
+    FlatScene scene = testing::empty_scene();
+    testing::add_sphere(scene, Vec3(0.0, 0.0, -2.0), 1.0, testing::add_shading(scene, Material()));
+    scene.headlight = true;
+    scene.viewpoints.push_back(testing::look_from(Vec3(0.0), kPi / 2));
+    RenderOptions options;
+    options.width = 320;
+    options.height = 180;
+    expect_render_equals_per_pixel_trace(scene, options, 70);
+}
+
 TEST(TileCulling, ClustersUnderPerspectiveTelephotoAndOrthoViews) {
     Rng rng(11);
     for (double far : {0.0, 1e5}) {
