@@ -170,15 +170,37 @@ void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, 
         static const Srgb8 encode;
         for (size_t p = 0; p < count; ++p) {
             const float* px = in + p * 4;
+            // A pixel with the bits of the one before it (the background, mostly) is stored as
+            // that one was: a 16-byte compare costs less than three table walks.
+            if (p > 0 && std::memcmp(px, px - 4, 4 * sizeof(float)) == 0) {
+                std::copy_n(out + (p - 1) * nchannels, nchannels, out + p * nchannels);
+                continue;
+            }
             for (int c = 0; c < nchannels; ++c)
                 out[p * nchannels + c] = T(c == 3 ? linear8(px[c]) : encode(px[c]));
         }
         return;
     }
     if (max_code == 255.0) {
-        for (size_t p = 0; p < count; ++p)
-            for (int c = 0; c < nchannels; ++c) out[p * nchannels + c] = T(linear8(in[p * 4 + c]));
-        return;
+        // The channel count as a constant, so that the compiler unrolls and vectorises the pixel.
+        auto linear = [&]<int kChannels>() {
+            for (size_t p = 0; p < count; ++p)
+                for (int c = 0; c < kChannels; ++c)
+                    out[p * kChannels + c] = T(linear8(in[p * 4 + c]));
+        };
+        switch (nchannels) {
+            case 3:
+                linear.template operator()<3>();
+                return;
+            case 4:
+                linear.template operator()<4>();
+                return;
+            default:
+                for (size_t p = 0; p < count; ++p)
+                    for (int c = 0; c < nchannels; ++c)
+                        out[p * nchannels + c] = T(linear8(in[p * 4 + c]));
+                return;
+        }
     }
     for (size_t p = 0; p < count; ++p) {
         const float* px = in + p * 4;

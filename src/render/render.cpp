@@ -62,8 +62,11 @@ void trace_tile(const Camera& camera, const CameraRays& camera_rays, const Integ
         // Every pixel of the tile gets the value of its first ray.
         const SampleValue v = integrator.trace_camera_miss(camera_rays(x0 + 0.5, y0 + 0.5), c);
         c.primary += uint64_t(x1 - x0) * uint64_t(y1 - y0) - 1;
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) store(x, y, v);
+        const uint64_t bad_before = bad;
+        store(x0, y0, v);
+        const size_t count = size_t(x1 - x0) * size_t(y1 - y0);
+        bad += (bad - bad_before) * (count - 1);  // each pixel counts its non-finite values
+        for (size_t k = 1; k < count; ++k) std::copy_n(&pixels[0], 4, &pixels[4 * k]);
         return;
     }
     sample_tile(
