@@ -43,6 +43,7 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
       accel_(accel),
       options_(options),
       background_(scene, options.background, options.sky_map.get()),
+      looks_(material_looks(scene)),
       gas_(gas && !gas->empty() ? gas : nullptr),
       lines_(scene, camera, options.width, options.height, options.line_width, options.point_size) {
     const Vec3 view = camera.forward();
@@ -249,7 +250,7 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
     if (!found) return background_sample(ray);
     const uint32_t shading = accel_.shading_of(hit);
     const SurfaceHit s = accel_.surface(ray, hit, shading < textured_.size() && textured_[shading]);
-    const SurfaceLook look = look_up_surface(scene_, s);
+    const SurfaceLook look = look_up_surface(scene_, looks_, s);
 
     const double len = glm::length(ray.d);
     const Vec3 d = ray.d / len;

@@ -111,7 +111,8 @@ class Integrator {
     BackgroundModel background_;
     std::vector<Light>
         lights_;  // scene lights with unit directions; headlights aimed along the view
-    std::vector<bool> textured_;  // per Shading: needs texture coordinates
+    std::vector<bool> textured_;      // per Shading: needs texture coordinates
+    std::vector<SurfaceLook> looks_;  // material_looks(scene_): clamped once, not at every hit
     bool has_headlight_ = false;
     Light headlight_;
     const GasVolume* gas_ = nullptr;  // non-null only when the scene has gas spheres

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <vector>
 
 namespace vr {
 namespace {
@@ -117,45 +119,63 @@ TexelValue sample_texture(const Texture& tex, Vec2 st, bool clamp) {
     return out;
 }
 
-SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit) {
+SurfaceLook material_look(const Material& m) {
     SurfaceLook look;
-    const Material* m = nullptr;
-    if (hit.shading < scene.shadings.size()) {
-        uint32_t mi = scene.shadings[hit.shading].material;
-        if (mi < scene.materials.size()) m = &scene.materials[mi];
-    }
+    look.lit = m.lit;
+    look.specular = clamp01(m.specular);
+    look.emissive = clamp01(m.emissive);
+    look.ambient_intensity = clamp01(m.ambient_intensity);
+    look.shininess = clamp01(m.shininess);
+    look.transparency = clamp01(m.transparency);
+    look.reflectivity = clamp01(m.reflectivity);
+    look.ior = std::isfinite(m.ior) && m.ior > 0.0 ? m.ior : 1.0;
+    look.diffuse = m.lit ? clamp01(m.diffuse) : Vec3(1.0);
+    return look;
+}
+
+std::vector<SurfaceLook> material_looks(const FlatScene& scene) {
+    std::vector<SurfaceLook> looks;
+    looks.reserve(scene.materials.size() + 1);
+    for (const Material& m : scene.materials) looks.push_back(material_look(m));
+    looks.push_back(material_look(Material()));
+    return looks;
+}
+
+SurfaceLook look_up_surface(const FlatScene& scene, std::span<const SurfaceLook> looks,
+                            const SurfaceHit& hit) {
     static const Material kDefault;
-    if (!m) m = &kDefault;
-    look.lit = m->lit;
-    look.specular = clamp01(m->specular);
-    look.emissive = clamp01(m->emissive);
-    look.ambient_intensity = clamp01(m->ambient_intensity);
-    look.shininess = clamp01(m->shininess);
-    look.transparency = clamp01(m->transparency);
+    size_t mi = scene.materials.size();  // no material: the default's look, last in `looks`
+    if (hit.shading < scene.shadings.size() &&
+        scene.shadings[hit.shading].material < scene.materials.size())
+        mi = scene.shadings[hit.shading].material;
+    const Material& m = mi < scene.materials.size() ? scene.materials[mi] : kDefault;
+    SurfaceLook look = looks[mi];
     // ColorRGBA (X3D 11.4.2): the colour's alpha is the surface's opacity, in place of the
     // Material's transparency; a texture's alpha below still replaces it in turn.
     if (hit.has_alpha) look.transparency = 1.0 - clamp01(hit.alpha);
-    look.reflectivity = clamp01(m->reflectivity);
-    look.ior = std::isfinite(m->ior) && m->ior > 0.0 ? m->ior : 1.0;
 
     // The colour the texture modulates, or the colour itself without a texture.
-    Vec3 base = hit.has_color ? clamp01(hit.color) : (m->lit ? clamp01(m->diffuse) : Vec3(1.0));
-    look.diffuse = base;
-    if (m->texture >= 0 && size_t(m->texture) < scene.textures.size()) {
-        const Texture& tex = scene.textures[size_t(m->texture)];
-        Vec3 st = m->texture_transform * Vec3(hit.uv, 1.0);
+    if (hit.has_color) look.diffuse = clamp01(hit.color);
+    const Vec3 base = look.diffuse;
+    if (m.texture >= 0 && size_t(m.texture) < scene.textures.size()) {
+        const Texture& tex = scene.textures[size_t(m.texture)];
+        Vec3 st = m.texture_transform * Vec3(hit.uv, 1.0);
         TexelValue tv = sample_texture(tex, Vec2(st.x, st.y));
         // A grey texture modulates in every version; an RGB one replaces the colour in VRML97
         // and X3D 3 (17.2.2.4 there) and modulates it in X3D 4.
         if (tex.channels <= 2)
             look.diffuse = clamp01(tv.rgb.x) * base;
-        else if (m->texture_modulates)
+        else if (m.texture_modulates)
             look.diffuse = clamp01(tv.rgb) * base;
         else
             look.diffuse = clamp01(tv.rgb);
         if (tex.channels == 2 || tex.channels == 4) look.transparency = 1.0 - clamp01(tv.a);
     }
     return look;
+}
+
+SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit) {
+    return look_up_surface(scene, material_looks(scene), hit);
 }
 
 }  // namespace vr

@@ -1,6 +1,9 @@
 // What a surface looks like at a hit: the Material's fields after the VRML97 texture tables
 // (4.14.4, tables 4.5 lit and 4.6 unlit; X3D 17.2.2), and texture look-ups.
 #pragma once
+#include <span>
+#include <vector>
+
 #include "core/math.h"
 #include "render/flat_scene.h"
 #include "render/intersect.h"
@@ -38,5 +41,11 @@ TexelValue sample_texture(const Texture& texture, Vec2 st, bool clamp = false);
 //   4 channels (RGBA):            ODrgb = RGB, transparency = 1 - A
 // Non-finite or out-of-range material values are clamped to their VRML ranges.
 SurfaceLook look_up_surface(const FlatScene& scene, const SurfaceHit& hit);
+// The same with the materials' looks made beforehand (material_looks: the tracer asks per hit).
+SurfaceLook look_up_surface(const FlatScene& scene, std::span<const SurfaceLook> looks,
+                            const SurfaceHit& hit);
+// What a Material alone decides of the look, clamped: scene.materials' in order, then the default
+// Material's (for a shading without a material).
+std::vector<SurfaceLook> material_looks(const FlatScene& scene);
 
 }  // namespace vr
