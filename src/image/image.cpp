@@ -157,19 +157,57 @@ std::string format_name(const std::string& ext) {
     return name.empty() ? std::string("the image") : name;
 }
 
+// quantize(x, false, 255) for the 8-bit encode of every tile: NaN and everything below 0 give 0,
+// everything from 1 up (+inf too) 255, and the rounding is quantize's floor(v * 255 + 0.5),
+// truncation being floor for v >= 0.
+inline uint8_t linear8(float x) {
+    const double v = x > 0.0f ? (x < 1.0f ? double(x) : 1.0) : 0.0;
+    return uint8_t(v * 255.0 + 0.5);
+}
+
+#if defined(__AVX2__)
+// linear8 of every sample of `count` RGBA pixels, the first `nchannels` (3 or 4) of each stored.
+// A block's samples are converted 8 at a time over contiguous floats, then the kept channels
+// packed: a pass that skips every fourth sample does not vectorise. max(x, 0) is 0 for NaN (maxps
+// returns its second operand), and v * 255 is exact in double, so a fused multiply-add rounds as
+// the scalar does.
+template <typename T>
+void linear8_avx2(const float* in, size_t count, int nchannels, T* out) {
+    constexpr size_t kBlock = 64;
+    uint8_t all[kBlock * 4];
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256d scale = _mm256_set1_pd(255.0), half = _mm256_set1_pd(0.5);
+    for (size_t first = 0; first < count; first += kBlock) {
+        const size_t n = std::min(kBlock, count - first);
+        const float* block = in + first * 4;
+        size_t i = 0;
+        for (; i + 8 <= n * 4; i += 8) {
+            const __m256 v = _mm256_min_ps(_mm256_max_ps(_mm256_loadu_ps(block + i), zero), one);
+            const __m256d lo = _mm256_add_pd(
+                _mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)), scale), half);
+            const __m256d hi = _mm256_add_pd(
+                _mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)), scale), half);
+            const __m128i words =
+                _mm_packus_epi32(_mm256_cvttpd_epi32(lo), _mm256_cvttpd_epi32(hi));
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(all + i), _mm_packus_epi16(words, words));
+        }
+        for (; i < n * 4; ++i) all[i] = linear8(block[i]);
+        T* to = out + first * size_t(nchannels);
+        if (nchannels == 4) {
+            std::copy_n(all, n * 4, to);
+        } else {
+            for (size_t p = 0; p < n; ++p)
+                for (int c = 0; c < 3; ++c) to[p * 3 + c] = T(all[p * 4 + c]);
+        }
+    }
+}
+#endif
+
 // Converts `count` RGBA pixels at `in` to the interleaved samples stored in the file (nchannels per
 // pixel) at `out`, colour as given.
 template <typename T>
 void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, double max_code,
                        T* out) {
-    // quantize(x, false, 255) without branches, so that the loops vectorise (vrmlray render encodes
-    // every tile so): NaN and everything below 0 give 0, everything from 1 up (+inf too) 255, and
-    // the rounding is quantize's floor(v * 255 + 0.5), truncation being floor for v >= 0.
-    auto linear8 = [](float x) {
-        const float below_one = x < 1.0f ? x : 1.0f;
-        const float v = x > 0.0f ? below_one : 0.0f;  // two selects, no branch
-        return uint8_t(double(v) * 255.0 + 0.5);
-    };
     if (srgb && max_code == 255.0) {
         static const Srgb8 encode;
         for (size_t p = 0; p < count; ++p) {
@@ -186,53 +224,20 @@ void to_stored_samples(const float* in, size_t count, int nchannels, bool srgb, 
         return;
     }
     if (max_code == 255.0) {
-        // Every sample of a block of pixels in one pass over contiguous floats, which the
-        // compiler vectorises, then the kept channels packed: a pass that skips every fourth
-        // sample does not vectorise.
-        auto linear = [&]<int kChannels>() {
-            constexpr size_t kBlock = 64;
-            uint8_t all[kBlock * 4];
-            for (size_t first = 0; first < count; first += kBlock) {
-                const size_t n = std::min(kBlock, count - first);
-                const float* block = in + first * 4;
-                size_t i = 0;
 #if defined(__AVX2__)
-                // linear8 on 8 samples: max(x, 0) is 0 for NaN (maxps returns its second operand),
-                // and v * 255 is exact in double, so a fused multiply-add rounds as the scalar.
-                const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-                const __m256d scale = _mm256_set1_pd(255.0), half = _mm256_set1_pd(0.5);
-                for (; i + 8 <= n * 4; i += 8) {
-                    const __m256 v =
-                        _mm256_min_ps(_mm256_max_ps(_mm256_loadu_ps(block + i), zero), one);
-                    const __m256d lo = _mm256_add_pd(
-                        _mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)), scale), half);
-                    const __m256d hi = _mm256_add_pd(
-                        _mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)), scale), half);
-                    const __m128i words =
-                        _mm_packus_epi32(_mm256_cvttpd_epi32(lo), _mm256_cvttpd_epi32(hi));
-                    _mm_storel_epi64(reinterpret_cast<__m128i*>(all + i),
-                                     _mm_packus_epi16(words, words));
-                }
+        if (nchannels == 3 || nchannels == 4) return linear8_avx2(in, count, nchannels, out);
 #endif
-                for (; i < n * 4; ++i) all[i] = linear8(block[i]);
-                T* to = out + first * kChannels;
-                for (size_t p = 0; p < n; ++p)
-                    for (int c = 0; c < kChannels; ++c) to[p * kChannels + c] = T(all[p * 4 + c]);
-            }
+        // The channel count as a constant, so that the compiler unrolls the pixel.
+        auto linear = [&]<int kChannels>() {
+            for (size_t p = 0; p < count; ++p)
+                for (int c = 0; c < kChannels; ++c)
+                    out[p * kChannels + c] = T(linear8(in[p * 4 + c]));
         };
-        switch (nchannels) {
-            case 3:
-                linear.template operator()<3>();
-                return;
-            case 4:
-                linear.template operator()<4>();
-                return;
-            default:
-                for (size_t p = 0; p < count; ++p)
-                    for (int c = 0; c < nchannels; ++c)
-                        out[p * nchannels + c] = T(linear8(in[p * 4 + c]));
-                return;
-        }
+        if (nchannels == 3) return linear.template operator()<3>();
+        if (nchannels == 4) return linear.template operator()<4>();
+        for (size_t p = 0; p < count; ++p)
+            for (int c = 0; c < nchannels; ++c) out[p * nchannels + c] = T(linear8(in[p * 4 + c]));
+        return;
     }
     for (size_t p = 0; p < count; ++p) {
         const float* px = in + p * 4;

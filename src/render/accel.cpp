@@ -602,7 +602,7 @@ SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
             const Vec3 p = s.p, p_error = s.p_error;
             to_world_space(in.world_from_object, p, p_error, s.p, s.p_error);
             const Mat3 normal_from_object = glm::transpose(Mat3(in.object_from_world));
-            s.ng = safe_normalize(normal_from_object * s.ng, -glm::normalize(ray.d));
+            s.ng = normalize_or_facing(normal_from_object * s.ng, ray.d);
             s.ns = s.ng;
             const size_t c0 = 3 * size_t(hit.triangle);
             if (m.normals.size() >= c0 + 3) {

@@ -185,7 +185,7 @@ int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t,
 SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t, bool want_uv) {
     SurfaceHit hit;
     hit.t = t;
-    Vec3 n = safe_normalize(ray.at(t) - s.center, -glm::normalize(ray.d));
+    Vec3 n = normalize_or_facing(ray.at(t) - s.center, ray.d);
     // Refinement: reprojecting onto the sphere leaves only the rounding of c + r*n.
     hit.p = s.center + s.radius * n;
     hit.p_error = gamma_bound(6) * (glm::abs(s.center) + Vec3(s.radius));
@@ -301,7 +301,7 @@ SurfaceHit quadric_surface(const Quadric& q, const QuadricGeom& g, const Ray& ra
     }
     to_world_space(q.world_from_object, p, gamma_bound(4) * glm::abs(p), hit.p, hit.p_error);
     const Mat3 normal_from_object = glm::transpose(Mat3(q.object_from_world));
-    hit.ng = safe_normalize(normal_from_object * n, -glm::normalize(ray.d));
+    hit.ng = normalize_or_facing(normal_from_object * n, ray.d);
     hit.ns = hit.ng;
     hit.uv = uv;
     return hit;
@@ -320,7 +320,7 @@ SurfaceHit triangle_surface(const Mesh& m, uint32_t triangle, const Ray& ray, do
     // The barycentric point is exact to a few ulps of its terms, unlike o + t*d (pbrt-v4).
     hit.p = b0 * p0 + b1 * p1 + b2 * p2;
     hit.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
-    hit.ng = safe_normalize(glm::cross(p1 - p0, p2 - p0), -glm::normalize(ray.d));
+    hit.ng = normalize_or_facing(glm::cross(p1 - p0, p2 - p0), ray.d);
     hit.ns = hit.ng;
     if (m.normals.size() >= c0 + 3) {
         Vec3 ns = b0 * m.normals[c0] + b1 * m.normals[c0 + 1] + b2 * m.normals[c0 + 2];

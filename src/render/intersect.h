@@ -211,6 +211,14 @@ inline Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
     return v / std::sqrt(len2);
 }
 
+// safe_normalize with the fallback -unit(d), a normal facing a ray along d, worked out only when
+// needed: the fallback is almost never taken, and its square root and division are not free.
+inline Vec3 normalize_or_facing(const Vec3& v, const Vec3& d) {
+    double len2 = glm::dot(v, v);
+    if (!(len2 > 0.0) || !std::isfinite(len2)) return -glm::normalize(d);
+    return v / std::sqrt(len2);
+}
+
 struct SurfaceHit {
     double t = 0.0;
     Vec3 p{0.0};        // world, refined onto the surface
