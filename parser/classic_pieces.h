@@ -50,6 +50,7 @@ struct Piece {
     // Taken by the PieceConsumer: `tree` is empty, `nodes` says how many nodes it held.
     bool consumed = false;
     uint32_t nodes = 0;
+    uint32_t lines = 0;  // XML: the piece's line breaks, which the main reader's libxml2 never sees
 };
 
 // Reads pieces on worker threads, in file order, a few ahead of the one the main reader needs

@@ -40,11 +40,11 @@ void XmlReader::start_element(const XmlElement& e) {
                 if (const XmlAttr* v = e.find(n_.version)) version_ = trim(attr_text(e, *v));
                 return push(make_open(Role::X3d, e));
             }
-            if (tag == n_.scene) return push(make_open(Role::Scene, e));
+            if (tag == n_.scene) return scene_start(e);
             fail(e.file, e.offset,
                  "not an X3D document: the root element is <" + tag_text(e) + ">, expected <X3D>");
         case Role::X3d:
-            if (tag == n_.scene) return push(make_open(Role::Scene, e));
+            if (tag == n_.scene) return scene_start(e);
             if (tag == n_.head) return push(make_open(Role::Head, e));
             warn(e.file, e.offset, "element <" + tag_text(e) + "> outside <Scene> ignored",
                  "xml-outside-scene:" + tag_text(e));
@@ -105,6 +105,9 @@ void XmlReader::start_element(const XmlElement& e) {
 // default value.
 void XmlReader::content_element(const XmlElement& e) {
     const Name tag = e.tag;
+    if (tag == n_.proto_declare || tag == n_.extern_proto_declare || tag == n_.proto_instance ||
+        tag == n_.route || tag == n_.import || tag == n_.export_)
+        not_in_piece(e);
     if (tag == n_.proto_declare) return proto_declare_start(e);
     if (tag == n_.extern_proto_declare) return extern_start(e);
     if (tag == n_.proto_instance) return instance_start(e);
@@ -229,6 +232,8 @@ void XmlReader::end_element() {
         }
         recording_ = nullptr;  // this is </ProtoBody>
     }
+    if (piece_content_ && stack_.size() <= piece_depth_)
+        fail(main_file_, current_offset(), "a piece ends the <Scene> it began in");
     Open o = std::move(stack_.back());
     stack_.pop_back();
     switch (o.role) {
