@@ -569,9 +569,8 @@ NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, 
 ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& limits,
                            const ExternProtoResolver& resolve_externproto,
                            PieceConsumer* consumer) {
-    x3d_xml_detail::XmlReader reader(
-        {scene.sources, scene.diagnostics, scene.tree, scene.stats}, limits, resolve_externproto,
-        consumer);
+    x3d_xml_detail::XmlReader reader({scene.sources, scene.diagnostics, scene.tree, scene.stats},
+                                     limits, resolve_externproto, consumer);
     return reader.read(file);
 }
 

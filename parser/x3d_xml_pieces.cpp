@@ -89,7 +89,8 @@ XmlPiecePlan plan_xml_pieces(std::string_view text, size_t piece) {
     if (prefix_end == 0 || has_lone_cr(text.substr(0, prefix_end))) return plan;
     // The last piece ends where the line of the last </Scene> begins: the main reader reads that.
     size_t content_end = text.rfind("</Scene");
-    if (content_end == std::string_view::npos || content_end < prefix_end) content_end = text.size();
+    if (content_end == std::string_view::npos || content_end < prefix_end)
+        content_end = text.size();
     const size_t line = text.rfind('\n', content_end == 0 ? 0 : content_end - 1);
     if (content_end != text.size() && line != std::string_view::npos && line >= prefix_end)
         content_end = line + 1;
@@ -215,8 +216,11 @@ void XmlReader::take_pieces(PieceScheduler& pieces, size_t& pos) {
 
 void XmlReader::join(Piece& piece, size_t& pos) {
     if (piece.consumed) {
-        consumed_.push_back({piece.index, static_cast<uint32_t>(roots_.size()),
-                             static_cast<uint32_t>(piece.roots.size()), piece.nodes, {}});
+        consumed_.push_back({piece.index,
+                             static_cast<uint32_t>(roots_.size()),
+                             static_cast<uint32_t>(piece.roots.size()),
+                             piece.nodes,
+                             {}});
         consumed_nodes_ += piece.nodes;
     } else {
         const NodeId base = append_tree(tree_, std::move(piece.tree));
@@ -263,8 +267,8 @@ void XmlReader::scene_start(const XmlElement& e) {
 
 uint32_t XmlReader::file_offset(uint64_t stream) const {
     if (in_piece_)
-        return static_cast<uint32_t>(stream < piece_stream_ ? stream
-                                                            : piece_begin_ + (stream - piece_stream_));
+        return static_cast<uint32_t>(
+            stream < piece_stream_ ? stream : piece_begin_ + (stream - piece_stream_));
     if (skips_.empty() || stream < skips_.front().stream) return static_cast<uint32_t>(stream);
     // The last skip at or before `stream` (offsets asked for are nearly always the latest).
     auto it = skips_.back().stream <= stream
@@ -277,8 +281,7 @@ uint32_t XmlReader::file_offset(uint64_t stream) const {
 
 int XmlReader::file_line(int stream_line) const {
     // A piece reader's line table is in the lines libxml2 counts (build_line_starts).
-    if (in_piece_ || skips_.empty() || stream_line < skips_.front().stream_line)
-        return stream_line;
+    if (in_piece_ || skips_.empty() || stream_line < skips_.front().stream_line) return stream_line;
     auto it = std::upper_bound(skips_.begin(), skips_.end(), stream_line,
                                [](int l, const Skip& k) { return l < k.stream_line; }) -
               1;

@@ -289,10 +289,10 @@ class XmlReader {
     uint32_t offset_at(int line, int column);
     Name cached_name(const xmlChar* text);
 
-    // ---- pieces (x3d_xml_pieces.cpp) -------------------------------------------------------------
-    // Offsets and lines as libxml2 counts them in the bytes it was given, which skip the pieces
-    // the main reader joined (a piece reader's: its prefix, a line break, then the piece), mapped
-    // to the file's.
+    // ---- pieces (x3d_xml_pieces.cpp)
+    // ------------------------------------------------------------- Offsets and lines as libxml2
+    // counts them in the bytes it was given, which skip the pieces the main reader joined (a piece
+    // reader's: its prefix, a line break, then the piece), mapped to the file's.
     uint32_t file_offset(uint64_t stream) const;
     int file_line(int stream_line) const;
     std::string file_lines_in(std::string message) const;
