@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 using test::difference;
 using test::load_with_pieces;
 
-constexpr size_t kSizes[] = {64, 512, 4096};
+// 1: a piece at every top-level line.
+constexpr size_t kSizes[] = {1, 64, 512, 4096};
 
 TEST(ParallelReadXml, EveryXmlCorpusFileReadsAsWithOneThread) {
     VR_CORPUS_FOLDER(corpus, "");
@@ -46,8 +47,8 @@ TEST(ParallelReadXml, EveryXmlCorpusFileReadsAsWithOneThread) {
 }
 
 // An X3D document around the Scene content `body`.
-std::string document(const std::string& body,
-                     const std::string& declaration = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n") {
+std::string document(const std::string& body, const std::string& declaration =
+                                                  "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n") {
     return declaration +
            "<X3D profile='Immersive' version='3.3'>\n  <head>\n    <meta name='generator' "
            "content='test'/>\n  </head>\n  <Scene>\n" +
@@ -59,7 +60,8 @@ std::string atoms(int n, int seed = 0) {
     std::string s;
     for (int i = seed; i < seed + n; ++i)
         s += "    <Transform translation='" + std::to_string(i % 7) + " " + std::to_string(i % 5) +
-             " " + std::to_string(i) + "'>\n      <Shape>\n        <Appearance>\n          <Material "
+             " " + std::to_string(i) +
+             "'>\n      <Shape>\n        <Appearance>\n          <Material "
              "diffuseColor='0." +
              std::to_string(i % 10) + " 0.5 1'/>\n        </Appearance>\n        <Sphere radius='" +
              std::to_string(1 + i % 4) + "'/>\n      </Shape>\n    </Transform>\n";
@@ -101,8 +103,8 @@ std::string line_col(const std::string& text, const std::string& needle, size_t 
 TEST(ParallelReadXml, AnErrorInALaterPieceIsReportedAtItsLineAndColumn) {
     // A value error and an XML error (whose message names the line of the open element) after
     // pieces were joined.
-    const std::string value = document(atoms(60) + "    <Transform translation='1 2 x'/>\n" +
-                                       atoms(20, 60));
+    const std::string value =
+        document(atoms(60) + "    <Transform translation='1 2 x'/>\n" + atoms(20, 60));
     const std::string tags =
         document(atoms(60) + "    <Group>\n      <Shape>\n    </Group>\n" + atoms(20, 60));
     for (const std::string* text : {&value, &tags}) {
@@ -110,6 +112,10 @@ TEST(ParallelReadXml, AnErrorInALaterPieceIsReportedAtItsLineAndColumn) {
         EXPECT_EQ(read_alike(*text, &joined), "");
         EXPECT_GT(joined, 10u);
     }
+    // The open <Scene> never closed: libxml2 names its line after every piece was skipped.
+    EXPECT_EQ(read_alike(document(atoms(40)).substr(0, document(atoms(40)).find("  </Scene>")) +
+                         "</X3D>\n"),
+              "");
     const TempFile file(value);
     const LoadedScene many = load_with_pieces(file.path, 512);
     EXPECT_GT(many.stats.pieces, 10u);
@@ -140,9 +146,9 @@ TEST(ParallelReadXml, DefAndUseAcrossPieces) {
         "    <Shape>\n      <Appearance USE='A'/>\n      <Box/>\n    </Shape>\n    <Transform "
         "USE='T'/>\n";
     size_t joined = 0;
-    EXPECT_EQ(read_alike(document(atoms(30) + shared + atoms(30, 30) + user + atoms(30, 60)),
-                         &joined),
-              "");
+    EXPECT_EQ(
+        read_alike(document(atoms(30) + shared + atoms(30, 30) + user + atoms(30, 60)), &joined),
+        "");
     EXPECT_GT(joined, 10u);
     // A DEF given again in a later piece: the later node is what a USE after it names.
     EXPECT_EQ(read_alike(document(atoms(20) + shared + atoms(20, 20) + shared + atoms(20, 40) +
@@ -160,9 +166,9 @@ TEST(ParallelReadXml, AProtoDeclareAfterPieces) {
         "    <Shape>\n      <ProtoInstance name='Ball' containerField='geometry'>\n        "
         "<fieldValue name='r' value='3'/>\n      </ProtoInstance>\n    </Shape>\n";
     size_t joined = 0;
-    EXPECT_EQ(read_alike(document(atoms(40) + proto + atoms(20, 40) + instance + atoms(20, 60)),
-                         &joined),
-              "");
+    EXPECT_EQ(
+        read_alike(document(atoms(40) + proto + atoms(20, 40) + instance + atoms(20, 60)), &joined),
+        "");
     EXPECT_GT(joined, 10u);
     // ROUTEs, and an instance of a prototype no piece knows, read by the main reader.
     EXPECT_EQ(read_alike(document(atoms(40) + "    <TimeSensor DEF='Clock'/>\n" + atoms(20, 40) +
@@ -184,6 +190,14 @@ TEST(ParallelReadXml, CutsInsideMultiLineElements) {
     size_t joined = 0;
     EXPECT_EQ(read_alike(document(body), &joined), "");
     EXPECT_GT(joined, 5u);
+    // A start tag over several lines, tabs before its attributes: libxml2's line and column give
+    // the warning's place.
+    std::string spread;
+    for (int i = 0; i < 40; ++i)
+        spread += atoms(1, i) +
+                  (i % 5 == 2 ? "    <Unknown\n\t\ta='1'\n\t\tb='&amp;'>\n    </Unknown>\n" : "");
+    EXPECT_EQ(read_alike(document(spread), &joined), "");
+    EXPECT_GT(joined, 5u);
     // Warnings in pieces: their order, places and counts (one message per cause) stay.
     std::string warned;
     for (int i = 0; i < 60; ++i)
@@ -197,7 +211,8 @@ TEST(ParallelReadXml, ByteOrderMarkAndEncodings) {
     // A BOM, non-ASCII text before a warning on the same line (columns count characters), and a
     // file in ISO-8859-1, whose offsets come from libxml2's lines and columns.
     const std::string line =
-        "    <Viewpoint description='Gr\xC3\xBC\xC3\x9F" "e' orientation='0 1 1 0.5'/>\n";
+        "    <Viewpoint description='Gr\xC3\xBC\xC3\x9F"
+        "e' orientation='0 1 1 0.5'/>\n";
     size_t joined = 0;
     EXPECT_EQ(read_alike("\xEF\xBB\xBF" + document(atoms(40) + line + atoms(40, 40)), &joined), "");
     EXPECT_GT(joined, 10u);
@@ -225,11 +240,12 @@ TEST(ParallelReadXml, CommentsAndCdataHoldingElementText) {
     // read as elements.
     std::string body;
     for (int i = 0; i < 30; ++i)
-        body += atoms(1 + i % 3, i * 3) +
-                "    <!-- a comment\n    <Transform translation='9 9 9'>\n    <Shape><Box/></Shape>\n"
-                "    </Transform>\n    -->\n    <Script>\n<![CDATA[\n    <Transform "
-                "translation='8 8 8'/>\n    ecmascript: function f() { return 1 < 2; }\n    ]]>\n"
-                "    </Script>\n";
+        body +=
+            atoms(1 + i % 3, i * 3) +
+            "    <!-- a comment\n    <Transform translation='9 9 9'>\n    <Shape><Box/></Shape>\n"
+            "    </Transform>\n    -->\n    <Script>\n<![CDATA[\n    <Transform "
+            "translation='8 8 8'/>\n    ecmascript: function f() { return 1 < 2; }\n    ]]>\n"
+            "    </Script>\n";
     size_t joined = 0;
     EXPECT_EQ(read_alike(document(body), &joined), "");
     // A piece whose end is a cut inside a comment is unusable too: few are joined.
@@ -243,6 +259,15 @@ TEST(ParallelReadXml, CommentsAndCdataHoldingElementText) {
                                   "    <WorldInfo title='a &amp; b &#x41;' info='\"x&lt;y\"'/>\n" +
                                   atoms(40, 40))),
               "");
+}
+
+TEST(ParallelReadXml, ASecondSceneEndsThePieces) {
+    // The pieces after a second <Scene> would be read after the first one's start tag, without
+    // the namespace the second declares: a piece that closes its <Scene> is read again.
+    const std::string second = atoms(30) + "  </Scene>\n  <Scene xmlns:ext='urn:ext'>\n" +
+                               "    <Transform ext:a='1'/>\n" + atoms(30, 30) +
+                               "    <Transform ext:b='1'/>\n" + atoms(10, 60);
+    EXPECT_EQ(read_alike(document(second)), "");
 }
 
 TEST(ParallelReadXml, TheNodeLimitStopsAtTheSameNode) {
