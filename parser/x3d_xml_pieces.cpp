@@ -85,7 +85,9 @@ XmlPiecePlan plan_xml_pieces(std::string_view text, size_t piece) {
         encoding != "iso-8859-1" && encoding != "latin1" && encoding != "us-ascii" &&
         encoding != "ascii")
         return plan;
-    const uint32_t prefix_end = scene_tag_end(text);
+    // Every piece parses the prefix again: a head of megabytes is read by one thread.
+    constexpr uint32_t kMaxPrefix = uint32_t(1) << 20;
+    const uint32_t prefix_end = scene_tag_end(text.substr(0, kMaxPrefix));
     if (prefix_end == 0 || has_lone_cr(text.substr(0, prefix_end))) return plan;
     // The last piece ends where the line of the last </Scene> begins: the main reader reads that.
     size_t content_end = text.rfind("</Scene");
