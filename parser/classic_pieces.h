@@ -45,6 +45,7 @@ struct Piece {
     std::vector<NodeId> roots;
     std::unordered_map<Name, NodeId> defs;
     std::vector<Name> outer_uses;  // names USEd from before the piece: outer node k is the k-th
+    std::vector<Name> outer_tags;  // XML: the element each was USEd as (its DEF's node type)
     bool usable =
         false;  // read to its end with no error and nothing that needs the rest of the file
     // Taken by the PieceConsumer: `tree` is empty, `nodes` says how many nodes it held.

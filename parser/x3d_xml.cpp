@@ -550,8 +550,10 @@ void XmlReader::push_field(size_t mark, const FieldEntry& entry) {
 
 NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, uint32_t offset,
                             size_t mark) {
-    if (tree_.nodes.size() + consumed_nodes_ >= limits_.max_nodes)
-        fail(file, offset, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
+    // Ids from kFirstOuterNode on stand for a piece's outer USEs: the limit stays below them.
+    const size_t limit = std::min<size_t>(limits_.max_nodes, kFirstOuterNode);
+    if (tree_.nodes.size() + consumed_nodes_ >= limit)
+        fail(file, offset, "more than " + std::to_string(limit) + " nodes (limit)");
     Node n;
     n.kind = tree_.kind_of(decl, type);
     n.loc = {file, offset};

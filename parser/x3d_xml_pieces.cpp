@@ -164,6 +164,8 @@ void XmlReader::read_piece(uint32_t file, uint32_t prefix_end, Piece& piece,
     if (!whole || piece.diagnostics.error_count() > 0) return;
     piece.roots = std::move(roots_);
     piece.defs = std::move(frames_.front()->defs);
+    piece.outer_uses = std::move(outer_uses_);
+    piece.outer_tags = std::move(outer_tags_);
     piece.lines = static_cast<uint32_t>(
         std::count(text_.begin() + piece.begin, text_.begin() + piece.end, '\n'));
     piece.usable = true;
@@ -208,25 +210,30 @@ void XmlReader::take_pieces(PieceScheduler& pieces, size_t& pos) {
         }
         Piece& piece = pieces.get(next_piece_++);
         const size_t nodes = piece.consumed ? piece.nodes : piece.tree.nodes.size();
-        if (!piece.usable || tree_.nodes.size() + consumed_nodes_ + nodes > limits_.max_nodes) {
+        std::vector<NodeId> outer;
+        if (!piece.usable || tree_.nodes.size() + consumed_nodes_ + nodes > limits_.max_nodes ||
+            !resolve_outer(piece, outer)) {
             if (piece.consumed) consumer_->discard(piece.index);
             return;  // read here: the same messages, the same limit error
         }
-        join(piece, pos);
+        join(piece, outer, pos);
     }
 }
 
-void XmlReader::join(Piece& piece, size_t& pos) {
+void XmlReader::join(Piece& piece, std::vector<NodeId>& outer, size_t& pos) {
     if (piece.consumed) {
-        consumed_.push_back({piece.index,
-                             static_cast<uint32_t>(roots_.size()),
-                             static_cast<uint32_t>(piece.roots.size()),
-                             piece.nodes,
-                             {}});
+        consumed_.push_back({piece.index, static_cast<uint32_t>(roots_.size()),
+                             static_cast<uint32_t>(piece.roots.size()), piece.nodes,
+                             std::move(outer)});
         consumed_nodes_ += piece.nodes;
     } else {
-        const NodeId base = append_tree(tree_, std::move(piece.tree));
-        for (NodeId id : piece.roots) roots_.push_back(appended_id(id, base, {}));
+        // A node field whose first node is an outer one starts where that node does.
+        for (FieldEntry& e : piece.tree.fields)
+            if (e.type.kind == ValueKind::Node && !e.loc.valid() && e.count > 0 &&
+                is_outer_node(piece.tree.node_refs[e.begin]))
+                e.loc = tree_.nodes[outer[piece.tree.node_refs[e.begin] - kFirstOuterNode]].loc;
+        const NodeId base = append_tree(tree_, std::move(piece.tree), outer);
+        for (NodeId id : piece.roots) roots_.push_back(appended_id(id, base, outer));
         for (const auto& [name, id] : piece.defs)
             frames_.front()->defs[name] = id == kNullNode ? id : id + base;
     }
@@ -254,8 +261,36 @@ void XmlReader::drop_piece(PieceScheduler& pieces) {
     if (consumer_) consumer_->discard(k);
 }
 
-void XmlReader::not_in_piece(const XmlElement& e) {
-    if (piece_content_) fail(e.file, e.offset, "<" + tag_text(e) + "> needs the rest of the file");
+void XmlReader::not_in_piece(uint32_t file, uint32_t offset) {
+    if (piece_content_) fail(file, offset, "needs the rest of the file");
+}
+
+NodeId XmlReader::outer_node(Name name, const XmlElement& use) {
+    const auto [it, added] =
+        outer_index_.try_emplace(name, kFirstOuterNode + static_cast<NodeId>(outer_uses_.size()));
+    if (added) {
+        if (outer_uses_.size() >= kNullNode - kFirstOuterNode - 1) throw std::bad_alloc();
+        outer_uses_.push_back(name);
+        outer_tags_.push_back(use.tag);
+    } else if (outer_tags_[it->second - kFirstOuterNode] != use.tag) {
+        not_in_piece(use);  // USEd as two types: one of them draws a warning
+    }
+    return it->second;
+}
+
+// The nodes a piece's outer USEs name, as the file's DEFs stand where it begins; false if one
+// names no DEF (an error there), a skipped node, or a node of another type than its USE element
+// (a warning there): the main reader reads the piece itself.
+bool XmlReader::resolve_outer(const Piece& piece, std::vector<NodeId>& nodes) const {
+    const auto& defs = frames_.front()->defs;
+    for (size_t k = 0; k < piece.outer_uses.size(); ++k) {
+        const auto it = defs.find(piece.outer_uses[k]);
+        if (it == defs.end() || it->second == kNullNode ||
+            tree_.type(it->second) != piece.outer_tags[k])
+            return false;
+        nodes.push_back(it->second);
+    }
+    return true;
 }
 
 void XmlReader::scene_start(const XmlElement& e) {

@@ -300,9 +300,12 @@ class XmlReader {
     bool pending_is_blank() const;
     bool at_piece_boundary() const;
     void take_pieces(PieceScheduler& pieces, size_t& pos);
-    void join(Piece& piece, size_t& pos);
+    void join(Piece& piece, std::vector<NodeId>& outer, size_t& pos);
     void drop_piece(PieceScheduler& pieces);
-    void not_in_piece(const XmlElement& e);
+    void not_in_piece(const XmlElement& e) { not_in_piece(e.file, e.offset); }
+    void not_in_piece(uint32_t file, uint32_t offset);
+    NodeId outer_node(Name name, const XmlElement& use);
+    bool resolve_outer(const Piece& piece, std::vector<NodeId>& nodes) const;
     void scene_start(const XmlElement& e);
 
     // ---- elements -------------------------------------------------------------------------------
@@ -418,6 +421,9 @@ class XmlReader {
     size_t next_piece_ = 0;   // the first piece not yet joined or dropped
     std::vector<ConsumedPiece> consumed_;
     size_t consumed_nodes_ = 0;  // nodes of consumed pieces, counted against the node limit
+    // A piece reader's USEs of DEFs before the piece (piece_consumer.h: outer nodes).
+    std::vector<Name> outer_uses_, outer_tags_;
+    std::unordered_map<Name, NodeId> outer_index_;
 
     std::vector<Open> stack_;
     std::vector<std::unique_ptr<Frame>> frames_;

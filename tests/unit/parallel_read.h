@@ -10,6 +10,10 @@
 
 namespace vr::test {
 
+inline bool same_place(SourceLoc a, SourceLoc b) {
+    return a.file == b.file && a.offset == b.offset;
+}
+
 // `file` read with VRMLRAY_PIECE_BYTES=`piece` (0: by one thread).
 inline LoadedScene load_with_pieces(const std::filesystem::path& file, size_t piece,
                                     const LoadOptions& options = {}) {
@@ -26,6 +30,16 @@ inline std::string difference(const LoadedScene& one, const LoadedScene& many) {
                std::to_string(many.tree.nodes.size());
     if (one.tree.roots != many.tree.roots) return "roots differ";
     if (std::string d = compare_trees(one.tree, many.tree); !d.empty()) return d;
+    // Places, which later messages (the scene build's) point at: node ids and field entries are
+    // in the same order once the trees are equal.
+    for (size_t i = 0; i < one.tree.nodes.size(); ++i)
+        if (!same_place(one.tree.nodes[i].loc, many.tree.nodes[i].loc))
+            return "node " + std::to_string(i) + " has another place";
+    if (one.tree.fields.size() != many.tree.fields.size()) return "field entry count differs";
+    for (size_t i = 0; i < one.tree.fields.size(); ++i)
+        if (!same_place(one.tree.fields[i].loc, many.tree.fields[i].loc))
+            return "field entry " + std::to_string(i) + " (" +
+                   std::string(name_text(one.tree.fields[i].name)) + ") has another place";
     // The ROUTEs the animator will run: the same nodes and events (node ids are equal once the
     // trees are).
     if (one.tree.routes.size() != many.tree.routes.size()) return "route count differs";

@@ -156,6 +156,35 @@ TEST(ParallelReadXml, DefAndUseAcrossPieces) {
               "");
 }
 
+TEST(ParallelReadXml, PiecesMayUseWhatADefBeforeThemNames) {
+    // S3's pattern as `vrmlray convert` writes it: an Appearance and a Sphere DEF'd among the
+    // first atoms, USEd by every later one; the pieces are read on their own and their USEs
+    // resolved where they join (the node fields they start get the DEF'd node's place).
+    std::string body =
+        "    <Shape>\n      <Appearance DEF='M'>\n        <Material/>\n      </Appearance>\n"
+        "      <Box/>\n    </Shape>\n    <Sphere DEF='S' radius='2'/>\n";
+    for (int i = 0; i < 400; ++i)
+        body += "    <Transform translation='" + std::to_string(i) +
+                " 0 0'>\n      <Shape>\n        <Appearance USE='M'/>\n        " +
+                (i % 2 ? "<Sphere USE='S'/>" : "<Sphere radius='1'/>") +
+                "\n      </Shape>\n    </Transform>\n";
+    body += "    <Sphere USE='S'/>\n";
+    size_t joined = 0;
+    EXPECT_EQ(read_alike(document(body), &joined), "");
+    EXPECT_GT(joined, 30u);
+    // USEs the main reader must read itself: a name no DEF gave (an error), one USEd as another
+    // type (a warning), one USEd as two types in one piece, one given by a skipped element.
+    for (const char* odd :
+         {"    <Shape><Appearance USE='Nobody'/></Shape>\n", "    <Material USE='M'/>\n",
+          "    <Group><Shape USE='S'/><Sphere USE='S'/></Group>\n",
+          "    <Group><Shape><Appearance USE='M'/><Appearance USE='M'/></Shape></Group>\n"}) {
+        std::string text = body;
+        text.insert(text.size() / 2, std::string(odd));
+        text.insert(text.find('\n', text.size() * 3 / 4) + 1, std::string(odd));
+        EXPECT_EQ(read_alike(document(text)), "") << odd;
+    }
+}
+
 TEST(ParallelReadXml, AProtoDeclareAfterPieces) {
     const std::string proto =
         "    <ProtoDeclare name='Ball'>\n      <ProtoInterface>\n        <field name='r' "
