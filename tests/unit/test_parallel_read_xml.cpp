@@ -177,10 +177,12 @@ TEST(ParallelReadXml, PiecesMayUseWhatADefBeforeThemNames) {
     for (const char* odd :
          {"    <Shape><Appearance USE='Nobody'/></Shape>\n", "    <Material USE='M'/>\n",
           "    <Group><Shape USE='S'/><Sphere USE='S'/></Group>\n",
+          "    <Group><Sphere USE='S'/><Shape USE='S'/></Group>\n",
           "    <Group><Shape><Appearance USE='M'/><Appearance USE='M'/></Shape></Group>\n"}) {
+        // Between two top-level atoms, half-way and three quarters into the file.
         std::string text = body;
-        text.insert(text.size() / 2, std::string(odd));
-        text.insert(text.find('\n', text.size() * 3 / 4) + 1, std::string(odd));
+        for (size_t at : {text.size() / 2, text.size() * 3 / 4})
+            text.insert(text.find("    <Transform", at), std::string(odd));
         EXPECT_EQ(read_alike(document(text)), "") << odd;
     }
 }
