@@ -7,10 +7,11 @@
 // two top-level elements of the Scene with nothing but white space pending, and the file declared
 // no prototype so far, it appends the piece's tree, DEF names, counts and warnings, and gives
 // libxml2 the bytes after the piece next, counting the skipped bytes and lines into every offset
-// and line libxml2 reports later. A piece that failed, needs what came before it (a USE of an
-// earlier DEF, ProtoDeclare, ProtoInstance, ROUTE, IMPORT, EXPORT), closed its <Scene>, or was cut
-// anywhere but between top-level elements is read again by the main reader, so the result and
-// every message equal a single-thread read.
+// and line libxml2 reports later. A USE of a DEF before the piece stands as an outer node
+// (piece_consumer.h), resolved where the piece joins. A piece that failed, needs more of what
+// came before it (ProtoDeclare, ProtoInstance, ROUTE, IMPORT, EXPORT, a USE as another type than
+// its DEF's node), closed its <Scene>, or was cut anywhere but between top-level elements is read
+// again by the main reader, so the result and every message equal a single-thread read.
 #include <algorithm>
 #include <cctype>
 #include <cstring>

@@ -41,8 +41,8 @@ TEST(ParallelReadXml, EveryXmlCorpusFileReadsAsWithOneThread) {
         cut += joined > 0;
     }
     EXPECT_GT(files.size(), 20u) << "the corpus holds some 20 X3D XML files";
-    // Jmol's exports nest every atom in one Transform and castle's scenes USE across the file:
-    // their pieces are read again by the main reader. Others are joined.
+    // Jmol's exports nest every atom in one Transform: their cuts fall inside it and the main
+    // reader reads every piece itself. Others are joined.
     EXPECT_GE(cut, 5u) << "pieces were joined in " << cut << " of " << files.size() << " files";
 }
 
@@ -135,8 +135,8 @@ TEST(ParallelReadXml, AnErrorInALaterPieceIsReportedAtItsLineAndColumn) {
 }
 
 TEST(ParallelReadXml, DefAndUseAcrossPieces) {
-    // A DEF in a piece the main reader joins, USEd by a later piece (read again by the main
-    // reader, which must find the joined DEF) and at the top level; DEF/USE inside one piece.
+    // A DEF in a piece the main reader joins, USEd by a later piece (resolved against the joined
+    // DEF where that piece joins) and at the top level; DEF/USE inside one piece.
     const std::string shared =
         "    <Transform DEF='T'>\n      <Shape>\n        <Appearance DEF='A'>\n          <Material "
         "diffuseColor='1 0 0'/>\n        </Appearance>\n        <Sphere DEF='S' radius='2'/>\n"
