@@ -45,11 +45,13 @@ struct Piece {
     std::vector<NodeId> roots;
     std::unordered_map<Name, NodeId> defs;
     std::vector<Name> outer_uses;  // names USEd from before the piece: outer node k is the k-th
+    std::vector<Name> outer_tags;  // XML: the element each was USEd as (its DEF's node type)
     bool usable =
         false;  // read to its end with no error and nothing that needs the rest of the file
     // Taken by the PieceConsumer: `tree` is empty, `nodes` says how many nodes it held.
     bool consumed = false;
     uint32_t nodes = 0;
+    uint32_t lines = 0;  // XML: the piece's line breaks, which the main reader's libxml2 never sees
 };
 
 // Reads pieces on worker threads, in file order, a few ahead of the one the main reader needs

@@ -350,7 +350,8 @@ class Loader {
                 break;
             }
             case Encoding::X3dXml:
-                result = read_x3d_xml(scene_, file, options_.limits, resolver);
+                result = read_x3d_xml(scene_, file, options_.limits, resolver,
+                                      file == 0 ? options_.piece_consumer.get() : nullptr);
                 break;
             case Encoding::Vrml1:
                 result = read_vrml1(scene_, file, options_.limits);

@@ -19,6 +19,7 @@
 #include <climits>
 #include <cstring>
 #include <optional>
+#include <thread>
 
 #include "parser/field_value.h"
 #include "parser/lexer.h"
@@ -113,14 +114,12 @@ namespace x3d_xml_detail {
 
 static void silent_generic_error(void*, const char*, ...) {}
 
-ClassicResult XmlReader::read(uint32_t file) {
-    ClassicResult result;
+bool XmlReader::start_parser(uint32_t file) {
     std::string why;
     xml_ = libxml(why);  // loaded on first use; external entities refused from the start
     if (!xml_) {
         scene_.diagnostics.error({file, 0}, "cannot read X3D XML: " + why);
-        result.ok = false;
-        return result;
+        return false;
     }
     xml_->SetGenericErrorFunc(nullptr,
                               silent_generic_error);  // per thread: the library never prints
@@ -130,7 +129,6 @@ ClassicResult XmlReader::read(uint32_t file) {
     auto top = std::make_unique<Frame>();
     top->file = file;
     top->protos = std::make_shared<ProtoScope>();
-    result.protos = top->protos;
     frames_.push_back(std::move(top));
     Open document;
     document.role = Role::Document;
@@ -153,46 +151,76 @@ ClassicResult XmlReader::read(uint32_t file) {
     ctxt_ = xml_->CreatePushParserCtxt(&sax, this, nullptr, 0, nullptr);
     if (!ctxt_) {
         scene_.diagnostics.error({file, 0}, "cannot start the XML parser (out of memory)");
+        return false;
+    }
+    xml_->CtxtUseOptions(ctxt_, XML_PARSE_NONET | XML_PARSE_HUGE | XML_PARSE_RECOVER);
+    return true;
+}
+
+void XmlReader::feed(std::string_view bytes, bool last) {
+    xml_->ParseChunk(ctxt_, bytes.data(), static_cast<int>(bytes.size()), last ? 1 : 0);
+}
+
+void XmlReader::finish_parser() {
+    // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to
+    // free.
+    if (ctxt_->myDoc) xml_->FreeDoc(ctxt_->myDoc);
+    xml_->FreeParserCtxt(ctxt_);
+    ctxt_ = nullptr;
+}
+
+ClassicResult XmlReader::read(uint32_t file) {
+    ClassicResult result;
+    if (!start_parser(file)) {
+        if (ctxt_) finish_parser();
         result.ok = false;
         return result;
     }
-    xml_->CtxtUseOptions(ctxt_, XML_PARSE_NONET | XML_PARSE_HUGE | XML_PARSE_RECOVER);
-    // 1 MB pieces; while a piece completes no element (one huge start tag, e.g. a mesh's
-    // coordIndex), the next is twice as large: libxml2 rescans the pending start tag on every piece
-    // it is given.
+    result.protos = frames_.back()->protos;
+    XmlPiecePlan plan = plan_xml_pieces(text_, piece_bytes());
+    prefix_end_ = plan.prefix_end;
+    PieceScheduler pieces(
+        std::move(plan.pieces),
+        [this, file](Piece& p) {
+            static const ExternProtoResolver kNone;  // a piece never declares an EXTERNPROTO
+            XmlReader reader({scene_.sources, p.diagnostics, p.tree, p.stats}, limits_, kNone);
+            reader.read_piece(file, prefix_end_, p, consumer_);
+        },
+        std::max(1u, std::thread::hardware_concurrency()) - 1);
+    // 1 MB chunks, cut where a piece begins; while a chunk completes no element (one huge start
+    // tag, e.g. a mesh's coordIndex), the next is twice as large: libxml2 rescans the pending start
+    // tag on every chunk it is given.
     constexpr size_t kChunk = size_t(1) << 20;
     size_t chunk = kChunk;
     for (size_t pos = 0;;) {
-        const size_t n = std::min({chunk, text_.size() - pos, static_cast<size_t>(1) << 30});
+        take_pieces(pieces, pos);
+        size_t limit = text_.size();
+        if (next_piece_ < pieces.size()) limit = std::max<size_t>(pos, pieces.begin(next_piece_));
+        const size_t n = std::min({chunk, limit - pos, static_cast<size_t>(1) << 30});
         const bool last = pos + n >= text_.size();
         const uint64_t events = events_;
-        xml_->ParseChunk(ctxt_, text_.data() + pos, static_cast<int>(n), last ? 1 : 0);
-        // libxml2 copied what it still needs; attribute values before this piece are read again
+        feed(text_.substr(pos, n), last);
+        // libxml2 copied what it still needs; attribute values before this chunk are read again
         // only for PROTO bodies, which a mapped file brings back from the page cache.
         scene_.sources.release_before(file, static_cast<uint32_t>(pos));
         pos += n;
         if (last || stopped_) break;
         chunk = events_ == events ? chunk * 2 : kChunk;
     }
-    scene_.sources.release_all(file);  // the last piece too: the scene build comes next
-    // libxml2 makes a document of its own to hold entity declarations for SAX users; it is ours to
-    // free.
-    if (ctxt_->myDoc) xml_->FreeDoc(ctxt_->myDoc);
-    xml_->FreeParserCtxt(ctxt_);
-    ctxt_ = nullptr;
+    pieces.stop();
+    scene_.sources.release_all(file);  // the last chunk too: the scene build comes next
+    finish_parser();
     result.ok = !failed_;
     result.roots = std::move(roots_);
     result.units = units_;
     result.x3d_version = version_;
+    result.consumed = std::move(consumed_);
     return result;
 }
 
 uint32_t XmlReader::offset_at(int line, int column) {
-    if (line_starts_.empty()) {
-        line_starts_.push_back(0);
-        for (size_t i = 0; i < text_.size(); ++i)
-            if (text_[i] == '\n') line_starts_.push_back(static_cast<uint32_t>(i + 1));
-    }
+    if (line_starts_.empty()) build_line_starts();
+    line = file_line(line);
     if (line < 1) return 0;
     if (static_cast<size_t>(line) > line_starts_.size()) return static_cast<uint32_t>(text_.size());
     size_t p = line_starts_[static_cast<size_t>(line) - 1];
@@ -209,8 +237,9 @@ uint32_t XmlReader::current_offset() {
     if (!in) return 0;
     if (!in->buf || in->buf->encoder)
         return offset_at(in->line, in->col);  // transcoded: bytes differ
-    size_t offset = static_cast<size_t>(in->consumed) + static_cast<size_t>(in->cur - in->base);
-    return static_cast<uint32_t>(std::min(offset, text_.size()));
+    const uint64_t stream =
+        static_cast<uint64_t>(in->consumed) + static_cast<uint64_t>(in->cur - in->base);
+    return std::min(file_offset(stream), static_cast<uint32_t>(text_.size()));
 }
 
 void XmlReader::on_xml_error(xmlErrorPtr error) {
@@ -218,7 +247,12 @@ void XmlReader::on_xml_error(xmlErrorPtr error) {
     std::string message = error->message ? error->message : "XML error";
     while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
         message.pop_back();
+    message = file_lines_in(std::move(message));
     uint32_t offset = offset_at(error->line, error->int2);
+    // A line number in a piece reader's message counts the piece's lines, not the file's: the
+    // main reader reads such a piece itself.
+    if (piece_content_ && message.find(" line ") != std::string::npos)
+        return stop(main_file_, offset, "XML: " + message);
     // Slips real exporters make that leave the document's meaning clear: warnings. The parser runs
     // in recovery mode so that it continues after them; any other error stops it here.
     const bool tolerated = error->level == XML_ERR_WARNING || error->domain == XML_FROM_NAMESPACE ||
@@ -516,8 +550,10 @@ void XmlReader::push_field(size_t mark, const FieldEntry& entry) {
 
 NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, uint32_t offset,
                             size_t mark) {
-    if (tree_.nodes.size() >= limits_.max_nodes)
-        fail(file, offset, "more than " + std::to_string(limits_.max_nodes) + " nodes (limit)");
+    // Ids from kFirstOuterNode on stand for a piece's outer USEs: the limit stays below them.
+    const size_t limit = std::min<size_t>(limits_.max_nodes, kFirstOuterNode);
+    if (tree_.nodes.size() + consumed_nodes_ >= limit)
+        fail(file, offset, "more than " + std::to_string(limit) + " nodes (limit)");
     Node n;
     n.kind = tree_.kind_of(decl, type);
     n.loc = {file, offset};
@@ -533,8 +569,10 @@ NodeId XmlReader::make_node(const NodeTypeDecl* decl, Name type, uint32_t file, 
 }  // namespace x3d_xml_detail
 
 ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& limits,
-                           const ExternProtoResolver& resolve_externproto) {
-    x3d_xml_detail::XmlReader reader(scene, limits, resolve_externproto);
+                           const ExternProtoResolver& resolve_externproto,
+                           PieceConsumer* consumer) {
+    x3d_xml_detail::XmlReader reader({scene.sources, scene.diagnostics, scene.tree, scene.stats},
+                                     limits, resolve_externproto, consumer);
     return reader.read(file);
 }
 

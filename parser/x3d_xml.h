@@ -11,8 +11,11 @@ namespace vr {
 // loaded.
 ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& limits);
 // The same, resolving ExternProtoDeclare URLs with `resolve_externproto` (the loader's resolver).
+// A large file is read in pieces on all cores, as the classic reader reads one (classic_pieces.h);
+// with a `consumer`, pieces it takes are not added to the tree (ClassicResult::consumed).
 ClassicResult read_x3d_xml(LoadedScene& scene, uint32_t file, const LoadLimits& limits,
-                           const ExternProtoResolver& resolve_externproto);
+                           const ExternProtoResolver& resolve_externproto,
+                           PieceConsumer* consumer = nullptr);
 
 // The field of its parent a node element goes into when it has no containerField attribute:
 // "geometry" for geometry nodes, "material" for materials, ..., "children" for everything else.

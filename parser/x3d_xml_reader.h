@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "parser/classic.h"
+#include "parser/classic_pieces.h"
 #include "parser/libxml.h"
 #include "parser/load.h"
 #include "parser/proto.h"
@@ -125,16 +126,42 @@ struct Names {
          shader_program = intern("ShaderProgram");
 };
 
+// How a large X3D XML file is cut (x3d_xml_pieces.cpp): the <Scene> content at lines that look like
+// the start of a top-level element. Every piece is read on its own after the file's text up to
+// and including the <Scene> start tag (the prefix: XML declaration, DOCTYPE, <X3D> with its
+// namespaces, <head>), so that it sees what the main reader sees there. Only a guess: the main
+// reader checks every cut when it arrives at it.
+struct XmlPiecePlan {
+    uint32_t prefix_end = 0;  // just past the '>' of <Scene ...>; 0: no pieces
+    std::vector<Piece> pieces;
+};
+XmlPiecePlan plan_xml_pieces(std::string_view text, size_t piece);
+
+// Where a reader puts what it reads: the scene, or one piece of the main file read on another
+// thread (classic_pieces.h).
+struct XmlTarget {
+    const SourceManager& sources;
+    Diagnostics& diagnostics;
+    NodeTree& tree;
+    ReadStats& stats;
+};
+
 class XmlReader {
   public:
-    XmlReader(LoadedScene& scene, const LoadLimits& limits, const ExternProtoResolver& resolver)
-        : scene_(scene),
-          tree_(scene.tree),
+    XmlReader(XmlTarget target, const LoadLimits& limits, const ExternProtoResolver& resolver,
+              PieceConsumer* consumer = nullptr)
+        : scene_(target),
+          tree_(target.tree),
           registry_(Registry::builtin()),
           limits_(limits),
-          resolver_(resolver) {}
+          resolver_(resolver),
+          consumer_(consumer) {}
 
     ClassicResult read(uint32_t file);
+    // Reads `piece` of the main file on its own, on a worker thread (x3d_xml_pieces.cpp), into
+    // this reader's target (the piece's own tree, messages and counts); hands it to `consumer`
+    // when that may take it. Any failure only leaves the piece unusable.
+    void read_piece(uint32_t file, uint32_t prefix_end, Piece& piece, PieceConsumer* consumer);
 
   private:
     // What an open element is to the reader. Skip: ignored with all it contains; Leaf: takes no
@@ -253,11 +280,33 @@ class XmlReader {
         xml_->StopParser(ctxt_);
     }
 
+    bool start_parser(uint32_t file);
+    void finish_parser();
+    void feed(std::string_view bytes, bool last);
     void on_start(const xmlChar* local, int nb_attrs, int nb_defaulted, const xmlChar** attrs);
     void on_xml_error(xmlErrorPtr error);
     uint32_t current_offset();
     uint32_t offset_at(int line, int column);
     Name cached_name(const xmlChar* text);
+
+    // ---- pieces (x3d_xml_pieces.cpp)
+    // ------------------------------------------------------------- Offsets and lines as libxml2
+    // counts them in the bytes it was given, which skip the pieces the main reader joined (a piece
+    // reader's: its prefix, a line break, then the piece), mapped to the file's.
+    uint32_t file_offset(uint64_t stream) const;
+    int file_line(int stream_line) const;
+    std::string file_lines_in(std::string message) const;
+    void build_line_starts();
+    bool pending_is_blank() const;
+    bool at_piece_boundary() const;
+    void take_pieces(PieceScheduler& pieces, size_t& pos);
+    void join(Piece& piece, std::vector<NodeId>& outer, size_t& pos);
+    void drop_piece(PieceScheduler& pieces);
+    void not_in_piece(const XmlElement& e) { not_in_piece(e.file, e.offset); }
+    void not_in_piece(uint32_t file, uint32_t offset);
+    NodeId outer_node(Name name, const XmlElement& use);
+    bool resolve_outer(const Piece& piece, std::vector<NodeId>& nodes) const;
+    void scene_start(const XmlElement& e);
 
     // ---- elements -------------------------------------------------------------------------------
     void start_element(const XmlElement& e);
@@ -336,11 +385,12 @@ class XmlReader {
         return o;
     }
 
-    LoadedScene& scene_;
+    XmlTarget scene_;
     NodeTree& tree_;
     const Registry& registry_;
     const LoadLimits& limits_;
     const ExternProtoResolver& resolver_;
+    PieceConsumer* consumer_ = nullptr;  // the main file's, if any (never a piece reader's own)
     const Names n_;
     const LibXml* xml_ = nullptr;  // set by read()
     xmlParserCtxtPtr ctxt_ = nullptr;
@@ -349,7 +399,31 @@ class XmlReader {
     std::vector<uint32_t> line_starts_;
     bool stopped_ = false;
     bool failed_ = false;
-    uint64_t events_ = 0;  // elements started or ended, to size the pieces given to libxml2
+    uint64_t events_ = 0;  // elements started or ended, to size the chunks given to libxml2
+
+    // A piece reader: the piece and where its first byte stands in what libxml2 was given.
+    bool in_piece_ = false;
+    bool piece_content_ = false;  // past the prefix: what needs the rest of the file fails
+    size_t piece_depth_ = 0;      // open elements at the piece's start (its <Scene> the last)
+    uint32_t prefix_end_ = 0, piece_begin_ = 0, piece_end_ = 0;
+    uint64_t piece_stream_ = 0;
+    // The main reader: the pieces it joined instead of giving their bytes to libxml2. From stream
+    // offset `stream` (line `stream_line`) on, `bytes` bytes and `lines` lines were skipped in all.
+    struct Skip {
+        uint64_t stream = 0;
+        uint64_t bytes = 0;
+        int stream_line = 0;
+        int lines = 0;
+    };
+    std::vector<Skip> skips_;
+    uint32_t scene_end_ = 0;  // just past the <Scene ...> start tag, as the main reader read it
+    int scenes_ = 0;          // <Scene> elements started
+    size_t next_piece_ = 0;   // the first piece not yet joined or dropped
+    std::vector<ConsumedPiece> consumed_;
+    size_t consumed_nodes_ = 0;  // nodes of consumed pieces, counted against the node limit
+    // A piece reader's USEs of DEFs before the piece (piece_consumer.h: outer nodes).
+    std::vector<Name> outer_uses_, outer_tags_;
+    std::unordered_map<Name, NodeId> outer_index_;
 
     std::vector<Open> stack_;
     std::vector<std::unique_ptr<Frame>> frames_;

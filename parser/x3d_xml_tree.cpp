@@ -40,11 +40,11 @@ void XmlReader::start_element(const XmlElement& e) {
                 if (const XmlAttr* v = e.find(n_.version)) version_ = trim(attr_text(e, *v));
                 return push(make_open(Role::X3d, e));
             }
-            if (tag == n_.scene) return push(make_open(Role::Scene, e));
+            if (tag == n_.scene) return scene_start(e);
             fail(e.file, e.offset,
                  "not an X3D document: the root element is <" + tag_text(e) + ">, expected <X3D>");
         case Role::X3d:
-            if (tag == n_.scene) return push(make_open(Role::Scene, e));
+            if (tag == n_.scene) return scene_start(e);
             if (tag == n_.head) return push(make_open(Role::Head, e));
             warn(e.file, e.offset, "element <" + tag_text(e) + "> outside <Scene> ignored",
                  "xml-outside-scene:" + tag_text(e));
@@ -105,6 +105,9 @@ void XmlReader::start_element(const XmlElement& e) {
 // default value.
 void XmlReader::content_element(const XmlElement& e) {
     const Name tag = e.tag;
+    if (tag == n_.proto_declare || tag == n_.extern_proto_declare || tag == n_.proto_instance ||
+        tag == n_.route || tag == n_.import || tag == n_.export_)
+        not_in_piece(e);
     if (tag == n_.proto_declare) return proto_declare_start(e);
     if (tag == n_.extern_proto_declare) return extern_start(e);
     if (tag == n_.proto_instance) return instance_start(e);
@@ -195,6 +198,8 @@ void XmlReader::use_start(const XmlElement& e, const XmlAttr& use, bool instance
         o.use = it->second;
     } else if (f.outer_defs && f.outer_defs->count(key)) {
         o.use = f.outer_defs->at(key);
+    } else if (piece_content_ && frames_.size() == 1) {
+        o.use = outer_node(key, e);  // a DEF before the piece: the main reader resolves it
     } else {
         fail(e.file, use.begin,
              "USE of '" + name + "', which no DEF before it names" +
@@ -212,7 +217,7 @@ void XmlReader::use_start(const XmlElement& e, const XmlAttr& use, bool instance
                  "xml-use-attribute");
         }
     }
-    if (!instance && o.use != kNullNode && tree_.type(o.use) != e.tag)
+    if (!instance && o.use != kNullNode && !is_outer_node(o.use) && tree_.type(o.use) != e.tag)
         warn(e.file, e.offset,
              "USE '" + name + "' names a " + std::string(tree_.type_name(o.use)) + ", not a " +
                  std::string(name_text(e.tag)),
@@ -229,6 +234,8 @@ void XmlReader::end_element() {
         }
         recording_ = nullptr;  // this is </ProtoBody>
     }
+    if (piece_content_ && stack_.size() <= piece_depth_)
+        fail(main_file_, current_offset(), "a piece ends the <Scene> it began in");
     Open o = std::move(stack_.back());
     stack_.pop_back();
     switch (o.role) {
@@ -297,12 +304,15 @@ void XmlReader::node_end(Open& o) {
         FieldEntry entry;
         entry.name = field;
         entry.type = decl->type;
-        entry.loc = tree_.nodes[children_[i].id].loc;
+        // An outer node's place is known where the piece joins (PackedLoc(): none yet).
+        const NodeId first = children_[i].id;
+        entry.loc = is_outer_node(first) ? PackedLoc() : tree_.nodes[first].loc;
         entry.begin = static_cast<uint32_t>(tree_.node_refs.size());
         for (size_t k = i; k < children_.size(); ++k)
             if (children_[k].field == field) tree_.node_refs.push_back(children_[k].id);
         entry.count = static_cast<uint32_t>(tree_.node_refs.size() - entry.begin);
         if (!decl->type.multi && entry.count > 1) {
+            if (!entry.loc.valid()) not_in_piece(o.file, o.offset);
             warn(entry.loc.get().file, entry.loc.get().offset,
                  "field '" + std::string(name_text(field)) + "' of " + tag_of(o) +
                      " holds one node but was given " + std::to_string(entry.count) +
@@ -346,7 +356,9 @@ void XmlReader::attach(NodeId id, const Open& child) {
             return;
     }
     auto parent_type = [&] { return std::string(name_text(parent.tag)); };
-    auto type = [&] { return std::string(tree_.type_name(id)); };
+    // A piece's outer node is of the type of its USE element (the main reader checks that).
+    const Name id_type = is_outer_node(id) ? child.tag : tree_.type(id);
+    auto type = [&] { return std::string(name_text(id_type)); };
     if (child.container != kNoName) {
         const Name wanted = x3d_field(parent.tag, child.container);
         const FieldDecl* field = registry_.lookup_field(Spec::X3d, *parent.decl, wanted);
@@ -361,7 +373,7 @@ void XmlReader::attach(NodeId id, const Open& child) {
         children_.push_back({field->name, id});
         return;
     }
-    const Name wanted_name = default_container(tree_.type(id));
+    const Name wanted_name = default_container(id_type);
     const FieldDecl* field = registry_.lookup_field(Spec::X3d, *parent.decl, wanted_name);
     if (!field || field->type.kind != ValueKind::Node || !has_value(field->access)) {
         const std::string wanted(name_text(wanted_name));

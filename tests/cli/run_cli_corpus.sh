@@ -88,6 +88,28 @@ while IFS= read -r -d '' f; do
         { fail "info $f in $piece-byte pieces differs from one thread's"; diff "$work/one.txt" "$work/many.txt" | head -4; }
 done < <(find "$corpus" -type f \( -name '*.wrl' -o -name '*.wrz' -o -name '*.x3dv' -o -name '*.gz' \) -print0 | sort -z)
 
+# --- the same for X3D XML (parser/x3d_xml_pieces.cpp): every XML file (found by its first byte, gzip
+# undone), in 512- and 4096-byte pieces, gives the `info` output and exit code of one thread; `render` (whose
+# pieces become fragments) the same exit code and, when it renders, the same bytes.
+while IFS= read -r -d '' f; do
+    if [[ "$f" == *z ]]; then first=$(gzip -dc "$f" 2>/dev/null | tr -d ' \t\r\n' | head -c 1); else first=$(tr -d ' \t\r\n' <"$f" | sed 's/^\xEF\xBB\xBF//' | head -c 1); fi
+    [ "$first" = "<" ] || continue
+    VRMLRAY_PIECE_BYTES=0 "$bin" info "$f" >"$work/one.txt" 2>&1
+    one=$?
+    VRMLRAY_PIECE_BYTES=0 "$bin" render "$f" -W 48 -H 36 -q -o "$work/one.png" >/dev/null 2>&1
+    one_render=$?
+    for piece in 512 4096; do
+        VRMLRAY_PIECE_BYTES=$piece "$bin" info "$f" >"$work/many.txt" 2>&1
+        many=$?
+        [ $one -eq $many ] && cmp -s "$work/one.txt" "$work/many.txt" && pass ||
+            { fail "info $f in $piece-byte pieces differs from one thread's"; diff "$work/one.txt" "$work/many.txt" | head -4; }
+        VRMLRAY_PIECE_BYTES=$piece "$bin" render "$f" -W 48 -H 36 -q -o "$work/many.png" >/dev/null 2>&1
+        many=$?
+        [ $one_render -eq $many ] && { [ $one_render -ne 0 ] || cmp -s "$work/one.png" "$work/many.png"; } && pass ||
+            fail "render $f in $piece-byte pieces differs from one thread's (exit $one_render vs $many)"
+    done
+done < <(find "$corpus" -type f \( -name '*.x3d' -o -name '*.x3dz' -o -name '*.xml' -o -name '*.wrl' \) -print0 | sort -z)
+
 # --- the same for `render`, whose pieces become typed scene fragments as they are read (src/scene/fragments.h):
 # every molecular export (PyMOL, Jmol, RasMol) renders the same bytes in 4 KB pieces as read by one thread.
 while IFS= read -r -d '' f; do

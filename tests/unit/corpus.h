@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "parser/load.h"
+
 namespace vr::test {
 
 struct CorpusLookup {
@@ -70,6 +72,26 @@ inline std::vector<std::filesystem::path> classic_files(const std::filesystem::p
         const std::string ext = entry.path().extension().string();
         if (ext == ".wrl" || ext == ".wrz" || ext == ".x3dv" || ext == ".gz" || ext == ".x3dvz")
             files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// The X3D XML files under `folder`, sorted: every file whose text (gzip undone) begins with '<'
+// after a byte order mark and white space, whatever its name says.
+inline std::vector<std::filesystem::path> xml_files(const std::filesystem::path& folder) {
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
+        if (!entry.is_regular_file()) continue;
+        std::string text;
+        try {
+            text = read_file_bytes(entry.path(), size_t(64) << 20);
+        } catch (const std::exception&) {
+            continue;
+        }
+        size_t p = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+        p = text.find_first_not_of(" \t\r\n", p);
+        if (p != std::string::npos && text[p] == '<') files.push_back(entry.path());
     }
     std::sort(files.begin(), files.end());
     return files;

@@ -10,48 +10,17 @@
 #include <string>
 
 #include "corpus.h"
+#include "parallel_read.h"
 #include "parser/classic_pieces.h"
 #include "parser/load.h"
-#include "parser/tree_compare.h"
 #include "temp_path.h"
 
 namespace vr {
 namespace {
 
 namespace fs = std::filesystem;
-
-LoadedScene load_with_pieces(const fs::path& file, size_t piece) {
-    setenv("VRMLRAY_PIECE_BYTES", std::to_string(piece).c_str(), 1);
-    LoadedScene scene = load_scene(file);
-    unsetenv("VRMLRAY_PIECE_BYTES");
-    return scene;
-}
-
-// "" when the two reads agree in everything a user sees of them.
-std::string difference(const LoadedScene& one, const LoadedScene& many) {
-    if (one.tree.nodes.size() != many.tree.nodes.size())
-        return "node count " + std::to_string(one.tree.nodes.size()) + " vs " +
-               std::to_string(many.tree.nodes.size());
-    if (one.tree.roots != many.tree.roots) return "roots differ";
-    if (std::string d = compare_trees(one.tree, many.tree); !d.empty()) return d;
-    // The ROUTEs the animator will run: the same nodes and events (node ids are equal once the
-    // trees are).
-    if (one.tree.routes.size() != many.tree.routes.size()) return "route count differs";
-    for (size_t i = 0; i < one.tree.routes.size(); ++i) {
-        const Route &a = one.tree.routes[i], &b = many.tree.routes[i];
-        if (a.from != b.from || a.to != b.to || a.from_event != b.from_event ||
-            a.to_event != b.to_event)
-            return "ROUTE " + std::to_string(i) + " differs";
-    }
-    const std::string m1 = one.diagnostics.format(one.sources);
-    const std::string m2 = many.diagnostics.format(many.sources);
-    if (m1 != m2) return "messages differ:\n" + m1 + "---\n" + m2;
-    const ReadStats &a = one.stats, &b = many.stats;
-    if (a.def_count != b.def_count || a.use_count != b.use_count || a.routes != b.routes ||
-        a.proto_instances != b.proto_instances || a.skipped_nodes != b.skipped_nodes)
-        return "statistics differ";
-    return "";
-}
+using test::difference;
+using test::load_with_pieces;
 
 TEST(ParallelRead, EveryCorpusFileReadsAsWithOneThread) {
     VR_CORPUS_FOLDER(corpus, "");

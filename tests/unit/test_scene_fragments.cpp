@@ -154,6 +154,66 @@ TEST(SceneFragments, EveryCorpusFileBuildsAsFromTheWholeTree) {
     EXPECT_GT(built, 10u) << "pieces were built in " << built << " of " << files << " files";
 }
 
+// The same for X3D XML (parser/x3d_xml_pieces.cpp): every XML file of the corpus, and an XML
+// molecule as `vrmlray convert` writes one, whose pieces are built.
+TEST(SceneFragments, EveryXmlCorpusFileBuildsAsFromTheWholeTree) {
+    VR_CORPUS_FOLDER(corpus, "");
+    size_t files = 0;
+    for (const fs::path& file : test::xml_files(corpus)) {
+        for (size_t piece : {size_t(512), size_t(4096)})
+            EXPECT_EQ(difference(file, piece), "") << file << " in pieces of " << piece;
+        ++files;
+    }
+    EXPECT_GT(files, 20u);
+}
+
+TEST(SceneFragments, XmlMoleculePiecesAreBuilt) {
+    std::string text =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<X3D profile='Full' version='3.3'>\n  "
+        "<Scene>\n    <Viewpoint position='0 0 60'/>\n";
+    for (int i = 0; i < 1500; ++i)
+        text += "    <Transform translation='" + std::to_string(i % 13) + " " +
+                std::to_string(i % 7) + " " + std::to_string(i % 5) +
+                "'>\n      <Shape>\n        <Appearance>\n          <Material diffuseColor='0." +
+                std::to_string(i % 9) +
+                " 0.5 0.5'/>\n        </Appearance>\n        <Sphere "
+                "radius='0." +
+                std::to_string(1 + i % 8) + "'/>\n      </Shape>\n    </Transform>\n";
+    text += "  </Scene>\n</X3D>\n";
+    const fs::path path = test::temp_path("vrmlray_fragments_xml").string() + ".x3d";
+    std::ofstream(path) << text;
+    for (size_t piece : {256, 4096}) {
+        size_t consumed = 0;
+        EXPECT_EQ(difference(path, piece, &consumed), "") << piece;
+        EXPECT_GT(consumed, text.size() / piece / 2) << piece;
+    }
+    fs::remove(path);
+}
+
+TEST(SceneFragments, XmlPiecesThatUseAnAppearanceDefinedBeforeThemAreBuilt) {
+    std::string text =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<X3D profile='Full' version='3.3'>\n  "
+        "<Scene>\n";
+    for (int c = 0; c < 4; ++c)
+        text += "    <Shape>\n      <Appearance DEF='M" + std::to_string(c) +
+                "'>\n        <Material diffuseColor='0." + std::to_string(c + 1) +
+                " 0.5 0.5'/>\n      </Appearance>\n      <Sphere/>\n    </Shape>\n";
+    for (int i = 0; i < 600; ++i)
+        text += "    <Transform translation='" + std::to_string(i) +
+                " 0 0'>\n      <Shape>\n        <Appearance USE='M" + std::to_string(i % 4) +
+                "'/>\n        <Sphere radius='0." + std::to_string(1 + i % 9) +
+                "'/>\n      </Shape>\n    </Transform>\n";
+    text += "  </Scene>\n</X3D>\n";
+    const fs::path path = test::temp_path("vrmlray_fragments_xml_use").string() + ".x3d";
+    std::ofstream(path) << text;
+    for (size_t piece : {256, 4096}) {
+        size_t consumed = 0;
+        EXPECT_EQ(difference(path, piece, &consumed), "") << piece;
+        EXPECT_GT(consumed, text.size() / piece / 2) << piece;
+    }
+    fs::remove(path);
+}
+
 TEST(SceneFragments, RealMoleculeExportsAreBuiltInPieces) {
     VR_CORPUS_FOLDER(molecular, "molecular");
     for (const char* name :
