@@ -167,6 +167,19 @@ TEST(SceneFragments, EveryXmlCorpusFileBuildsAsFromTheWholeTree) {
     EXPECT_GT(files, 20u);
 }
 
+// An XML file of `text` builds as from the whole tree in pieces of 256 and 4096 bytes, and at
+// least half of its pieces are consumed as fragments.
+void expect_xml_pieces_built(const std::string& text, const char* name) {
+    const fs::path path = test::temp_path(name).string() + ".x3d";
+    std::ofstream(path) << text;
+    for (size_t piece : {256, 4096}) {
+        size_t consumed = 0;
+        EXPECT_EQ(difference(path, piece, &consumed), "") << piece;
+        EXPECT_GT(consumed, text.size() / piece / 2) << piece;
+    }
+    fs::remove(path);
+}
+
 TEST(SceneFragments, XmlMoleculePiecesAreBuilt) {
     std::string text =
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<X3D profile='Full' version='3.3'>\n  "
@@ -180,14 +193,7 @@ TEST(SceneFragments, XmlMoleculePiecesAreBuilt) {
                 "radius='0." +
                 std::to_string(1 + i % 8) + "'/>\n      </Shape>\n    </Transform>\n";
     text += "  </Scene>\n</X3D>\n";
-    const fs::path path = test::temp_path("vrmlray_fragments_xml").string() + ".x3d";
-    std::ofstream(path) << text;
-    for (size_t piece : {256, 4096}) {
-        size_t consumed = 0;
-        EXPECT_EQ(difference(path, piece, &consumed), "") << piece;
-        EXPECT_GT(consumed, text.size() / piece / 2) << piece;
-    }
-    fs::remove(path);
+    expect_xml_pieces_built(text, "vrmlray_fragments_xml");
 }
 
 TEST(SceneFragments, XmlPiecesThatUseAnAppearanceDefinedBeforeThemAreBuilt) {
@@ -204,14 +210,7 @@ TEST(SceneFragments, XmlPiecesThatUseAnAppearanceDefinedBeforeThemAreBuilt) {
                 "'/>\n        <Sphere radius='0." + std::to_string(1 + i % 9) +
                 "'/>\n      </Shape>\n    </Transform>\n";
     text += "  </Scene>\n</X3D>\n";
-    const fs::path path = test::temp_path("vrmlray_fragments_xml_use").string() + ".x3d";
-    std::ofstream(path) << text;
-    for (size_t piece : {256, 4096}) {
-        size_t consumed = 0;
-        EXPECT_EQ(difference(path, piece, &consumed), "") << piece;
-        EXPECT_GT(consumed, text.size() / piece / 2) << piece;
-    }
-    fs::remove(path);
+    expect_xml_pieces_built(text, "vrmlray_fragments_xml_use");
 }
 
 TEST(SceneFragments, RealMoleculeExportsAreBuiltInPieces) {
