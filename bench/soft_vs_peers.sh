@@ -22,10 +22,16 @@
 #         subtends atan(R/D) against the sphere's asin(R/D): 1e-4 relative here), `adaptive 1 jitter`.
 #         POV-Ray, too, takes the diffuse term from the light's centre and scales it by the share of its
 #         samples that see the light (area_illumination off, its default).
+#         With `adaptive 1` it starts from 3x3 samples and refines only where they disagree, so bonds
+#         that none of them sees stay unseen: its RMSE against vrmlray stops near 6e-3 at 480x270 whatever
+#         N (bench/README.md, 2026-12-03).
 # In both: no ambient term (Material ambientIntensity 0 / AMBIENT 0 / finish ambient 0), no highlights
 # (specularColor 0 / PHONG 0 / specular 0), the harness's background, camera, pixel centres, one sample per
-# pixel, linear output (vrmlray .exr, Tachyon PPM48, POV-Ray +FE File_Gamma 1), 2 threads each.
-# (POV-Ray's pixel centres are not checked here the way Tachyon's were.)
+# pixel, linear output (vrmlray .exr, Tachyon PPM48, POV-Ray +FE File_Gamma 1: half floats, whose rounding
+# is at most 2.8e-4 * value RMS, far below its area-light noise), 2 threads each.
+# POV-Ray 3.7 needs no such cut: bench/pov_pixel_check.sh renders a disc through gen_scene.py's camera block
+# in both, and at 64x36 and 63x35 POV-Ray's pixels are vrmlray's (0 pixels differ; the disc fits column
+# j + a and row i + b only for a, b within 0.5 +- 0.01 at 64x36).
 #
 # Every image is measured against ONE reference, vrmlray at --light-tolerance REF_TOL (default 1e-4), with
 # `vrmlray compare --json`; a peer's images also against its own best setting (its own convergence). Then,
