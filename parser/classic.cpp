@@ -917,26 +917,14 @@ class Reader {
                 if (piece.consumed) consumer_->discard(piece.index);
                 return;  // read here: the same error message
             }
-            if (piece.consumed) {
-                consumed_.push_back({piece.index, static_cast<uint32_t>(roots.size()),
-                                     static_cast<uint32_t>(piece.roots.size()), piece.nodes,
-                                     std::move(outer)});
-                consumed_nodes_ += piece.nodes;
-            } else {
-                const NodeId base = append_tree(tree_, std::move(piece.tree), outer);
-                for (NodeId id : piece.roots) roots.push_back(appended_id(id, base, outer));
-                // A skipped node's DEF (kNullNode: USE and ROUTE say so) stays kNullNode.
-                for (const auto& [name, id] : piece.defs)
-                    f.defs[name] = id == kNullNode ? id : id + base;
-            }
-            append_stats(scene_.stats, piece.stats);
-            ++scene_.stats.pieces;
-            scene_.diagnostics.append(piece.diagnostics);
-            f.lexer = Lexer(f.lexer.source(), piece.end, f.lexer.source_end());
+            const uint32_t end = piece.end;
+            join_piece(piece, std::move(outer),
+                       {tree_, roots, f.defs, consumed_, consumed_nodes_, scene_.stats,
+                        scene_.diagnostics});
+            f.lexer = Lexer(f.lexer.source(), end, f.lexer.source_end());
             // The pages of a mapped file the workers read stay resident until given back, and the
             // main reader, jumping from piece to piece, makes no node that would give them back.
-            if (f.whole_file) scene_.sources.release_before(f.file, piece.end);
-            piece = Piece{};
+            if (f.whole_file) scene_.sources.release_before(f.file, end);
         }
     }
 

@@ -162,4 +162,21 @@ void append_stats(ReadStats& stats, const ReadStats& later) {
     for (const auto& [type, count] : later.skipped_nodes) stats.skipped_nodes[type] += count;
 }
 
+void join_piece(Piece& piece, std::vector<NodeId> outer, const PieceJoin& to) {
+    if (piece.consumed) {
+        to.consumed.push_back({piece.index, static_cast<uint32_t>(to.roots.size()),
+                               static_cast<uint32_t>(piece.roots.size()), piece.nodes,
+                               std::move(outer)});
+        to.consumed_nodes += piece.nodes;
+    } else {
+        const NodeId base = append_tree(to.tree, std::move(piece.tree), outer);
+        for (NodeId id : piece.roots) to.roots.push_back(appended_id(id, base, outer));
+        for (const auto& [name, id] : piece.defs) to.defs[name] = id == kNullNode ? id : id + base;
+    }
+    append_stats(to.stats, piece.stats);
+    ++to.stats.pieces;
+    to.diagnostics.append(piece.diagnostics);
+    piece = Piece{};
+}
+
 }  // namespace vr

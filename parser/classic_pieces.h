@@ -105,4 +105,19 @@ inline NodeId appended_id(NodeId id, NodeId base, std::span<const NodeId> outer)
 // Adds the counts of a later part of the same file.
 void append_stats(ReadStats& stats, const ReadStats& later);
 
+// What the main reader has read so far, which a piece joins (both encodings' readers).
+struct PieceJoin {
+    NodeTree& tree;
+    std::vector<NodeId>& roots;              // top-level nodes
+    std::unordered_map<Name, NodeId>& defs;  // the file's DEF names
+    std::vector<ConsumedPiece>& consumed;    // pieces a PieceConsumer took
+    size_t& consumed_nodes;                  // their nodes, counted against the node limit
+    ReadStats& stats;
+    Diagnostics& diagnostics;
+};
+// Joins `piece`, whose outer nodes stand for `outer`, after the roots read so far: a consumed
+// piece as its record, another with its nodes appended and its roots and DEF names renumbered (a
+// skipped node's DEF, kNullNode, stays so); then its counts and messages. `piece` is left empty.
+void join_piece(Piece& piece, std::vector<NodeId> outer, const PieceJoin& to);
+
 }  // namespace vr

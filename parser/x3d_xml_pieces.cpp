@@ -222,38 +222,28 @@ void XmlReader::take_pieces(PieceScheduler& pieces, size_t& pos) {
 }
 
 void XmlReader::join(Piece& piece, std::vector<NodeId>& outer, size_t& pos) {
-    if (piece.consumed) {
-        consumed_.push_back({piece.index, static_cast<uint32_t>(roots_.size()),
-                             static_cast<uint32_t>(piece.roots.size()), piece.nodes,
-                             std::move(outer)});
-        consumed_nodes_ += piece.nodes;
-    } else {
-        // A node field whose first node is an outer one starts where that node does.
+    // A node field whose first node is an outer one starts where that node does.
+    if (!piece.consumed)
         for (FieldEntry& e : piece.tree.fields)
             if (e.type.kind == ValueKind::Node && !e.loc.valid() && e.count > 0 &&
                 is_outer_node(piece.tree.node_refs[e.begin]))
                 e.loc = tree_.nodes[outer[piece.tree.node_refs[e.begin] - kFirstOuterNode]].loc;
-        const NodeId base = append_tree(tree_, std::move(piece.tree), outer);
-        for (NodeId id : piece.roots) roots_.push_back(appended_id(id, base, outer));
-        for (const auto& [name, id] : piece.defs)
-            frames_.front()->defs[name] = id == kNullNode ? id : id + base;
-    }
-    append_stats(scene_.stats, piece.stats);
-    ++scene_.stats.pieces;
-    scene_.diagnostics.append(piece.diagnostics);
+    const uint32_t begin = piece.begin, end = piece.end, lines = piece.lines;
+    join_piece(piece, std::move(outer),
+               {tree_, roots_, frames_.front()->defs, consumed_, consumed_nodes_, scene_.stats,
+                scene_.diagnostics});
     // libxml2 goes on after the piece: what it counts from here on lacks the piece's bytes and
     // lines. The white space it holds still has its line breaks to count.
     const xmlParserInputPtr in = ctxt_->input;
     const Skip before = skips_.empty() ? Skip{} : skips_.back();
     Skip skip;
-    skip.stream = uint64_t(piece.begin) - before.bytes;
-    skip.bytes = before.bytes + (piece.end - piece.begin);
+    skip.stream = uint64_t(begin) - before.bytes;
+    skip.bytes = before.bytes + (end - begin);
     skip.stream_line = in->line + static_cast<int>(std::count(in->cur, in->end, '\n'));
-    skip.lines = before.lines + static_cast<int>(piece.lines);
+    skip.lines = before.lines + static_cast<int>(lines);
     skips_.push_back(skip);
-    pos = piece.end;
-    scene_.sources.release_before(main_file_, piece.end);
-    piece = Piece{};
+    pos = end;
+    scene_.sources.release_before(main_file_, end);
 }
 
 void XmlReader::drop_piece(PieceScheduler& pieces) {
