@@ -224,7 +224,7 @@ double SoftLighting::shadow_visibility(const Vec3& p, const Vec3& p_error, const
 namespace {
 
 // The mean of f(w) over the cone about `axis` (uniform in its measure) on R = 8 independently
-// jittered stratified patterns of m x m directions, m = 4, 8, ... 128, stopping once
+// jittered stratified patterns of m x m directions, m = 2, 4, 8, ... 128, stopping once
 // `converged(variance of the replicas' means)` holds; patterns of fewer than `min_samples`
 // directions in all are skipped. Value is double or Vec3 (per channel); `done` says whether it
 // converged before the largest patterns.
@@ -240,9 +240,16 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
     const Vec3 ty = glm::cross(axis, tx);
     Value mean(0.0);
     done = true;
-    for (int m = 4, round = 0; m <= 128; m *= 2, ++round) {
+    // Each round's patterns are keyed by its number. The 2 x 2 round came last, as number 6, so
+    // that the rounds of 4 x 4 and up kept their patterns: a tolerance below ln(100) / 32 = 0.14,
+    // which skips it, renders the same bytes as before it.
+    constexpr int kRounds = 7;
+    constexpr int kSide[kRounds] = {2, 4, 8, 16, 32, 64, 128};
+    constexpr int kKey[kRounds] = {6, 0, 1, 2, 3, 4, 5};
+    for (int step = 0; step < kRounds; ++step) {
+        const int m = kSide[step], round = kKey[step];
         // A round too small to stop is not traced: rounds are independent (each its own
-        // patterns, keyed by its number), so the result is the same as tracing it.
+        // patterns), so the result is the same as tracing it.
         if (double(kReplicas) * m * m < min_samples && m < 128) continue;
         Value sum(0.0), sum2(0.0);
         for (int r = 0; r < kReplicas; ++r) {
@@ -276,7 +283,8 @@ constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t,
 // ray misses leaves all replicas equal and the interval 0 wide, however large q. n stratified
 // directions miss a share q with probability at most exp(-n q) (each cell's jitter on its own), so
 // n >= ln(100) / tolerance rays hit any share as large as the tolerance at 99%, the interval's own
-// confidence. At 1e-1 that is the first patterns' 128 rays; at 1e-3 it is 8 x 32^2.
+// confidence. At 3e-1 and 2e-1 that is the first patterns' 32 rays, at 1e-1 the next 128; at 1e-3
+// it is 8 x 32^2.
 double min_samples_to_see(double tolerance) { return std::log(100.0) / tolerance; }
 
 }  // namespace

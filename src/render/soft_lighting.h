@@ -6,7 +6,7 @@
 // --ao-distance or a light's distance trims a cap to a smaller cap), integrated by open_share()
 // with a deterministic bound. Everything else (meshes, boxes, see-through surfaces, gas as an
 // attenuator, an occluder straddling a sphere light) takes the sampling path: shadow rays on R = 8
-// independently jittered stratified patterns of m x m directions (m = 4, 8, ... 128), stopping
+// independently jittered stratified patterns of m x m directions (m = 2, 4, ... 128), stopping
 // once the Student-t 99% interval of their mean is within the tolerance and there have been rays
 // enough (ln(100) / tolerance) to hit, at 99%, any share of the cone as large as the tolerance.
 // That bound is a confidence level, not a certainty; where the 128 x 128 patterns do not reach it
