@@ -97,7 +97,8 @@ std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bo
         for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6})
             ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
     if (soft_light && (samplers.empty() || wanted("light-tolerance")))
-        for (double tol : {1e-1, 3e-2, 1e-2, 3e-3, 1e-3})
+        // 3e-1: the cheapest setting (2 x 2 patterns), often enough to match a peer's noise.
+        for (double tol : {3e-1, 1e-1, 3e-2, 1e-2, 3e-3, 1e-3})
             ladder.push_back({"light tolerance", "center", 1, 0.0, tolerance, 3, tol});
     return ladder;
 }
@@ -214,7 +215,8 @@ int run_bench(const BenchCommand& cmd) {
                 std::cerr << "vrmlray: error: " << error << "\n";
                 return kExitOutput;
             }
-            return kExitOk;
+            // Measured as read back, as every later run reads it: the file is RGB (written
+            // without alpha), and compare measures the channels both images have.
         }
         if (!read_image(path, image, error)) {
             std::cerr << "vrmlray: error: " << error << "\n";
