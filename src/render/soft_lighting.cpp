@@ -228,6 +228,11 @@ namespace {
 // `converged(variance of the replicas' means)` holds; patterns of fewer than `min_samples`
 // directions in all are skipped. Value is double or Vec3 (per channel); `done` says whether it
 // converged before the largest patterns.
+//
+// A round refines the last one's patterns instead of starting anew: each m x m cell's sample lies
+// in one of the cell's four quarters, uniformly, and uniformly within it, so one new uniform sample
+// in each of the other three quarters makes a jittered 2m x 2m pattern that keeps every ray traced
+// so far (a round costs 3/4 of its rays, not all of them).
 template <class Value, class F, class Converged>
 Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key,
                       double min_samples, F&& f, Converged&& converged, bool& done) {
@@ -240,34 +245,56 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
     const Vec3 ty = glm::cross(axis, tx);
     Value mean(0.0);
     done = true;
-    // Each round's patterns are keyed by its number. The 2 x 2 round came last, as number 6, so
-    // that the rounds of 4 x 4 and up kept their patterns: a tolerance below ln(100) / 32 = 0.14,
-    // which skips it, renders the same bytes as before it.
+    // Each round's new samples are keyed by its number; the 2 x 2 round, added last, is number 6.
     constexpr int kRounds = 7;
     constexpr int kSide[kRounds] = {2, 4, 8, 16, 32, 64, 128};
     constexpr int kKey[kRounds] = {6, 0, 1, 2, 3, 4, 5};
+    // Every replica's samples as (u, v) in [0, 1)^2, cell by cell (v: phi / 2 pi); u < 0: empty.
+    std::vector<double> kept, placed;
+    Value sums[kReplicas];
+    int m_kept = 0;  // the side of the patterns in `kept`; 0: none traced yet
     for (int step = 0; step < kRounds; ++step) {
         const int m = kSide[step], round = kKey[step];
-        // A round too small to stop is not traced: rounds are independent (each its own
-        // patterns), so the result is the same as tracing it.
+        // A round too small to stop is not traced (the first traced one starts the patterns).
         if (double(kReplicas) * m * m < min_samples && m < 128) continue;
+        const size_t cells = size_t(m) * size_t(m);
+        placed.assign(2 * cells * kReplicas, -1.0);
         Value sum(0.0), sum2(0.0);
         for (int r = 0; r < kReplicas; ++r) {
-            Value replica(0.0);
+            double* at = &placed[2 * cells * size_t(r)];
+            if (m_kept > 0) {
+                const double* old = &kept[2 * size_t(m_kept) * size_t(m_kept) * size_t(r)];
+                for (int c = 0; c < m_kept * m_kept; ++c) {
+                    // Its quarter; the clamp keeps a sample rounded onto the cell's far edge in
+                    // its own cell.
+                    const double u = old[2 * c], v = old[2 * c + 1];
+                    const int i = std::min(int(u * m), 2 * (c % m_kept) + 1);
+                    const int j = std::min(int(v * m), 2 * (c / m_kept) + 1);
+                    at[2 * (size_t(j) * m + i)] = u;
+                    at[2 * (size_t(j) * m + i) + 1] = v;
+                }
+            } else {
+                sums[r] = Value(0.0);
+            }
             for (int cell = 0; cell < m * m; ++cell) {
+                if (at[2 * cell] >= 0.0) continue;  // kept from the last round
                 const uint64_t index = 2 * uint64_t(cell);
                 const double u = ((cell % m) + sample_uniform(key, r, round, index)) / m;
-                const double phi =
-                    2.0 * kPi * ((cell / m) + sample_uniform(key, r, round, index + 1)) / m;
+                const double v = ((cell / m) + sample_uniform(key, r, round, index + 1)) / m;
+                at[2 * cell] = u;
+                at[2 * cell + 1] = v;
+                const double phi = 2.0 * kPi * v;
                 double cos_t, sin_t;
                 ring_angle(measure, scale, u, cos_t, sin_t);
                 const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
-                replica += f(w);
+                sums[r] += f(w);
             }
-            replica /= double(m * m);
+            const Value replica = sums[r] / double(m * m);
             sum += replica;
             sum2 += replica * replica;
         }
+        std::swap(kept, placed);
+        m_kept = m;
         mean = sum / double(kReplicas);
         const Value variance = glm::max(Value(0.0), (sum2 - sum * mean) / double(kReplicas - 1));
         if (double(kReplicas) * m * m >= min_samples && converged(variance / double(kReplicas)))

@@ -398,7 +398,8 @@ TEST(SoftLight, SpheresBesideAMeshAreWithinToleranceOfBruteForce) {
 // how many are within `tolerance` of the closed form. Each point must take at least `min_rays`;
 // `cheap` counts those that took at most `cheap_rays`.
 int plane_points_within(double r, double d, double theta, double tolerance, uint64_t min_rays,
-                        int* cheap = nullptr, uint64_t cheap_rays = 0) {
+                        int* cheap = nullptr, uint64_t cheap_rays = 0,
+                        std::vector<uint64_t>* rays = nullptr) {
     Cluster c;
     const uint32_t shading = add_shading(c.scene, Material{});
     testing::add_quad(c.scene, Vec3(-50, -50, 0), Vec3(50, -50, 0), Vec3(50, 50, 0),
@@ -419,6 +420,7 @@ int plane_points_within(double r, double d, double theta, double tolerance, uint
         EXPECT_EQ(counts.sampled_points, 1u);
         EXPECT_GE(counts.rays, min_rays);
         if (cheap) *cheap += counts.rays <= cheap_rays ? 1 : 0;
+        if (rays) rays->push_back(counts.rays);
         within += std::abs(a - exact) <= tolerance ? 1 : 0;
     }
     return within;
@@ -442,6 +444,23 @@ TEST(SoftLight, LooseTolerancesStopOnSmallerPatterns) {
     }
     // 1e-1 needs 46 rays: its first patterns stay 4 x 4.
     EXPECT_GE(plane_points_within(0.8, 2.0, 0.6, 1e-1, 128), 19);
+}
+
+TEST(SoftLight, LaterRoundsKeepTheRaysOfEarlierOnes) {
+    // A round refines the last one's 8 patterns from m x m to 2m x 2m cells, keeping their rays:
+    // a point that stops on m x m patterns has traced 8 m^2 rays, whatever rounds came before
+    // (rounds that started anew traced 8 (m^2 + (m/2)^2 + ...), 2,560 for 16 x 16 after 8 x 8).
+    std::vector<uint64_t> rays;
+    EXPECT_GE(plane_points_within(0.8, 2.0, 0.6, 3e-3, 1, nullptr, 0, &rays), 19);
+    int refined = 0;
+    for (uint64_t n : rays) {
+        const uint64_t m = uint64_t(std::lround(std::sqrt(double(n) / 8.0)));
+        EXPECT_EQ(n, 8 * m * m) << "rays " << n;
+        EXPECT_EQ(m & (m - 1), 0u) << "rays " << n;  // m a power of 2
+        // At 3e-3 the first patterns are 16 x 16 (ln(100) / 3e-3 = 1,535 rays).
+        refined += m > 16 ? 1 : 0;
+    }
+    EXPECT_GE(refined, 1);  // the case is exercised
 }
 
 TEST(SoftLight, SamplingPathFindsAnOccluderSmallerThanItsFirstPatterns) {
