@@ -95,7 +95,7 @@ void Accel::build_prototypes(const FlatScene& scene, int threads) {
 // instance's transform.
 bool Accel::instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) const {
     if (in.prototype >= prototypes_.size() || prototypes_[in.prototype].bvh.empty()) return false;
-    const Bvh4Node& root = prototypes_[in.prototype].bvh.nodes[0];
+    const WideBvhNode& root = prototypes_[in.prototype].bvh.nodes[0];
     Vec3 lo(kInf), hi(-kInf);
     for (int c = 0; c < root.lanes; ++c)
         for (int k = 0; k < 3; ++k) {
@@ -354,7 +354,7 @@ bool Accel::test_instance(uint32_t index, const Ray& ray, double& t_max, Hit& hi
     if (brute_force)
         test(0, uint32_t(p.triangles.size()), tm);
     else
-        traverse_bvh4(p.bvh, object_ray, tm, test);
+        traverse_wide_bvh(p.bvh, object_ray, tm, test);
     if (!found) return false;
     t_max = tm + r.dt;
     hit.t = t_max;
@@ -370,7 +370,7 @@ int Accel::instance_crossings(uint32_t index, const Ray& ray) const {
     const Ray object_ray{r.o, r.d, tm};
     const TriangleRay tri_ray(object_ray);
     int n = 0;
-    traverse_bvh4(p.bvh, object_ray, tm, [&](uint32_t first, uint32_t count, double& limit) {
+    traverse_wide_bvh(p.bvh, object_ray, tm, [&](uint32_t first, uint32_t count, double& limit) {
         for (uint32_t i = first; i < first + count; ++i) {
             double t, b1, b2;
             n += triangle_hit(tri_ray, p.triangles[i], limit, t, b1, b2) ? 1 : 0;
@@ -435,7 +435,7 @@ bool Accel::frustum_may_hit(const Frustum& f) const {
     stack[top++] = 0;
     while (top > 0) {
         if (++visited > kMaxNodes) return true;
-        const Bvh4Node& n = bvh_.nodes[stack[--top]];
+        const WideBvhNode& n = bvh_.nodes[stack[--top]];
         for (int c = 0; c < n.lanes; ++c) {
             const double lo[3] = {n.lo[0][c], n.lo[1][c], n.lo[2][c]};
             const double hi[3] = {n.hi[0][c], n.hi[1][c], n.hi[2][c]};
@@ -459,7 +459,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
         // test_primitive's sphere case, without reading the reference: leaf order is sphere order.
         // 1 / |d|^2 at the first leaf: most camera rays of a small scene meet none.
         double inv_a = 0.0;
-        traverse_bvh4(
+        traverse_wide_bvh(
             bvh_, ray, t_max,
             [&](uint32_t first, uint32_t count, double& tm) {
                 if (inv_a == 0.0) inv_a = 1.0 / glm::dot(ray.d, ray.d);
@@ -479,7 +479,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
     }
     const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
     const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
-    traverse_bvh4(
+    traverse_wide_bvh(
         bvh_, ray, t_max,
         [&](uint32_t first, uint32_t count, double& tm) {
             for (uint32_t i = first; i < first + count; ++i)
@@ -502,7 +502,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     uint32_t unused = 0;
     uint32_t& found = blocker != nullptr ? *blocker : unused;
     if (spheres_only_ && !any_transparent_) {
-        traverse_bvh4(
+        traverse_wide_bvh(
             bvh_, ray, t_max,
             [&](uint32_t first, uint32_t count, double&) {
                 for (uint32_t i = first; i < first + count; ++i) {
@@ -521,7 +521,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     }
     if (!any_transparent_) {
         Hit hit;
-        traverse_bvh4(
+        traverse_wide_bvh(
             bvh_, ray, t_max,
             [&](uint32_t first, uint32_t count, double&) {
                 for (uint32_t i = first; i < first + count; ++i) {
@@ -537,7 +537,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
             prefetch);
         return result;
     }
-    traverse_bvh4(
+    traverse_wide_bvh(
         bvh_, ray, t_max,
         [&](uint32_t first, uint32_t count, double&) {
             for (uint32_t i = first; i < first + count; ++i) {

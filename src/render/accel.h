@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/ray.h"
-#include "render/bvh4.h"
+#include "render/wide_bvh.h"
 #include "render/flat_scene.h"
 #include "render/frustum.h"
 #include "render/intersect.h"
@@ -56,7 +56,7 @@ class Accel {
     size_t primitive_count() const { return prims_.size(); }
     // Bytes of the arrays held for rendering, BVH included.
     size_t held_bytes() const;
-    const Bvh4& bvh() const { return bvh_; }
+    const WideBvh& bvh() const { return bvh_; }
 
     // Brute force over every primitive, for tests.
     bool intersect_brute_force(const Ray& ray, Hit& hit) const;
@@ -79,7 +79,7 @@ class Accel {
     void prefetch_leaf(uint32_t first, uint32_t count) const;
 
     const FlatScene* scene_ = nullptr;
-    Bvh4 bvh_;  // collapsed from the binary build, which is not kept
+    WideBvh bvh_;  // collapsed from the binary build, which is not kept
     // The arrays a primitive fills are written by parallel loops after resize() (core/no_fill.h).
     NoFillVector<uint32_t> prims_;           // packed references in leaf order
     NoFillVector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
@@ -97,7 +97,7 @@ class Accel {
     // Mesh instances (FlatScene::instances): each prototype's triangles once, in object space,
     // under a BVH of its own; each instance one entry of the scene's BVH.
     struct Prototype {
-        Bvh4 bvh;
+        WideBvh bvh;
         std::vector<TriangleGeom> triangles;   // object space, in the prototype BVH's leaf order
         std::vector<uint32_t> triangle_index;  // the mesh's triangle of each
     };

@@ -175,8 +175,8 @@ TEST(Bvh, DepthIsBoundedOnSkewedScenes) {
                                 0.1 * std::pow(3.0, i), 0);
     Accel accel;
     accel.build(scene, 1);
-    // The 4-wide tree's traversal stack holds three entries a level.
-    EXPECT_LE(3 * bvh4_depth(accel.bvh()) + 1, kBvh4StackSize);
+    // The wide tree's traversal stack holds width - 1 entries a level.
+    EXPECT_LE((kBvhWidth - 1) * wide_bvh_depth(accel.bvh()) + 1, kWideBvhStackSize);
     for (int i = 0; i < n; i += 3) {
         Ray ray;
         ray.o = Vec3(std::pow(3.0, i), 0.0, 10.0 * std::pow(3.0, i));
@@ -224,7 +224,7 @@ TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
         }
         const BuildBoxes original = boxes;
         const Bvh binary = build_bvh(boxes, BvhBuildOptions());
-        const Bvh4 wide = collapse_bvh(binary);
+        const WideBvh wide = collapse_bvh(binary);
         std::vector<int> seen(count, 0);
         struct Todo {
             uint32_t node;
@@ -235,7 +235,7 @@ TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
         while (!todo.empty()) {
             const Todo t = todo.back();
             todo.pop_back();
-            const Bvh4Node& n = wide.nodes[t.node];
+            const WideBvhNode& n = wide.nodes[t.node];
             ASSERT_GE(n.lanes, t.node == 0 ? 1 : 2);  // only a root that is one leaf has one lane
             for (int c = 0; c < n.lanes; ++c) {
                 Todo child{n.child[c], {}, {}};

@@ -1,4 +1,4 @@
-#include "render/bvh4.h"
+#include "render/wide_bvh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,9 +16,9 @@ double half_area(const BvhNode& n) {
 
 // A node over the n binary nodes `kids` (leaves keep their primitive range; interior children's
 // indices are set by the caller); unused lanes get the empty box.
-Bvh4Node make_node(const BvhNode* const* kids, int n) {
-    Bvh4Node node;
-    for (int c = 0; c < 4; ++c) {
+WideBvhNode make_node(const BvhNode* const* kids, int n) {
+    WideBvhNode node;
+    for (int c = 0; c < kBvhWidth; ++c) {
         for (int k = 0; k < 3; ++k) {
             node.lo[k][c] = c < n ? kids[c]->lo[k] : INFINITY;
             node.hi[k][c] = c < n ? kids[c]->hi[k] : -INFINITY;
@@ -31,13 +31,12 @@ Bvh4Node make_node(const BvhNode* const* kids, int n) {
 }
 
 // Fills node `at` of `out` from the binary interior node `b`: its children, with the interior child
-// of largest area opened while fewer than four (the usual greedy collapse: big boxes are the ones
-// rays meet).
-void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
-    const BvhNode* kids[4] = {&binary.nodes[b.offset], &binary.nodes[b.offset + 1], nullptr,
-                              nullptr};
+// of largest area opened while fewer than kBvhWidth (the usual greedy collapse: big boxes are the
+// ones rays meet).
+void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, WideBvh& out) {
+    const BvhNode* kids[kBvhWidth] = {&binary.nodes[b.offset], &binary.nodes[b.offset + 1]};
     int n = 2;
-    while (n < 4) {
+    while (n < kBvhWidth) {
         int open = -1;
         double best = -1.0;
         for (int i = 0; i < n; ++i)
@@ -62,8 +61,8 @@ void collapse(const Bvh& binary, const BvhNode& b, uint32_t at, Bvh4& out) {
 
 }  // namespace
 
-Bvh4 collapse_bvh(const Bvh& binary) {
-    Bvh4 out;
+WideBvh collapse_bvh(const Bvh& binary) {
+    WideBvh out;
     if (binary.empty()) return out;
     // Every wide node takes at least one binary interior node, so half the binary nodes bound the
     // count and the array never moves (a move would fault its pages in twice). The count is L / 3
@@ -81,7 +80,7 @@ Bvh4 collapse_bvh(const Bvh& binary) {
     return out;
 }
 
-int bvh4_depth(const Bvh4& bvh) {
+int wide_bvh_depth(const WideBvh& bvh) {
     if (bvh.empty()) return 0;
     int deepest = 0;
     std::vector<std::pair<uint32_t, int>> todo = {{0u, 1}};
@@ -89,7 +88,7 @@ int bvh4_depth(const Bvh4& bvh) {
         const auto [i, d] = todo.back();
         todo.pop_back();
         deepest = std::max(deepest, d);
-        const Bvh4Node& n = bvh.nodes[i];
+        const WideBvhNode& n = bvh.nodes[i];
         for (int c = 0; c < n.lanes; ++c)
             if (n.count[c] == 0) todo.push_back({n.child[c], d + 1});
     }
