@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "core/ray.h"
-#include "render/wide_bvh.h"
 #include "render/flat_scene.h"
 #include "render/frustum.h"
 #include "render/intersect.h"
+#include "render/wide_bvh.h"
 
 namespace vr {
 

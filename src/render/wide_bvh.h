@@ -81,7 +81,7 @@ struct NoLeafPrefetch {
 // pushed farthest first: the same visiting order as pushing all of them, so the same hits.
 template <class LeafFn, class PrefetchFn = NoLeafPrefetch>
 inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max, LeafFn&& leaf,
-                          PrefetchFn&& prefetch_leaf = NoLeafPrefetch{}) {
+                              PrefetchFn&& prefetch_leaf = NoLeafPrefetch{}) {
     if (bvh.nodes.empty()) return;
     const WideBvhNode* nodes = bvh.nodes.data();
     const double slack = 1.0 + 2.0 * gamma_bound(3);
@@ -132,9 +132,11 @@ inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max,
                         const float* near_plane = near_hi[k] ? n.hi[k] : n.lo[k];
                         const float* far_plane = near_hi[k] ? n.lo[k] : n.hi[k];
                         const __m512d tn = _mm512_mul_pd(
-                            _mm512_sub_pd(wide_bvh_detail::widen(_mm256_load_ps(near_plane)), O[k]), I[k]);
+                            _mm512_sub_pd(wide_bvh_detail::widen(_mm256_load_ps(near_plane)), O[k]),
+                            I[k]);
                         const __m512d tf = _mm512_mul_pd(
-                            _mm512_sub_pd(wide_bvh_detail::widen(_mm256_load_ps(far_plane)), O[k]), I[k]);
+                            _mm512_sub_pd(wide_bvh_detail::widen(_mm256_load_ps(far_plane)), O[k]),
+                            I[k]);
                         // NaN in tn: t0 is kept (maxpd returns its second operand).
                         t0 = wide_bvh_detail::max8(tn, t0);
                         t1 = wide_bvh_detail::min8(tf, t1);
