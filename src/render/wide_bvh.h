@@ -1,9 +1,9 @@
 // A wide BVH for the opaque tracer, collapsed from the binary one of render/bvh.h (the same
 // leaves, so the same primitive order): a node holds its children's boxes axis by axis, and a ray
 // tests all of them at once in double precision. The width is what one vector register holds in
-// doubles: 8 with AVX-512, else 4 (AVX2, or the scalar loop). A 4-wide tree drops three of every
-// four binary interior nodes, an 8-wide one seven of eight, so a traversal takes a third (a
-// seventh) of the steps.
+// doubles: 8 with AVX-512, else 4 (AVX2, or the scalar loop). Collapsing drops most binary interior
+// nodes; leaves stop it, so on 1M random spheres the 4-wide tree has 159k nodes, the 8-wide one
+// 105k (of twice the bytes), for 250k leaves.
 //
 // The test is the binary tree's, lane by lane: single-precision planes rounded outwards at build,
 // the slab distances in double, the exit distance widened by pbrt's 1 + 2 gamma(3), NaN (a ray
@@ -79,26 +79,106 @@ struct NoLeafPrefetch {
 //
 // The nearest child hit is visited next without a round trip through the stack, the others are
 // pushed farthest first: the same visiting order as pushing all of them, so the same hits.
+// One ray against a node's children: the slab distances of every lane at once.
+class WideBoxTest {
+  public:
+    explicit WideBoxTest(const Ray& ray) {
+        alignas(32) double inv[4];
+#if defined(__AVX2__)
+        // One division for the three (IEEE division rounds the same in a vector lane).
+        _mm256_store_pd(inv, _mm256_div_pd(_mm256_set1_pd(1.0),
+                                           _mm256_set_pd(1.0, ray.d[2], ray.d[1], ray.d[0])));
+#else
+        for (int k = 0; k < 3; ++k) inv[k] = 1.0 / ray.d[k];
+#endif
+        for (int k = 0; k < 3; ++k) {
+            near_hi_[k] = std::signbit(inv[k]) ? 1 : 0;
+#if defined(__AVX512F__)
+            o_[k] = _mm512_set1_pd(ray.o[k]);
+            inv_[k] = _mm512_set1_pd(inv[k]);
+#elif defined(__AVX2__)
+            o_[k] = _mm256_set1_pd(ray.o[k]);
+            inv_[k] = _mm256_set1_pd(inv[k]);
+#else
+            o_[k] = ray.o[k];
+            inv_[k] = inv[k];
+#endif
+        }
+    }
+
+    // The lanes in use whose boxes the ray meets within [0, t_max] (bit c: lane c), and every
+    // lane's entry distance in t_near.
+    unsigned operator()(const WideBvhNode& n, double t_max, double* t_near) const {
+        unsigned mask = 0;
+#if defined(__AVX512F__)
+        __m512d t0 = _mm512_setzero_pd(), t1 = _mm512_set1_pd(t_max);
+        for (int k = 0; k < 3; ++k) {
+            const __m512d near_plane =
+                wide_bvh_detail::widen(_mm256_load_ps(near_hi_[k] ? n.hi[k] : n.lo[k]));
+            const __m512d far_plane =
+                wide_bvh_detail::widen(_mm256_load_ps(near_hi_[k] ? n.lo[k] : n.hi[k]));
+            // NaN in the entry distance: t0 is kept (maxpd returns its second operand).
+            t0 =
+                wide_bvh_detail::max8(_mm512_mul_pd(_mm512_sub_pd(near_plane, o_[k]), inv_[k]), t0);
+            t1 = wide_bvh_detail::min8(_mm512_mul_pd(_mm512_sub_pd(far_plane, o_[k]), inv_[k]), t1);
+        }
+        _mm512_store_pd(t_near, t0);
+        mask = _mm512_cmp_pd_mask(t0, _mm512_mul_pd(t1, _mm512_set1_pd(kSlack)), _CMP_LE_OQ);
+#elif defined(__AVX2__)
+        __m256d t0 = _mm256_setzero_pd(), t1 = _mm256_set1_pd(t_max);
+        for (int k = 0; k < 3; ++k) {
+            const __m256d near_plane =
+                _mm256_cvtps_pd(_mm_load_ps(near_hi_[k] ? n.hi[k] : n.lo[k]));
+            const __m256d far_plane = _mm256_cvtps_pd(_mm_load_ps(near_hi_[k] ? n.lo[k] : n.hi[k]));
+            // NaN in the entry distance: t0 is kept (maxpd returns its second operand).
+            t0 = _mm256_max_pd(_mm256_mul_pd(_mm256_sub_pd(near_plane, o_[k]), inv_[k]), t0);
+            t1 = _mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(far_plane, o_[k]), inv_[k]), t1);
+        }
+        _mm256_store_pd(t_near, t0);
+        mask = unsigned(_mm256_movemask_pd(
+            _mm256_cmp_pd(t0, _mm256_mul_pd(t1, _mm256_set1_pd(kSlack)), _CMP_LE_OQ)));
+#else
+        for (int c = 0; c < kBvhWidth; ++c) {
+            double t0 = 0.0, t1 = t_max;
+            for (int k = 0; k < 3; ++k) {
+                const double tn = (double(near_hi_[k] ? n.hi[k][c] : n.lo[k][c]) - o_[k]) * inv_[k];
+                const double tf = (double(near_hi_[k] ? n.lo[k][c] : n.hi[k][c]) - o_[k]) * inv_[k];
+                if (tn > t0) t0 = tn;
+                if (tf < t1) t1 = tf;
+            }
+            t_near[c] = t0;
+            if (t0 <= t1 * kSlack) mask |= 1u << c;
+        }
+#endif
+        return mask & ((1u << n.lanes) - 1);
+    }
+
+  private:
+    static constexpr double kSlack = 1.0 + 2.0 * gamma_bound(3);
+    int near_hi_[3];  // 1: the entry plane on this axis is hi (the ray runs towards -axis)
+#if defined(__AVX512F__)
+    __m512d o_[3], inv_[3];
+#elif defined(__AVX2__)
+    __m256d o_[3], inv_[3];
+#else
+    double o_[3], inv_[3];
+#endif
+};
+
+// Visits leaves front to back along the ray, as traverse_bvh: `leaf(first, count, t_max)` tests
+// primitives [first, first + count) of the leaf order and may lower t_max (closest hit) or return
+// true to stop (any hit). `prefetch_leaf(first, count)` is called for every leaf lane a ray
+// enters, before any of them is visited, so that the primitives' cache lines are on their way
+// while the nearer children are tested (a 1M-sphere scene misses the cache on most leaves).
+//
+// The nearest child hit is visited next without a round trip through the stack, the others are
+// pushed farthest first: the same visiting order as pushing all of them, so the same hits.
 template <class LeafFn, class PrefetchFn = NoLeafPrefetch>
 inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max, LeafFn&& leaf,
                               PrefetchFn&& prefetch_leaf = NoLeafPrefetch{}) {
     if (bvh.nodes.empty()) return;
     const WideBvhNode* nodes = bvh.nodes.data();
-    const double slack = 1.0 + 2.0 * gamma_bound(3);
-    double o[3];
-    alignas(32) double inv[4];
-#if defined(__AVX2__)
-    // One division for the three (IEEE division rounds the same in a vector lane).
-    _mm256_store_pd(
-        inv, _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_set_pd(1.0, ray.d[2], ray.d[1], ray.d[0])));
-#else
-    for (int k = 0; k < 3; ++k) inv[k] = 1.0 / ray.d[k];
-#endif
-    int near_hi[3];  // 1: the entry plane on this axis is hi (the ray runs towards -axis)
-    for (int k = 0; k < 3; ++k) {
-        o[k] = ray.o[k];
-        near_hi[k] = std::signbit(inv[k]) ? 1 : 0;
-    }
+    const WideBoxTest test(ray);
     struct Entry {
         uint32_t index;
         uint32_t count;  // 0: a node
@@ -107,15 +187,6 @@ inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max,
     Entry stack[kWideBvhStackSize];
     int top = 0;
     Entry e = {0, 0, 0.0};
-#if defined(__AVX512F__)
-    const __m512d O[3] = {_mm512_set1_pd(o[0]), _mm512_set1_pd(o[1]), _mm512_set1_pd(o[2])};
-    const __m512d I[3] = {_mm512_set1_pd(inv[0]), _mm512_set1_pd(inv[1]), _mm512_set1_pd(inv[2])};
-    const __m512d S = _mm512_set1_pd(slack), zero = _mm512_setzero_pd();
-#elif defined(__AVX2__)
-    const __m256d O[3] = {_mm256_set1_pd(o[0]), _mm256_set1_pd(o[1]), _mm256_set1_pd(o[2])};
-    const __m256d I[3] = {_mm256_set1_pd(inv[0]), _mm256_set1_pd(inv[1]), _mm256_set1_pd(inv[2])};
-    const __m256d S = _mm256_set1_pd(slack), zero = _mm256_setzero_pd();
-#endif
     for (;;) {
         bool descend = false;  // e is the nearest child of the node just tested
         if (!(e.t_near > t_max)) {
@@ -124,61 +195,7 @@ inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max,
             } else {
                 const WideBvhNode& n = nodes[e.index];
                 alignas(64) double t_near[kBvhWidth];
-                unsigned mask;
-#if defined(__AVX512F__)
-                {
-                    __m512d t0 = zero, t1 = _mm512_set1_pd(t_max);
-                    for (int k = 0; k < 3; ++k) {
-                        const float* near_plane = near_hi[k] ? n.hi[k] : n.lo[k];
-                        const float* far_plane = near_hi[k] ? n.lo[k] : n.hi[k];
-                        const __m512d tn = _mm512_mul_pd(
-                            _mm512_sub_pd(wide_bvh_detail::widen(_mm256_load_ps(near_plane)), O[k]),
-                            I[k]);
-                        const __m512d tf = _mm512_mul_pd(
-                            _mm512_sub_pd(wide_bvh_detail::widen(_mm256_load_ps(far_plane)), O[k]),
-                            I[k]);
-                        // NaN in tn: t0 is kept (maxpd returns its second operand).
-                        t0 = wide_bvh_detail::max8(tn, t0);
-                        t1 = wide_bvh_detail::min8(tf, t1);
-                    }
-                    _mm512_store_pd(t_near, t0);
-                    mask = _mm512_cmp_pd_mask(t0, _mm512_mul_pd(t1, S), _CMP_LE_OQ);
-                }
-#elif defined(__AVX2__)
-                {
-                    __m256d t0 = zero, t1 = _mm256_set1_pd(t_max);
-                    for (int k = 0; k < 3; ++k) {
-                        const float* near_plane = near_hi[k] ? n.hi[k] : n.lo[k];
-                        const float* far_plane = near_hi[k] ? n.lo[k] : n.hi[k];
-                        const __m256d tn = _mm256_mul_pd(
-                            _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(near_plane)), O[k]), I[k]);
-                        const __m256d tf = _mm256_mul_pd(
-                            _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(far_plane)), O[k]), I[k]);
-                        // NaN in tn: t0 is kept (maxpd returns its second operand).
-                        t0 = _mm256_max_pd(tn, t0);
-                        t1 = _mm256_min_pd(tf, t1);
-                    }
-                    _mm256_store_pd(t_near, t0);
-                    mask = unsigned(
-                        _mm256_movemask_pd(_mm256_cmp_pd(t0, _mm256_mul_pd(t1, S), _CMP_LE_OQ)));
-                }
-#else
-                mask = 0;
-                for (int c = 0; c < kBvhWidth; ++c) {
-                    double t0 = 0.0, t1 = t_max;
-                    for (int k = 0; k < 3; ++k) {
-                        const double tn =
-                            (double(near_hi[k] ? n.hi[k][c] : n.lo[k][c]) - o[k]) * inv[k];
-                        const double tf =
-                            (double(near_hi[k] ? n.lo[k][c] : n.hi[k][c]) - o[k]) * inv[k];
-                        if (tn > t0) t0 = tn;
-                        if (tf < t1) t1 = tf;
-                    }
-                    t_near[c] = t0;
-                    if (t0 <= t1 * slack) mask |= 1u << c;
-                }
-#endif
-                mask &= (1u << n.lanes) - 1;
+                const unsigned mask = test(n, t_max, t_near);
                 // Hit children farthest first in `order`; what they point at is fetched now.
                 // (Looping over the set bits of the mask instead measured slower: it is not
                 // unrolled.)
