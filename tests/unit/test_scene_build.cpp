@@ -1,6 +1,8 @@
 // Node tree -> typed scene: VRML97 and X3D spellings, DEF/USE sharing, cycles, hints.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "parser/load.h"
 #include "scene/build.h"
 #include "scene/transform.h"
@@ -62,6 +64,28 @@ TEST(SceneBuild, SwitchAndLodInBothSpellings) {
         std::holds_alternative<sg::Box>(x3d.scene.geometries[x3d.scene.shapes[0].geometry].shape));
     EXPECT_TRUE(
         std::holds_alternative<sg::Cone>(x3d.scene.geometries[x3d.scene.shapes[1].geometry].shape));
+}
+
+// The reader keeps a hexadecimal integer as its unsigned 32-bit pattern (SFImage pixels need
+// 0xFFFFFFFF); an SFInt32 or MFInt32 field reads it as that pattern's two's-complement int32, as C
+// does. Found by fuzz_pipeline: `whichChoice 0xFFFFFFFF` was converted to int out of range
+// (undefined behaviour, which UBSan stopped on). A negated hexadecimal beyond -2^31 has no int32:
+// it selects nothing, and as an index it is rejected like any bad index.
+TEST(SceneBuild, HexadecimalIntegersAreTheirTwosComplementInt32) {
+    const Built b = build(R"(
+        Switch { whichChoice 0xFFFFFFFF choice [ Shape { geometry Box {} } ] }
+        Switch { whichChoice 0x1 choice [ Shape { geometry Box {} } Shape { geometry Sphere {} } ] }
+        Switch { whichChoice -0xFFFFFFFF choice [ Shape { geometry Box {} } ] }
+        Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0, 1 1 0 ] }
+                                          coordIndex [ 0 1 2 0xFFFFFFFF 1 3 2 0x80000000 ] } })");
+    ASSERT_EQ(b.scene.shapes.size(), 2u);
+    EXPECT_TRUE(
+        std::holds_alternative<sg::Sphere>(b.scene.geometries[b.scene.shapes[0].geometry].shape));
+    const auto* faces = std::get_if<std::unique_ptr<sg::IndexedFaceSet>>(
+        &b.scene.geometries[b.scene.shapes[1].geometry].shape);
+    ASSERT_TRUE(faces && *faces);
+    EXPECT_EQ((*faces)->coord_index,
+              (std::vector<int32_t>{0, 1, 2, -1, 1, 3, 2, std::numeric_limits<int32_t>::min()}));
 }
 
 TEST(SceneBuild, HintsFromMaterialShapeAndSphere) {
