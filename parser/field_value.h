@@ -39,6 +39,16 @@ bool parse_double(std::string_view word, double& out);
 bool parse_int32(std::string_view word,
                  int64_t& out);  // accepts hex up to 0xFFFFFFFF (as unsigned)
 
+// An SFInt32/MFInt32 value as int32. parse_int32 keeps a hex value as its unsigned 32-bit pattern
+// (SFImage pixels need 0xFFFFFFFF), which an integer field reads as the pattern's two's-complement
+// value, as C does: 0xFFFFFFFF is -1. A negated hex beyond -2^31 has no int32 and gives `invalid`.
+inline int32_t int32_of_number(double d, int32_t invalid) {
+    if (d >= -2147483648.0 && d <= 2147483647.0) return static_cast<int32_t>(d);
+    if (d > 2147483647.0 && d <= 4294967295.0)
+        return static_cast<int32_t>(static_cast<uint32_t>(d));
+    return invalid;
+}
+
 // Normalises an SFRotation axis in place; returns false if it was further from unit length than the
 // rounding of a few written decimals explains (worth a warning).
 bool normalise_rotation(double* r);

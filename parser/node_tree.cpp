@@ -1,5 +1,6 @@
 #include "parser/node_tree.h"
 
+#include "parser/field_value.h"
 #include "parser/registry.h"
 
 namespace vr {
@@ -106,7 +107,7 @@ bool NodeTree::get_bool(NodeId node, Name field) const {
 
 int32_t NodeTree::get_int(NodeId node, Name field) const {
     FieldView v = get(node, field);
-    return v.numbers.empty() ? 0 : static_cast<int32_t>(v.numbers[0]);
+    return v.numbers.empty() ? 0 : int32_of_number(v.numbers[0], -1);
 }
 
 double NodeTree::get_number(NodeId node, Name field) const {

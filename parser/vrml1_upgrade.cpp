@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "parser/field_value.h"
 #include "parser/registry.h"
 
 namespace vr::vrml1 {
@@ -402,7 +403,7 @@ std::vector<NodeId> Upgrader::traverse_alone(uint32_t child, State& s, size_t de
 void Upgrader::switch_node(uint32_t id, State& s, OutList& out, size_t depth) {
     const Names& n = names();
     const V1Node& node = file_.nodes[id];
-    const int32_t which = static_cast<int32_t>(number(id, n.whichChild));
+    const int32_t which = int32_of_number(number(id, n.whichChild), -1);
     if (which == -3) {  // all children, like a Group
         children(id, s, out, depth);
         return;

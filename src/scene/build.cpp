@@ -10,6 +10,7 @@
 
 #include "core/format.h"
 #include "core/huge_pages.h"
+#include "parser/field_value.h"
 #include "parser/registry.h"
 #include "scene/build_internal.h"
 #include "scene/hints.h"
@@ -118,23 +119,10 @@ double Builder::number(NodeId n, Name f) const {
         read(n, f, Many::SF, {ValueKind::Float, ValueKind::Double, ValueKind::Time});
     return v.numbers.empty() ? 0.0 : v.numbers[0];
 }
-namespace {
-// An SFInt32/MFInt32 number as int32. The reader keeps a hexadecimal value as its unsigned 32-bit
-// pattern (SFImage pixels need 0xFFFFFFFF), which an integer field reads as the pattern's
-// two's-complement value, as C does: 0xFFFFFFFF is -1. A negated hexadecimal beyond -2^31 has no
-// int32 and gives `invalid`.
-int32_t int32_of(double d, int32_t invalid) {
-    if (d >= -2147483648.0 && d <= 2147483647.0) return static_cast<int32_t>(d);
-    if (d > 2147483647.0 && d <= 4294967295.0)
-        return static_cast<int32_t>(static_cast<uint32_t>(d));
-    return invalid;
-}
-}  // namespace
-
 int32_t Builder::integer(NodeId n, Name f) const {
     const FieldView v = read(n, f, Many::SF, {ValueKind::Int32});
     // Every field read here takes a negative value as "none" or as an error.
-    return v.numbers.empty() ? 0 : int32_of(v.numbers[0], -1);
+    return v.numbers.empty() ? 0 : int32_of_number(v.numbers[0], -1);
 }
 bool Builder::boolean(NodeId n, Name f) const {
     const FieldView v = read(n, f, Many::SF, {ValueKind::Bool});
@@ -163,7 +151,7 @@ std::vector<int32_t> Builder::integers(NodeId n, Name f) const {
     std::vector<int32_t> out(v.numbers.size());
     for (size_t i = 0; i < out.size(); ++i) {
         // Values without an int32 cannot be valid indices; -2 is rejected by every index check.
-        out[i] = int32_of(v.numbers[i], -2);
+        out[i] = int32_of_number(v.numbers[i], -2);
     }
     return out;
 }

@@ -403,6 +403,22 @@ Separator {
     expect_near(origin_of(shapes[1]), {1, 0, 0}, 0, "whichChild -3 traverses like a Group");
 }
 
+// A hex whichChild is its 32-bit pattern read as a signed int32, as in VRML97 integer fields:
+// 0xFFFFFFFD is -3 (every child), 0xFFFFFFFF is -1 (none). Converting 4294967293.0 straight to
+// int32 was undefined behaviour (found by the fuzzer in the VRML97 reader's whichChoice).
+TEST(Vrml1, HexWhichChildIsATwosComplementInt32) {
+    vr::LoadedScene s = load(R"(#VRML V1.0 ascii
+Separator {
+  Switch { whichChild 0xFFFFFFFD  Translation { translation 1 0 0 }  Sphere { radius 3 } }
+  Switch { whichChild 0xFFFFFFFF  Cube { } }
+}
+)");
+    ASSERT_TRUE(s.ok()) << errors(s);
+    std::vector<FlatShape> shapes = flatten(s);
+    ASSERT_EQ(shapes.size(), 1u);
+    expect_near(origin_of(shapes[0]), {1, 0, 0}, 0, "whichChild 0xFFFFFFFD traverses like a Group");
+}
+
 TEST(Vrml1, SyntaxExtensionsAndUnknownNodes) {
     vr::LoadedScene s = load(R"(#VRML V1.0 ascii
 Separator {
