@@ -260,8 +260,8 @@ TEST(Bvh, CollapsedTreeKeepsEveryLeafInsideItsBoxes) {
         }
         for (size_t i = 0; i < count; ++i) ASSERT_EQ(seen[i], 1) << count << " boxes, box " << i;
         // A binary tree of L leaves has 2L nodes (L - 1 interior); the 4-wide collapse leaves about
-        // 0.5L (most nodes four lanes wide, those over two leaves two), the 8-wide one fewer: under a
-        // third of the binary count either way.
+        // 0.5L (most nodes four lanes wide, those over two leaves two), the 8-wide one fewer: under
+        // a third of the binary count either way.
         if (count >= 1000) {
             EXPECT_LT(wide.nodes.size(), binary.nodes.size() / 3);
         }
