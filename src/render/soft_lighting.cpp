@@ -250,7 +250,8 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
     constexpr int kSide[kRounds] = {2, 4, 8, 16, 32, 64, 128};
     constexpr int kKey[kRounds] = {6, 0, 1, 2, 3, 4, 5};
     // Every replica's samples as (u, v) in [0, 1)^2, cell by cell (v: phi / 2 pi); u < 0: empty.
-    std::vector<double> kept, placed;
+    // Per thread, reused point after point (f traces shadow rays only, never a nested mean).
+    thread_local std::vector<double> kept, placed;
     Value sums[kReplicas];
     int m_kept = 0;  // the side of the patterns in `kept`; 0: none traced yet
     for (int step = 0; step < kRounds; ++step) {
