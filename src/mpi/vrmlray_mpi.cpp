@@ -2,6 +2,8 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 
 #include "mpi/mpi_abi.h"
 
@@ -16,6 +18,18 @@ extern "C" {
 int vrmlray_mpi_abi_version() { return VRMLRAY_MPI_ABI_VERSION; }
 
 void vrmlray_mpi_init(int* rank, int* size) {
+#ifdef OPEN_MPI
+    // Open MPI opens every point-to-point layer (PML) before it picks one; opening cm, whose fabric
+    // layers (libfabric, PSM) probe the network devices, took 0.2 s of MPI_Init's 0.25 s on the
+    // 2-core test machine, which then picked ob1 anyway. When every process is on this node (local size = world size, the same
+    // answer in every process, so all pick alike) ob1 with its shared-memory transport is what a
+    // node needs, so it is named here unless the user named a PML (--mca pml, OMPI_MCA_pml: both
+    // arrive as this variable, which setenv then leaves alone). docs/mpi.md.
+    const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+    const char* world = std::getenv("OMPI_COMM_WORLD_SIZE");
+    if (local != nullptr && world != nullptr && std::strcmp(local, world) == 0)
+        setenv("OMPI_MCA_pml", "ob1", 0);
+#endif
     int provided = 0;
     MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, rank);

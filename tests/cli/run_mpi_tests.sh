@@ -17,6 +17,7 @@ mpi=(mpirun --oversubscribe --allow-run-as-root -np 3)
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 seeds=$src/scenes/seeds
 corpus=${VRMLRAY_CORPUS:-$(cd "$src/.." && pwd)/shared/corpus}
+good_scene=$seeds/001_sphere.wrl
 
 # same NAME ARGS...: one process and three render ARGS to NAME.EXT; the files must be equal.
 same() {
@@ -65,6 +66,19 @@ PY
 expect 0 "one process: stats" -- "$bin" render "$seeds/001_sphere.wrl" -W 20 -H 20 -q -o "$work/s.png" --stats "$work/one.json"
 python3 -c 'import json,sys; assert "processes" not in json.load(open(sys.argv[1]))' "$work/one.json" && pass ||
     fail "one process's --stats has a processes entry"
+
+# Open MPI on one node: vrmlray names the ob1 point-to-point layer before MPI_Init, so that Open MPI
+# opens no other (opening cm probes the network devices: 0.2 s of a 0.25 s start-up on the test
+# machine), unless the user named one: --mca pml, or OMPI_MCA_pml, which then wins. Open MPI's own
+# verbose log of the layer's components says which were opened.
+pml_log() { grep -c "components_open: found loaded component $1" "$work/err.txt" || true; }
+expect 0 "one node: ob1 only" -- "${mpi[@]}" --mca pml_base_verbose 10 "$bin" render "$good_scene" \
+    -W 20 -H 20 -q -o "$work/pml.png"
+[ "$(pml_log ob1)" = 3 ] && [ "$(pml_log cm)" = 0 ] && pass ||
+    fail "one node: Open MPI opened PMLs other than ob1 (ob1 $(pml_log ob1), cm $(pml_log cm) of 3 processes)"
+expect 0 "one node: the user's PML list wins" -- env OMPI_MCA_pml=ob1,cm "${mpi[@]}" --mca pml_base_verbose 10 \
+    "$bin" render "$good_scene" -W 20 -H 20 -q -o "$work/pml.png"
+[ "$(pml_log cm)" = 3 ] && pass || fail "one node: OMPI_MCA_pml=ob1,cm was not what Open MPI opened"
 
 # A process that cannot read its scene (MPMD: rank 0 gets a missing file, or ranks 1-2 do): every
 # process exits 3, within the time limit (no process left waiting for the others).
