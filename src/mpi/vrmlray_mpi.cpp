@@ -21,10 +21,11 @@ void vrmlray_mpi_init(int* rank, int* size) {
 #ifdef OPEN_MPI
     // Open MPI opens every point-to-point layer (PML) before it picks one; opening cm, whose fabric
     // layers (libfabric, PSM) probe the network devices, took 0.2 s of MPI_Init's 0.25 s on the
-    // 2-core test machine, which then picked ob1 anyway. When every process is on this node (local size = world size, the same
-    // answer in every process, so all pick alike) ob1 with its shared-memory transport is what a
-    // node needs, so it is named here unless the user named a PML (--mca pml, OMPI_MCA_pml: both
-    // arrive as this variable, which setenv then leaves alone). docs/mpi.md.
+    // 2-core test machine, which then picked ob1 anyway. When every process is on this node (local
+    // size = world size, the same answer in every process, so all pick alike) ob1 with its
+    // shared-memory transport is what a node needs, so it is named here unless the user named a PML
+    // (--mca pml, OMPI_MCA_pml: both arrive as this variable, which setenv then leaves alone).
+    // docs/mpi.md.
     const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
     const char* world = std::getenv("OMPI_COMM_WORLD_SIZE");
     if (local != nullptr && world != nullptr && std::strcmp(local, world) == 0)
