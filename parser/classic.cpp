@@ -63,7 +63,7 @@ class Reader {
         result.protos = frame.protos;
         PieceScheduler pieces(
             plan_pieces(text), [this, file](Piece& p) { read_piece(file, p); },
-            std::max(1u, std::thread::hardware_concurrency()) - 1);
+            piece_workers(limits_.read_threads));
         try {
             for (;;) {
                 take_pieces(frame, pieces, result.roots);

@@ -1,5 +1,6 @@
 #include "parser/classic_pieces.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 
@@ -12,6 +13,11 @@ size_t piece_bytes() {
         if (end != env && *end == '\0') return static_cast<size_t>(v);
     }
     return kDefaultPieceBytes;
+}
+
+unsigned piece_workers(unsigned threads) {
+    const unsigned all = threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+    return all - 1;
 }
 
 std::vector<uint32_t> piece_starts(std::string_view text, uint32_t begin, size_t piece) {

@@ -30,6 +30,10 @@ constexpr size_t kDefaultPieceBytes = size_t(16) << 20;
 // turns speculation off), else kDefaultPieceBytes.
 size_t piece_bytes();
 
+// The threads that read pieces besides the calling one, for `threads` in all (--threads; 0: one a
+// core). With none, the calling thread reads every piece itself, in order.
+unsigned piece_workers(unsigned threads);
+
 // Offsets where pieces start (the first piece, at `begin`, is not listed): the first line start
 // at or after each multiple of `piece` whose first byte is a letter, the way exporters begin
 // top-level nodes. Only a guess: the main reader checks every one.

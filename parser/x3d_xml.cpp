@@ -186,7 +186,7 @@ ClassicResult XmlReader::read(uint32_t file) {
             XmlReader reader({scene_.sources, p.diagnostics, p.tree, p.stats}, limits_, kNone);
             reader.read_piece(file, prefix_end_, p, consumer_);
         },
-        std::max(1u, std::thread::hardware_concurrency()) - 1);
+        piece_workers(limits_.read_threads));
     // 1 MB chunks, cut where a piece begins; while a chunk completes no element (one huge start
     // tag, e.g. a mesh's coordIndex), the next is twice as large: libxml2 rescans the pending start
     // tag on every chunk it is given.

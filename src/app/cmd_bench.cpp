@@ -155,7 +155,7 @@ bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
 
 int run_bench(const BenchCommand& cmd) {
     LoadedScene loaded;
-    if (!load_and_report(cmd.scene, cmd.common, loaded, true) ||
+    if (!load_and_report(cmd.scene, cmd.common, loaded, true, cmd.options.threads) ||
         !evaluate_time(loaded, 0.0, cmd.common))
         return kExitBadInput;
     FlatScene flat;

@@ -484,7 +484,9 @@ int prepare(const RenderCommand& cmd, const World& world, const FramePlan& plan,
     }
     if ((code = agreed(world, code, "checking the output")) != kExitOk) return code;
     const auto t_load = std::chrono::steady_clock::now();
-    code = load_and_report(cmd.scene, cmd.common, loaded, true) ? kExitOk : kExitBadInput;
+    code = load_and_report(cmd.scene, cmd.common, loaded, true, cmd.options.threads)
+               ? kExitOk
+               : kExitBadInput;
     parse_seconds = seconds_since(t_load);
     return agreed(world, code, "reading the scene");
 }

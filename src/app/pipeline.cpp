@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <iostream>
@@ -50,8 +51,9 @@ LoadOptions load_options(const CommonOptions& common) {
 }
 
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
-                     bool build_pieces) {
+                     bool build_pieces, int threads) {
     LoadOptions options = load_options(common);
+    options.limits.read_threads = unsigned(std::max(threads, 0));
     if (build_pieces) options.piece_consumer = std::make_shared<SceneFragments>();
     scene = load_scene(path, options);
     print_diagnostics(scene.diagnostics, scene.sources, common.quiet);

@@ -19,8 +19,9 @@ LoadOptions load_options(const CommonOptions& common);
 // Loads `path`, prints its diagnostics; false when it has errors. `build_pieces`: the caller only
 // builds the scene from it (render, bench), so the pieces of a large file may become typed scene
 // fragments as they are read (src/scene/fragments.h) instead of nodes of the tree.
+// `threads`: the command's --threads, which reading keeps to as well (0: one a core).
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
-                     bool build_pieces = false);
+                     bool build_pieces = false, int threads = 0);
 // Evaluates the scene's TimeSensors, interpolators and ROUTEs at `time` into the node tree and
 // prints what the ROUTE check said; false when a ROUTE is an error. `routes_used`, when given, gets
 // the number of ROUTEs that connect fields and `animated` whether a TimeSensor drives any.

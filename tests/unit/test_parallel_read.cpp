@@ -7,7 +7,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "corpus.h"
 #include "parallel_read.h"
@@ -110,6 +114,43 @@ TEST(ParallelRead, PiecesMayUseWhatADefBeforeThemNames) {
     const LoadedScene many = load_with_pieces(file, 4096);
     EXPECT_EQ(difference(one, many), "");
     EXPECT_GT(many.stats.pieces, 30u);  // ~200 KB in 4 KB pieces
+    fs::remove(file);
+}
+
+// --threads 1 means one thread: the pieces are then read one after the other on the reading
+// thread (still in pieces, so that a render's fragments keep a large file's tree from being held
+// whole), never on reading threads of their own. A consumer sees on which thread each piece is
+// read. (They once took all cores whatever --threads said: under `mpirun` with one thread a
+// process, each process's reader ran on every core.)
+TEST(ParallelRead, OneThreadReadsEveryPieceOnTheCallingThread) {
+    struct Recorder final : PieceConsumer {
+        std::mutex mutex;
+        std::vector<std::thread::id> threads;
+        bool consume(size_t, const NodeTree&, std::span<const NodeId>) override {
+            std::lock_guard lock(mutex);
+            threads.push_back(std::this_thread::get_id());
+            return false;  // the piece joins the tree as it would without a consumer
+        }
+        void discard(size_t) override {}
+    };
+    const fs::path file = test::temp_path("vrmlray_one_thread").string() + ".wrl";
+    {
+        std::ofstream out(file);
+        out << "#VRML V2.0 utf8\n";
+        for (int i = 0; i < 3000; ++i)
+            out << "Transform { translation " << i << " 0 0 children Shape { geometry Sphere { "
+                << "radius 0.3 } } }\n";
+    }
+    auto recorder = std::make_shared<Recorder>();
+    LoadOptions options;
+    options.limits.read_threads = 1;
+    options.piece_consumer = recorder;
+    const LoadedScene many = load_with_pieces(file, 4096, options);
+    EXPECT_EQ(difference(load_with_pieces(file, 0), many), "");
+    EXPECT_GT(many.stats.pieces, 30u);  // ~250 KB in 4 KB pieces
+    ASSERT_GT(recorder->threads.size(), 30u);
+    // All on the thread that reads the file (the loader's, which may not be this one).
+    for (std::thread::id id : recorder->threads) EXPECT_EQ(id, recorder->threads.front());
     fs::remove(file);
 }
 
