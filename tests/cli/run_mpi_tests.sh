@@ -17,7 +17,7 @@ mpi=(mpirun --oversubscribe --allow-run-as-root -np 3)
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 seeds=$src/scenes/seeds
 corpus=${VRMLRAY_CORPUS:-$(cd "$src/.." && pwd)/shared/corpus}
-good_scene=$seeds/001_sphere.wrl
+good=$seeds/001_sphere.wrl
 
 # same NAME ARGS...: one process and three render ARGS to NAME.EXT; the files must be equal.
 same() {
@@ -72,17 +72,16 @@ python3 -c 'import json,sys; assert "processes" not in json.load(open(sys.argv[1
 # machine), unless the user named one: --mca pml, or OMPI_MCA_pml, which then wins. Open MPI's own
 # verbose log of the layer's components says which were opened.
 pml_log() { grep -c "components_open: found loaded component $1" "$work/err.txt" || true; }
-expect 0 "one node: ob1 only" -- "${mpi[@]}" --mca pml_base_verbose 10 "$bin" render "$good_scene" \
+expect 0 "one node: ob1 only" -- "${mpi[@]}" --mca pml_base_verbose 10 "$bin" render "$good" \
     -W 20 -H 20 -q -o "$work/pml.png"
 [ "$(pml_log ob1)" = 3 ] && [ "$(pml_log cm)" = 0 ] && pass ||
     fail "one node: Open MPI opened PMLs other than ob1 (ob1 $(pml_log ob1), cm $(pml_log cm) of 3 processes)"
 expect 0 "one node: the user's PML list wins" -- env OMPI_MCA_pml=ob1,cm "${mpi[@]}" --mca pml_base_verbose 10 \
-    "$bin" render "$good_scene" -W 20 -H 20 -q -o "$work/pml.png"
+    "$bin" render "$good" -W 20 -H 20 -q -o "$work/pml.png"
 [ "$(pml_log cm)" = 3 ] && pass || fail "one node: OMPI_MCA_pml=ob1,cm was not what Open MPI opened"
 
 # A process that cannot read its scene (MPMD: rank 0 gets a missing file, or ranks 1-2 do): every
 # process exits 3, within the time limit (no process left waiting for the others).
-good=$seeds/001_sphere.wrl
 missing=$work/no_such_scene.wrl
 expect 3 "rank 0 cannot read" -- timeout 60 mpirun --oversubscribe --allow-run-as-root \
     -np 1 "$bin" render "$missing" -q -o "$work/f1.png" : -np 2 "$bin" render "$good" -q -o "$work/f1.png"
