@@ -4,7 +4,12 @@ own Shape, Appearance and Material, every bond a Cylinder under a Transform. The
 random walk (1.5 A steps) in a ball, with an H/C/N/O/S mix and CPK colours, so its size and structure
 match a real export without shipping someone else's data.
 
-Usage: gen_molecule.py N_ATOMS OUT.wrl [--seed S] [--no-bonds]
+With --vmd the same molecule is written in the layout of VMD 1.9's VRML 2.0 export instead (no VMD
+export is in ../shared/corpus; tests/unit/test_vmd_export.cpp describes the layout): two PROTOs first
+(VMDCyl, an open Cylinder; VMDMat, an Appearance), everything in one Group, every atom a Transform whose
+Appearance is a VMDMat instance, every bond a VMDCyl turned about its first end, numbers as %g prints them.
+
+Usage: gen_molecule.py N_ATOMS OUT.wrl [--seed S] [--no-bonds] [--vmd]
 """
 import math
 import random
@@ -42,6 +47,9 @@ def main():
             if r <= 0:
                 break
         atoms.append((p, rad, col))
+    if "--vmd" in sys.argv:
+        write_vmd(out, atoms, bonds)
+        return
     with open(out, "w") as f:
         f.write("#VRML V2.0 utf8\n# Synthetic %d-atom molecule in PyMOL's VRML97 export style (tools/gen_molecule.py,"
                 " seed %d)\n" % (n, seed))
@@ -72,6 +80,76 @@ def main():
                         " appearance Appearance { material Material { diffuseColor 0.65 0.65 0.65 } }"
                         " geometry Cylinder { radius 0.15 height %.4f top FALSE bottom FALSE } } }\n"
                         % (mid[0], mid[1], mid[2], axis[0], axis[1], axis[2], angle, length))
+
+
+VMD_HEADER = """#VRML V2.0 utf8
+# Synthetic molecule in the layout of VMD 1.9's VRML 2.0 export (tools/gen_molecule.py --vmd)
+PROTO VMDCyl [
+  field SFBool  bottom FALSE
+  field SFFloat h      2    
+  field SFFloat r      1    
+  field SFBool  side   TRUE 
+  field SFBool  top    FALSE
+  ] {
+  Cylinder {
+    bottom IS bottom
+    height IS h     
+    radius IS r     
+    top    IS top   
+  }
+}
+
+PROTO VMDMat [
+  field SFFloat Ka               0.0
+  field SFColor Kd               0.8 0.8 0.8
+  field SFColor emissiveColor    0.0 0.0 0.0
+  field SFFloat Ksx              0.0
+  field SFColor Ks               0.0 0.0 0.0
+  field SFFloat Kt               0.0
+  ] {
+  Appearance {
+    material Material {
+      ambientIntensity IS Ka           
+      diffuseColor     IS Kd           
+      emissiveColor    IS emissiveColor
+      shininess        IS Ksx          
+      specularColor    IS Ks           
+      transparency     IS Kt           
+    }
+  }
+}
+
+Group {
+  children [
+Background { skyColor [ 0.1 0.1 0.15 ] }
+"""
+
+
+def write_vmd(out, atoms, bonds):
+    def material(rgb):
+        return "appearance VMDMat { Kd %g %g %g Ksx 0.53 Ks 0.5 0.5 0.5  }\n" % tuple(0.65 * c for c in rgb)
+
+    with open(out, "w") as f:
+        f.write(VMD_HEADER)
+        for (x, y, z), rad, col in atoms:
+            f.write("Transform {\n  translation %g %g %g\n  children [ Shape {\n    " % (x, y, z) + material(col)
+                    + "    geometry Sphere { radius %g }\n  }]\n}\n" % rad)
+        for i in range(1, len(atoms) if bonds else 0):
+            a, b = atoms[i - 1][0], atoms[i][0]
+            h = math.dist(a, b)
+            d = [(b[k] - a[k]) / h for k in range(3)]
+            # The writer's rotation: axis = d x (0 1 0), angle -acos(d.y), about the bottom end.
+            axis = [-d[2], 0.0, d[0]]
+            n = math.sqrt(axis[0] ** 2 + axis[2] ** 2)
+            f.write("Transform {\n  translation %g %g %g\n" % (a[0], a[1] + h / 2, a[2]))
+            if n > 1e-12:  # the writer's normalised axis has length 1 unless the cross product is 0
+                f.write("  center 0.0 %g 0.0\n  rotation %g %g %g  %g\n"
+                        % (-h / 2, axis[0] / n, 0.0, axis[2] / n, -math.acos(d[1])))
+            elif d[1] < -0.98:
+                f.write("  center 0.0 %g 0.0\n  rotation 0 0 -1  -3.14159\n" % (-h / 2))
+            f.write("  children [ Shape {\n    " + material((1.0, 1.0, 1.0))
+                    + "    geometry VMDCyl { h %g r %g }\n  }]\n}\n" % (h, 0.15))
+        f.write("  ]\n}\n")
 
 
 if __name__ == "__main__":

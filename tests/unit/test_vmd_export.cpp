@@ -1,11 +1,11 @@
-// VMD's VRML 2.0 export. VMD is not in Debian and ../shared/corpus holds no export of it, so the
-// scene below is written by hand in the layout of VMD 1.9's writer (Vrml2DisplayDevice): two
-// PROTOs declared first (VMDCyl, an open Cylinder; VMDMat, an Appearance whose Material takes the
-// fields Ka Kd Ksx Ks Kt), the whole scene in one top-level Group, every sphere a Transform with a
-// translation, every cylinder and cone a Transform that puts the primitive's centre at the first
-// end's height plus h/2 and turns it about its bottom with `center 0 -h/2 0` and `rotation axis
-// -acos(dp)` (or `0 0 -1 -3.14159` for an axis near -y), numbers with %g's 6 significant digits.
-// What a user relies on: atoms and bonds land where VMD drew them, with VMD's material.
+// VMD's VRML 2.0 and VRML 1.0 exports. VMD is not in Debian and ../shared/corpus holds no export of
+// it, so the scene below is written by hand in the layout of VMD 1.9's writer (Vrml2DisplayDevice):
+// two PROTOs declared first (VMDCyl, an open Cylinder; VMDMat, an Appearance whose Material takes
+// the fields Ka Kd Ksx Ks Kt), the whole scene in one top-level Group, every sphere a Transform
+// with a translation, every cylinder and cone a Transform that puts the primitive's centre at the
+// first end's height plus h/2 and turns it about its bottom with `center 0 -h/2 0` and `rotation
+// axis -acos(dp)` (or `0 0 -1 -3.14159` for an axis near -y), numbers with %g's 6 significant
+// digits. What a user relies on: atoms and bonds land where VMD drew them, with VMD's material.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -236,6 +236,80 @@ TEST(VmdExport, AtomsBondsAndMaterialsLandWhereVmdDrewThem) {
     EXPECT_TRUE(flat.background.present);
     ASSERT_EQ(flat.background.sky_colors.size(), 3u);
     EXPECT_EQ(flat.background.sky_angles.size(), 2u);
+}
+
+// VMD's VRML 1.0 export (VrmlDisplayDevice): one Separator; a Material before the shapes it colours
+// (VRML 1.0 state: it holds until the next); an atom a Separator with a Translation and a Sphere; a
+// bond a Separator with a MatrixTransform that maps the unit axis onto the bond (VMD's 4x4 printed
+// column by column: the translation is the last four numbers) and a Cylinder with `parts SIDES`
+// when open; lines and triangles as Coordinate3 + IndexedLineSet / IndexedFaceSet. The matrix is
+// the one the writer makes for a = (1 2 3), b = (4 6 3), with float rounding's -2.62268e-08 in the
+// row the cylinder's axis takes.
+const char* const kVmdVrml1 = R"(#VRML V1.0 ascii
+# Created with VMD: http://www.ks.uiuc.edu/Research/vmd/
+Separator {
+Material { 
+diffuseColor 0.650000 0.000000 0.000000
+ambientColor 0.000000 0.000000 0.000000
+specularColor 0.500000 0.000000 0.000000
+shininess 0.530000
+transparency 0.000000
+}
+Separator {
+Translation { translation 1.000000 2.000000 3.000000 }
+Sphere { radius 0.500000 }
+}
+Separator {
+Translation { translation 4.000000 6.000000 3.000000 }
+Sphere { radius 0.250000 }
+}
+Material { 
+diffuseColor 0.650000 0.650000 0.650000
+ambientColor 0.000000 0.000000 0.000000
+specularColor 0.500000 0.500000 0.500000
+shininess 0.530000
+transparency 0.000000
+}
+#push matrix
+Separator {
+MatrixTransform {
+  matrix 0.8 -0.6 0 0
+         0.6 0.8 -2.62268e-08 0
+         0 0 1 0
+         2.5 4 3 1
+}
+Cylinder { 
+radius 0.200000
+height 5.000000
+parts SIDES}
+#pop matrix
+}
+Coordinate3 {point [ 1.000000 2.000000 3.000000, 4.000000 6.000000 3.000000 ] }
+IndexedLineSet { coordIndex [0, 1, -1] }
+# That's all, folks
+}
+)";
+
+TEST(VmdExport, Vrml1LayoutToo) {
+    const testing::FlattenedText f = testing::flatten_scene_text(kVmdVrml1, "vmdscene.wrl");
+    const FlatScene& flat = f.flat;
+    ASSERT_EQ(flat.spheres.size(), 2u);
+    EXPECT_EQ(flat.spheres[0].center, Vec3(1, 2, 3));
+    EXPECT_EQ(flat.spheres[1].radius, 0.25);
+    // The first Material colours both atoms; the second the bond.
+    EXPECT_EQ(material_of(flat, flat.spheres[1].shading).diffuse, Vec3(0.65, 0, 0));
+    ASSERT_EQ(flat.quadrics.size(), 1u);
+    const Quadric& bond = flat.quadrics[0];
+    EXPECT_EQ(material_of(flat, bond.shading).diffuse, Vec3(0.65));
+    EXPECT_EQ(bond.kind, QuadricKind::Cylinder);
+    EXPECT_TRUE(bond.side);
+    EXPECT_FALSE(bond.top);
+    EXPECT_FALSE(bond.bottom);
+    // The matrix entries are exact decimals but for the 2.6e-8 term, which moves an end 2.5 from
+    // the centre by 6.6e-8 along z.
+    expect_axis(bond, Vec3(1, 2, 3), Vec3(4, 6, 3), 1e-7);
+    ASSERT_EQ(flat.segments.size(), 1u);
+    EXPECT_EQ(flat.segments[0].b, Vec3(4, 6, 3));
 }
 
 }  // namespace
