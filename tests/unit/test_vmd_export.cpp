@@ -1,11 +1,12 @@
-// VMD's VRML 2.0 and VRML 1.0 exports. VMD is not in Debian and ../shared/corpus holds no export of
-// it, so the scene below is written by hand in the layout of VMD 1.9's writer (Vrml2DisplayDevice):
-// two PROTOs declared first (VMDCyl, an open Cylinder; VMDMat, an Appearance whose Material takes
-// the fields Ka Kd Ksx Ks Kt), the whole scene in one top-level Group, every sphere a Transform
-// with a translation, every cylinder and cone a Transform that puts the primitive's centre at the
-// first end's height plus h/2 and turns it about its bottom with `center 0 -h/2 0` and `rotation
-// axis -acos(dp)` (or `0 0 -1 -3.14159` for an axis near -y), numbers with %g's 6 significant
-// digits. What a user relies on: atoms and bonds land where VMD drew them, with VMD's material.
+// VMD's VRML 2.0, VRML 1.0 and X3D exports. VMD is not in Debian and ../shared/corpus holds no
+// export of it, so the scene below is written by hand in the layout of VMD 1.9's writer
+// (Vrml2DisplayDevice): two PROTOs declared first (VMDCyl, an open Cylinder; VMDMat, an Appearance
+// whose Material takes the fields Ka Kd Ksx Ks Kt), the whole scene in one top-level Group, every
+// sphere a Transform with a translation, every cylinder and cone a Transform that puts the
+// primitive's centre at the first end's height plus h/2 and turns it about its bottom with `center
+// 0 -h/2 0` and `rotation axis -acos(dp)` (or `0 0 -1 -3.14159` for an axis near -y), numbers with
+// %g's 6 significant digits. What a user relies on: atoms and bonds land where VMD drew them, with
+// VMD's material.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -310,6 +311,78 @@ TEST(VmdExport, Vrml1LayoutToo) {
     expect_axis(bond, Vec3(1, 2, 3), Vec3(4, 6, 3), 1e-7);
     ASSERT_EQ(flat.segments.size(), 1u);
     EXPECT_EQ(flat.segments[0].b, Vec3(4, 6, 3));
+}
+
+// VMD's X3D export (X3DDisplayDevice): an OrthoViewpoint with its four-number fieldOfView for an
+// orthographic view, each atom and bond a Transform with the Appearance inline, bonds as a Cylinder
+// turned about its first end as in the VRML 2.0 export, surfaces as an IndexedTriangleStripSet
+// whose strips end at -1, normals printed with two decimals (not unit: 0.58 0.58 0.58), lines as a
+// LineSet with LineProperties.
+const char* const kVmdX3d = R"(<?xml version="1.0" encoding="UTF-8"?>
+<!DOCTYPE X3D PUBLIC "ISO//Web3D//DTD X3D 3.0//EN"
+  "http://www.web3d.org/specifications/x3d-3.0.dtd">
+
+<X3D version='3.2' profile='Interchange'>
+<head>
+  <meta name='description' content='VMD Molecular Graphics'/>
+</head>
+<Scene>
+<!-- Created with VMD: -->
+<!-- http://www.ks.uiuc.edu/Research/vmd/ -->
+<OrthoViewpoint description="VMD Orthographic View" fieldOfView="-2.66667 -2 2.66667 2" orientation="0 0 -1 0" position="0 0 2" centerOfRotation="0 0 0" />
+<Background skyColor='1 1 1'/>
+<Transform translation='1 2 3'>
+  <Shape>
+  <Appearance><Material ambientIntensity='0' diffuseColor='0.65 0 0' shininess='0.53' specularColor='0.5 0.5 0.5' transparency='0' /></Appearance>
+  <Sphere radius='0.5'/>
+  </Shape>
+</Transform>
+<Transform translation='1 4.5 3' center='0.0 -2.5 0.0' rotation='0 0 1  -0.643501'>
+  <Shape>
+  <Appearance><Material ambientIntensity='0' diffuseColor='0.65 0.65 0.65' shininess='0.53' specularColor='0.5 0.5 0.5' transparency='0' /></Appearance>
+    <Cylinder bottom='false' height='5' radius='0.2' side='true' top='false' />
+  </Shape>
+</Transform>
+<Shape>
+  <Appearance><Material ambientIntensity='0' diffuseColor='0.65 0.65 0.65' shininess='0.53' specularColor='0.5 0.5 0.5' transparency='0' /></Appearance>
+  <IndexedTriangleStripSet solid='false' index='0 1 2 3 -1 4 5 6 -1 '>
+    <Coordinate point=' 0 0 0, 1 0 0, 0 1 0, 1 1 0, 3 0 0, 4 0 0, 3 1 0'/>
+    <Color color=' 0.000 0.000 1.000, 0.000 0.000 1.000, 0.000 0.000 1.000, 0.000 0.000 1.000, 0.000 1.000 0.000, 0.000 1.000 0.000, 0.000 1.000 0.000'/>
+    <Normal vector=' 0.00 0.00 1.00, 0.00 0.00 1.00, 0.00 0.00 1.00, 0.58 0.58 0.58, 0.00 0.00 1.00, 0.00 0.00 1.00, 0.00 0.00 1.00'/>
+  </IndexedTriangleStripSet>
+</Shape>
+<Shape>
+  <Appearance><Material ambientIntensity='0' diffuseColor='0 0 0' emissiveColor='0 0 0' /><LineProperties linewidthScaleFactor="3" containerField="lineProperties"/>
+</Appearance>
+  <LineSet vertexCount='3'>    <Coordinate point=' -2 1.5 0, -1.5 1.8 0, -1 1.5 0'/>
+  </LineSet>
+</Shape>
+</Scene>
+</X3D>
+)";
+
+TEST(VmdExport, X3dLayoutToo) {
+    const testing::FlattenedText f = testing::flatten_scene_text(kVmdX3d, "vmdscene.x3d");
+    const FlatScene& flat = f.flat;
+    ASSERT_EQ(flat.viewpoints.size(), 1u);
+    EXPECT_TRUE(flat.viewpoints[0].ortho);
+    EXPECT_EQ(flat.viewpoints[0].ortho_extent[0], -2.66667);
+    EXPECT_EQ(flat.viewpoints[0].ortho_extent[3], 2.0);
+    ASSERT_EQ(flat.spheres.size(), 1u);
+    EXPECT_EQ(flat.spheres[0].center, Vec3(1, 2, 3));
+    ASSERT_EQ(flat.quadrics.size(), 1u);
+    EXPECT_FALSE(flat.quadrics[0].top);
+    expect_axis(flat.quadrics[0], Vec3(1, 2, 3), Vec3(4, 6, 3), 1e-5);  // as in the VRML 2.0 test
+    // Strips of 4 and 3 indices: 2 + 1 triangles, every corner with its colour and its normal made
+    // unit (0.58 0.58 0.58 is 1.0046 long).
+    ASSERT_EQ(flat.meshes.size(), 1u);
+    const Mesh& strip = flat.meshes[0];
+    EXPECT_EQ(strip.triangle_count(), 3u);
+    EXPECT_FALSE(strip.solid);
+    ASSERT_EQ(strip.colors.size(), 9u);
+    ASSERT_EQ(strip.normals.size(), 9u);
+    for (const Vec3& n : strip.normals) EXPECT_NEAR(glm::length(n), 1.0, 1e-12);
+    EXPECT_EQ(flat.segments.size(), 2u);  // the LineSet's three points
 }
 
 }  // namespace
