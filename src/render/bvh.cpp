@@ -5,15 +5,19 @@
 // its boxes by centroid (4-wide float vectors via the compiler's vector extensions; the axis of
 // widest centroid spread for large ranges, all three axes for small ones); the bins give both
 // children's bounds, and the partition pass their centroid bounds, so each level reads its boxes
-// twice. Subtrees above kParallelMin boxes are built on separate threads; the result does not
-// depend on the thread count.
+// twice. Subtrees of kParallelMin boxes or more are tasks that any thread may build (Builder); the
+// result does not depend on the thread count.
 #include "render/bvh.h"
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstring>
+#include <deque>
+#include <mutex>
 #include <thread>
 
 #include "core/huge_pages.h"
+#include "core/parallel.h"
 
 namespace vr {
 namespace {
@@ -91,17 +95,65 @@ struct Range {
     Box4 centroids;  // bounds of their doubled centroids
 };
 
+// A subtree built by one thread into its own array. Its root goes into slot `slot` of the parent
+// task's array, and its nodes where the serial build would have appended them: at `position` of
+// the parent's array, right after the left sibling's subtree.
+struct Task {
+    Range range;
+    int depth = 0;
+    Task* parent = nullptr;
+    uint32_t slot = 0, position = 0;
+    BvhNodeArray nodes;
+    BvhNode root{};
+    std::vector<Task*> children;  // in the order of their positions
+    size_t joined = 0;            // nodes with those of all descendant tasks
+    size_t base = 0;              // where nodes[0] lands in the joined array
+
+    // Index in the joined array of nodes[i].
+    size_t place(uint32_t i) const {
+        size_t at = base + i;
+        for (const Task* c : children) {
+            if (c->position > i) break;
+            at += c->joined;
+        }
+        return at;
+    }
+};
+
 // Lays nodes out in sibling pairs: an interior node's two children sit side by side at an even
 // index, so with the array aligned to 64 bytes one cache line holds both boxes a traversal step
-// tests. Pairs follow each other depth first. Parallel subtrees are built into their own arrays
-// and appended, with their child offsets shifted.
+// tests. Pairs follow each other depth first.
+//
+// With several threads, a range of at least kParallelMin boxes keeps its left child on the thread
+// that split it and queues the right one as a task; an idle thread takes the largest queued task,
+// so an uneven split near the root leaves no thread waiting. join() lays the tasks' arrays out as
+// the serial build would have: the result depends neither on the thread count nor on timing.
 class Builder {
   public:
-    Builder(BuildBoxes& boxes, const BvhBuildOptions& options) : boxes_(boxes), options_(options) {}
+    Builder(BuildBoxes& boxes, const BvhBuildOptions& options)
+        : boxes_(boxes), options_(options), parallel_(options.threads > 1) {}
 
-    // Builds the subtree over `range`: returns its root and appends the descendants' pairs to
-    // `out`.
-    BvhNode build(const Range& range, int depth, int spare_threads, BvhNodeArray& out) {
+    // The whole tree over the boxes, into `nodes`: slot 0 the root, slot 1 padding, so that the
+    // pairs start at index 2.
+    void build_all(BvhNodeArray& nodes) {
+        const int threads = std::max(options_.threads, 1);
+        Task& top = tasks_.emplace_back();
+        top.range = root(threads);
+        reserve_huge(top.nodes, 2 * boxes_.size() + 2);
+        top.nodes.resize(2);
+        pending_.push_back(&top);
+        std::vector<std::thread> helpers;
+        for (int t = 1; t < threads; ++t) helpers.emplace_back([this] { work(); });
+        work();
+        for (std::thread& t : helpers) t.join();
+        join(threads, nodes);
+        nodes[1] = BvhNode{};
+    }
+
+  private:
+    // Builds the subtree over `range` as part of task `self`: returns its root and appends the
+    // descendants' pairs to `out` (self's array).
+    BvhNode build(const Range& range, int depth, Task& self, BvhNodeArray& out) {
         BvhNode node;
         set_bounds(node, range.box);
         const uint32_t n = range.end - range.begin;
@@ -130,42 +182,117 @@ class Builder {
         const uint32_t pair = uint32_t(out.size());
         out.resize(pair + 2);
         node.offset = pair;
-        if (spare_threads > 0 && n >= kParallelMin) {
-            const int give =
-                (spare_threads - 1) / 2 + (spare_threads - 1) % 2;  // for the new thread
-            const int keep = spare_threads - 1 - give;
-            BvhNodeArray left_nodes, right_nodes;
-            BvhNode left_root, right_root;
-            std::thread worker([&, give] {
-                reserve_huge(left_nodes, 2 * size_t(left.end - left.begin));
-                left_root = build(left, depth + 1, give, left_nodes);
-            });
-            reserve_huge(right_nodes, 2 * size_t(right.end - right.begin));
-            right_root = build(right, depth + 1, keep, right_nodes);
-            worker.join();
-            out[pair] = append(out, left_nodes, left_root);
-            out[pair + 1] = append(out, right_nodes, right_root);
-        } else {
-            // `out` may grow while a child is built: write the slot afterwards.
-            const BvhNode l = build(left, depth + 1, 0, out);
+        // `out` may grow while a child is built: write the slots afterwards.
+        if (parallel_ && n >= kParallelMin) {
+            out[pair + 1] = BvhNode{};  // the child task's root, once join() knows its place
+            Task* child = queue(right, depth + 1, &self, pair + 1);
+            const BvhNode l = build(left, depth + 1, self, out);
             out[pair] = l;
-            const BvhNode r = build(right, depth + 1, 0, out);
+            child->position = uint32_t(out.size());
+            self.children.push_back(child);  // only self's thread touches self.children
+        } else {
+            const BvhNode l = build(left, depth + 1, self, out);
+            out[pair] = l;
+            const BvhNode r = build(right, depth + 1, self, out);
             out[pair + 1] = r;
         }
         return node;
     }
 
-    Range root() const {
-        Range r{0, uint32_t(boxes_.size()), Box4(), Box4()};
-        for (const BuildBox& b : boxes_) {
-            Box4 x = load(b);
-            r.box.extend(x);
-            r.centroids.extend_point(centroid2(x));
+    Range root(int threads) const {
+        const size_t n = boxes_.size();
+        const int chunks = chunks_for(n, threads);
+        std::vector<Range> parts(size_t(chunks), Range{0, uint32_t(n), Box4(), Box4()});
+        parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+            Range& r = parts[size_t(c)];
+            for (size_t i = begin; i < end; ++i) {
+                const Box4 x = load(boxes_[i]);
+                r.box.extend(x);
+                r.centroids.extend_point(centroid2(x));
+            }
+        });
+        // min and max are exact: the bounds do not depend on the chunks.
+        for (size_t c = 1; c < parts.size(); ++c) {
+            parts[0].box.extend(parts[c].box);
+            parts[0].centroids.extend(parts[c].centroids);
         }
-        return r;
+        return parts[0];
     }
 
-  private:
+    Task* queue(const Range& range, int depth, Task* parent, uint32_t slot) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Task& t = tasks_.emplace_back();  // a deque: the other tasks stay where they are
+        t.range = range;
+        t.depth = depth;
+        t.parent = parent;
+        t.slot = slot;
+        pending_.push_back(&t);
+        wake_.notify_one();
+        return &t;
+    }
+
+    // Runs queued tasks, the largest first, until none is queued or running.
+    void work() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            wake_.wait(lock, [&] { return !pending_.empty() || busy_ == 0; });
+            if (pending_.empty()) return;
+            const auto largest =
+                std::max_element(pending_.begin(), pending_.end(), [](Task* a, Task* b) {
+                    return a->range.end - a->range.begin < b->range.end - b->range.begin;
+                });
+            Task* t = *largest;
+            pending_.erase(largest);
+            ++busy_;
+            lock.unlock();
+            if (t->nodes.capacity() == 0)
+                reserve_huge(t->nodes, 2 * size_t(t->range.end - t->range.begin));
+            t->root = build(t->range, t->depth, *t, t->nodes);
+            lock.lock();
+            if (--busy_ == 0 && pending_.empty()) wake_.notify_all();
+        }
+    }
+
+    // The tasks' arrays as one, in the serial build's order, with the offsets of interior nodes
+    // moved to their children's places.
+    void join(int threads, BvhNodeArray& nodes) {
+        Task& top = tasks_.front();
+        if (tasks_.size() == 1) {
+            nodes = std::move(top.nodes);
+            nodes[0] = top.root;
+            return;
+        }
+        // A child task is created after its parent: sizes backwards, places forwards.
+        for (auto t = tasks_.rbegin(); t != tasks_.rend(); ++t) {
+            t->joined = t->nodes.size();
+            for (const Task* c : t->children) t->joined += c->joined;
+        }
+        for (Task& t : tasks_) {
+            size_t before = 0;
+            for (Task* c : t.children) {
+                c->base = t.base + c->position + before;
+                before += c->joined;
+            }
+        }
+        auto moved = [](const Task& t, BvhNode node) {
+            if (node.count == 0) node.offset = uint32_t(t.place(node.offset));
+            return node;
+        };
+        reserve_huge(nodes, top.joined);
+        nodes.resize(top.joined);
+        parallel_chunks(tasks_.size(), threads, [&](size_t begin, size_t end, int) {
+            for (size_t k = begin; k < end; ++k) {
+                const Task& t = tasks_[k];
+                for (uint32_t i = 0; i < t.nodes.size(); ++i)
+                    nodes[t.place(i)] = moved(t, t.nodes[i]);
+            }
+        });
+        // The slots that waited for a child task's root.
+        for (const Task& t : tasks_)
+            if (t.parent != nullptr) nodes[t.parent->place(t.slot)] = moved(t, t.root);
+        nodes[0] = moved(top, top.root);
+    }
+
     static void set_bounds(BvhNode& node, const Box4& box) {
         for (int k = 0; k < 3; ++k) {
             node.lo[k] = box.lo[k];
@@ -179,17 +306,6 @@ class Builder {
         node.offset = range.begin;
         node.count = uint16_t(range.end - range.begin);
         return node;
-    }
-
-    // Appends a subtree built on its own (`sub` holds the descendants of `root`) and returns its
-    // root with child offsets shifted to the new place; pairs stay at even indices.
-    static BvhNode append(BvhNodeArray& out, const BvhNodeArray& sub, BvhNode root) {
-        const uint32_t base = uint32_t(out.size());
-        out.insert(out.end(), sub.begin(), sub.end());
-        for (size_t i = base; i < out.size(); ++i)
-            if (out[i].count == 0) out[i].offset += base;
-        if (root.count == 0) root.offset += base;
-        return root;
     }
 
     // Binned SAH. Large ranges are binned along the axis where the centroids spread most (as in
@@ -321,6 +437,12 @@ class Builder {
 
     BuildBoxes& boxes_;
     const BvhBuildOptions& options_;
+    const bool parallel_;
+    std::deque<Task> tasks_;
+    std::vector<Task*> pending_;
+    std::mutex mutex_;  // guards tasks_ (growing), pending_ and busy_
+    std::condition_variable wake_;
+    int busy_ = 0;  // tasks running
 };
 
 }  // namespace
@@ -328,13 +450,7 @@ class Builder {
 Bvh build_bvh(BuildBoxes boxes, const BvhBuildOptions& options) {
     Bvh bvh;
     if (boxes.empty()) return bvh;
-    Builder builder(boxes, options);
-    const int spare = std::max(options.threads, 1) - 1;
-    reserve_huge(bvh.nodes, 2 * boxes.size() + 2);
-    // Slot 0 is the root, slot 1 padding, so that the pairs start at index 2.
-    bvh.nodes.resize(2);
-    bvh.nodes[0] = builder.build(builder.root(), 0, spare, bvh.nodes);
-    bvh.nodes[1] = BvhNode{};
+    Builder(boxes, options).build_all(bvh.nodes);
     resize_huge(bvh.order, boxes.size());
     for (size_t i = 0; i < boxes.size(); ++i) bvh.order[i] = boxes[i].id;
     return bvh;

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <limits>
 #include <new>
+#include <utility>
 #include <vector>
 
 #include "core/float_error.h"
@@ -33,14 +34,15 @@ static_assert(sizeof(BuildBox) == 32);
 using BuildBoxes = NoFillVector<BuildBox>;
 
 // Interior nodes: the children are nodes[offset] and nodes[offset + 1] (offset even). Leaves:
-// `count` primitives starting at `offset` in Bvh::order.
+// `count` primitives starting at `offset` in Bvh::order. No default values: node arrays are
+// resized without filling them (CacheAlignedAllocator), and the builder sets every field.
 struct BvhNode {
-    float lo[3] = {0.0f, 0.0f, 0.0f};
-    uint32_t offset = 0;
-    float hi[3] = {0.0f, 0.0f, 0.0f};
-    uint16_t count = 0;  // 0 for an interior node
-    uint8_t axis = 0;    // split axis of an interior node
-    uint8_t unused = 0;
+    float lo[3];
+    uint32_t offset;
+    float hi[3];
+    uint16_t count;  // 0 for an interior node
+    uint8_t axis;    // split axis of an interior node
+    uint8_t unused;
 };
 static_assert(sizeof(BvhNode) == 32);
 
@@ -54,6 +56,15 @@ struct CacheAlignedAllocator {
     CacheAlignedAllocator(const CacheAlignedAllocator<U>&) {}
     T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
     void deallocate(T* p, size_t) { ::operator delete(p, kAlignment); }
+    // resize() leaves new elements default-initialised, as NoFillAllocator (core/no_fill.h) does:
+    // a parallel loop fills them, taking the page faults on every thread.
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        if constexpr (sizeof...(Args) == 0)
+            ::new (static_cast<void*>(p)) U;
+        else
+            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
     template <class U>
     bool operator==(const CacheAlignedAllocator<U>&) const {
         return true;

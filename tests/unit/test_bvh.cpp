@@ -96,20 +96,36 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
     EXPECT_EQ(leaf_prims, original.size());
 }
 
+// Byte for byte, whatever the thread count and however the threads' tasks interleave: a uniform
+// cloud, and a lopsided one (a dense cluster beside a sparse halo) whose uneven splits near the
+// root leave one thread with most of the work unless it is shared out in tasks.
 TEST(Bvh, ParallelBuildEqualsSerialBuild) {
-    Rng rng(2);
-    std::uniform_real_distribution<double> pos(-100.0, 100.0);
-    BuildBoxes boxes;
-    for (uint32_t i = 0; i < 200000; ++i) {
-        Vec3 c(pos(rng), pos(rng), pos(rng));
-        boxes.push_back(make_build_box(c - Vec3(0.5), c + Vec3(0.5), i));
+    for (int lopsided = 0; lopsided < 2; ++lopsided) {
+        Rng rng(2 + uint64_t(lopsided));
+        std::uniform_real_distribution<double> pos(-100.0, 100.0), near(-1.0, 1.0);
+        BuildBoxes boxes;
+        for (uint32_t i = 0; i < 200000; ++i) {
+            const bool cluster = lopsided && i % 10 != 0;
+            Vec3 c = cluster ? Vec3(50.0) + Vec3(near(rng), near(rng), near(rng))
+                             : Vec3(pos(rng), pos(rng), pos(rng));
+            const double r = cluster ? 0.01 : 0.5;
+            boxes.push_back(make_build_box(c - Vec3(r), c + Vec3(r), i));
+        }
+        BvhBuildOptions one;
+        const Bvh a = build_bvh(boxes, one);
+        for (int threads : {2, 3, 4, 8}) {
+            for (int repeat = 0; repeat < 2; ++repeat) {
+                BvhBuildOptions many;
+                many.threads = threads;
+                const Bvh b = build_bvh(boxes, many);
+                ASSERT_EQ(a.nodes.size(), b.nodes.size()) << threads << " threads";
+                EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(),
+                                         a.nodes.size() * sizeof(BvhNode)))
+                    << threads << " threads, lopsided " << lopsided;
+                EXPECT_EQ(a.order, b.order);
+            }
+        }
     }
-    BvhBuildOptions one, four;
-    four.threads = 4;
-    Bvh a = build_bvh(boxes, one), b = build_bvh(boxes, four);
-    ASSERT_EQ(a.nodes.size(), b.nodes.size());
-    EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)));
-    EXPECT_EQ(a.order, b.order);
 }
 
 // Closest hits and shadow queries of 4000 rays through the BVH equal brute force over every
