@@ -79,7 +79,7 @@ struct Bvh {
 };
 
 struct BvhBuildOptions {
-    int threads = 1;  // subtrees of 16k boxes or more are tasks for up to this many threads
+    int threads = 1;        // subtrees of 16k boxes or more are tasks for up to this many threads
     int max_leaf_size = 4;  // a leaf of more boxes is made only when all centroids coincide
     // SAH cost of an interior node in primitive tests: a binary node tests two boxes, each about
     // one primitive test.
