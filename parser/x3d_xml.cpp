@@ -210,6 +210,12 @@ ClassicResult XmlReader::read(uint32_t file) {
     pieces.stop();
     scene_.sources.release_all(file);  // the last chunk too: the scene build comes next
     finish_parser();
+    if (!failed_ && scenes_ == 0) {
+        // Nothing to render: an error, not a picture of the background with exit 0.
+        scene_.diagnostics.error({file, x3d_offset_},
+                                 "no <Scene> in this X3D document: nothing to render");
+        failed_ = true;
+    }
     result.ok = !failed_;
     result.roots = std::move(roots_);
     result.units = units_;
@@ -274,6 +280,17 @@ Name XmlReader::cached_name(const xmlChar* text) {
     Name name = intern(reinterpret_cast<const char*>(text));
     if (stable) name_cache_.emplace(text, name);
     return name;
+}
+
+Name XmlReader::cached_tag(const xmlChar* text, uint32_t offset) {
+    const bool stable = ctxt_->dict && xml_->DictOwns(ctxt_->dict, text) == 1;
+    if (stable) {
+        auto it = tag_cache_.find(text);
+        if (it != tag_cache_.end()) return it->second;
+    }
+    Name tag = tag_in_x3d_case(intern(reinterpret_cast<const char*>(text)), offset);
+    if (stable) tag_cache_.emplace(text, tag);
+    return tag;
 }
 
 void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
@@ -374,7 +391,7 @@ void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
         attr_scratch_.push_back(a);
     }
     XmlElement e;
-    e.tag = cached_name(local);
+    e.tag = cached_tag(local, offset);
     e.file = main_file_;
     e.offset = offset;
     e.attrs = attr_scratch_;

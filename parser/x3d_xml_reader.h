@@ -288,6 +288,12 @@ class XmlReader {
     uint32_t current_offset();
     uint32_t offset_at(int line, int column);
     Name cached_name(const xmlChar* text);
+    // An element's name, in X3D's spelling when the file spells it in another case (X3DOM pages
+    // do: HTML ignores case); cached by address as cached_name is.
+    Name cached_tag(const xmlChar* text, uint32_t offset);
+    Name tag_in_x3d_case(Name tag, uint32_t offset);
+    const FieldDecl* field_in_x3d_case(const XmlElement& e, const NodeTypeDecl& decl,
+                                       const XmlAttr& a);
 
     // ---- pieces (x3d_xml_pieces.cpp)
     // ------------------------------------------------------------- Offsets and lines as libxml2
@@ -416,9 +422,10 @@ class XmlReader {
         int lines = 0;
     };
     std::vector<Skip> skips_;
-    uint32_t scene_end_ = 0;  // just past the <Scene ...> start tag, as the main reader read it
-    int scenes_ = 0;          // <Scene> elements started
-    size_t next_piece_ = 0;   // the first piece not yet joined or dropped
+    uint32_t scene_end_ = 0;   // just past the <Scene ...> start tag, as the main reader read it
+    int scenes_ = 0;           // <Scene> elements started
+    uint32_t x3d_offset_ = 0;  // where <X3D> starts
+    size_t next_piece_ = 0;    // the first piece not yet joined or dropped
     std::vector<ConsumedPiece> consumed_;
     size_t consumed_nodes_ = 0;  // nodes of consumed pieces, counted against the node limit
     // A piece reader's USEs of DEFs before the piece (piece_consumer.h: outer nodes).
@@ -437,8 +444,9 @@ class XmlReader {
     size_t record_depth_ = 0;
 
     std::unordered_map<const xmlChar*, Name>
-        name_cache_;                                  // libxml2's dictionary strings are stable
-    std::unordered_map<Name, Name> container_cache_;  // node type -> default containerField
+        name_cache_;                                      // libxml2's dictionary strings are stable
+    std::unordered_map<const xmlChar*, Name> tag_cache_;  // the same for element names
+    std::unordered_map<Name, Name> container_cache_;      // node type -> default containerField
     std::vector<XmlAttr> attr_scratch_;
     std::vector<std::string> string_scratch_;
     struct RawAttr {

@@ -9,6 +9,73 @@ namespace vr::x3d_xml_detail {
 
 // ---- elements -----------------------------------------------------------------------------------
 
+namespace {
+
+bool same_ignoring_case(std::string_view a, std::string_view b) {
+    auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+                                              [&](char x, char y) { return lower(x) == lower(y); });
+}
+
+}  // namespace
+
+// X3D's names are case-sensitive, but X3DOM pages are HTML, where they are not, and writers made
+// for X3DOM (ASE's newer x3d writer) put <scene>, <transform> and <material diffusecolor=...> in
+// X3D files. A name X3D does not know, that is an X3D element's when case is ignored, is read as
+// that element, with a warning; other names stay unknown.
+Name XmlReader::tag_in_x3d_case(Name tag, uint32_t offset) {
+    const Name structural[] = {n_.x3d,
+                               n_.scene,
+                               n_.head,
+                               n_.unit,
+                               n_.proto_interface,
+                               n_.proto_body,
+                               n_.field,
+                               n_.field_value,
+                               n_.is,
+                               n_.connect,
+                               n_.proto_declare,
+                               n_.extern_proto_declare,
+                               n_.proto_instance,
+                               n_.route,
+                               n_.import,
+                               n_.export_};
+    if (registry_.lookup(Spec::X3d, tag) ||
+        std::find(std::begin(structural), std::end(structural), tag) != std::end(structural))
+        return tag;
+    const std::string_view text = name_text(tag);
+    Name found = kNoName;
+    for (Name s : structural)
+        if (same_ignoring_case(name_text(s), text)) found = s;
+    for (Spec spec : {Spec::X3d, Spec::Vrml97, Spec::Hint})
+        for (const NodeTypeDecl& d : registry_.nodes(spec))
+            if (found == kNoName && same_ignoring_case(name_text(d.name), text)) found = d.name;
+    if (found == kNoName) return tag;
+    warn(main_file_, offset,
+         "<" + std::string(text) + "> read as <" + std::string(name_text(found)) +
+             ">: X3D's names are case-sensitive; this file spells them as X3DOM pages may",
+         "xml-case:" + std::string(text));
+    return found;
+}
+
+// An attribute named as a field of `decl` when case is ignored (see tag_in_x3d_case).
+const FieldDecl* XmlReader::field_in_x3d_case(const XmlElement& e, const NodeTypeDecl& decl,
+                                              const XmlAttr& a) {
+    const std::string_view text = name_text(a.name);
+    for (const FieldDecl& f : decl.fields) {
+        if (!same_ignoring_case(name_text(f.name), text)) continue;
+        const FieldDecl* field = registry_.lookup_field(Spec::X3d, decl, f.name);
+        if (!field) continue;
+        warn(e.file, a.name_offset,
+             "attribute '" + std::string(text) + "' read as '" +
+                 std::string(name_text(field->name)) +
+                 "': X3D's names are case-sensitive; this file spells them as X3DOM pages may",
+             "xml-case-attribute:" + std::string(text));
+        return field;
+    }
+    return nullptr;
+}
+
 // <unit category="length" name="km" conversionFactor="1000"/> (parser/units.h).
 void XmlReader::unit(const XmlElement& e) {
     const std::string category = required(e, n_.category, "unit");
@@ -37,6 +104,7 @@ void XmlReader::start_element(const XmlElement& e) {
             return;
         case Role::Document:
             if (tag == n_.x3d) {
+                x3d_offset_ = e.offset;
                 if (const XmlAttr* v = e.find(n_.version)) version_ = trim(attr_text(e, *v));
                 return push(make_open(Role::X3d, e));
             }
@@ -166,6 +234,7 @@ void XmlReader::node_start(const XmlElement& e, const NodeTypeDecl* decl) {
         const FieldDecl* field = registry_.lookup_field(Spec::X3d, *decl, x3d_field(e.tag, a.name));
         // HTML-style attributes, unless the node has a field of that name (FontStyle.style).
         if (!field && (a.name == n_.cls || a.name == n_.id || a.name == n_.style)) continue;
+        if (!field) field = field_in_x3d_case(e, *decl, a);
         const std::string_view type = name_text(e.tag);  // for messages
         if (!field)
             fail(e.file, a.name_offset,

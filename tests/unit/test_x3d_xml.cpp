@@ -294,6 +294,70 @@ TEST(X3dXml, HeadProfilesAndUnknownElements) {
               std::string::npos);
 }
 
+// X3D's element names are case-sensitive, but pages for X3DOM (HTML, where they are not) and the
+// writers made for them spell them in lower case: ASE's newer x3d writer puts <scene>, <transform>,
+// <shape>, <material>, <sphere> and a <viewpoint> holding a <group/> inside <X3D>. Read as the X3D
+// elements they name, one warning a name, the same tree as the canonical spelling: before, every
+// element was ignored and the picture was black with exit 0.
+TEST(X3dXml, LowerCaseElementsAndAttributesAreReadAsX3dDomDoes) {
+    const std::string body = R"(<viewpoint position="0 0 5"><group/></viewpoint>
+<transform translation="0 0 0.119262"><shape><appearance>
+  <material diffusecolor="1.0 0.051 0.051"/></appearance><sphere radius="0.66"/></shape></transform>
+<Transform translation='1 0 0'><Shape><Sphere/></Shape></Transform>)";
+    std::string lower =
+        "<?xml version='1.0'?>\n<X3D profile='Interchange' version='3.2'>\n<scene>\n" + body +
+        "\n</scene>\n</X3D>\n";
+    LoadedScene s = read_xml(lower);
+    ASSERT_TRUE(s.ok()) << messages(s);
+    std::string canonical = body;
+    for (const auto& [from, to] :
+         std::vector<std::pair<std::string, std::string>>{{"<viewpoint", "<Viewpoint"},
+                                                          {"</viewpoint", "</Viewpoint"},
+                                                          {"<group", "<Group"},
+                                                          {"<transform", "<Transform"},
+                                                          {"</transform", "</Transform"},
+                                                          {"<shape", "<Shape"},
+                                                          {"</shape", "</Shape"},
+                                                          {"<appearance", "<Appearance"},
+                                                          {"</appearance", "</Appearance"},
+                                                          {"<material", "<Material"},
+                                                          {"<sphere", "<Sphere"},
+                                                          {"diffusecolor", "diffuseColor"}})
+        for (size_t at = canonical.find(from); at != std::string::npos;
+             at = canonical.find(from, at + to.size()))
+            canonical.replace(at, from.size(), to);
+    LoadedScene c = read_xml(scene_xml(canonical));
+    ASSERT_TRUE(c.ok()) << messages(c);
+    EXPECT_EQ(compare_trees(s.tree, c.tree), "") << messages(s);
+    ASSERT_EQ(s.tree.roots.size(), 3u);
+    EXPECT_EQ(s.tree.get(s.tree.roots[1], "translation").numbers[2], 0.119262);
+    // One warning a spelling (scene, viewpoint, group, transform, shape, appearance, material,
+    // sphere, diffusecolor), each naming what it was read as, and the canonical file's one: a
+    // Group inside a Viewpoint has no field to go in.
+    const std::string m = messages(s);
+    EXPECT_EQ(c.diagnostics.warning_count(), 1u) << messages(c);
+    EXPECT_EQ(s.diagnostics.warning_count(), 10u) << m;
+    EXPECT_NE(m.find("<scene> read as <Scene>"), std::string::npos) << m;
+    EXPECT_NE(m.find("'diffusecolor' read as 'diffuseColor'"), std::string::npos) << m;
+    // A name that matches nothing, whatever its case, is still an unknown node (a warning) or an
+    // unknown attribute (an error).
+    LoadedScene unknown = read_xml(scene_xml("<shape><spheroid/></shape>"));
+    ASSERT_TRUE(unknown.ok()) << messages(unknown);
+    EXPECT_EQ(unknown.stats.skipped_nodes.at("spheroid"), 1u);
+    EXPECT_FALSE(read_xml(scene_xml("<sphere radiuss='1'/>")).ok());
+}
+
+// A document whose <X3D> holds no <Scene> (in any spelling) has nothing to render: an error, not a
+// black picture with exit 0.
+TEST(X3dXmlErrors, X3dWithoutSceneIsAnError) {
+    LoadedScene s =
+        read_xml("<X3D version='3.3'>\n<head/>\n<Sceen><Shape><Box/></Shape></Sceen>\n</X3D>");
+    ASSERT_FALSE(s.ok());
+    ErrorAt e = error_of(s);
+    EXPECT_NE(e.message.find("no <Scene>"), std::string::npos) << e.message;
+    EXPECT_TRUE(read_xml("<X3D><Scene/></X3D>").ok());  // an empty scene is a scene
+}
+
 TEST(X3dXml, EncodingsByteOrderMarkAndLineEnds) {
     // ISO-8859-1: libxml2 transcodes, so values come from its decoded text and places from its line
     // numbers.
