@@ -270,14 +270,14 @@ void XmlReader::on_xml_error(xmlErrorPtr error) {
     stop(main_file_, offset, "XML: " + message);
 }
 
-Name XmlReader::cached_name(const xmlChar* text) {
+Name XmlReader::cached_name(const xmlChar* text, uint32_t offset) {
     // Names libxml2 keeps in its dictionary live as long as the parser: cache them by address.
     const bool stable = ctxt_->dict && xml_->DictOwns(ctxt_->dict, text) == 1;
     if (stable) {
         auto it = name_cache_.find(text);
         if (it != name_cache_.end()) return it->second;
     }
-    Name name = intern(reinterpret_cast<const char*>(text));
+    Name name = attribute_in_x3d_case(intern(reinterpret_cast<const char*>(text)), offset);
     if (stable) name_cache_.emplace(text, name);
     return name;
 }
@@ -360,7 +360,7 @@ void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
         if (attrs[i * 5 + 1])
             continue;  // namespace-qualified (xsd:..., xml:...): never an X3D field
         XmlAttr a;
-        a.name = cached_name(attrs[i * 5]);
+        a.name = cached_name(attrs[i * 5], offset);
         const char* value = reinterpret_cast<const char*>(attrs[i * 5 + 3]);
         const char* value_end = reinterpret_cast<const char*>(attrs[i * 5 + 4]);
         bool use_raw = false;

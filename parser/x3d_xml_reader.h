@@ -287,7 +287,9 @@ class XmlReader {
     void on_xml_error(xmlErrorPtr error);
     uint32_t current_offset();
     uint32_t offset_at(int line, int column);
-    Name cached_name(const xmlChar* text);
+    // An attribute's name (DEF, USE and containerField in X3D's case, see tag_in_x3d_case).
+    Name cached_name(const xmlChar* text, uint32_t offset);
+    Name attribute_in_x3d_case(Name name, uint32_t offset);
     // An element's name, in X3D's spelling when the file spells it in another case (X3DOM pages
     // do: HTML ignores case); cached by address as cached_name is.
     Name cached_tag(const xmlChar* text, uint32_t offset);

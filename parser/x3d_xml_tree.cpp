@@ -58,6 +58,20 @@ Name XmlReader::tag_in_x3d_case(Name tag, uint32_t offset) {
     return found;
 }
 
+// DEF, USE and containerField in another case (X3DOM: HTML gives "def"), as X3D spells them.
+Name XmlReader::attribute_in_x3d_case(Name name, uint32_t offset) {
+    for (Name x3d : {n_.def, n_.use, n_.container}) {
+        if (name == x3d || !same_ignoring_case(name_text(name), name_text(x3d))) continue;
+        const std::string text(name_text(name));
+        warn(main_file_, offset,
+             "attribute '" + text + "' read as '" + std::string(name_text(x3d)) +
+                 "': X3D's names are case-sensitive; this file spells them as X3DOM pages may",
+             "xml-case-attribute:" + text);
+        return x3d;
+    }
+    return name;
+}
+
 // An attribute named as a field of `decl` when case is ignored (see tag_in_x3d_case).
 const FieldDecl* XmlReader::field_in_x3d_case(const XmlElement& e, const NodeTypeDecl& decl,
                                               const XmlAttr& a) {

@@ -1,6 +1,6 @@
 // Files other tools write (tests/corpus/exporters/SOURCES.md: ASE, MeshLab, Blender; Avogadro's and
-// ChimeraX's layouts): each reads without error, puts its atoms where the tool put them and renders a
-// picture that is not just the background.
+// ChimeraX's layouts): each reads without error, puts its atoms where the tool put them and renders
+// a picture that is not just the background.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -75,12 +75,10 @@ TEST(ExporterFiles, EveryFileReadsAndShowsSomething) {
         const char* file;
         size_t spheres, quadrics, triangles;
     };
-    for (const Expect& e : {Expect{"ase_nacl_cell.x3d", 8, 0, 0},
-                            Expect{"meshlab2020_eth.wrl", 0, 0, 432},
-                            Expect{"meshlab2020_eth.x3d", 0, 0, 432},
-                            Expect{"blender34_water.x3dz", 0, 0, 1672},
-                            Expect{"avogadro2_layout.wrl", 3, 2, 2},
-                            Expect{"chimerax_layout.wrl", 0, 0, 8}}) {
+    for (const Expect& e :
+         {Expect{"ase_nacl_cell.x3d", 8, 0, 0}, Expect{"meshlab2020_eth.wrl", 0, 0, 432},
+          Expect{"meshlab2020_eth.x3d", 0, 0, 432}, Expect{"blender34_water.x3dz", 0, 0, 1672},
+          Expect{"avogadro2_layout.wrl", 3, 2, 2}, Expect{"chimerax_layout.wrl", 0, 0, 8}}) {
         const testing::FlattenedText f = flatten_file(e.file);
         EXPECT_EQ(f.flat.spheres.size(), e.spheres) << e.file;
         EXPECT_EQ(f.flat.quadrics.size(), e.quadrics) << e.file;

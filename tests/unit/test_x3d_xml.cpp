@@ -341,6 +341,14 @@ TEST(X3dXml, LowerCaseElementsAndAttributesAreReadAsX3dDomDoes) {
     EXPECT_NE(m.find("'diffusecolor' read as 'diffuseColor'"), std::string::npos) << m;
     // A name that matches nothing, whatever its case, is still an unknown node (a warning) or an
     // unknown attribute (an error).
+    // DEF, USE and containerField too (HTML gives "def").
+    LoadedScene defs = read_xml(scene_xml(
+        "<Group><Shape def='S'><Box/></Shape></Group><Transform><Shape Use='S'/></Transform>"));
+    ASSERT_TRUE(defs.ok()) << messages(defs);
+    EXPECT_EQ(defs.tree.get(defs.tree.get(defs.tree.roots[1], "children").nodes[0], "geometry")
+                  .nodes.size(),
+              1u);
+    EXPECT_EQ(defs.diagnostics.warning_count(), 2u) << messages(defs);
     LoadedScene unknown = read_xml(scene_xml("<shape><spheroid/></shape>"));
     ASSERT_TRUE(unknown.ok()) << messages(unknown);
     EXPECT_EQ(unknown.stats.skipped_nodes.at("spheroid"), 1u);
