@@ -270,27 +270,19 @@ void XmlReader::on_xml_error(xmlErrorPtr error) {
     stop(main_file_, offset, "XML: " + message);
 }
 
-Name XmlReader::cached_name(const xmlChar* text, uint32_t offset) {
-    // Names libxml2 keeps in its dictionary live as long as the parser: cache them by address.
+// libxml2's dictionary strings live as long as the parser: a name is spelt out, interned and put in
+// X3D's case (`to_x3d`) once per address.
+Name XmlReader::cached(const xmlChar* text, uint32_t offset,
+                       std::unordered_map<const xmlChar*, Name>& cache,
+                       Name (XmlReader::*to_x3d)(Name, uint32_t)) {
     const bool stable = ctxt_->dict && xml_->DictOwns(ctxt_->dict, text) == 1;
     if (stable) {
-        auto it = name_cache_.find(text);
-        if (it != name_cache_.end()) return it->second;
+        auto it = cache.find(text);
+        if (it != cache.end()) return it->second;
     }
-    Name name = attribute_in_x3d_case(intern(reinterpret_cast<const char*>(text)), offset);
-    if (stable) name_cache_.emplace(text, name);
+    const Name name = (this->*to_x3d)(intern(reinterpret_cast<const char*>(text)), offset);
+    if (stable) cache.emplace(text, name);
     return name;
-}
-
-Name XmlReader::cached_tag(const xmlChar* text, uint32_t offset) {
-    const bool stable = ctxt_->dict && xml_->DictOwns(ctxt_->dict, text) == 1;
-    if (stable) {
-        auto it = tag_cache_.find(text);
-        if (it != tag_cache_.end()) return it->second;
-    }
-    Name tag = tag_in_x3d_case(intern(reinterpret_cast<const char*>(text)), offset);
-    if (stable) tag_cache_.emplace(text, tag);
-    return tag;
 }
 
 void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
@@ -360,7 +352,7 @@ void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
         if (attrs[i * 5 + 1])
             continue;  // namespace-qualified (xsd:..., xml:...): never an X3D field
         XmlAttr a;
-        a.name = cached_name(attrs[i * 5], offset);
+        a.name = cached(attrs[i * 5], offset, name_cache_, &XmlReader::attribute_in_x3d_case);
         const char* value = reinterpret_cast<const char*>(attrs[i * 5 + 3]);
         const char* value_end = reinterpret_cast<const char*>(attrs[i * 5 + 4]);
         bool use_raw = false;
@@ -391,7 +383,7 @@ void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
         attr_scratch_.push_back(a);
     }
     XmlElement e;
-    e.tag = cached_tag(local, offset);
+    e.tag = cached(local, offset, tag_cache_, &XmlReader::tag_in_x3d_case);
     e.file = main_file_;
     e.offset = offset;
     e.attrs = attr_scratch_;

@@ -287,13 +287,13 @@ class XmlReader {
     void on_xml_error(xmlErrorPtr error);
     uint32_t current_offset();
     uint32_t offset_at(int line, int column);
-    // An attribute's name (DEF, USE and containerField in X3D's case, see tag_in_x3d_case).
-    Name cached_name(const xmlChar* text, uint32_t offset);
-    Name attribute_in_x3d_case(Name name, uint32_t offset);
-    // An element's name, in X3D's spelling when the file spells it in another case (X3DOM pages
-    // do: HTML ignores case); cached by address as cached_name is.
-    Name cached_tag(const xmlChar* text, uint32_t offset);
+    // An element's or attribute's name, in X3D's spelling when the file spells it in another case
+    // (X3DOM pages do: HTML ignores case), cached by address.
+    Name cached(const xmlChar* text, uint32_t offset,
+                std::unordered_map<const xmlChar*, Name>& cache,
+                Name (XmlReader::*to_x3d)(Name, uint32_t));
     Name tag_in_x3d_case(Name tag, uint32_t offset);
+    Name attribute_in_x3d_case(Name name, uint32_t offset);  // DEF, USE, containerField
     const FieldDecl* field_in_x3d_case(const XmlElement& e, const NodeTypeDecl& decl,
                                        const XmlAttr& a);
 

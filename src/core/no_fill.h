@@ -10,6 +10,16 @@
 
 namespace vr {
 
+// An allocator's construct() for vectors that resize() leaves unset: no arguments,
+// default-initialised; otherwise as usual.
+template <class U, class... Args>
+void construct_without_filling(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0)
+        ::new (static_cast<void*>(p)) U;
+    else
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+}
+
 // std::allocator, except that resize() leaves new elements unset (default-initialised).
 template <class T>
 struct NoFillAllocator : std::allocator<T> {
@@ -22,10 +32,7 @@ struct NoFillAllocator : std::allocator<T> {
     NoFillAllocator(const NoFillAllocator<U>&) {}
     template <class U, class... Args>
     void construct(U* p, Args&&... args) {
-        if constexpr (sizeof...(Args) == 0)
-            ::new (static_cast<void*>(p)) U;
-        else
-            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+        construct_without_filling(p, std::forward<Args>(args)...);
     }
 };
 

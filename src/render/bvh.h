@@ -60,10 +60,7 @@ struct CacheAlignedAllocator {
     // a parallel loop fills them, taking the page faults on every thread.
     template <class U, class... Args>
     void construct(U* p, Args&&... args) {
-        if constexpr (sizeof...(Args) == 0)
-            ::new (static_cast<void*>(p)) U;
-        else
-            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+        construct_without_filling(p, std::forward<Args>(args)...);
     }
     template <class U>
     bool operator==(const CacheAlignedAllocator<U>&) const {

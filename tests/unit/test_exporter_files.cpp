@@ -52,6 +52,8 @@ TEST(ExporterFiles, AseWaterAtomsWhereAsePutThem) {
         EXPECT_NEAR(s.radius, radii[i], 1e-12) << i;
     }
     EXPECT_NEAR(f.flat.materials[f.flat.spheres[0].shading].diffuse.y, 0.051, 1e-12);
+    // The file has no Viewpoint, so the framing shows the whole molecule and its three balls cover
+    // far more than a twentieth of the frame; a black or mis-framed picture covers none.
     EXPECT_GT(covered_pixels(f.flat), 64u * 48u / 20);
 }
 
