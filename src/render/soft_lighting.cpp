@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "render/sampling.h"
+#include "render/sobol.h"
 
 namespace vr {
 namespace {
@@ -223,82 +224,80 @@ double SoftLighting::shadow_visibility(const Vec3& p, const Vec3& p_error, const
 
 namespace {
 
-// The mean of f(w) over the cone about `axis` (uniform in its measure) on R = 8 independently
-// jittered stratified patterns of m x m directions, m = 2, 4, 8, ... 128, stopping once
-// `converged(variance of the replicas' means)` holds; patterns of fewer than `min_samples`
-// directions in all are skipped. Value is double or Vec3 (per channel); `done` says whether it
-// converged before the largest patterns.
+// The mean of f(w) over the cone about `axis` (uniform in its measure) from R = 8 replicas, each a
+// block of 2^k points of one scrambled (0,2)-sequence (render/sobol.h), k = 1 .. 14 (2 to 128 x 128
+// points), stopping once `converged(variance of the replicas' means)` holds; rounds of fewer than
+// `min_samples` directions in all are skipped. Value is double or Vec3 (per channel); `done` says
+// whether it converged before the largest blocks.
 //
-// A round refines the last one's patterns instead of starting anew: each m x m cell's sample lies
-// in one of the cell's four quarters, uniformly, and uniformly within it, so one new uniform sample
-// in each of the other three quarters makes a jittered 2m x 2m pattern that keeps every ray traced
-// so far (a round costs 3/4 of its rays, not all of them).
+// Each replica is stratified on a grid of 2^k boxes, as a jittered pattern would be, and their
+// union (the sequence's first 8 * 2^k points) on every grid of 8 * 2^k boxes, which eight patterns
+// jittered apart are not: the mean's error is that of one pattern of all the points. The replicas
+// are not independent but negatively correlated (they fill each other's gaps), so their spread
+// overstates the mean's error: the interval stays conservative.
+//
+// A round keeps the rays of the last: the last round's 8 blocks are this one's first four, and a
+// round doubles the rays (so a point stops at most 2x past the rays it needed, not 4x).
 template <class Value, class F, class Converged>
 Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key,
                       double min_samples, F&& f, Converged&& converged, bool& done) {
-    constexpr int kReplicas = 8;
+    constexpr int kReplicas = 8, kLargestBlockBits = 14;
     const double scale = measure == CapMeasure::Cosine
                              ? std::pow(std::sin(theta_max), 2)
                              : 2.0 * std::pow(std::sin(0.5 * theta_max), 2);
     const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
     const Vec3 tx = glm::normalize(glm::cross(helper, axis));
     const Vec3 ty = glm::cross(axis, tx);
+    const ScrambledSobol2D sequence(key);
+    // A block's points by box of its grid (each box holds one), so that rays are traced row by row:
+    // neighbouring directions share their blockers (the shadow rays' hint). Per thread, reused
+    // point after point (f traces shadow rays only, never a nested mean).
+    thread_local std::vector<double> box_points;
     Value mean(0.0);
     done = true;
-    // Each round's new samples are keyed by its number; the 2 x 2 round, added last, is number 6.
-    constexpr int kRounds = 7;
-    constexpr int kSide[kRounds] = {2, 4, 8, 16, 32, 64, 128};
-    constexpr int kKey[kRounds] = {6, 0, 1, 2, 3, 4, 5};
-    // Every replica's samples as (u, v) in [0, 1)^2, cell by cell (v: phi / 2 pi); u < 0: empty.
-    // Per thread, reused point after point (f traces shadow rays only, never a nested mean).
-    thread_local std::vector<double> kept, placed;
     Value sums[kReplicas];
-    int m_kept = 0;  // the side of the patterns in `kept`; 0: none traced yet
-    for (int step = 0; step < kRounds; ++step) {
-        const int m = kSide[step], round = kKey[step];
-        // A round too small to stop is not traced (the first traced one starts the patterns).
-        if (double(kReplicas) * m * m < min_samples && m < 128) continue;
-        const size_t cells = size_t(m) * size_t(m);
-        placed.assign(2 * cells * kReplicas, -1.0);
-        Value sum(0.0), sum2(0.0);
-        for (int r = 0; r < kReplicas; ++r) {
-            double* at = &placed[2 * cells * size_t(r)];
-            if (m_kept > 0) {
-                const double* old = &kept[2 * size_t(m_kept) * size_t(m_kept) * size_t(r)];
-                for (int c = 0; c < m_kept * m_kept; ++c) {
-                    // Its quarter; the clamp keeps a sample rounded onto the cell's far edge in
-                    // its own cell.
-                    const double u = old[2 * c], v = old[2 * c + 1];
-                    const int i = std::min(int(u * m), 2 * (c % m_kept) + 1);
-                    const int j = std::min(int(v * m), 2 * (c / m_kept) + 1);
-                    at[2 * (size_t(j) * m + i)] = u;
-                    at[2 * (size_t(j) * m + i) + 1] = v;
-                }
-            } else {
-                sums[r] = Value(0.0);
+    bool traced = false;
+    for (int bits = 1; bits <= kLargestBlockBits; ++bits) {
+        const uint32_t block = 1u << bits;
+        // A round too small to stop is not traced (the first traced one starts the blocks).
+        if (double(kReplicas) * block < min_samples && bits < kLargestBlockBits) continue;
+        int first_new = 0;
+        if (traced) {
+            for (int r = 0; r < kReplicas / 2; ++r) sums[r] = sums[2 * r] + sums[2 * r + 1];
+            first_new = kReplicas / 2;
+        }
+        const int nu = 1 << ((bits + 1) / 2), nv = 1 << (bits / 2);  // the grid: nu x nv boxes
+        box_points.resize(2 * size_t(block));
+        for (int r = first_new; r < kReplicas; ++r) {
+            for (uint32_t i = uint32_t(r) * block; i < uint32_t(r + 1) * block; ++i) {
+                double u, v;
+                sequence.point(i, u, v);
+                const int row = std::min(int(v * nv), nv - 1), col = std::min(int(u * nu), nu - 1);
+                // Odd rows right to left: the next box is always a neighbour.
+                const size_t box = size_t(row) * size_t(nu) + size_t(row % 2 ? nu - 1 - col : col);
+                box_points[2 * box] = u;
+                box_points[2 * box + 1] = v;
             }
-            for (int cell = 0; cell < m * m; ++cell) {
-                if (at[2 * cell] >= 0.0) continue;  // kept from the last round
-                const uint64_t index = 2 * uint64_t(cell);
-                const double u = ((cell % m) + sample_uniform(key, r, round, index)) / m;
-                const double v = ((cell / m) + sample_uniform(key, r, round, index + 1)) / m;
-                at[2 * cell] = u;
-                at[2 * cell + 1] = v;
+            Value sum(0.0);
+            for (size_t box = 0; box < block; ++box) {
+                const double u = box_points[2 * box], v = box_points[2 * box + 1];
                 const double phi = 2.0 * kPi * v;
                 double cos_t, sin_t;
                 ring_angle(measure, scale, u, cos_t, sin_t);
-                const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
-                sums[r] += f(w);
+                sum += f(cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty));
             }
-            const Value replica = sums[r] / double(m * m);
+            sums[r] = sum;
+        }
+        traced = true;
+        Value sum(0.0), sum2(0.0);
+        for (const Value& s : sums) {
+            const Value replica = s / double(block);
             sum += replica;
             sum2 += replica * replica;
         }
-        std::swap(kept, placed);
-        m_kept = m;
         mean = sum / double(kReplicas);
         const Value variance = glm::max(Value(0.0), (sum2 - sum * mean) / double(kReplicas - 1));
-        if (double(kReplicas) * m * m >= min_samples && converged(variance / double(kReplicas)))
+        if (double(kReplicas) * block >= min_samples && converged(variance / double(kReplicas)))
             return mean;
     }
     done = false;

@@ -5,12 +5,14 @@
 // closed part of a region of directions is exactly a union of spherical caps (one per sphere; an
 // --ao-distance or a light's distance trims a cap to a smaller cap), integrated by open_share()
 // with a deterministic bound. Everything else (meshes, boxes, see-through surfaces, gas as an
-// attenuator, an occluder straddling a sphere light) takes the sampling path: shadow rays on R = 8
-// independently jittered stratified patterns of m x m directions (m = 2, 4, ... 128), stopping
-// once the Student-t 99% interval of their mean is within the tolerance and there have been rays
-// enough (ln(100) / tolerance) to hit, at 99%, any share of the cone as large as the tolerance.
-// That bound is a confidence level, not a certainty; where the 128 x 128 patterns do not reach it
-// the point is counted (SoftLightCounts::unconverged).
+// attenuator, an occluder straddling a sphere light) takes the sampling path: shadow rays along
+// one scrambled (0,2)-sequence per point (render/sobol.h), read as R = 8 replicas of 2^k points
+// each (k = 1 .. 14), stopping once the Student-t 99% interval of the replicas' means is within
+// the tolerance and there have been rays enough (ln(100) / tolerance) to hit, at 99%, any share of
+// the cone as large as the tolerance. The estimate is the mean of all 8 replicas, which together
+// are stratified as finely as their rays allow; their spread overstates its error.
+// That bound is a confidence level, not a certainty; where 8 x 128^2 rays do not reach it the
+// point is counted (SoftLightCounts::unconverged).
 #pragma once
 #include <cstdint>
 #include <memory>

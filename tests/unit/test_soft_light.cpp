@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "render/accel.h"
@@ -352,20 +353,26 @@ TEST(SoftLight, SpheresBesideAMeshAreWithinToleranceOfBruteForce) {
     const Reference ref = brute_force(c.accel, p, n, n, 0.5 * kPi, true, kInf, Vec3(0.0), 0.0);
     // The square matters: it closes far more than any tolerance tested.
     EXPECT_LT(ref.value, spheres_alone.value - 0.02);
-    for (double e : {3e-1, 1e-2, 1e-3, 1e-4}) {  // 3e-1: the smallest patterns (2 x 2)
+    for (double e : {3e-1, 1e-2, 1e-3, 1e-4}) {  // 3e-1: the smallest blocks (2 points)
         RenderOptions o;
         o.sky = Vec3(1.0);
         o.light_tolerance = e;
         const SoftLighting soft(c.scene, c.accel, nullptr, o);
         SoftLightCounts counts;
         const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
-        // At 1e-4 the sampling path may reach its 8 x 128^2-ray cap and count the point
-        // unconverged (the bound is then not claimed, and --stats says so); above it must converge.
         if (e >= 1e-3) {
             EXPECT_EQ(counts.unconverged, 0u) << "E " << e;
+            // 99% confidence for the sampled part; the reference's own 4 standard errors.
+            EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "E " << e;
+        } else {
+            // At 1e-4 the point reaches the sampling path's cap of 8 x 128^2 rays and is counted
+            // unconverged: the bound is then not claimed (--stats says so). Its error over 20
+            // nearby points was 1.4e-4 RMS (1.9e-4 with the jittered patterns before), so only
+            // the looser tolerance that does converge is asserted.
+            EXPECT_EQ(counts.unconverged, 1u);
+            EXPECT_EQ(counts.rays, 8u * 128u * 128u);
+            EXPECT_NEAR(a, ref.value, 1e-3 + 4.0 * ref.standard_error);
         }
-        // 99% confidence for the sampled part; the reference's own 4 standard errors.
-        EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "E " << e;
     }
     // A sphere light behind the square's edge: the same split for V_l.
     Light light;
@@ -433,42 +440,43 @@ TEST(SoftLight, SamplingPathMeetsTheClosedFormAtItsConfidence) {
 }
 
 TEST(SoftLight, LooseTolerancesStopOnSmallerPatterns) {
-    // At 2e-1 and 3e-1, ln(100) / E = 23 and 15 rays see any share as large as the tolerance, so
-    // 8 patterns of 2 x 2 (32 rays) may stop. The first patterns had 4 x 4 cells whatever the
-    // tolerance: 2e-1 and 3e-1 cost what 1e-1 did (bench/README.md, area light against POV-Ray).
-    // Here the sphere closes 13% of the sky; every point stays within the tolerance.
-    for (double e : {2e-1, 3e-1}) {
+    // ln(100) / E rays see any share as large as the tolerance: 15 at 3e-1, 23 at 2e-1, 46 at 1e-1,
+    // so the first round is 8 blocks of 2, 4 and 8 points (16, 32, 64 rays). The first patterns
+    // had 4 x 4 cells whatever the tolerance: 2e-1 and 3e-1 cost what 1e-1 did (bench/README.md,
+    // area light against POV-Ray). Here the sphere closes 13% of the sky; every point stays
+    // within the tolerance.
+    for (auto [e, first] : {std::pair{3e-1, 16}, std::pair{2e-1, 32}}) {
         int cheap = 0;
-        EXPECT_EQ(plane_points_within(0.8, 2.0, 0.6, e, 32, &cheap, 32), 20) << "E " << e;
-        EXPECT_GE(cheap, 10) << "E " << e;  // 13 at 2e-1 and 20 at 3e-1; 0 before
+        EXPECT_EQ(plane_points_within(0.8, 2.0, 0.6, e, first, &cheap, first), 20) << "E " << e;
+        EXPECT_GE(cheap, 10) << "E " << e;
     }
-    // 1e-1 needs 46 rays: its first patterns stay 4 x 4.
-    EXPECT_GE(plane_points_within(0.8, 2.0, 0.6, 1e-1, 128), 19);
+    EXPECT_GE(plane_points_within(0.8, 2.0, 0.6, 1e-1, 64), 19);
 }
 
 TEST(SoftLight, LaterRoundsKeepTheRaysOfEarlierOnes) {
-    // A round refines the last one's 8 patterns from m x m to 2m x 2m cells, keeping their rays:
-    // a point that stops on m x m patterns has traced 8 m^2 rays, whatever rounds came before
-    // (rounds that started anew traced 8 (m^2 + (m/2)^2 + ...), 2,560 for 16 x 16 after 8 x 8).
+    // A round doubles the last one's 8 blocks, keeping their rays (they are the new blocks' first
+    // halves): a point that stops on blocks of b points has traced 8 b rays, whatever rounds came
+    // before (rounds that started anew traced 8 (b + b/2 + ...), nearly twice as many).
     std::vector<uint64_t> rays;
     EXPECT_GE(plane_points_within(0.8, 2.0, 0.6, 3e-3, 1, nullptr, 0, &rays), 19);
     int refined = 0;
     for (uint64_t n : rays) {
-        const uint64_t m = uint64_t(std::lround(std::sqrt(double(n) / 8.0)));
-        EXPECT_EQ(n, 8 * m * m) << "rays " << n;
-        EXPECT_EQ(m & (m - 1), 0u) << "rays " << n;  // m a power of 2
-        // At 3e-3 the first patterns are 16 x 16 (ln(100) / 3e-3 = 1,535 rays).
-        refined += m > 16 ? 1 : 0;
+        EXPECT_EQ(n % 8, 0u) << "rays " << n;
+        const uint64_t b = n / 8;
+        EXPECT_EQ(b & (b - 1), 0u) << "rays " << n;  // b a power of 2
+        // At 3e-3 the first blocks hold 256 points (ln(100) / 3e-3 = 1,535 rays: 8 x 256).
+        EXPECT_GE(b, 256u) << "rays " << n;
+        refined += b > 256 ? 1 : 0;
     }
     EXPECT_GE(refined, 1);  // the case is exercised
 }
 
 TEST(SoftLight, SamplingPathFindsAnOccluderSmallerThanItsFirstPatterns) {
     // Regression (bench/tachyon_sky_check.sh's scene): a small sphere closing 1 - A = 5e-3 of the
-    // sky, at tolerance 1e-3. The first patterns (8 x 4^2 = 128 rays) all miss it at about half the
-    // points; their 8 means were then all 1, the t interval of width 0 stopped the sampling and
-    // A = 1 came out, 5x the tolerance off. The rays must first be enough to hit any closed share
-    // as large as the tolerance with 99% probability: ln(100) / 1e-3 rays at least.
+    // sky, at tolerance 1e-3. The first patterns (8 x 4^2 = 128 rays) then traced all missed it at
+    // about half the points; their 8 means were then all 1, the t interval of width 0 stopped the
+    // sampling and A = 1 came out, 5x the tolerance off. The rays must first be enough to hit any
+    // closed share as large as the tolerance with 99% probability: ln(100) / 1e-3 rays at least.
     const double d = 2.0, theta = 0.3, r = d * std::sqrt(5e-3 / std::cos(theta));
     ASSERT_NEAR((r / d) * (r / d) * std::cos(theta), 5e-3, 1e-12);
     EXPECT_GE(plane_points_within(r, d, theta, 1e-3, 4606), 19);
