@@ -40,7 +40,7 @@
 #
 #   bench/soft_vs_peers.sh [VRMLRAY_BINARY] [WIDTH HEIGHT] [RUNS]    (default build/vrmlray 1920 1080 1)
 # Environment: MODES ("sky area"), TOLS ("3e-1 2.5e-1 2e-1 1e-1 3e-2 1e-2 3e-3 1e-3"), REF_TOL (1e-4; REF_TOL_SKY and
-# REF_TOL_AREA for one mode), TACHYON_N ("4 16 64 256"),
+# REF_TOL_AREA for one mode), REF_SEED (7: --seed of the reference), TACHYON_N ("4 16 64 256"),
 # POV_N ("3 5 9 17 33"), MAX_SECONDS (a renderer's ladder stops once a median passes it; default 600).
 # Seconds are whole-process wall time, the median of RUNS runs.
 set -euo pipefail
@@ -52,6 +52,9 @@ runs=${4:-1}
 modes=${MODES:-sky area}
 tols=${TOLS:-3e-1 2.5e-1 2e-1 1e-1 3e-2 1e-2 3e-3 1e-3}
 ref_tol=${REF_TOL:-1e-4}
+# The reference's own seed, so that its (small) error is independent of the images': with their seed (0)
+# its sampling path would start on their very rays, as each point's sequence is nested.
+ref_seed=${REF_SEED:-7}
 tachyon_n=${TACHYON_N:-4 16 64 256}
 pov_n=${POV_N:-3 5 9 17 33}
 max_seconds=${MAX_SECONDS:-600}
@@ -132,10 +135,11 @@ wall() {  # wall seconds of one command; its output to log
 timed() { for r in $(seq "$runs"); do wall "$@"; done | median; }
 rmse() { "$bin" compare "$1" "$2" --json 2>/dev/null | grep -o '"rmse": [-0-9.e+]*' | awk '{print $2}' || true; }
 too_slow() { awk -v t="$1" -v m="$max_seconds" 'BEGIN {exit !(t > m)}'; }
-vr() {  # MODE TOLERANCE OUT
+vr() {  # MODE TOLERANCE OUT [SEED]
     local extra=()
     [ "$1" = sky ] && extra=(--sky 0.7,0.7,0.7)
-    "$bin" render "$1.wrl" -W "$width" -H "$height" --threads 2 -q "${extra[@]}" --light-tolerance "$2" -o "$3"
+    "$bin" render "$1.wrl" -W "$width" -H "$height" --threads 2 -q "${extra[@]}" --light-tolerance "$2" \
+        --seed "${4:-0}" -o "$3"
 }
 
 echo "load: $(cat /proc/loadavg)  size ${width}x$height  runs $runs"
@@ -146,8 +150,8 @@ for mode in $modes; do
     rt=$ref_tol
     [ "$mode" = sky ] && rt=${REF_TOL_SKY:-$ref_tol}
     [ "$mode" = area ] && rt=${REF_TOL_AREA:-$ref_tol}
-    ref=${mode}_ref_${width}x${height}_$rt.exr
-    [ -s "$ref" ] || { t=$(wall vr "$mode" "$rt" "$ref"); echo "reference $ref: $t s" >&2; }
+    ref=${mode}_ref_${width}x${height}_${rt}_seed$ref_seed.exr
+    [ -s "$ref" ] || { t=$(wall vr "$mode" "$rt" "$ref" "$ref_seed"); echo "reference $ref: $t s" >&2; }
     for tol in $tols; do
         t=$(timed vr "$mode" "$tol" "v_$mode.exr")
         e=$(rmse "v_$mode.exr" "$ref")
