@@ -97,7 +97,8 @@ std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bo
         for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6})
             ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
     if (soft_light && (samplers.empty() || wanted("light-tolerance")))
-        // 3e-1: the cheapest setting (2 x 2 patterns), often enough to match a peer's noise.
+        // 3e-1: the cheapest setting (8 blocks of 2 directions), often enough to match a peer's
+        // noise.
         for (double tol : {3e-1, 1e-1, 3e-2, 1e-2, 3e-3, 1e-3})
             ladder.push_back({"light tolerance", "center", 1, 0.0, tolerance, 3, tol});
     return ladder;
