@@ -179,8 +179,8 @@ void trace(const FlatScene& flat, const Camera& camera, const RenderOptions& opt
 }
 
 // Many processes: rank 0 gets every tile, and every process the totals of the rays, of the
-// covered pixels and of the non-finite values, the longest render and whether any timed out.
-// Returns the seconds the gather took here.
+// covered pixels, of the soft-light counts and of the non-finite values, the longest render and
+// whether any timed out. Returns the seconds the gather took here.
 double combine(const World& world, const RenderOptions& options, RenderStats& stats, Pixels& px) {
     if (!world.parallel()) return 0.0;
     const auto start = std::chrono::steady_clock::now();
@@ -194,6 +194,10 @@ double combine(const World& world, const RenderOptions& options, RenderStats& st
     stats.primary_rays = world.sum(stats.primary_rays);
     stats.shadow_rays = world.sum(stats.shadow_rays);
     stats.secondary_rays = world.sum(stats.secondary_rays);
+    stats.soft.exact_points = world.sum(stats.soft.exact_points);
+    stats.soft.sampled_points = world.sum(stats.soft.sampled_points);
+    stats.soft.unconverged = world.sum(stats.soft.unconverged);
+    stats.soft.rays = world.sum(stats.soft.rays);
     stats.nonfinite.shading = world.sum(stats.nonfinite.shading);
     stats.nonfinite.gas = world.sum(stats.nonfinite.gas);
     stats.nonfinite.light = world.sum(stats.nonfinite.light);
@@ -217,6 +221,19 @@ void warn_after_render(const RenderCommand& cmd, const Camera& camera, const Ren
                 "primary ray missed (") +
                 where + "; --fit frames the scene)",
             cmd.common.quiet);
+    }
+    // The sampling path's bound is a 99% confidence per point, reached within its cap of rays or
+    // not: points that stopped at the cap carry no bound, which the user asked for.
+    const SoftLightCounts& soft = stats.soft;
+    if (soft.unconverged > 0) {
+        char what[320];
+        std::snprintf(what, sizeof what,
+                      "soft light: %llu of %llu sampled shading points did not reach "
+                      "--light-tolerance %g within %llu shadow rays, so their error is not bounded "
+                      "(a looser tolerance, or --ao-distance for the sky, converges sooner)",
+                      (unsigned long long)soft.unconverged, (unsigned long long)soft.sampled_points,
+                      cmd.options.light_tolerance, (unsigned long long)kSoftLightMaxRays);
+        report_warning(cmd.scene, what, cmd.common.quiet);
     }
     // The tracer replaced these by 0 so that no file holds NaN; each one is a bug to report.
     const NonFiniteCounts& bad = stats.nonfinite;

@@ -242,6 +242,7 @@ template <class Value, class F, class Converged>
 Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key,
                       double min_samples, F&& f, Converged&& converged, bool& done) {
     constexpr int kReplicas = 8, kLargestBlockBits = 14;
+    static_assert(uint64_t(kReplicas) << kLargestBlockBits == kSoftLightMaxRays);
     const double scale = measure == CapMeasure::Cosine
                              ? std::pow(std::sin(theta_max), 2)
                              : 2.0 * std::pow(std::sin(0.5 * theta_max), 2);

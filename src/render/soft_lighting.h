@@ -28,6 +28,9 @@
 
 namespace vr {
 
+// The sampling path's rays at a point, at most: 8 blocks of 128 x 128 directions.
+inline constexpr uint64_t kSoftLightMaxRays = 8 * 128 * 128;
+
 struct SoftLightCounts {
     uint64_t exact_points = 0;    // fast path: evaluations with a hard bound
     uint64_t sampled_points = 0;  // sampling path

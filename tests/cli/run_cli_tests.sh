@@ -77,6 +77,24 @@ sed 's/value 0.6/value 0/; s/value 0.08/value 0/' "$soft" >"$work/soft_point.wrl
 expect 0 "info on the soft light demo" -- "$bin" info "$soft"
 grep -q "PointLight .* sourceRadius 0.6$" "$work/out.txt" && grep -q "DirectionalLight .* angularRadius 0.08$" "$work/out.txt" && pass || fail "info shows the area light hints"
 expect 1 "sourceRadius/angularRadius change the shadows" -- "$bin" compare "$work/soft_area.png" "$work/soft_point.png"
+# Penumbra points that the sampling path cannot bring within the tolerance in its 8 x 128^2 rays are
+# said, with how many, rather than counted in --stats alone: a box's shadow edge across a sphere light
+# at 1e-4. At 1e-2 every point converges and nothing is said.
+cat >"$work/penumbra.wrl" <<'EOF'
+#VRML V2.0 utf8
+NavigationInfo { headlight FALSE }
+Viewpoint { position 0 6 0 orientation 1 0 0 -1.5708 fieldOfView 0.8 }
+PointLight { location 0.3 4 0 radius 100
+  metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "sourceRadius" value 0.8 } ] } }
+Shape { appearance Appearance { material Material {} } geometry Box { size 8 0.1 8 } }
+Transform { translation 0 1 0 children Shape { appearance Appearance { material Material {} } geometry Box { size 1 0.2 1 } } }
+EOF
+expect 0 "a penumbra at --light-tolerance 1e-4" -- "$bin" render "$work/penumbra.wrl" -W 12 -H 9 --light-tolerance 1e-4 -o "$work/penumbra.png" --stats "$work/penumbra.json"
+n=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["soft_light"]["unconverged_points"])' "$work/penumbra.json")
+[ "$n" -gt 0 ] && pass || fail "the penumbra case has unconverged points (got $n)"
+expect_stderr "penumbra.wrl: warning: soft light: $n of [0-9]+ sampled shading points did not reach --light-tolerance 0.0001 within 131072 shadow rays" "unconverged points are said, with their count"
+expect 0 "the same penumbra at 1e-2" -- "$bin" render "$work/penumbra.wrl" -W 12 -H 9 --light-tolerance 1e-2 -o "$work/penumbra.png"
+grep -q "did not reach" "$work/err.txt" && fail "no unconverged warning at 1e-2" || pass
 printf '#VRML V2.0 utf8\nDirectionalLight { metadata MetadataSet { name "vrmlray" value [ MetadataFloat { name "sourceRadius" value 1 } ] } }\nShape { geometry Sphere {} }\n' >"$work/wrong_hint.wrl"
 expect 0 "a sourceRadius on a DirectionalLight" -- "$bin" info "$work/wrong_hint.wrl"
 expect_stderr "sourceRadius is for PointLight and SpotLight; ignored" "misplaced area hint warns"
