@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/hash.h"
 #include "core/math.h"
 #include "render/options.h"
 
@@ -76,9 +77,7 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
 inline uint64_t sample_hash(uint64_t seed, int px, int py, uint64_t index) {
     uint64_t z = seed * 0x9E3779B97F4A7C15ull ^ (uint64_t(uint32_t(px)) << 32 | uint32_t(py));
     z += (index + 1) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
+    z = splitmix64_mix(z);
     z = (z ^ (z >> 29)) * 0xBF58476D1CE4E5B9ull;  // second round: neighbouring keys stay unrelated
     return z ^ (z >> 32);
 }

@@ -13,6 +13,8 @@
 #include <array>
 #include <cstdint>
 
+#include "core/hash.h"
+
 namespace vr {
 
 namespace sobol_detail {
@@ -66,15 +68,13 @@ inline void sobol_2d_bits(uint32_t i, uint32_t& u, uint32_t& v) {
         if (i & 1u) v ^= sobol_detail::kSecondDimension[size_t(k)];
 }
 
-// The scrambled sequence of one 64-bit key (a scramble per dimension). The key is mixed first
-// (SplitMix64's finaliser): the scramble's leading digits take few seed bits, which must not follow
-// a pattern of the keys (such as consecutive multiples of one number).
+// The scrambled sequence of one 64-bit key (a scramble per dimension). The key is mixed first:
+// the scramble's leading digits take few seed bits, which must not follow a pattern of the keys
+// (such as consecutive multiples of one number).
 class ScrambledSobol2D {
   public:
     explicit ScrambledSobol2D(uint64_t key) {
-        key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ull;
-        key = (key ^ (key >> 27)) * 0x94d049bb133111ebull;
-        key ^= key >> 31;
+        key = splitmix64_mix(key);
         seed_u_ = uint32_t(key);
         seed_v_ = uint32_t(key >> 32);
     }

@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/hash.h"
 #include "parser/load.h"
 #include "scene/build.h"
 #include "scene/scene.h"
@@ -45,7 +46,7 @@ class FirstIndexMap {
     sg::Index find_or_add(uint64_t key, sg::Index index) {
         if (2 * (size_ + 1) > slots_.size()) grow();
         const size_t mask = slots_.size() - 1;
-        for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+        for (size_t i = splitmix64_mix(key) & mask;; i = (i + 1) & mask) {
             Slot& s = slots_[i];
             if (s.index == sg::kNone) {
                 s = Slot{key, index};
@@ -61,11 +62,6 @@ class FirstIndexMap {
         uint64_t key = 0;
         sg::Index index = sg::kNone;  // kNone: empty
     };
-    static uint64_t mix(uint64_t k) {  // splitmix64's finaliser
-        k = (k ^ (k >> 30)) * 0xBF58476D1CE4E5B9ull;
-        k = (k ^ (k >> 27)) * 0x94D049BB133111EBull;
-        return k ^ (k >> 31);
-    }
     void grow() {
         std::vector<Slot> old = std::move(slots_);
         slots_.assign(old.empty() ? 64 : 2 * old.size(), Slot{});

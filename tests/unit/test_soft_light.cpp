@@ -448,7 +448,7 @@ TEST(SoftLight, LooseTolerancesStopOnSmallerPatterns) {
     for (auto [e, first] : {std::pair{3e-1, 16}, std::pair{2e-1, 32}}) {
         int cheap = 0;
         EXPECT_EQ(plane_points_within(0.8, 2.0, 0.6, e, first, &cheap, first), 20) << "E " << e;
-        EXPECT_GE(cheap, 10) << "E " << e;
+        EXPECT_GE(cheap, 10) << "E " << e;  // 14 of 20 at both; half or more stop there
     }
     EXPECT_GE(plane_points_within(0.8, 2.0, 0.6, 1e-1, 64), 19);
 }
