@@ -48,22 +48,54 @@ struct OpenShare {
 struct CapScratch {
     struct RingCap {
         double phi, cos_c, sin_c, cos_a;
-        double peak_cos;  // cos of the angle of widest arc, or 2 when beta is monotone
+        double peak_cos;    // cos of the angle of widest arc, or 2 when beta is monotone
+        double u_lo, u_hi;  // the rings it meets, in the region's parameter u
     };
     std::vector<RingCap> caps;
-    std::vector<double> beta_lo, beta_hi, beta_a, beta_b;
+    // Per cell entry: the cap, and its arc's half-width on the cell's first and last ring.
+    std::vector<uint32_t> entry_cap;
+    std::vector<double> entry_beta0, entry_beta1;
+    std::vector<double> beta_mid, phi, beta_lo, beta_hi;
     std::vector<std::pair<double, double>> arcs;
-    struct Cell {
-        double u0, u1;
-        int depth;
-    };
-    std::vector<Cell> stack;
 };
 
 // The open share of the region within `theta_max` (in (0, pi/2]) of unit `axis`, to the absolute
 // `tolerance`, with `caps` closed. Caps that miss the region cost one test each.
 OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
                      const std::vector<DirectionCap>& caps, double tolerance, CapScratch& scratch);
+
+// Directions of a region certainly closed by caps, on a grid of cells about its axis (kRings
+// rings of equal theta x 64 sectors of phi; a ring's marks are one 64-bit word). A cell is marked
+// when one cap alone holds its bounding circle. A cap whose part in the region meets marked cells
+// only closes nothing the marked caps do not, so dropping it leaves the union of caps, and with it
+// the open share and its bound, exactly as they were: the cull is conservative, and cells covered
+// only by several caps together just stay unmarked.
+class CoveredCells {
+  public:
+    static constexpr int kRings = 64, kSectors = 64;
+    void reset(const Vec3& axis, double theta_max);
+    // Whether every cell that `cap` meets within the region is marked (true for a cap that misses
+    // the region).
+    bool covers(const DirectionCap& cap) const;
+    // Marks the cells that `cap` holds whole.
+    void mark(const DirectionCap& cap);
+    // Every cell is marked: the whole region is closed.
+    bool full() const { return full_rings_ == kRings; }
+
+  private:
+    struct Span {
+        int ring0 = 0, ring1 = -1;  // rings [ring0, ring1]; empty when ring1 < ring0
+        uint64_t sectors = 0;       // the sectors it may meet (the same on each of its rings)
+        Vec3 local;                 // the cap's axis in the region's frame (z: the region's axis)
+    };
+    Span span_of(const DirectionCap& cap) const;
+    Vec3 axis_, tx_, ty_;
+    double dtheta_ = 0.0;
+    uint64_t marked_[kRings] = {};
+    int full_rings_ = 0;
+    // Per ring: cos and sin of its middle angle and of its cells' bounding radius.
+    double cos_mid_[kRings], sin_mid_[kRings], cos_rho_[kRings], sin_rho_[kRings];
+};
 
 // The cap a sphere (centre `c`, radius `r`) closes seen from `p`, counting only hits nearer than
 // `reach` (kInf: all): false when it closes nothing. `inside` is set when p lies inside the

@@ -13,20 +13,6 @@ namespace {
 
 constexpr uint32_t kLeafSize = 4;
 
-// Whether the cone about `axis` of half-angle (cos_a, sin_a) and the ball (c, r) seen from p can
-// share a direction: the angle to the ball's centre is below the sum of the half-angles.
-bool cone_meets_ball(const Vec3& p, const Vec3& axis, double cos_a, double sin_a, const Vec3& c,
-                     double r) {
-    const Vec3 v = c - p;
-    const double d = glm::length(v);
-    if (!(d > r)) return true;  // p inside the ball
-    const double sin_b = r / d, cos_b = std::sqrt((d - r) * (d + r)) / d;
-    const double sin_sum = sin_a * cos_b + cos_a * sin_b;
-    if (!(sin_sum > 0.0)) return true;  // the half-angles sum to pi: every direction
-    const double cos_sum = cos_a * cos_b - sin_a * sin_b;
-    return glm::dot(v, axis) > cos_sum * d;
-}
-
 uint64_t bits_of(double v) {
     uint64_t u;
     std::memcpy(&u, &v, sizeof u);
@@ -111,28 +97,18 @@ uint32_t SphereOccluders::build_node(uint32_t first, uint32_t count) {
     return index;
 }
 
-void SphereOccluders::gather(const Vec3& p, const Vec3& axis, double cos_half, double sin_half,
-                             double reach, std::vector<uint32_t>& out) const {
-    if (nodes_.empty()) return;
-    uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
-        if (glm::length(n.center - p) - n.radius >= reach) continue;
-        if (!cone_meets_ball(p, axis, cos_half, sin_half, n.center, n.radius)) continue;
-        if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i) out.push_back(i);
-            continue;
-        }
-        const uint32_t self = uint32_t(&n - nodes_.data());
-        if (top + 2 > 64) {  // deeper than a median split of 2^32 spheres: never
-            for (uint32_t i = n.first; i < uint32_t(centers_.size()); ++i) out.push_back(i);
-            continue;
-        }
-        stack[top++] = n.right;
-        stack[top++] = self + 1;
-    }
+// Whether the cone about `axis` of half-angle (cos_a, sin_a) and the ball (c, r) seen from p can
+// share a direction: the angle to the ball's centre is below the sum of the half-angles.
+bool SphereOccluders::cone_meets_ball(const Vec3& p, const Vec3& axis, double cos_a, double sin_a,
+                                      const Vec3& c, double r) {
+    const Vec3 v = c - p;
+    const double d = glm::length(v);
+    if (!(d > r)) return true;  // p inside the ball
+    const double sin_b = r / d, cos_b = std::sqrt((d - r) * (d + r)) / d;
+    const double sin_sum = sin_a * cos_b + cos_a * sin_b;
+    if (!(sin_sum > 0.0)) return true;  // the half-angles sum to pi: every direction
+    const double cos_sum = cos_a * cos_b - sin_a * sin_b;
+    return glm::dot(v, axis) > cos_sum * d;
 }
 
 SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const GasVolume* gas,
@@ -159,43 +135,65 @@ SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const Gas
 bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max,
                                CapMeasure measure, double reach, double light_near, bool skip_own,
                                double& share, SoftLightCounts& counts) const {
-    thread_local std::vector<uint32_t> found;
-    thread_local std::vector<DirectionCap> caps;
+    thread_local std::vector<DirectionCap> caps, straddling;
+    thread_local CoveredCells covered;
     thread_local CapScratch scratch;
-    found.clear();
     caps.clear();
-    occluders_.gather(p, axis, std::cos(theta_max), std::sin(theta_max), reach, found);
+    straddling.clear();
+    covered.reset(axis, theta_max);
     const bool to_light = light_near >= 0.0;
     const double cos_max = std::cos(theta_max), sin_max = std::sin(theta_max);
-    for (uint32_t i : found) {
+    const double cap_reach = to_light ? kInf : reach;
+    bool closed = false;  // p lies inside a sphere
+    // A node whose bounding ball's cap lies in covered cells holds nothing more to close.
+    auto pass = [&](const Vec3& c, double r) {
+        DirectionCap cap;
+        bool inside = false;
+        if (!sphere_cap(p, c, r, cap_reach, cap, inside)) return true;
+        return !inside && covered.covers(cap);
+    };
+    auto visit = [&](uint32_t i) {
         const Vec3& c = occluders_.center(i);
         const double r = occluders_.radius(i);
         DirectionCap cap;
         bool inside = false;
-        if (!sphere_cap(p, c, r, to_light ? kInf : reach, cap, inside)) continue;
+        if (!sphere_cap(p, c, r, cap_reach, cap, inside)) return true;
         if (inside) {
-            share = 0.0;
-            ++counts.exact_points;
-            return true;
+            closed = true;
+            return false;
         }
         if (to_light) {
             // Only what lies before the light counts; its hits lie between light_near and reach
             // (its centre's distance). An occluder that misses the light's cone is no matter (the
-            // sphere under the point, say), one that straddles the light's depth is sampled.
+            // sphere under the point, say); one that straddles the light's depth matters only if
+            // the nearer caps leave part of it open (checked once they are all known).
             const double cos_sum = cos_max * cap.cos_half - sin_max * cap.sin_half;
             const double sin_sum = sin_max * cap.cos_half + cos_max * cap.sin_half;
-            if (sin_sum > 0.0 && glm::dot(cap.axis, axis) <= cos_sum) continue;
+            if (sin_sum > 0.0 && glm::dot(cap.axis, axis) <= cos_sum) return true;
             const double d = glm::length(c - p);
-            if (d - r >= reach) continue;
-            if (d + r > light_near) return false;
+            if (d - r >= reach) return true;
+            if (d + r > light_near) {
+                straddling.push_back(cap);
+                return true;
+            }
         }
         // The sphere the point lies on closes exactly the half space below its tangent plane.
-        if (skip_own && cap.cos_half == 0.0 && glm::dot(cap.axis, axis) < -1.0 + 1e-9) continue;
+        if (skip_own && cap.cos_half == 0.0 && glm::dot(cap.axis, axis) < -1.0 + 1e-9) return true;
+        if (covered.covers(cap)) return true;  // behind nearer spheres
         caps.push_back(cap);
+        covered.mark(cap);
+        return !covered.full();
+    };
+    occluders_.visit_nearest(p, axis, cos_max, sin_max, reach, pass, visit);
+    for (const DirectionCap& cap : straddling)
+        if (!closed && !covered.covers(cap)) return false;
+    ++counts.exact_points;
+    if (closed || covered.full()) {
+        share = 0.0;
+        return true;
     }
     drop_contained(caps);
     share = open_share(axis, theta_max, measure, caps, tolerance_, scratch).value;
-    ++counts.exact_points;
     return true;
 }
 

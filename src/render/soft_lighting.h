@@ -14,6 +14,7 @@
 // That bound is a confidence level, not a certainty; where 8 x 128^2 rays do not reach it the
 // point is counted (SoftLightCounts::unconverged).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -49,10 +50,13 @@ struct SoftLightCounts {
 class SphereOccluders {
   public:
     void build(const std::vector<Sphere>& spheres);
-    // Indices of the spheres that may meet the cone of half-angle (cos, sin) about unit `axis` from
-    // `p` nearer than `reach`, appended to `out`.
-    void gather(const Vec3& p, const Vec3& axis, double cos_half, double sin_half, double reach,
-                std::vector<uint32_t>& out) const;
+    // Visits the spheres that may meet the cone of half-angle (cos, sin) about unit `axis` from
+    // `p` nearer than `reach`, nearest surface first, so that near spheres, whose caps are large,
+    // come before the far ones they hide. `pass(centre, radius)`: whether a node's bounding ball
+    // (and so every sphere in it) may be passed over; `visit(i)` returns false to stop.
+    template <class Pass, class Visit>
+    void visit_nearest(const Vec3& p, const Vec3& axis, double cos_half, double sin_half,
+                       double reach, Pass&& pass, Visit&& visit) const;
     const Vec3& center(uint32_t i) const { return centers_[i]; }
     double radius(uint32_t i) const { return radii_[i]; }
 
@@ -64,10 +68,52 @@ class SphereOccluders {
         uint32_t right;         // inner: the second child (the first is the next node)
     };
     uint32_t build_node(uint32_t first, uint32_t count);
+    static bool cone_meets_ball(const Vec3& p, const Vec3& axis, double cos_a, double sin_a,
+                                const Vec3& c, double r);
     std::vector<Node> nodes_;
     std::vector<Vec3> centers_;
     std::vector<double> radii_;
 };
+
+template <class Pass, class Visit>
+void SphereOccluders::visit_nearest(const Vec3& p, const Vec3& axis, double cos_half,
+                                    double sin_half, double reach, Pass&& pass,
+                                    Visit&& visit) const {
+    struct Entry {
+        double near;     // distance from p to the ball's surface (negative inside)
+        uint32_t index;  // a node, or a sphere
+        bool sphere;
+        bool operator<(const Entry& o) const { return near > o.near; }  // nearest on top
+    };
+    thread_local std::vector<Entry> heap;
+    heap.clear();
+    if (nodes_.empty()) return;
+    auto push = [&](const Vec3& c, double r, uint32_t index, bool sphere) {
+        const double near = glm::length(c - p) - r;
+        if (near >= reach || !cone_meets_ball(p, axis, cos_half, sin_half, c, r)) return;
+        heap.push_back(Entry{near, index, sphere});
+        std::push_heap(heap.begin(), heap.end());
+    };
+    push(nodes_[0].center, nodes_[0].radius, 0, false);
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end());
+        const Entry e = heap.back();
+        heap.pop_back();
+        if (e.sphere) {
+            if (!visit(e.index)) return;
+            continue;
+        }
+        const Node& n = nodes_[e.index];
+        if (pass(n.center, n.radius)) continue;
+        if (n.count > 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+                push(centers_[i], radii_[i], i, true);
+        } else {
+            push(nodes_[e.index + 1].center, nodes_[e.index + 1].radius, e.index + 1, false);
+            push(nodes_[n.right].center, nodes_[n.right].radius, n.right, false);
+        }
+    }
+}
 
 class SoftLighting {
   public:

@@ -141,6 +141,117 @@ struct Cluster {
     Accel accel;
 };
 
+// A random cap: axis anywhere on the sphere, half-angle up to `max_half` (a few half spaces).
+DirectionCap random_cap(std::mt19937& rng, double max_half) {
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    DirectionCap cap;
+    Vec3 a(uni(rng), uni(rng), uni(rng));
+    while (glm::dot(a, a) < 1e-3) a = Vec3(uni(rng), uni(rng), uni(rng));
+    cap.axis = glm::normalize(a);
+    const double half = rng() % 16 == 0 ? 0.5 * kPi : 0.5 * (uni(rng) + 1.0) * max_half;
+    cap.cos_half = std::cos(half);
+    cap.sin_half = std::sin(half);
+    return cap;
+}
+
+bool in_cap(const DirectionCap& cap, const Vec3& w) {
+    return glm::dot(w, cap.axis) >= cap.cos_half;
+}
+
+// The cull's promise: a cap that covers() reports hidden adds no direction of the region to the
+// union of the caps marked before it. Checked on random directions of the region against every
+// dropped cap, for regions from the hemisphere down to a small light's cone.
+TEST(SoftLight, CoveredCellsDropOnlyCapsInsideTheMarkedOnes) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    int dropped_total = 0;
+    for (double theta_max : {0.5 * kPi, 0.6, 0.05}) {
+        for (int trial = 0; trial < 20; ++trial) {
+            const Vec3 axis = random_cap(rng, 0.1).axis;
+            CoveredCells covered;
+            covered.reset(axis, theta_max);
+            std::vector<DirectionCap> kept, dropped;
+            // Large caps first, as nearest-first gathering brings them, then many small ones,
+            // some no larger than a cell (which a loose cell bound would drop wrongly).
+            const double small[] = {0.01 * theta_max, 0.05 * theta_max, 0.2 * theta_max};
+            for (int k = 0; k < 600; ++k) {
+                DirectionCap cap = random_cap(rng, k < 30 ? 1.0 : small[k % 3]);
+                if (k >= 30 && k % 2 == 0) {
+                    // On the rim of a kept cap, inside or just outside it by up to a cell.
+                    const DirectionCap& big = kept[rng() % kept.size()];
+                    const double off = std::atan2(big.sin_half, big.cos_half) +
+                                       0.06 * (uni(rng) - 0.5) -
+                                       std::atan2(cap.sin_half, cap.cos_half);
+                    const Vec3 side = glm::normalize(glm::cross(big.axis, cap.axis));
+                    cap.axis =
+                        std::cos(off) * big.axis + std::sin(off) * glm::cross(side, big.axis);
+                }
+                if (covered.covers(cap)) {
+                    dropped.push_back(cap);
+                } else {
+                    kept.push_back(cap);
+                    covered.mark(cap);
+                }
+            }
+            dropped_total += int(dropped.size());
+            // Directions in each dropped cap, most of them on its rim (where a cap sticks out of
+            // the marked ones first), kept if they lie in the region.
+            for (const DirectionCap& cap : dropped) {
+                const Vec3 helper = std::abs(cap.axis.x) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+                const Vec3 tx = glm::normalize(glm::cross(helper, cap.axis));
+                const Vec3 ty = glm::cross(cap.axis, tx);
+                for (int i = 0; i < 400; ++i) {
+                    const double f = i % 4 == 0 ? uni(rng) : 1.0;
+                    const double cos_t = 1.0 - f * (1.0 - cap.cos_half);
+                    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+                    const double phi = 2.0 * kPi * uni(rng);
+                    const Vec3 w =
+                        cos_t * cap.axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
+                    if (glm::dot(w, axis) < std::cos(theta_max)) continue;  // outside the region
+                    bool in_kept = false;
+                    // A rim point may sit on a kept cap's rim too: 1e-12 of rounding slack.
+                    for (const DirectionCap& c : kept)
+                        in_kept = in_kept || glm::dot(w, c.axis) >= c.cos_half - 1e-12;
+                    ASSERT_TRUE(in_kept) << "theta_max " << theta_max << " trial " << trial;
+                }
+            }
+            const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+            const Vec3 tx = glm::normalize(glm::cross(helper, axis)), ty = glm::cross(axis, tx);
+            if (covered.full()) {  // every direction closed: the kept caps must say so
+                for (int i = 0; i < 2000; ++i) {
+                    const double cos_t = 1.0 - uni(rng) * (1.0 - std::cos(theta_max));
+                    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+                    const double phi = 2.0 * kPi * uni(rng);
+                    const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
+                    bool in_kept = false;
+                    for (const DirectionCap& c : kept) in_kept = in_kept || in_cap(c, w);
+                    ASSERT_TRUE(in_kept);
+                }
+            }
+        }
+    }
+    // The cull is not idle: small caps behind large ones go (it saves the cap integral's work).
+    EXPECT_GT(dropped_total, 1000);
+}
+
+// A small cap inside a large one is dropped; one that pokes out of it is kept.
+TEST(SoftLight, CoveredCellsDropACapBehindANearerOne) {
+    CoveredCells covered;
+    covered.reset(Vec3(0, 0, 1), 0.5 * kPi);
+    DirectionCap big;
+    big.axis = glm::normalize(Vec3(1, 0, 1));
+    big.cos_half = std::cos(0.5);
+    big.sin_half = std::sin(0.5);
+    covered.mark(big);
+    DirectionCap small = big;
+    small.cos_half = std::cos(0.2);
+    small.sin_half = std::sin(0.2);
+    EXPECT_TRUE(covered.covers(small));
+    small.axis = glm::normalize(Vec3(1, 0.45, 1));  // ~0.32 off the big cap's axis: 0.52 > 0.5
+    EXPECT_FALSE(covered.covers(small));
+    EXPECT_FALSE(covered.full());
+}
+
 // Reference open share by 10^6 shadow rays: 4 independently jittered 500 x 500 stratified
 // patterns (cosine-weighted over the hemisphere, or uniform over a light's cap). Returns the mean
 // and its standard error from the spread of the 4 patterns.
@@ -259,6 +370,34 @@ TEST(SoftLight, SkyLightOnSphereClustersIsWithinToleranceOfBruteForce) {
         }
     }
     EXPECT_GE(checked, 6);  // the cluster did not hide every chosen point
+}
+
+// A protein-sized crowd: hundreds of touching and overlapping atoms, most of them hidden behind
+// nearer ones from any surface point, so that the nearest-first cull drops most caps; the result
+// must still be the brute force's, at every tolerance.
+TEST(SoftLight, SkyLightInALargeClusterIsWithinToleranceOfBruteForce) {
+    Cluster c = random_cluster(3, 400);
+    int checked = 0;
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    for (size_t s = 0; s < c.scene.spheres.size() && checked < 4; s += 11) {
+        Vec3 p, n;
+        if (!surface_point(c.scene, s, Vec3(uni(rng), uni(rng), uni(rng)), p, n)) continue;
+        const Reference ref = brute_force(c.accel, p, n, n, 0.5 * kPi, true, kInf, Vec3(0.0), 0.0);
+        if (!(ref.value > 0.02 && ref.value < 0.98)) continue;  // a point in the crowd's shade
+        for (double e : kTolerances) {
+            RenderOptions o;
+            o.sky = Vec3(1.0);
+            o.light_tolerance = e;
+            const SoftLighting soft(c.scene, c.accel, nullptr, o);
+            SoftLightCounts counts;
+            const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+            EXPECT_EQ(counts.exact_points, 1u);
+            EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "sphere " << s << " E " << e;
+        }
+        ++checked;
+    }
+    EXPECT_GE(checked, 3);
 }
 
 TEST(SoftLight, SphereLightBehindAClusterIsWithinToleranceOfBruteForce) {
