@@ -4,7 +4,11 @@
 // Fast path (hard bound): in a scene whose only primitives are opaque spheres, with no gas, the
 // closed part of a region of directions is exactly a union of spherical caps (one per sphere; an
 // --ao-distance or a light's distance trims a cap to a smaller cap), integrated by open_share()
-// with a deterministic bound. Everything else (meshes, boxes, see-through surfaces, gas as an
+// with a deterministic bound. The spheres are gathered nearest first; a cap (or a hierarchy
+// node's) that lies in directions one nearer cap already closes is dropped (CoveredCells), which
+// leaves the union as it was. A point whose gathering would test more balls than twice the
+// sampling path's fewest rays (a crowd of far atoms at a loose tolerance) is sampled instead:
+// there, rays cost less than caps. Everything else (meshes, boxes, see-through surfaces, gas as an
 // attenuator, an occluder straddling a sphere light) takes the sampling path: shadow rays along
 // one scrambled (0,2)-sequence per point (render/sobol.h), read as R = 8 replicas of 2^k points
 // each (k = 1 .. 14), stopping once the Student-t 99% interval of the replicas' means is within

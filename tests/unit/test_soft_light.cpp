@@ -400,6 +400,36 @@ TEST(SoftLight, SkyLightInALargeClusterIsWithinToleranceOfBruteForce) {
     EXPECT_GE(checked, 3);
 }
 
+// A crowd of far, small atoms (as in bench/soft_vs_peers.sh's molecule): thousands of caps, each
+// tiny. At a loose tolerance the sampling path's few rays cost less than gathering them, so the
+// point is sampled; at a tight one the caps are integrated. Both must meet the brute force.
+TEST(SoftLight, CrowdOfFarAtomsIsSampledWhenLooseAndIntegratedWhenTight) {
+    Cluster c;
+    const uint32_t shading = add_shading(c.scene, Material{});
+    add_sphere(c.scene, Vec3(0.0, 0.0, -100.0), 100.0, shading);  // the ground, nearly a plane
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    for (int k = 0; k < 3000; ++k)
+        add_sphere(c.scene, Vec3(40.0 * uni(rng), 40.0 * uni(rng), 6.0 + 4.0 * uni(rng)), 0.4,
+                   shading);
+    c.accel.build(c.scene, 1);
+    const Vec3 p(0.0, 0.0, 0.0), n(0.0, 0.0, 1.0);
+    const Reference ref = brute_force(c.accel, p, n, n, 0.5 * kPi, true, kInf, Vec3(0.0), 0.0);
+    EXPECT_GT(ref.value, 0.1);  // partly closed: neither trivial case
+    EXPECT_LT(ref.value, 0.9);
+    for (double e : {1e-1, 1e-3}) {
+        RenderOptions o;
+        o.sky = Vec3(1.0);
+        o.light_tolerance = e;
+        const SoftLighting soft(c.scene, c.accel, nullptr, o);
+        SoftLightCounts counts;
+        const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+        EXPECT_EQ(counts.sampled_points, e > 1e-2 ? 1u : 0u) << "E " << e;
+        EXPECT_EQ(counts.exact_points, e > 1e-2 ? 0u : 1u) << "E " << e;
+        EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "E " << e;
+    }
+}
+
 TEST(SoftLight, SphereLightBehindAClusterIsWithinToleranceOfBruteForce) {
     Cluster c = random_cluster(5, 6);
     // Light on the far side of sphere 1 as seen from the crevice point, so atoms shade it partly.
