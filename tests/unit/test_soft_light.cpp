@@ -430,6 +430,41 @@ TEST(SoftLight, CrowdOfFarAtomsIsSampledWhenLooseAndIntegratedWhenTight) {
     }
 }
 
+// A sphere across the light's depth closes an unknown part of its cap, which once sent the whole
+// point to the sampling path; hidden behind a nearer sphere it closes nothing more, and the point
+// keeps its hard bound: the near sphere's cap overlapping the light's (two caps, closed form).
+TEST(SoftLight, SphereAcrossTheLightsDepthBehindANearerOneKeepsTheCapPath) {
+    Cluster c;
+    const uint32_t shading = add_shading(c.scene, Material{});
+    const Vec3 p(0.0), n(0.0, 0.0, 1.0);
+    const double off = 5.0 * kPi / 180.0;
+    const Vec3 dir(std::sin(off), 0.0, std::cos(off));
+    const double near_half = 4.0 * kPi / 180.0;
+    add_sphere(c.scene, 3.0 * dir, 3.0 * std::sin(near_half), shading);  // a 4-degree cap
+    add_sphere(c.scene, 9.5 * dir, 0.2, shading);  // reaches 9.7, past the light's near side (9)
+    add_sphere(c.scene, Vec3(0.0, 0.0, -1.0), 1.0, shading);  // the surface p lies on
+    c.accel.build(c.scene, 1);
+    Light light;
+    light.kind = LightKind::Point;
+    light.position = Vec3(0.0, 0.0, 10.0);
+    light.source_radius = 1.0;
+    light.radius = 1e9;
+    const double light_half = std::asin(0.1);
+    const double exact =
+        1.0 - cap_overlap(light_half, near_half, off) / (2.0 * kPi * (1.0 - std::cos(light_half)));
+    ASSERT_GT(exact, 0.05);  // a penumbra: the near cap hides part of the light, not all
+    ASSERT_LT(exact, 0.95);
+    for (double e : kTolerances) {
+        RenderOptions o;
+        o.light_tolerance = e;
+        const SoftLighting soft(c.scene, c.accel, nullptr, o);
+        SoftLightCounts counts;
+        const double vis = soft.light_visibility(light, p, Vec3(1e-15), n, counts);
+        EXPECT_EQ(counts.exact_points, 1u) << "E " << e;
+        EXPECT_NEAR(vis, exact, e) << "E " << e;
+    }
+}
+
 TEST(SoftLight, SphereLightBehindAClusterIsWithinToleranceOfBruteForce) {
     Cluster c = random_cluster(5, 6);
     // Light on the far side of sphere 1 as seen from the crevice point, so atoms shade it partly.
