@@ -323,7 +323,7 @@ OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
 
     // Refine the cell of largest error bound until the bound's total is within the tolerance.
     constexpr uint32_t kMaxCells = 1u << 16;
-    const size_t max_entries = size_t(1) << 22;  // 64 MB of entries at most
+    const size_t max_entries = size_t(1) << 22;  // 20 bytes each: 80 MB at most
     std::priority_queue<Cell> heap;
     double value = 0.0;
     double total = root.error();

@@ -31,8 +31,8 @@ uint64_t point_key(uint64_t seed, const Vec3& p, const Vec3& q) {
 // ray misses leaves all replicas equal and the interval 0 wide, however large q. n stratified
 // directions miss a share q with probability at most exp(-n q) (each cell's jitter on its own), so
 // n >= ln(100) / tolerance rays hit any share as large as the tolerance at 99%, the interval's own
-// confidence. At 3e-1 and 2e-1 that is the first patterns' 32 rays, at 1e-1 the next 128; at 1e-3
-// it is 8 x 32^2.
+// confidence. Rounded up to a round of 8 x 2^k rays: 16 at 3e-1, 32 at 2e-1, 64 at 1e-1, 8,192 at
+// 1e-3.
 double min_samples_to_see(double tolerance) { return std::log(100.0) / tolerance; }
 
 // Removes the caps that lie inside one of the largest caps (atoms behind a near neighbour): they
