@@ -331,6 +331,17 @@ struct FrameRecord {
     std::string sent;             // the temporary file to send to rank 0, which writes the frame
 };
 
+// Soft light (sky light, or a light with an area hint) over a scene of many placed meshes, such as
+// Jmol's atoms: the sampling path, slow at a small tolerance, where recovered spheres would take
+// the exact caps. 64 placements: fewer cost little either way.
+bool soft_light_on_placed_meshes(const FlatScene& flat, const RenderOptions& options) {
+    if (flat.instances.size() < 64) return false;
+    if (options.sky || options.sky_map) return true;
+    for (const Light& l : flat.lights)
+        if (l.source_radius > 0.0 || l.angular_radius > 0.0) return true;
+    return false;
+}
+
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
 // when job.write_stats). The exit code all processes of `world` agree on.
 int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene& loaded,
@@ -362,6 +373,15 @@ int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene
         std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
                      describe_camera(flat, cmd.options, camera).c_str());
     if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
+    static std::atomic<bool> meshes_noted{false};  // once a run, not once a frame
+    if (world.root() && !cmd.common.quiet && !cmd.recover_spheres &&
+        soft_light_on_placed_meshes(flat, job.options) && !meshes_noted.exchange(true))
+        std::fprintf(stderr,
+                     "%s: note: soft light samples shadow rays against the scene's %zu placed "
+                     "meshes, which is slow at a small --light-tolerance; if they are atoms "
+                     "exported as meshes (Jmol), --recover-spheres renders them as spheres, whose "
+                     "soft light is exact and fast\n",
+                     cmd.scene.c_str(), flat.instances.size());
 
     // --timeout counts from the start of the command; loading is bounded by the reader's limits
     // instead, so what is left of it goes to the tracer, which stops at its next tile.

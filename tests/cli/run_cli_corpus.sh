@@ -137,5 +137,21 @@ if [ -f "$sticks" ]; then
     cmp -s "$work/sticks_1.exr" "$work/sticks_2.exr" && pass || fail "soft light on PyMOL sticks: 1 and 2 threads differ"
 fi
 
+# --- Jmol's atoms are placed meshes: soft light on them samples rays (387 s at 320x240 and 1e-3 on
+# c551_spacefill), where --recover-spheres gives exact caps (6.3 s). The render says so once, unless the
+# user chose either way.
+spacefill=$corpus/molecular/jmol/c551_spacefill.wrl
+if [ -f "$spacefill" ]; then
+    soft=(-W 16 -H 12 --sky 0.7,0.7,0.7 --light-tolerance 3e-1)
+    expect 0 "sky light on Jmol's mesh atoms" -- "$bin" render "$spacefill" "${soft[@]}" -o "$work/c551_soft.png"
+    expect_stderr 'note: soft light samples shadow rays against the scene.s 1216 placed meshes.*--recover-spheres' \
+        "sky light on Jmol's mesh atoms points to --recover-spheres"
+    [ "$(grep -c 'placed meshes' "$work/err.txt")" -eq 1 ] && pass || fail "the placed-meshes note is said once"
+    expect 0 "sky light on Jmol's atoms as spheres" -- "$bin" render "$spacefill" "${soft[@]}" --recover-spheres -o "$work/c551_soft.png"
+    grep -q 'placed meshes' "$work/err.txt" && fail "no placed-meshes note with --recover-spheres" || pass
+    expect 0 "Jmol's mesh atoms without soft light" -- "$bin" render "$spacefill" -W 16 -H 12 -o "$work/c551_hard.png"
+    grep -q 'placed meshes' "$work/err.txt" && fail "no placed-meshes note without soft light" || pass
+fi
+
 echo "cli corpus ($corpus): $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
