@@ -374,7 +374,9 @@ int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene
                      describe_camera(flat, cmd.options, camera).c_str());
     if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
     static std::atomic<bool> meshes_noted{false};  // once a run, not once a frame
+    // Not when recovery ran (gas mode): the meshes it left are no spheres.
     if (world.root() && !cmd.common.quiet && !cmd.recover_spheres &&
+        job.scene->stats.recovery_candidates == 0 &&
         soft_light_on_placed_meshes(flat, job.options) && !meshes_noted.exchange(true))
         std::fprintf(stderr,
                      "%s: note: soft light samples shadow rays against the scene's %zu placed "

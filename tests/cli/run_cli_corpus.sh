@@ -149,6 +149,8 @@ if [ -f "$spacefill" ]; then
     [ "$(grep -c 'placed meshes' "$work/err.txt")" -eq 1 ] && pass || fail "the placed-meshes note is said once"
     expect 0 "sky light on Jmol's atoms as spheres" -- "$bin" render "$spacefill" "${soft[@]}" --recover-spheres -o "$work/c551_soft.png"
     grep -q 'placed meshes' "$work/err.txt" && fail "no placed-meshes note with --recover-spheres" || pass
+    expect 0 "sky light on Jmol's atoms in gas mode (recovered by default)" -- "$bin" render "$spacefill" "${soft[@]}" --spheres gas -o "$work/c551_gas.png"
+    grep -q 'placed meshes' "$work/err.txt" && fail "no placed-meshes note in gas mode" || pass
     expect 0 "Jmol's mesh atoms without soft light" -- "$bin" render "$spacefill" -W 16 -H 12 -o "$work/c551_hard.png"
     grep -q 'placed meshes' "$work/err.txt" && fail "no placed-meshes note without soft light" || pass
 fi
