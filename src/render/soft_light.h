@@ -73,6 +73,7 @@ OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
 class CoveredCells {
   public:
     static constexpr int kRings = 64, kSectors = 64;
+    static_assert(kSectors == 64, "a ring's sectors are the bits of one uint64_t");
     void reset(const Vec3& axis, double theta_max);
     // Whether every cell that `cap` meets within the region is marked (true for a cap that misses
     // the region).

@@ -35,6 +35,8 @@ uint64_t point_key(uint64_t seed, const Vec3& p, const Vec3& q) {
 // 1e-3.
 double min_samples_to_see(double tolerance) { return std::log(100.0) / tolerance; }
 
+constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t, 7 dof
+
 // Removes the caps that lie inside one of the largest caps (atoms behind a near neighbour): they
 // close nothing more, and the cap integral's work grows with the number of caps.
 void drop_contained(std::vector<DirectionCap>& caps) {
@@ -154,11 +156,14 @@ bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max
     const double cap_reach = to_light ? kInf : reach;
     bool closed = false;  // p lies inside a sphere
     // The gathering gives up (and the point is sampled) once it has tested more balls than twice
-    // the sampling path's fewest rays: a ball costs less than a ray, but the sampling path often
-    // needs more than its fewest. A crowd of thousands of far atoms at a loose tolerance costs
-    // less in rays than in caps (at 1e-1, 64 rays against 3,600 caps on bench/soft_vs_peers.sh's
-    // molecule); a protein's surface point at the default 1e-3 keeps its few hundred caps.
-    const double most_tests = std::max(64.0, 2.0 * min_samples_to_see(tolerance_));
+    // the rays a plain Monte Carlo estimate would need at the largest variance (1/4) to reach the
+    // tolerance at the interval's confidence, (t / 2E)^2: a ball costs less than a ray, and the
+    // sampling path, stratified, needs fewer. So only where sampling surely converges, and soon,
+    // does a point give up its hard bound: a crowd of thousands of far atoms at a loose tolerance
+    // (at 1e-1, 612 tests against 3,600 caps on bench/soft_vs_peers.sh's molecule, where 64 to
+    // 256 rays do); at 1e-2 and below (61,000 tests) every point keeps its caps.
+    const double plain_rays = std::pow(kStudent99 / (2.0 * tolerance_), 2);
+    const double most_tests = 2.0 * std::max(plain_rays, min_samples_to_see(tolerance_));
     double tests = 0.0;
     bool too_many = false;
     // A node whose bounding ball's cap lies in covered cells holds nothing more to close.
@@ -327,8 +332,6 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
     done = false;
     return mean;
 }
-
-constexpr double kStudent99 = 3.4995;  // two-sided 99% quantile of Student's t, 7 dof
 
 }  // namespace
 

@@ -7,8 +7,9 @@
 // with a deterministic bound. The spheres are gathered nearest first; a cap (or a hierarchy
 // node's) that lies in directions one nearer cap already closes is dropped (CoveredCells), which
 // leaves the union as it was. A point whose gathering would test more balls than twice the
-// sampling path's fewest rays (a crowd of far atoms at a loose tolerance) is sampled instead:
-// there, rays cost less than caps. Everything else (meshes, boxes, see-through surfaces, gas as an
+// rays a plain Monte Carlo estimate needs at the worst variance, (t_99 / 2E)^2, is sampled
+// instead (a crowd of far atoms at a loose tolerance): there, rays cost less than caps, and
+// surely converge. Everything else (meshes, boxes, see-through surfaces, gas as an
 // attenuator, an occluder straddling a sphere light) takes the sampling path: shadow rays along
 // one scrambled (0,2)-sequence per point (render/sobol.h), read as R = 8 replicas of 2^k points
 // each (k = 1 .. 14), stopping once the Student-t 99% interval of the replicas' means is within
