@@ -86,6 +86,45 @@ struct Cell {
     bool operator<(const Cell& o) const { return error() < o.error(); }
 };
 
+// The caps that meet the region, in the frame of its axis, sorted by azimuth, each with the rings
+// it meets; false when one covers the whole region.
+bool ring_caps(const Vec3& axis, double theta_max, const RingMap& map,
+               const std::vector<DirectionCap>& caps, std::vector<RingCap>& rc) {
+    const double cos_max = std::cos(theta_max), sin_max = std::sin(theta_max);
+    // A frame about the axis for the azimuths.
+    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
+    const Vec3 t = glm::normalize(glm::cross(helper, axis));
+    const Vec3 b = glm::cross(axis, t);
+    rc.clear();
+    for (const DirectionCap& c : caps) {
+        const double cos_c = glm::dot(c.axis, axis);
+        const double sin_c = glm::length(glm::cross(c.axis, axis));
+        // Misses the region: the angle to the axis is at least theta_max + half angle.
+        const double cos_sum = cos_max * c.cos_half - sin_max * c.sin_half;
+        const bool sum_below_pi = sin_max * c.cos_half + cos_max * c.sin_half > 0.0;
+        if (sum_below_pi && cos_c <= cos_sum) continue;
+        // Covers the region: angle + theta_max <= half angle.
+        if (cos_c * cos_max - sin_c * sin_max >= c.cos_half &&
+            sin_c * cos_max + cos_c * sin_max >= 0.0)
+            return false;
+        double phi = std::atan2(glm::dot(c.axis, b), glm::dot(c.axis, t));
+        if (phi < 0.0) phi += 2.0 * kPi;
+        const double peak = c.cos_half > 0.0 ? cos_c / c.cos_half : 2.0;
+        // The rings it meets: polar angles within its half-angle of its axis's, widened by far
+        // more than their rounding so that a cap left out of a cell surely closes nothing on it.
+        constexpr double kRingMargin = 1e-9;
+        const double theta = std::atan2(sin_c, cos_c);
+        const double a = std::acos(std::clamp(c.cos_half, -1.0, 1.0));
+        const double t0 = theta - a - kRingMargin, t1 = theta + a + kRingMargin;
+        const double u_lo = t0 <= 0.0 ? 0.0 : (t0 >= theta_max ? 1.0 : map.u_of(t0));
+        const double u_hi = t1 >= theta_max ? 1.0 : map.u_of(t1);
+        rc.push_back(RingCap{phi, cos_c, sin_c, c.cos_half, peak, u_lo, u_hi});
+    }
+    std::sort(rc.begin(), rc.end(),
+              [](const RingCap& a, const RingCap& b) { return a.phi < b.phi; });
+    return true;
+}
+
 }  // namespace
 
 bool sphere_cap(const Vec3& p, const Vec3& c, double r, double reach, DirectionCap& cap,
@@ -233,48 +272,16 @@ void CoveredCells::mark(const DirectionCap& cap) {
 OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
                      const std::vector<DirectionCap>& caps, double tolerance, CapScratch& scratch) {
     OpenShare out;
-    const double cos_max = std::cos(theta_max), sin_max = std::sin(theta_max);
-    // A frame about the axis for the azimuths.
-    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
-    const Vec3 t = glm::normalize(glm::cross(helper, axis));
-    const Vec3 b = glm::cross(axis, t);
-    std::vector<RingCap>& rc = scratch.caps;
-    rc.clear();
-    for (const DirectionCap& c : caps) {
-        const double cos_c = glm::dot(c.axis, axis);
-        const double sin_c = glm::length(glm::cross(c.axis, axis));
-        // Misses the region: the angle to the axis is at least theta_max + half angle.
-        const double cos_sum = cos_max * c.cos_half - sin_max * c.sin_half;
-        const bool sum_below_pi = sin_max * c.cos_half + cos_max * c.sin_half > 0.0;
-        if (sum_below_pi && cos_c <= cos_sum) continue;
-        // Covers the region: angle + theta_max <= half angle.
-        if (cos_c * cos_max - sin_c * sin_max >= c.cos_half &&
-            sin_c * cos_max + cos_c * sin_max >= 0.0) {
-            out.value = 0.0;
-            return out;
-        }
-        double phi = std::atan2(glm::dot(c.axis, b), glm::dot(c.axis, t));
-        if (phi < 0.0) phi += 2.0 * kPi;
-        const double peak = c.cos_half > 0.0 ? cos_c / c.cos_half : 2.0;
-        rc.push_back(RingCap{phi, cos_c, sin_c, c.cos_half, peak, 0.0, 1.0});
-    }
-    if (rc.empty()) return out;
-    std::sort(rc.begin(), rc.end(),
-              [](const RingCap& a, const RingCap& b) { return a.phi < b.phi; });
-
+    const double sin_max = std::sin(theta_max);
     const RingMap map{measure, measure == CapMeasure::Cosine
                                    ? sin_max * sin_max
                                    : 2.0 * std::pow(std::sin(0.5 * theta_max), 2)};
-    // The rings each cap meets: polar angles within its half-angle of its axis's, widened by far
-    // more than their rounding so that a cap left out of a cell surely closes nothing on it.
-    constexpr double kRingMargin = 1e-9;
-    for (RingCap& c : rc) {
-        const double t = std::atan2(c.sin_c, c.cos_c);
-        const double a = std::acos(std::clamp(c.cos_a, -1.0, 1.0));
-        const double t0 = t - a - kRingMargin, t1 = t + a + kRingMargin;
-        c.u_lo = t0 <= 0.0 ? 0.0 : (t0 >= theta_max ? 1.0 : map.u_of(t0));
-        c.u_hi = t1 >= theta_max ? 1.0 : map.u_of(t1);
+    std::vector<RingCap>& rc = scratch.caps;
+    if (!ring_caps(axis, theta_max, map, caps, rc)) {
+        out.value = 0.0;
+        return out;
     }
+    if (rc.empty()) return out;
     std::vector<uint32_t>& entry_cap = scratch.entry_cap;
     std::vector<double>&beta0 = scratch.entry_beta0, &beta1 = scratch.entry_beta1;
     entry_cap.clear();
