@@ -46,7 +46,7 @@ TEST(ParallelRead, EveryCorpusFileReadsAsWithOneThread) {
 // declared before later pieces, a string and a comment that span a cut, and a syntax error in a
 // later piece, which must be reported at its own line:col as a single-thread read reports it.
 TEST(ParallelRead, CutsThatNeedTheWholeFileReadAsWithOneThread) {
-    const fs::path dir = fs::temp_directory_path() / "vrmlray_parallel_read";
+    const fs::path dir = test::temp_path("vrmlray_parallel_read");
     fs::create_directories(dir);
     const std::string atoms =
         "Transform { translation 1 2 3 children Shape { geometry Sphere { radius 0.5 } } }\n";
@@ -79,7 +79,7 @@ TEST(ParallelRead, CutsThatNeedTheWholeFileReadAsWithOneThread) {
 
 TEST(ParallelRead, AMoleculeExportIsReadInPieces) {
     // The PyMOL pattern: every atom a top-level Transform, so every piece is usable.
-    const fs::path file = fs::temp_directory_path() / "vrmlray_parallel_molecule.wrl";
+    const fs::path file = test::temp_path("vrmlray_parallel_molecule").string() + ".wrl";
     {
         std::ofstream out(file);
         out << "#VRML V2.0 utf8\nViewpoint { position 0 0 40 }\n";

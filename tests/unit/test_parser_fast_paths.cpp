@@ -16,6 +16,7 @@
 #include "parser/load.h"
 #include "parser/pool.h"
 #include "parser/tree_compare.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -260,8 +261,10 @@ TEST(ParserFastPaths, LineAndColumnFromTheSparseIndex) {
     EXPECT_EQ(tiny.line_text(0, 1), "");
 }
 
+// Per process (temp_path.h): two runs of this test at once (two checkouts' test commands) once
+// shared these files, and one read the other's half-written or removed scene.
 fs::path temp_path(const std::string& name) {
-    return fs::temp_directory_path() / ("vrmlray_fast_" + name);
+    return vr::test::temp_path("vrmlray_fast").string() + "_" + name;  // the name's extension last
 }
 
 TEST(ParserFastPaths, MappedTextReadsTheSameAfterItsPagesAreGivenBack) {

@@ -8,6 +8,7 @@
 #include "parser/load.h"
 #include "parser/registry.h"
 #include "parser/writer.h"
+#include "temp_path.h"
 
 namespace vr {
 namespace {
@@ -23,8 +24,7 @@ std::string errors(const LoadedScene& s) { return s.diagnostics.format(s.sources
 // A folder of its own for tests that write files.
 struct TempDir {
     fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() / ("vrmlray_test_" + name)) {
+    explicit TempDir(const std::string& name) : path(test::temp_path("vrmlray_test_" + name)) {
         fs::remove_all(path);
         fs::create_directories(path);
     }
