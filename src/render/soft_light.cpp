@@ -91,10 +91,8 @@ struct Cell {
 bool ring_caps(const Vec3& axis, double theta_max, const RingMap& map,
                const std::vector<DirectionCap>& caps, std::vector<RingCap>& rc) {
     const double cos_max = std::cos(theta_max), sin_max = std::sin(theta_max);
-    // A frame about the axis for the azimuths.
-    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
-    const Vec3 t = glm::normalize(glm::cross(helper, axis));
-    const Vec3 b = glm::cross(axis, t);
+    Vec3 t, b;
+    axis_frame(axis, t, b);
     rc.clear();
     for (const DirectionCap& c : caps) {
         const double cos_c = glm::dot(c.axis, axis);
@@ -183,9 +181,7 @@ const SectorTable kSectorTable;
 
 void CoveredCells::reset(const Vec3& axis, double theta_max) {
     axis_ = axis;
-    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
-    tx_ = glm::normalize(glm::cross(helper, axis));
-    ty_ = glm::cross(axis, tx_);
+    axis_frame(axis, tx_, ty_);
     std::fill(std::begin(marked_), std::end(marked_), uint64_t(0));
     full_rings_ = 0;
     const double dtheta = theta_max / kRings;
@@ -237,16 +233,25 @@ CoveredCells::Span CoveredCells::span_of(const DirectionCap& cap) const {
     return span;
 }
 
-bool CoveredCells::covers(const DirectionCap& cap) const {
-    if (full()) return true;
-    const Span span = span_of(cap);
+bool CoveredCells::covers(const DirectionCap& cap) const { return full() || covers(span_of(cap)); }
+
+bool CoveredCells::covers(const Span& span) const {
     for (int i = span.ring0; i <= span.ring1; ++i)
         if ((marked_[i] & span.sectors) != span.sectors) return false;
     return true;
 }
 
-void CoveredCells::mark(const DirectionCap& cap) {
+void CoveredCells::mark(const DirectionCap& cap) { mark(cap, span_of(cap)); }
+
+bool CoveredCells::add(const DirectionCap& cap) {
+    if (full()) return false;
     const Span span = span_of(cap);
+    if (covers(span)) return false;
+    mark(cap, span);
+    return true;
+}
+
+void CoveredCells::mark(const DirectionCap& cap, const Span& span) {
     for (int i = span.ring0; i <= span.ring1; ++i) {
         uint64_t open = span.sectors & ~marked_[i];
         if (open == 0) continue;

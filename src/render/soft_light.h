@@ -13,6 +13,7 @@
 // every cell's error is at most tolerance times its measure and the total error at most the
 // tolerance: a bound that holds for every point, not a confidence level (up to rounding, ~1e-14).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -26,6 +27,14 @@ struct DirectionCap {
     double cos_half = 1.0;
     double sin_half = 0.0;
 };
+
+// A right-handed orthonormal frame (tx, ty, axis) about the unit `axis`: the azimuths of the cap
+// integral, its cell grid and the sampling path are all measured in it.
+inline void axis_frame(const Vec3& axis, Vec3& tx, Vec3& ty) {
+    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
+    tx = glm::normalize(glm::cross(helper, axis));
+    ty = glm::cross(axis, tx);
+}
 
 // How a region's directions are weighted.
 enum class CapMeasure : uint8_t {
@@ -80,6 +89,8 @@ class CoveredCells {
     bool covers(const DirectionCap& cap) const;
     // Marks the cells that `cap` holds whole.
     void mark(const DirectionCap& cap);
+    // covers() and mark() in one: false (and nothing marked) when `cap` adds nothing.
+    bool add(const DirectionCap& cap);
     // Every cell is marked: the whole region is closed.
     bool full() const { return full_rings_ == kRings; }
 
@@ -90,6 +101,8 @@ class CoveredCells {
         Vec3 local;                 // the cap's axis in the region's frame (z: the region's axis)
     };
     Span span_of(const DirectionCap& cap) const;
+    bool covers(const Span& span) const;
+    void mark(const DirectionCap& cap, const Span& span);
     Vec3 axis_, tx_, ty_;
     double dtheta_ = 0.0;
     uint64_t marked_[kRings] = {};

@@ -208,9 +208,8 @@ bool SoftLighting::exact_share(const Vec3& p, const Vec3& axis, double theta_max
         }
         // The sphere the point lies on closes exactly the half space below its tangent plane.
         if (skip_own && cap.cos_half == 0.0 && glm::dot(cap.axis, axis) < -1.0 + 1e-9) return true;
-        if (covered.covers(cap)) return true;  // behind nearer spheres
+        if (!covered.add(cap)) return true;  // behind nearer spheres
         caps.push_back(cap);
-        covered.mark(cap);
         return !covered.full();
     };
     occluders_.visit_nearest(p, axis, cos_max, sin_max, reach, pass, visit);
@@ -274,9 +273,8 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
     const double scale = measure == CapMeasure::Cosine
                              ? std::pow(std::sin(theta_max), 2)
                              : 2.0 * std::pow(std::sin(0.5 * theta_max), 2);
-    const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
-    const Vec3 tx = glm::normalize(glm::cross(helper, axis));
-    const Vec3 ty = glm::cross(axis, tx);
+    Vec3 tx, ty;
+    axis_frame(axis, tx, ty);
     const ScrambledSobol2D sequence(key);
     // A block's points by box of its grid (each box holds one), so that rays are traced row by row:
     // neighbouring directions share their blockers (the shadow rays' hint). Per thread, reused

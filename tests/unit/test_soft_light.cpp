@@ -141,6 +141,17 @@ struct Cluster {
     Accel accel;
 };
 
+// A(p) under a white sky at tolerance `e` (and `reach`: --ao-distance), with the paths it took.
+double sky_at(const Cluster& c, const Vec3& p, const Vec3& n, double e, SoftLightCounts& counts,
+              double reach = kInf) {
+    RenderOptions o;
+    o.sky = Vec3(1.0);
+    o.light_tolerance = e;
+    o.ao_distance = reach;
+    const SoftLighting soft(c.scene, c.accel, nullptr, o);
+    return soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+}
+
 // A random cap: axis anywhere on the sphere, half-angle up to `max_half` (a few half spaces).
 DirectionCap random_cap(std::mt19937& rng, double max_half) {
     std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -154,8 +165,19 @@ DirectionCap random_cap(std::mt19937& rng, double max_half) {
     return cap;
 }
 
-bool in_cap(const DirectionCap& cap, const Vec3& w) {
-    return glm::dot(w, cap.axis) >= cap.cos_half;
+// Whether unit w lies in one of `caps` (each widened by `slack` in cosine).
+bool in_any(const std::vector<DirectionCap>& caps, const Vec3& w, double slack) {
+    for (const DirectionCap& c : caps)
+        if (glm::dot(w, c.axis) >= c.cos_half - slack) return true;
+    return false;
+}
+
+// The direction at polar angle acos(cos_t) and azimuth phi about unit `axis`.
+Vec3 direction_about(const Vec3& axis, double cos_t, double phi) {
+    Vec3 tx, ty;
+    axis_frame(axis, tx, ty);
+    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+    return cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
 }
 
 // The cull's promise: a cap that covers() reports hidden adds no direction of the region to the
@@ -195,37 +217,23 @@ TEST(SoftLight, CoveredCellsDropOnlyCapsInsideTheMarkedOnes) {
             }
             dropped_total += int(dropped.size());
             // Directions in each dropped cap, most of them on its rim (where a cap sticks out of
-            // the marked ones first), kept if they lie in the region.
+            // the marked ones first), kept if they lie in the region. A rim point may sit on a
+            // kept cap's rim too: 1e-12 of rounding slack.
             for (const DirectionCap& cap : dropped) {
-                const Vec3 helper = std::abs(cap.axis.x) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-                const Vec3 tx = glm::normalize(glm::cross(helper, cap.axis));
-                const Vec3 ty = glm::cross(cap.axis, tx);
                 for (int i = 0; i < 400; ++i) {
                     const double f = i % 4 == 0 ? uni(rng) : 1.0;
-                    const double cos_t = 1.0 - f * (1.0 - cap.cos_half);
-                    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-                    const double phi = 2.0 * kPi * uni(rng);
-                    const Vec3 w =
-                        cos_t * cap.axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
+                    const Vec3 w = direction_about(cap.axis, 1.0 - f * (1.0 - cap.cos_half),
+                                                   2.0 * kPi * uni(rng));
                     if (glm::dot(w, axis) < std::cos(theta_max)) continue;  // outside the region
-                    bool in_kept = false;
-                    // A rim point may sit on a kept cap's rim too: 1e-12 of rounding slack.
-                    for (const DirectionCap& c : kept)
-                        in_kept = in_kept || glm::dot(w, c.axis) >= c.cos_half - 1e-12;
-                    ASSERT_TRUE(in_kept) << "theta_max " << theta_max << " trial " << trial;
+                    ASSERT_TRUE(in_any(kept, w, 1e-12))
+                        << "theta_max " << theta_max << " trial " << trial;
                 }
             }
-            const Vec3 helper = std::abs(axis.x) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-            const Vec3 tx = glm::normalize(glm::cross(helper, axis)), ty = glm::cross(axis, tx);
             if (covered.full()) {  // every direction closed: the kept caps must say so
                 for (int i = 0; i < 2000; ++i) {
                     const double cos_t = 1.0 - uni(rng) * (1.0 - std::cos(theta_max));
-                    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-                    const double phi = 2.0 * kPi * uni(rng);
-                    const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * tx + std::sin(phi) * ty);
-                    bool in_kept = false;
-                    for (const DirectionCap& c : kept) in_kept = in_kept || in_cap(c, w);
-                    ASSERT_TRUE(in_kept);
+                    ASSERT_TRUE(
+                        in_any(kept, direction_about(axis, cos_t, 2.0 * kPi * uni(rng)), 0.0));
                 }
             }
         }
@@ -353,13 +361,8 @@ TEST(SoftLight, SkyLightOnSphereClustersIsWithinToleranceOfBruteForce) {
                 const Reference ref =
                     brute_force(c.accel, p, n, n, 0.5 * kPi, true, reach, Vec3(0.0), 0.0);
                 for (double e : kTolerances) {
-                    RenderOptions o;
-                    o.sky = Vec3(1.0);
-                    o.light_tolerance = e;
-                    o.ao_distance = reach;
-                    const SoftLighting soft(c.scene, c.accel, nullptr, o);
                     SoftLightCounts counts;
-                    const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+                    const double a = sky_at(c, p, n, e, counts, reach);
                     EXPECT_EQ(counts.exact_points, 1u);  // spheres only: the hard-bound path
                     // The reference's own error: 4 standard errors of its 4-pattern mean.
                     EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error)
@@ -386,12 +389,8 @@ TEST(SoftLight, SkyLightInALargeClusterIsWithinToleranceOfBruteForce) {
         const Reference ref = brute_force(c.accel, p, n, n, 0.5 * kPi, true, kInf, Vec3(0.0), 0.0);
         if (!(ref.value > 0.02 && ref.value < 0.98)) continue;  // a point in the crowd's shade
         for (double e : kTolerances) {
-            RenderOptions o;
-            o.sky = Vec3(1.0);
-            o.light_tolerance = e;
-            const SoftLighting soft(c.scene, c.accel, nullptr, o);
             SoftLightCounts counts;
-            const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+            const double a = sky_at(c, p, n, e, counts);
             EXPECT_EQ(counts.exact_points, 1u);
             EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "sphere " << s << " E " << e;
         }
@@ -420,12 +419,8 @@ TEST(SoftLight, CrowdOfFarAtomsIsSampledWhenLooseAndIntegratedWhenTight) {
     EXPECT_GT(ref.value, 0.1);  // partly closed: neither trivial case
     EXPECT_LT(ref.value, 0.9);
     for (double e : {1e-1, 3e-3, 1e-3}) {
-        RenderOptions o;
-        o.sky = Vec3(1.0);
-        o.light_tolerance = e;
-        const SoftLighting soft(c.scene, c.accel, nullptr, o);
         SoftLightCounts counts;
-        const double a = soft.sky_visibility(p, Vec3(1e-15), n, n, counts);
+        const double a = sky_at(c, p, n, e, counts);
         EXPECT_EQ(counts.sampled_points, e > 1e-2 ? 1u : 0u) << "E " << e;
         EXPECT_EQ(counts.exact_points, e > 1e-2 ? 0u : 1u) << "E " << e;
         EXPECT_NEAR(a, ref.value, e + 4.0 * ref.standard_error) << "E " << e;
