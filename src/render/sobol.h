@@ -85,6 +85,25 @@ class ScrambledSobol2D {
         v = double(owen_scramble(b, seed_v_)) * 0x1.0p-32;
     }
 
+    // Points first .. first + count - 1 (count a power of 2, first a multiple of it) as
+    // emit(u, v), in Gray-code order of their index's low bits: each point's unscrambled digits
+    // differ from the last's in one bit, so a point costs one xor a dimension and its scrambles
+    // (the sequence is linear: the digits of first | j are those of first xor those of j).
+    template <class Emit>
+    void block(uint32_t first, uint32_t count, Emit&& emit) const {
+        uint32_t a, b;
+        sobol_2d_bits(first, a, b);
+        for (uint32_t j = 0; j < count; ++j) {
+            if (j > 0) {
+                const int k = __builtin_ctz(j);  // gray(j) = gray(j - 1) xor 2^k
+                a ^= 0x80000000u >> k;
+                b ^= sobol_detail::kSecondDimension[size_t(k)];
+            }
+            emit(double(owen_scramble(a, seed_u_)) * 0x1.0p-32,
+                 double(owen_scramble(b, seed_v_)) * 0x1.0p-32);
+        }
+    }
+
   private:
     uint32_t seed_u_, seed_v_;
 };

