@@ -168,7 +168,8 @@ class Builder {
         if (!degenerate && depth < kMaxDepth) {
             double split_cost;
             axis = split_sah(range, left, right, split_cost);
-            if (axis >= 0 && n <= uint32_t(options_.max_leaf_size) && double(n) <= split_cost)
+            if (axis >= 0 && n <= uint32_t(options_.max_leaf_size) &&
+                range_cost(range) <= split_cost)
                 return make_leaf(node, range);
         }
         if (axis < 0) {
@@ -302,6 +303,13 @@ class Builder {
         node.unused = 0;
     }
 
+    // What testing every primitive of `range` costs, in sphere tests.
+    double range_cost(const Range& range) const {
+        double c = 0.0;
+        for (uint32_t i = range.begin; i < range.end; ++i) c += boxes_[i].cost;
+        return c;
+    }
+
     static BvhNode make_leaf(BvhNode& node, const Range& range) {
         node.offset = range.begin;
         node.count = uint16_t(range.end - range.begin);
@@ -310,12 +318,13 @@ class Builder {
 
     // Binned SAH. Large ranges are binned along the axis where the centroids spread most (as in
     // Wald's builder), small ones along all three. Returns the chosen axis (or -1 when no split
-    // separates the boxes), partitions the range and describes both halves; `cost` is in primitive
-    // tests.
+    // separates the boxes), partitions the range and describes both halves; `cost` is in sphere
+    // tests (BuildBox::cost).
     int split_sah(const Range& range, Range& left, Range& right, double& cost) {
         struct Bin {  // trivial, so only the nb bins in use get initialised
             Box4Raw box;
             uint32_t count;
+            double cost;  // of the primitives, in sphere tests
         };
         const uint32_t n = range.end - range.begin;
         // Small ranges get fewer bins: setting up and sweeping the bins then costs no more than
@@ -335,6 +344,7 @@ class Builder {
             for (int i = 0; i < nb; ++i) {
                 bins[k][i].box = Box4Raw::empty_box();
                 bins[k][i].count = 0;
+                bins[k][i].cost = 0.0;
             }
         }
         const f4 c_lo = range.centroids.lo;
@@ -346,12 +356,14 @@ class Builder {
         const i4 zero = {0, 0, 0, 0}, last = {nb - 1, nb - 1, nb - 1, nb - 1};
         for (uint32_t i = range.begin; i < range.end; ++i) {
             const Box4 b = load(boxes_[i]);
+            const double box_cost = boxes_[i].cost;
             i4 bin = __builtin_convertvector((centroid2(b) - c_lo) * scale, i4);
             bin = bin < zero ? zero : bin;
             bin = bin > last ? last : bin;
             for (int k = axis_first; k <= axis_last; ++k) {
                 Bin& x = bins[k][bin[k]];
                 x.count++;
+                x.cost += box_cost;
                 x.box.extend(b);
             }
         }
@@ -360,24 +372,28 @@ class Builder {
         double best = INFINITY;
         for (int k = axis_first; k <= axis_last; ++k) {
             if (scale[k] == 0.0f) continue;
-            double right_area[kBins];
+            double right_area[kBins], right_cost[kBins];
             uint32_t right_count[kBins];
             Box4 acc;
             uint32_t cnt = 0;
+            double cost_sum = 0.0;
             for (int i = nb - 1; i > 0; --i) {
                 acc.extend(bins[k][i].box.box());
                 cnt += bins[k][i].count;
+                cost_sum += bins[k][i].cost;
                 right_area[i] = acc.half_area();
                 right_count[i] = cnt;
+                right_cost[i] = cost_sum;
             }
             acc = Box4();
             cnt = 0;
+            cost_sum = 0.0;
             for (int i = 0; i < nb - 1; ++i) {
                 acc.extend(bins[k][i].box.box());
                 cnt += bins[k][i].count;
-                const uint32_t rc = right_count[i + 1];
-                if (cnt == 0 || rc == 0) continue;
-                const double c = cnt * acc.half_area() + rc * right_area[i + 1];
+                cost_sum += bins[k][i].cost;
+                if (cnt == 0 || right_count[i + 1] == 0) continue;
+                const double c = cost_sum * acc.half_area() + right_cost[i + 1] * right_area[i + 1];
                 if (c < best) {
                     best = c;
                     best_axis = k;
@@ -386,7 +402,8 @@ class Builder {
             }
         }
         if (best_axis < 0) return -1;
-        cost = options_.traversal_cost + (parent_area > 0.0 ? best / parent_area : double(n));
+        cost =
+            options_.traversal_cost + (parent_area > 0.0 ? best / parent_area : range_cost(range));
         const int k = best_axis;
         const float lo_k = c_lo[k], scale_k = scale[k];
         auto goes_left = [&](const BuildBox& b) {

@@ -27,7 +27,9 @@ struct BuildBox {
     float lo[3];
     uint32_t id;
     float hi[3];
-    uint32_t unused;
+    // What testing the primitive costs the surface area heuristic, in sphere tests (1 from
+    // make_build_box): a leaf of costly primitives is split sooner.
+    float cost;
 };
 static_assert(sizeof(BuildBox) == 32);
 // Filled by parallel loops after resize(): see core/no_fill.h.
@@ -78,8 +80,8 @@ struct Bvh {
 struct BvhBuildOptions {
     int threads = 1;        // subtrees of 16k boxes or more are tasks for up to this many threads
     int max_leaf_size = 4;  // a leaf of more boxes is made only when all centroids coincide
-    // SAH cost of an interior node in primitive tests: a binary node tests two boxes, each about
-    // one primitive test.
+    // SAH cost of an interior node in sphere tests (BuildBox::cost): a binary node tests two boxes,
+    // each about one primitive test.
     double traversal_cost = 2.0;
 };
 
@@ -117,7 +119,7 @@ inline BuildBox make_build_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
         b.hi[k] = float_up(hi[k]);
     }
     b.id = id;
-    b.unused = 0;
+    b.cost = 1.0f;
     return b;
 }
 

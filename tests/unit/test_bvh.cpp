@@ -99,6 +99,36 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
 // Byte for byte, whatever the thread count and however the threads' tasks interleave: a uniform
 // cloud, and a lopsided one (a dense cluster beside a sparse halo) whose uneven splits near the
 // root leave one thread with most of the work unless it is shared out in tasks.
+// The leaf holding box `id`: its primitive count.
+int leaf_size_of(const Bvh& bvh, uint32_t id) {
+    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+        const BvhNode& n = bvh.nodes[i];
+        if (i == 1 || n.count == 0) continue;
+        for (uint32_t k = n.offset; k < n.offset + n.count; ++k)
+            if (bvh.order[k] == id) return n.count;
+    }
+    return 0;
+}
+
+TEST(Bvh, CostlyPrimitivesAreSplitFromCheapOnes) {
+    // Four boxes in a row, close together: as four sphere tests they are one leaf (testing them
+    // costs 4, less than a split: the traversal cost 4 and more). When box 3 costs 16 (a bond
+    // cylinder, Accel's kQuadricCost), testing the leaf costs 19 and a split is cheaper: box 3
+    // gets a leaf of its own. Shadow rays among the S2 molecule's bonds then test fewer bonds.
+    auto build = [](float cost_of_3) {
+        BuildBoxes boxes;
+        for (uint32_t i = 0; i < 4; ++i) {
+            boxes.push_back(make_build_box(Vec3(1.1 * i, 0, 0), Vec3(1.1 * i + 1.0, 1, 1), i));
+            if (i == 3) boxes.back().cost = cost_of_3;
+        }
+        BvhBuildOptions options;
+        options.traversal_cost = 4.0;  // as Accel builds
+        return build_bvh(boxes, options);
+    };
+    EXPECT_EQ(leaf_size_of(build(1.0f), 3), 4);
+    EXPECT_EQ(leaf_size_of(build(16.0f), 3), 1);
+}
+
 TEST(Bvh, ParallelBuildEqualsSerialBuild) {
     for (int lopsided = 0; lopsided < 2; ++lopsided) {
         Rng rng(2 + uint64_t(lopsided));
