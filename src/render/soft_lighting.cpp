@@ -306,7 +306,7 @@ void order_round(const ScrambledSobol2D& sequence, int first, int last, uint32_t
 template <class Value, class F, class Converged>
 Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, uint64_t key,
                       double min_samples, F&& f, Converged&& converged, bool& done) {
-    constexpr int kMostReplicas = 16, kLargestBlockBits = 14;
+    constexpr int kMostReplicas = 12, kLargestBlockBits = 14;
     static_assert(uint64_t(8) << kLargestBlockBits == kSoftLightMaxRays);
     const double scale = measure == CapMeasure::Cosine
                              ? std::pow(std::sin(theta_max), 2)
