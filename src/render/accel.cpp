@@ -512,7 +512,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     uint32_t unused = 0;
     uint32_t& found = blocker != nullptr ? *blocker : unused;
     if (spheres_only_ && !any_transparent_) {
-        traverse_wide_bvh(
+        traverse_wide_bvh</*kNearFirst=*/false>(
             bvh_, ray, t_max,
             [&](uint32_t first, uint32_t count, double&) {
                 for (uint32_t i = first; i < first + count; ++i) {
@@ -531,7 +531,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     }
     if (!any_transparent_) {
         Hit hit;
-        traverse_wide_bvh(
+        traverse_wide_bvh</*kNearFirst=*/false>(
             bvh_, ray, t_max,
             [&](uint32_t first, uint32_t count, double&) {
                 for (uint32_t i = first; i < first + count; ++i) {
@@ -547,6 +547,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
             prefetch);
         return result;
     }
+    // Front to back here: the product of the transparencies rounds in the order of the crossings.
     traverse_wide_bvh(
         bvh_, ray, t_max,
         [&](uint32_t first, uint32_t count, double&) {
