@@ -263,6 +263,7 @@ namespace {
 struct RoundPoint {
     double u, v;
     int block;
+    uint32_t box;  // in the round's grid
 };
 void order_round(const ScrambledSobol2D& sequence, int first, int last, uint32_t block,
                  std::vector<RoundPoint>& points, std::vector<RoundPoint>& ordered,
@@ -274,16 +275,17 @@ void order_round(const ScrambledSobol2D& sequence, int first, int last, uint32_t
     box_start.assign(size_t(nu) * size_t(nv) + 1, 0);
     auto box_of = [&](double u, double v) {
         const int row = std::min(int(v * nv), nv - 1), col = std::min(int(u * nu), nu - 1);
-        return size_t(row) * size_t(nu) + size_t(row % 2 ? nu - 1 - col : col);
+        return uint32_t(row * nu + (row % 2 ? nu - 1 - col : col));
     };
     for (int r = first; r < last; ++r)
         sequence.block(uint32_t(r) * block, block, [&](double u, double v) {
-            points.push_back({u, v, r});
-            ++box_start[box_of(u, v) + 1];
+            const uint32_t box = box_of(u, v);
+            points.push_back({u, v, r, box});
+            ++box_start[box + 1];
         });
     for (size_t b = 1; b < box_start.size(); ++b) box_start[b] += box_start[b - 1];
     ordered.resize(points.size());
-    for (const RoundPoint& p : points) ordered[box_start[box_of(p.u, p.v)]++] = p;
+    for (const RoundPoint& p : points) ordered[box_start[p.box]++] = p;
 }
 
 // The mean of f(w) over the cone about `axis` (uniform in its measure) from R replicas, each a

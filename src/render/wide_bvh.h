@@ -168,9 +168,10 @@ class WideBoxTest {
 //
 // Any-hit queries whose answer does not depend on which hit is found (an opaque shadow ray: 0 or
 // 1) pass kNearFirst = false: the children hit are then visited in lane order, unsorted. Sorting
-// did not find blockers sooner: without it the S3 render phase (1M spheres, a sun's shadow rays)
-// took 0.321 s instead of 0.341, and the S2 molecule's sky light 0.683 s instead of 0.776 (3 runs
-// each, 2026-12-05), the same images.
+// did not find blockers sooner: without it the S3 render phase (1M spheres, a sun's shadow rays, 2
+// threads) took 0.315 s instead of 0.337 (median of 7 alternating pairs), and the S2 molecule's sky
+// light at 480x270 on one thread 0.682 s instead of 0.774 (medians of 3), 2026-12-05; the same
+// images.
 template <bool kNearFirst = true, class LeafFn, class PrefetchFn = NoLeafPrefetch>
 inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max, LeafFn&& leaf,
                               PrefetchFn&& prefetch_leaf = NoLeafPrefetch{}) {

@@ -63,8 +63,8 @@ TEST(Sobol, EveryAlignedBlockIsANetAfterScrambling) {
 
 TEST(Sobol, BlockYieldsTheBlocksPointsInGrayCodeOrder) {
     // The sampling path draws a block's points with block() (one xor a point): the same points as
-    // point(i) over the block, bit for bit, each once; blocks 8 .. 11 (a 12-replica round) and
-    // 12 .. 15 after 16 blocks of the smaller size included.
+    // point(i) over the block, bit for bit, each once; blocks 8 .. 11 (a 12-block round's last
+    // four) and 15 included.
     for (uint64_t key : {0ull, 0x9e3779b97f4a7c15ull}) {
         const ScrambledSobol2D sequence(key);
         for (int k = 0; k <= 10; ++k) {
