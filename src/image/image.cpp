@@ -46,9 +46,11 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <type_traits>
 
 #include "image/exr.h"
 #include "image/oiio_module.h"
+#include "image/output_file.h"
 #include "image/png.h"
 #include "image/texture_file.h"
 
@@ -195,10 +197,22 @@ void linear8_avx2(const float* in, size_t count, int nchannels, T* out) {
         T* to = out + first * size_t(nchannels);
         if (nchannels == 4) {
             std::copy_n(all, n * 4, to);
-        } else {
-            for (size_t p = 0; p < n; ++p)
-                for (int c = 0; c < 3; ++c) to[p * 3 + c] = T(all[p * 4 + c]);
+            continue;
         }
+        size_t p = 0;
+        if constexpr (std::is_same_v<T, uint8_t>) {
+            // RGBA -> RGB four pixels a shuffle. Each 16-byte store ends in 4 bytes that the next
+            // store (or the loop after) overwrites, so it stops while 2 pixels remain.
+            const __m128i pick =
+                _mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1);
+            for (; p + 6 <= n; p += 4)
+                _mm_storeu_si128(
+                    reinterpret_cast<__m128i*>(to + p * 3),
+                    _mm_shuffle_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(all + p * 4)),
+                                     pick));
+        }
+        for (; p < n; ++p)
+            for (int c = 0; c < 3; ++c) to[p * 3 + c] = T(all[p * 4 + c]);
     }
 }
 #endif
@@ -301,11 +315,8 @@ std::vector<float> to_float_samples(const Image& image, int nchannels, bool clam
 // the next call.
 template <class RowsFn>
 bool write_ppm(const std::string& path, int width, int height, RowsFn&& rows, std::string& error) {
-    FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) {
-        error = std::strerror(errno);
-        return false;
-    }
+    FILE* f = open_output(path, error);
+    if (!f) return false;
     const size_t row_bytes = size_t(width) * 3;
     const size_t block = std::max<size_t>(1, (size_t(64) << 10) / row_bytes);  // rows in ~64 KiB
     bool written = std::fprintf(f, "P6\n%d %d\n255\n", width, height) > 0;
@@ -313,9 +324,11 @@ bool write_ppm(const std::string& path, int width, int height, RowsFn&& rows, st
         const size_t n = std::min(block, size_t(height) - y);
         written = std::fwrite(rows(y, n), 1, n * row_bytes, f) == n * row_bytes;
     }
-    const bool closed = std::fclose(f) == 0;
+    const int write_errno = errno;
+    std::string close_error;
+    const bool closed = close_output(f, close_error);
     if (!written || !closed) {
-        error = std::string("write error: ") + std::strerror(errno);
+        error = written ? close_error : std::string("write error: ") + std::strerror(write_errno);
         std::remove(path.c_str());
         return false;
     }

@@ -6,6 +6,8 @@
 #include <climits>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -237,6 +239,39 @@ TEST_F(ImageIoTest, WriteErrorsNameTheFile) {
     error.clear();
     EXPECT_FALSE(write_image(path("empty.png"), Image(), false, error));
     EXPECT_NE(error.find("empty.png"), std::string::npos) << error;
+}
+
+// Re-rendering to the same file is the common case; the writers overwrite it in place rather than
+// truncate it first (the kernel frees and refills the old pages: 2.5 of 6.3 ms for a 1920x1080
+// PPM). What ends up in the file must be the new image alone: an old file longer than the new
+// image loses its tail, a shorter one grows.
+TEST_F(ImageIoTest, OverwritingAFileLeavesTheNewImageOnly) {
+    const Image im = ramp_image(0.0f, 1.0f);
+    Image8 im8;
+    im8.width = 4, im8.height = 3, im8.channels = 3;
+    for (int i = 0; i < 4 * 3 * 3; ++i) im8.samples.push_back(uint8_t(7 * i));
+    auto bytes = [](const std::string& file) {
+        std::ifstream in(file, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    for (const char* name : {"over.png", "over.ppm"}) {
+        std::string error;
+        const std::string fresh = path(std::string("fresh_") + name);
+        ASSERT_TRUE(write_image(fresh, im, WriteOptions{}, error)) << error;
+        const std::string expected = bytes(fresh);
+        for (size_t old_size : {size_t(1) << 20, size_t(5)}) {
+            const std::string target = path(name);
+            std::ofstream(target, std::ios::binary) << std::string(old_size, 'x');
+            ASSERT_TRUE(write_image(target, im, WriteOptions{}, error)) << error;
+            EXPECT_EQ(bytes(target), expected) << name << " over " << old_size << " bytes";
+        }
+    }
+    std::string error;
+    const std::string fresh8 = path("fresh8.ppm"), target8 = path("over8.ppm");
+    ASSERT_TRUE(write_image8(fresh8, im8, false, error)) << error;
+    std::ofstream(target8, std::ios::binary) << std::string(size_t(1) << 20, 'x');
+    ASSERT_TRUE(write_image8(target8, im8, false, error)) << error;
+    EXPECT_EQ(bytes(target8), bytes(fresh8));
 }
 
 // SPEC section 9: no alpha channel unless asked for, in any format.

@@ -402,6 +402,34 @@ TEST_F(PngTest, EightBitLinearCodesEqualTheFormula) {
     EXPECT_EQ(mismatches, 0u) << "of " << codes.size() << " samples";
 }
 
+// Tiles arrive row by row, 16 pixels or fewer at the image's edge: every row length gives the
+// formula's codes in exactly its 3 or 4 bytes a pixel, and not one byte past them (the 3-channel
+// encoder stores 16 bytes at a time; an overrun would cross into the next tile's pixels).
+TEST_F(PngTest, EightBitRowsOfEveryLengthStayInTheirBytes) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f);
+    for (int channels : {3, 4})
+        for (size_t n = 1; n <= 70; ++n) {
+            std::vector<float> rgba(4 * n);
+            // Opaque pixels with 4 channels: the file's colour is then the premultiplied one.
+            for (size_t i = 0; i < rgba.size(); ++i)
+                rgba[i] = channels == 4 && i % 4 == 3 ? 1.0f : u(rng);
+            const size_t used = n * size_t(channels);
+            std::vector<uint8_t> out(used + 32, uint8_t(0xA5));
+            encode_8bit(rgba.data(), n, channels, false, out.data());
+            size_t wrong = 0, past = 0;
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < channels; ++c) {
+                    const double v = std::clamp(double(rgba[4 * i + size_t(c)]), 0.0, 1.0);
+                    wrong += out[i * size_t(channels) + size_t(c)] !=
+                             uint8_t(std::floor(v * 255.0 + 0.5));
+                }
+            for (size_t i = used; i < out.size(); ++i) past += out[i] != 0xA5;
+            EXPECT_EQ(wrong, 0u) << n << " pixels, " << channels << " channels";
+            EXPECT_EQ(past, 0u) << n << " pixels, " << channels << " channels";
+        }
+}
+
 // vrmlray render encodes PNG and PPM tiles to 8 bits as they are traced (Image8) instead of keeping
 // a float image: the files must be byte for byte those of write_image, over odd sizes (a PPM block
 // of rows that does not divide the height) and every kind of value (out of range, NaN, infinities).
