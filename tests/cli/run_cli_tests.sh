@@ -47,6 +47,17 @@ expect_stderr "bad_field.wrl:3:47: error: unknown field 'colour' in node Sphere"
 expect_stderr "^    +\^$" "caret under the column"
 expect 4 "unwritable output" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 -o "$work/no/such/dir/x.png"
 expect 0 "info on the seed scene" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
+# Files are written over in place and then cut to length (docs/manual.md): a named pipe or a device has
+# no length to cut, and must take the image all the same.
+expect 0 "render to a file" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 16 -H 12 -q -o "$work/plain.ppm"
+mkfifo "$work/pipe.ppm"
+timeout 60 cat "$work/pipe.ppm" >"$work/from_pipe.ppm" &
+reader=$!
+expect 0 "render into a named pipe" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 16 -H 12 -q -o "$work/pipe.ppm"
+wait "$reader"
+if cmp -s "$work/plain.ppm" "$work/from_pipe.ppm"; then pass; else fail "the pipe got other bytes than the file"; fi
+ln -s /dev/null "$work/null.png"
+expect 0 "render to a link to /dev/null" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 16 -H 12 -q -o "$work/null.png"
 expect 2 "unknown sampler" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler bogus -W 8 -H 8 -o "$work/x.png"
 expect_stderr "bogus not in \{center,grid,rgss,rooks8,quincunx,jitter,adaptive,statistical\}" "unknown sampler names the choices"
 expect 2 "grid needs a square spp" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler grid --spp 5 -W 8 -H 8 -o "$work/x.png"
