@@ -163,12 +163,11 @@ void trace(const FlatScene& flat, const Camera& camera, const RenderOptions& opt
         resize_huge(image8.samples,
                     size_t(image8.width) * size_t(image8.height) * size_t(image8.channels));
         auto encode = [&](int x0, int y0, int x1, int y1, const float* rgba) {
-            const size_t n = size_t(x1 - x0), channels = size_t(image8.channels);
-            count_covered(n * size_t(y1 - y0), rgba);
-            for (int y = y0; y < y1; ++y, rgba += 4 * n)
-                encode_8bit(
-                    rgba, n, image8.channels, options.srgb,
-                    &image8.samples[(size_t(y) * size_t(image8.width) + size_t(x0)) * channels]);
+            const size_t count = size_t(x1 - x0) * size_t(y1 - y0);
+            if (encode_tile_8bit(rgba, x0, y0, x1, y1, options.srgb, image8))
+                covered.fetch_add(rgba[3] > 0.0f ? count : 0, std::memory_order_relaxed);
+            else
+                count_covered(count, rgba);
         };
         render_tiles(flat, camera, options, progress, stats, encode, spheres);
     } else {

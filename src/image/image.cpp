@@ -460,6 +460,26 @@ void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8
     to_integer_samples<uint8_t>(rgba, count, channels, srgb, 255.0, out);
 }
 
+bool encode_tile_8bit(const float* rgba, int x0, int y0, int x1, int y1, bool srgb, Image8& image) {
+    const size_t n = size_t(x1 - x0), rows = size_t(y1 - y0), channels = size_t(image.channels);
+    const size_t count = n * rows;
+    auto at = [&](int y) {
+        return &image.samples[(size_t(y) * size_t(image.width) + size_t(x0)) * channels];
+    };
+    // Each pixel equal to the one before it: all equal to the first. Encoding is per sample, so
+    // one pixel's bytes are those every pixel would get.
+    if (count > 1 && std::memcmp(rgba + 4, rgba, (count - 1) * 4 * sizeof(float)) == 0) {
+        uint8_t one[4];
+        encode_8bit(rgba, 1, image.channels, srgb, one);
+        uint8_t* first = at(y0);
+        for (size_t x = 0; x < n; ++x) std::copy_n(one, channels, first + x * channels);
+        for (int y = y0 + 1; y < y1; ++y) std::copy_n(first, n * channels, at(y));
+        return true;
+    }
+    for (int y = y0; y < y1; ++y, rgba += 4 * n) encode_8bit(rgba, n, image.channels, srgb, at(y));
+    return false;
+}
+
 bool write_image8(const std::string& path, const Image8& image, bool srgb, std::string& error) {
     const int channels = native_8bit_channels(path, image.channels == 4);
     if (image.width <= 0 || image.height <= 0 || channels == 0 || image.channels != channels ||

@@ -100,6 +100,10 @@ int native_8bit_channels(const std::string& path, bool alpha = false);
 // RGB; 4: colour / alpha and alpha, the colour being premultiplied in `rgba`), clamped to [0,1],
 // colour sRGB-encoded when `srgb`, NaN as 0.
 void encode_8bit(const float* rgba, size_t count, int channels, bool srgb, uint8_t* out);
+// encode_8bit of a tile of RGBA pixels (rows of x1 - x0, top to bottom) into `image` at [x0, x1) x
+// [y0, y1). A tile of one value (most of the image of a small scene, where the tracer fills a
+// background tile from one ray) is encoded once and copied: returns true then.
+bool encode_tile_8bit(const float* rgba, int x0, int y0, int x1, int y1, bool srgb, Image8& image);
 // Writes `image` (3 or, for png, 4 channels: native_8bit_channels(path, alpha)) byte for byte as
 // write_image writes the Image it was encoded from.
 bool write_image8(const std::string& path, const Image8& image, bool srgb, std::string& error);

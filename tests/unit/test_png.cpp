@@ -430,6 +430,49 @@ TEST_F(PngTest, EightBitRowsOfEveryLengthStayInTheirBytes) {
         }
 }
 
+// Tiles of one value are encoded once and copied (encode_tile_8bit): the bytes must be those of the
+// row-by-row encoding for every kind of tile (one value, including NaN and out-of-range ones; one
+// pixel differing, first or last; edge tiles narrower than 16), with and without alpha and sRGB,
+// and only a tile of one value may report itself as one.
+TEST_F(PngTest, TilesOfOneValueEncodeAsRowByRow) {
+    const int width = 37, height = 21;  // 16-pixel tiles leave edges of 5 columns and 5 rows
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f);
+    const float values[][4] = {
+        {0.1f, 0.2f, 0.3f, 1.0f}, {NAN, 2.0f, -1.0f, 0.5f}, {0.7f, 0.7f, 0.7f, 0.0f}};
+    for (int channels : {3, 4})
+        for (bool srgb : {false, true}) {
+            Image8 fast, rows;
+            for (Image8* im : {&fast, &rows}) {
+                im->width = width, im->height = height, im->channels = channels;
+                im->samples.assign(size_t(width) * height * size_t(channels), uint8_t(0));
+            }
+            int tile = 0;
+            for (int y0 = 0; y0 < height; y0 += 16)
+                for (int x0 = 0; x0 < width; x0 += 16, ++tile) {
+                    const int x1 = std::min(x0 + 16, width), y1 = std::min(y0 + 16, height);
+                    const size_t count = size_t(x1 - x0) * size_t(y1 - y0);
+                    std::vector<float> rgba(4 * count);
+                    const float* v = values[tile % 3];
+                    for (size_t k = 0; k < count; ++k) std::copy_n(v, 4, &rgba[4 * k]);
+                    const int kind =
+                        tile % 4;  // 0: one value; 1: the first differs; 2: the last; 3: random
+                    if (kind == 1) rgba[0] = 0.25f;
+                    if (kind == 2) rgba[4 * count - 2] = 0.75f;
+                    if (kind == 3)
+                        for (float& x : rgba) x = u(rng);
+                    EXPECT_EQ(encode_tile_8bit(rgba.data(), x0, y0, x1, y1, srgb, fast), kind == 0)
+                        << "tile " << tile;
+                    for (int y = y0; y < y1; ++y)
+                        encode_8bit(
+                            &rgba[4 * size_t(y - y0) * size_t(x1 - x0)], size_t(x1 - x0), channels,
+                            srgb,
+                            &rows.samples[(size_t(y) * width + size_t(x0)) * size_t(channels)]);
+                }
+            EXPECT_TRUE(fast.samples == rows.samples) << channels << " channels, srgb " << srgb;
+        }
+}
+
 // vrmlray render encodes PNG and PPM tiles to 8 bits as they are traced (Image8) instead of keeping
 // a float image: the files must be byte for byte those of write_image, over odd sizes (a PPM block
 // of rows that does not divide the height) and every kind of value (out of range, NaN, infinities).
