@@ -96,9 +96,6 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
     EXPECT_EQ(leaf_prims, original.size());
 }
 
-// Byte for byte, whatever the thread count and however the threads' tasks interleave: a uniform
-// cloud, and a lopsided one (a dense cluster beside a sparse halo) whose uneven splits near the
-// root leave one thread with most of the work unless it is shared out in tasks.
 // The leaf holding box `id`: its primitive count.
 int leaf_size_of(const Bvh& bvh, uint32_t id) {
     for (size_t i = 0; i < bvh.nodes.size(); ++i) {
@@ -129,6 +126,9 @@ TEST(Bvh, CostlyPrimitivesAreSplitFromCheapOnes) {
     EXPECT_EQ(leaf_size_of(build(16.0f), 3), 1);
 }
 
+// Byte for byte, whatever the thread count and however the threads' tasks interleave: a uniform
+// cloud, and a lopsided one (a dense cluster beside a sparse halo) whose uneven splits near the
+// root leave one thread with most of the work unless it is shared out in tasks.
 TEST(Bvh, ParallelBuildEqualsSerialBuild) {
     for (int lopsided = 0; lopsided < 2; ++lopsided) {
         Rng rng(2 + uint64_t(lopsided));
