@@ -158,6 +158,11 @@ class Builder {
         set_bounds(node, range.box);
         const uint32_t n = range.end - range.begin;
         if (n == 1) return make_leaf(node, range);
+        // A leaf of this size is allowed and no split can cost less: a split costs the traversal
+        // and more (split_sah's cost). The tree is the one the SAH makes, without binning the most
+        // numerous ranges: on a 3.4M-atom molecule that binning took a fifth of the build.
+        if (n <= uint32_t(options_.max_leaf_size) && range_cost(range) <= options_.traversal_cost)
+            return make_leaf(node, range);
 
         bool degenerate = true;
         for (int k = 0; k < 3; ++k)

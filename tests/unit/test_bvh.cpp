@@ -126,6 +126,28 @@ TEST(Bvh, CostlyPrimitivesAreSplitFromCheapOnes) {
     EXPECT_EQ(leaf_size_of(build(16.0f), 3), 1);
 }
 
+TEST(Bvh, CheapRangesBecomeLeavesOnlyUpToTheLeafSize) {
+    // Eight boxes in a row cost 8 sphere tests: with a traversal cost of 8 no split is cheaper
+    // than one leaf, but a leaf holds at most max_leaf_size boxes, so they are split; four such
+    // boxes are one leaf (the shortcut that skips binning small ranges must agree with the SAH).
+    auto leaves = [](uint32_t count, int max_leaf) {
+        BuildBoxes boxes;
+        for (uint32_t i = 0; i < count; ++i)
+            boxes.push_back(make_build_box(Vec3(1.1 * i, 0, 0), Vec3(1.1 * i + 1.0, 1, 1), i));
+        BvhBuildOptions options;
+        options.traversal_cost = 8.0;
+        options.max_leaf_size = max_leaf;
+        const Bvh bvh = build_bvh(boxes, options);
+        std::vector<int> sizes;
+        for (size_t i = 0; i < bvh.nodes.size(); ++i)
+            if (i != 1 && bvh.nodes[i].count > 0) sizes.push_back(bvh.nodes[i].count);
+        return sizes;
+    };
+    EXPECT_EQ(leaves(8, 4), std::vector<int>({4, 4}));
+    EXPECT_EQ(leaves(4, 4), std::vector<int>({4}));
+    EXPECT_EQ(leaves(8, 8), std::vector<int>({8}));
+}
+
 // Byte for byte, whatever the thread count and however the threads' tasks interleave: a uniform
 // cloud, and a lopsided one (a dense cluster beside a sparse halo) whose uneven splits near the
 // root leave one thread with most of the work unless it is shared out in tasks.
