@@ -71,6 +71,7 @@ class Flattener {
     // Marks the groups whose subtree holds a bindable node: an iterative post-order walk over the
     // DAG, as USE chains can nest far deeper than the stack allows.
     void mark_bindables();
+    void mark_bindables_walk();  // any DAG
 
     void collect_bindables();
 

@@ -45,6 +45,30 @@ Mat3 billboard_rotation(const Vec3& axis, const Vec3& viewer_local, const Vec3& 
 }
 
 void Flattener::mark_bindables() {
+    // A file's nesting lists every group before its child groups, so one backward pass sees each
+    // child's answer before its parent needs it: a sequential pass over millions of groups where
+    // the walk below chases every child. A child listed before its parent (USE of an earlier DEF)
+    // leaves the answer to the walk.
+    const size_t n = scene_.groups.size();
+    has_bindable_.assign(n, 0);
+    bool in_order = true;
+    for (size_t g = n; g-- > 0 && in_order;) {
+        uint8_t any = 0;
+        for (const sg::ChildRef& c : scene_.children_of(scene_.groups[g])) {
+            if (c.kind == sg::NodeKind::Group) {
+                in_order = in_order && c.index > g;
+                any |= in_order ? has_bindable_[c.index] : 0;
+            } else if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light) {
+                any = 1;
+            }
+        }
+        has_bindable_[g] = any;
+    }
+    if (in_order) return;
+    mark_bindables_walk();
+}
+
+void Flattener::mark_bindables_walk() {
     const size_t n = scene_.groups.size();
     has_bindable_.assign(n, 0);
     std::vector<uint8_t> state(n, 0);  // 0 new, 1 on the stack, 2 done

@@ -215,6 +215,17 @@ TEST(Flatten, ViewpointBackgroundFogNavigationInfo) {
     EXPECT_EQ(f.flat.fog.visibility_range, 10.0);
 }
 
+TEST(Flatten, BindablesUnderAUseOfAnEarlierGroupAreFound) {
+    // The second Transform holds the first one through USE: a child group listed before its
+    // parent. Its Viewpoint is bound at both places, in file order.
+    const Flat f = flatten(R"(
+        DEF Cams Transform { children Viewpoint { description "cam" } }
+        Transform { translation 5 0 0 children [ Shape { geometry Sphere {} } USE Cams ] })");
+    ASSERT_EQ(f.flat.viewpoints.size(), 2u);
+    EXPECT_NEAR(glm::length(f.flat.viewpoints[0].position - Vec3(0, 0, 10)), 0.0, kTight);
+    EXPECT_NEAR(glm::length(f.flat.viewpoints[1].position - Vec3(5, 0, 10)), 0.0, kTight);
+}
+
 TEST(Flatten, BillboardFacesTheViewer) {
     const Flat f = flatten(R"(
         Viewpoint { position 10 0 0 }
