@@ -92,7 +92,7 @@ FieldView NodeTree::get(NodeId id, Name field) const {
     const Registry& reg = Registry::builtin();
     const FieldDecl* decl = reg.lookup_field(type->spec, *type, field);
     if (!decl || decl->default_field == UINT32_MAX) return {};
-    const NodeTree& defaults = reg.defaults();
+    const NodeTree& defaults = *decl->default_tree;
     return view_in(defaults, defaults.fields[decl->default_field], true);
 }
 

@@ -1,6 +1,7 @@
 #include "parser/registry.h"
 
 #include <stdexcept>
+#include <unordered_map>
 
 #include "parser/field_value.h"
 #include "parser/lexer.h"
@@ -58,125 +59,171 @@ std::string_view next_word(std::string_view& rest) {
     return w;
 }
 
+// One line of a table at a time: its number, and its text without comment and outer blanks.
+struct Lines {
+    std::string_view text;
+    size_t number;
+    bool next(std::string_view& line, std::string_view& raw) {
+        while (!text.empty()) {
+            ++number;
+            const size_t nl = text.find('\n');
+            raw = text.substr(0, nl);
+            text = nl == std::string_view::npos ? std::string_view() : text.substr(nl + 1);
+            line = trim(strip_comment(raw));
+            if (!line.empty()) return true;
+        }
+        return false;
+    }
+};
+
 }  // namespace
 
-Registry::Registry(const std::vector<GrammarText>& texts)
-    : defaults_(std::make_unique<NodeTree>()) {
-    for (const GrammarText& g : texts) {
-        Spec spec = spec_of_file(g.file);
-        auto& table = tables_[static_cast<int>(spec)];
-        auto& index = index_[static_cast<int>(spec)];
-        std::string_view text = g.text;
-        size_t line_no = 0;
-        NodeTypeDecl* current = nullptr;
+Registry::Registry(const std::vector<GrammarText>& texts) : Registry(texts, Lazy{}) {
+    for (int s = 0; s < kSpecs; ++s) nodes(static_cast<Spec>(s));
+}
+
+// Only the node headers ("Name {" or "Name : Role {") are read here, and where each node's
+// field lines lie; parse_node reads those lines when the node is first asked for.
+Registry::Registry(const std::vector<GrammarText>& texts, Lazy) : texts_(texts) {
+    std::unordered_map<Name, uint32_t> index[kSpecs];
+    for (const GrammarText& g : texts_) {
+        const Spec spec = spec_of_file(g.file);
+        Table& t = tables_[static_cast<int>(spec)];
+        Lines lines{g.text, 0};
+        std::string_view line, raw;
+        bool open = false;
         auto bad = [&](const std::string& why) {
-            throw std::runtime_error(g.file + ":" + std::to_string(line_no) + ": " + why);
+            throw std::runtime_error(g.file + ":" + std::to_string(lines.number) + ": " + why);
         };
-        while (!text.empty()) {
-            ++line_no;
-            size_t nl = text.find('\n');
-            std::string_view raw = text.substr(0, nl);
-            text = nl == std::string_view::npos ? std::string_view() : text.substr(nl + 1);
-            std::string_view line = trim(strip_comment(raw));
-            if (line.empty()) continue;
-            if (!current) {
-                // "Name {" (possibly "Name : Base {")
-                if (line.back() != '{') bad("expected 'NodeName {'");
-                std::string_view rest = line.substr(0, line.size() - 1);
-                std::string_view name = next_word(rest);
-                if (name.empty()) bad("node without a name");
-                Name role = kNoName;  // "Name : Role {": what vrmlray does with the node
-                if (std::string_view colon = next_word(rest); colon == ":") {
-                    const std::string_view r = next_word(rest);
-                    if (r.empty()) bad("node " + std::string(name) + ": ':' without a role");
-                    role = intern(r);
-                } else if (!colon.empty()) {
-                    bad("expected 'NodeName {' or 'NodeName : Role {'");
+        while (lines.next(line, raw)) {
+            if (open) {
+                if (line == "}") {
+                    t.bodies.back().text =
+                        std::string_view(t.bodies.back().text.data(),
+                                         size_t(raw.data() - t.bodies.back().text.data()));
+                    open = false;
                 }
-                Name n = intern(name);
-                if (index.count(n)) bad("node " + std::string(name) + " defined twice");
-                index.emplace(n, static_cast<uint32_t>(table.size()));
-                table.push_back({n, spec, role, {}});
-                current = &table.back();
                 continue;
             }
-            if (line == "}") {
-                current = nullptr;
-                continue;
+            if (line.back() != '{') bad("expected 'NodeName {'");
+            std::string_view rest = line.substr(0, line.size() - 1);
+            std::string_view name = next_word(rest);
+            if (name.empty()) bad("node without a name");
+            Name role = kNoName;  // "Name : Role {": what vrmlray does with the node
+            if (std::string_view colon = next_word(rest); colon == ":") {
+                const std::string_view r = next_word(rest);
+                if (r.empty()) bad("node " + std::string(name) + ": ':' without a role");
+                role = intern(r);
+            } else if (!colon.empty()) {
+                bad("expected 'NodeName {' or 'NodeName : Role {'");
             }
-            std::string_view rest = line;
-            std::string_view w1 = next_word(rest);
-            std::string_view w2 = next_word(rest);
-            FieldDecl decl;
-            decl.extension = spec == Spec::Extension;
-            if (auto t = parse_type_name(w1)) {  // X3D order: type access name
-                auto a = parse_access(w2);
-                if (!a) bad("unknown access '" + std::string(w2) + "'");
-                decl.type = *t;
-                decl.access = *a;
-            } else {  // VRML97 order: access type name
-                auto a = parse_access(w1);
-                auto t2 = parse_type_name(w2);
-                if (!a || !t2) bad("expected 'access type name' or 'type access name'");
-                decl.type = *t2;
-                decl.access = *a;
-            }
-            std::string_view fname = next_word(rest);
-            if (fname.empty()) bad("field without a name");
-            decl.name = intern(fname);
-            if (current->find(decl.name)) bad("field " + std::string(fname) + " listed twice");
-            rest = trim(rest);
-            if (has_value(decl.access)) {
-                // Text views into `rest` stay valid: g.text outlives this loop.
-                Lexer lexer(rest);
-                ValueContext ctx{*defaults_, lexer};
-                FieldEntry entry;
-                entry.name = decl.name;
-                try {
-                    read_field_value(ctx, decl.type, entry);
-                } catch (const SyntaxError& e) {
-                    bad("default of " + std::string(fname) + ": " + e.message);
-                }
-                entry.loc = {};
-                decl.default_field = static_cast<uint32_t>(defaults_->fields.size());
-                defaults_->fields.push_back(entry);
-                decl.range = std::string(
-                    trim(rest.substr(std::min<size_t>(lexer.next_offset(), rest.size()))));
-            } else {
-                decl.range = std::string(rest);
-            }
-            if (is_numeric(decl.type.kind) && decl.type.kind != ValueKind::Bool &&
-                decl.type.kind != ValueKind::Image) {
-                std::string error;
-                auto range = parse_numeric_range(decl.range, error);
-                if (!range) bad("field " + std::string(fname) + ": " + error);
-                decl.numeric_range = std::move(*range);
-            }
-            current->fields.push_back(std::move(decl));
+            const Name n = intern(name);
+            auto& in_spec = index[static_cast<int>(spec)];
+            if (in_spec.count(n)) bad("node " + std::string(name) + " defined twice");
+            in_spec.emplace(n, static_cast<uint32_t>(t.decls.size()));
+            t.decls.push_back({n, spec, role, {}});
+            t.bodies.push_back({lines.text, &g, lines.number});
+            open = true;
         }
-        if (current)
-            throw std::runtime_error(g.file + ": node " + std::string(name_text(current->name)) +
+        if (open)
+            throw std::runtime_error(g.file + ": node " +
+                                     std::string(name_text(t.decls.back().name)) +
                                      " is not closed");
     }
-    for (int spec = 0; spec < 5; ++spec) {
-        for (const auto& [name, position] : index_[spec]) {
-            if (by_name_[spec].size() <= name) by_name_[spec].resize(name + 1, 0);
-            by_name_[spec][name] = position + 1;
+    for (int s = 0; s < kSpecs; ++s) {
+        Table& t = tables_[s];
+        for (const auto& [name, position] : index[s]) {
+            if (t.by_name.size() <= name) t.by_name.resize(name + 1, 0);
+            t.by_name[name] = position + 1;
         }
+        t.parsed = std::make_unique<std::atomic<bool>[]>(t.decls.size());
+        t.defaults.resize(t.decls.size());
     }
+}
+
+void Registry::parse_node(Spec spec, uint32_t position) const {
+    std::lock_guard<std::mutex> lock(parse_mutex_);
+    Table& t = tables_[static_cast<int>(spec)];
+    if (t.parsed[position].load(std::memory_order_relaxed)) return;
+    NodeTypeDecl& node = t.decls[position];
+    const NodeBody& body = t.bodies[position];
+    // Defaults of their own: the trees of nodes parsed earlier are being read by other threads.
+    auto defaults = std::make_unique<NodeTree>();
+    Lines lines{body.text, body.first_line};
+    std::string_view line, raw;
+    auto bad = [&](const std::string& why) {
+        throw std::runtime_error(body.grammar->file + ":" + std::to_string(lines.number) + ": " +
+                                 why);
+    };
+    while (lines.next(line, raw)) {
+        std::string_view rest = line;
+        std::string_view w1 = next_word(rest);
+        std::string_view w2 = next_word(rest);
+        FieldDecl decl;
+        decl.extension = spec == Spec::Extension;
+        if (auto type = parse_type_name(w1)) {  // X3D order: type access name
+            auto a = parse_access(w2);
+            if (!a) bad("unknown access '" + std::string(w2) + "'");
+            decl.type = *type;
+            decl.access = *a;
+        } else {  // VRML97 order: access type name
+            auto a = parse_access(w1);
+            auto t2 = parse_type_name(w2);
+            if (!a || !t2) bad("expected 'access type name' or 'type access name'");
+            decl.type = *t2;
+            decl.access = *a;
+        }
+        std::string_view fname = next_word(rest);
+        if (fname.empty()) bad("field without a name");
+        decl.name = intern(fname);
+        if (node.find(decl.name)) bad("field " + std::string(fname) + " listed twice");
+        rest = trim(rest);
+        if (has_value(decl.access)) {
+            // Text views into `rest` stay valid: texts_ lives as long as the registry.
+            Lexer lexer(rest);
+            ValueContext ctx{*defaults, lexer};
+            FieldEntry entry;
+            entry.name = decl.name;
+            try {
+                read_field_value(ctx, decl.type, entry);
+            } catch (const SyntaxError& e) {
+                bad("default of " + std::string(fname) + ": " + e.message);
+            }
+            entry.loc = {};
+            decl.default_field = static_cast<uint32_t>(defaults->fields.size());
+            decl.default_tree = defaults.get();
+            defaults->fields.push_back(entry);
+            decl.range =
+                std::string(trim(rest.substr(std::min<size_t>(lexer.next_offset(), rest.size()))));
+        } else {
+            decl.range = std::string(rest);
+        }
+        if (is_numeric(decl.type.kind) && decl.type.kind != ValueKind::Bool &&
+            decl.type.kind != ValueKind::Image) {
+            std::string error;
+            auto range = parse_numeric_range(decl.range, error);
+            if (!range) bad("field " + std::string(fname) + ": " + error);
+            decl.numeric_range = std::move(*range);
+        }
+        node.fields.push_back(std::move(decl));
+    }
+    t.defaults[position] = std::move(defaults);
+    t.parsed[position].store(true, std::memory_order_release);
 }
 
 Registry::~Registry() = default;
 
 const Registry& Registry::builtin() {
-    static const Registry registry(embedded_grammar());
+    static const Registry registry(embedded_grammar(), Lazy{});
     return registry;
 }
 
 const NodeTypeDecl* Registry::find(Spec spec, Name node) const {
-    const auto& index = by_name_[static_cast<int>(spec)];
-    const uint32_t position = node < index.size() ? index[node] : 0;
-    return position ? &tables_[static_cast<int>(spec)][position - 1] : nullptr;
+    const Table& t = tables_[static_cast<int>(spec)];
+    const uint32_t position = node < t.by_name.size() ? t.by_name[node] : 0;
+    if (position == 0) return nullptr;
+    if (!t.parsed[position - 1].load(std::memory_order_acquire)) parse_node(spec, position - 1);
+    return &t.decls[position - 1];
 }
 
 const NodeTypeDecl* Registry::find(Spec spec, std::string_view node) const {
@@ -207,7 +254,10 @@ const FieldDecl* Registry::lookup_field(Spec encoding, const NodeTypeDecl& decl,
 }
 
 const std::vector<NodeTypeDecl>& Registry::nodes(Spec spec) const {
-    return tables_[static_cast<int>(spec)];
+    const Table& t = tables_[static_cast<int>(spec)];
+    for (uint32_t i = 0; i < t.decls.size(); ++i)
+        if (!t.parsed[i].load(std::memory_order_acquire)) parse_node(spec, i);
+    return t.decls;
 }
 
 }  // namespace vr

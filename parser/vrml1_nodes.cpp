@@ -118,7 +118,7 @@ FieldView Upgrader::get_default(Name type, Name field) const {
     const NodeTypeDecl* decl = registry_.find(Spec::Vrml1, type);
     const FieldDecl* f = decl ? decl->find(field) : nullptr;
     if (!f || f->default_field == UINT32_MAX) return {};
-    const NodeTree& defaults = registry_.defaults();
+    const NodeTree& defaults = *f->default_tree;
     FieldView v = defaults.view(defaults.fields[f->default_field]);
     v.is_default = true;
     return v;
@@ -164,7 +164,7 @@ Fields Upgrader::begin(std::string_view type) const {
 void Upgrader::set(Fields& f, Name field, std::span<const double> values) {
     const FieldDecl* fd = registry_.lookup_field(f.decl->spec, *f.decl, field);
     if (fd->default_field != UINT32_MAX) {
-        const NodeTree& defaults = registry_.defaults();
+        const NodeTree& defaults = *fd->default_tree;
         FieldView d = defaults.view(defaults.fields[fd->default_field]);
         if (std::equal(values.begin(), values.end(), d.numbers.begin(), d.numbers.end())) return;
     }

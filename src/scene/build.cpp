@@ -117,7 +117,7 @@ FieldView Builder::default_of(Name node_type, Name f) const {
     if (!field || field->default_field == UINT32_MAX)
         throw std::logic_error("the grammar has no default for " +
                                std::string(name_text(node_type)) + "." + std::string(name_text(f)));
-    return registry.defaults().view(registry.defaults().fields[field->default_field]);
+    return field->default_tree->view(field->default_tree->fields[field->default_field]);
 }
 
 double Builder::number(NodeId n, Name f) const {

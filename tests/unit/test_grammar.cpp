@@ -1,16 +1,89 @@
 // The grammar tables built into the binary: complete, well-formed, and usable by the reader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <set>
+#include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "parser/load.h"
+#include "parser/node_tree.h"
 #include "parser/registry.h"
 
 namespace vr {
 namespace {
 
-TEST(Grammar, TablesParse) { EXPECT_NO_THROW(Registry::builtin()); }
+// builtin() parses a node's fields on its first look-up: every table is parsed here at once.
+TEST(Grammar, TablesParse) { EXPECT_NO_THROW(Registry{embedded_grammar()}); }
+
+std::string describe(const NodeTypeDecl& d) {
+    std::string out = std::string(name_text(d.name)) + " role " + std::string(name_text(d.role)) +
+                      " spec " + std::to_string(int(d.spec)) + ":";
+    for (const FieldDecl& f : d.fields) {
+        out += " " + std::string(name_text(f.name)) + "/" + std::to_string(int(f.type.kind)) + "/" +
+               std::to_string(int(f.access)) + "/" + f.range + "/" + std::to_string(f.extension);
+        if (f.default_field == UINT32_MAX) continue;
+        const FieldView v = f.default_tree->view(f.default_tree->fields[f.default_field]);
+        for (double x : v.numbers) out += " " + std::to_string(x);
+        for (std::string_view t : v.strings) out += " '" + std::string(t) + "'";
+    }
+    return out;
+}
+
+// Node types parsed one at a time on first use, from two threads at once and in a shuffled
+// order, are those a registry parsing every table at once makes: the same fields, types, ranges
+// and default values, and every field line read to its node's closing brace and no further.
+TEST(Grammar, NodesParsedOnFirstUseEqualTheTablesParsedAtOnce) {
+    const Registry eager(embedded_grammar());
+    const Registry lazy(embedded_grammar(), Registry::Lazy{});
+    constexpr Spec kSpecs[] = {Spec::Vrml97, Spec::X3d, Spec::Vrml1, Spec::Hint, Spec::Extension};
+    std::vector<std::pair<Spec, Name>> all;
+    for (Spec spec : kSpecs)
+        for (const NodeTypeDecl& d : eager.nodes(spec)) all.emplace_back(spec, d.name);
+    std::shuffle(all.begin(), all.end(), std::mt19937(7));
+    std::vector<std::string> seen[2];
+    auto look_up = [&](int half) {
+        for (size_t i = size_t(half); i < all.size(); i += 2)
+            seen[half].push_back(describe(*lazy.find(all[i].first, all[i].second)));
+    };
+    std::thread other(look_up, 1);
+    look_up(0);
+    other.join();
+    size_t fields = 0;
+    for (size_t i = 0; i < all.size(); ++i) {
+        const NodeTypeDecl& d = *eager.find(all[i].first, all[i].second);
+        fields += d.fields.size();
+        EXPECT_EQ(seen[i % 2][i / 2], describe(d));
+    }
+    EXPECT_GT(all.size(), 200u);
+    EXPECT_GT(fields, 1500u);
+}
+
+TEST(Grammar, AMalformedNodeIsReportedWithItsFileAndLine) {
+    const std::vector<GrammarText> texts = {
+        {"x3d.nodes",
+         "# a comment\nGood {\n  SFFloat [in,out] a 1 [0,inf)\n}\n\nBad {\n  SFFloat [in,out] b 2\n"
+         "  SFFloat [in,out] c oops\n}\n"}};
+    auto message = [](auto&& make) {
+        try {
+            make();
+        } catch (const std::runtime_error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(message([&] { Registry r(texts); }).rfind("x3d.nodes:8: default of c", 0), 0u);
+    const Registry lazy(texts, Registry::Lazy{});
+    ASSERT_NE(lazy.find(Spec::X3d, "Good"), nullptr);
+    EXPECT_EQ(lazy.find(Spec::X3d, "Good")->fields.size(), 1u);
+    EXPECT_EQ(message([&] { lazy.find(Spec::X3d, "Bad"); }).rfind("x3d.nodes:8: default of c", 0),
+              0u);
+    const std::vector<GrammarText> unclosed = {{"x3d.nodes", "Open {\n  SFFloat [] a 1\n"}};
+    EXPECT_EQ(message([&] { Registry r(unclosed, Registry::Lazy{}); }),
+              "x3d.nodes: node Open is not closed");
+}
 
 TEST(Grammar, AllVrml97NodesOfChapter6) {
     const char* names[] = {"Anchor",
