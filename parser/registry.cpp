@@ -148,7 +148,9 @@ void Registry::parse_node(Spec spec, uint32_t position) const {
     NodeTypeDecl& node = t.decls[position];
     const NodeBody& body = t.bodies[position];
     // Defaults of their own: the trees of nodes parsed earlier are being read by other threads.
+    // The node changes only once all its lines are read: after a throw it is as before.
     auto defaults = std::make_unique<NodeTree>();
+    NodeTypeDecl parsed{node.name, node.spec, node.role, {}};
     Lines lines{body.text, body.first_line};
     std::string_view line, raw;
     auto bad = [&](const std::string& why) {
@@ -176,7 +178,7 @@ void Registry::parse_node(Spec spec, uint32_t position) const {
         std::string_view fname = next_word(rest);
         if (fname.empty()) bad("field without a name");
         decl.name = intern(fname);
-        if (node.find(decl.name)) bad("field " + std::string(fname) + " listed twice");
+        if (parsed.find(decl.name)) bad("field " + std::string(fname) + " listed twice");
         rest = trim(rest);
         if (has_value(decl.access)) {
             // Text views into `rest` stay valid: texts_ lives as long as the registry.
@@ -205,8 +207,9 @@ void Registry::parse_node(Spec spec, uint32_t position) const {
             if (!range) bad("field " + std::string(fname) + ": " + error);
             decl.numeric_range = std::move(*range);
         }
-        node.fields.push_back(std::move(decl));
+        parsed.fields.push_back(std::move(decl));
     }
+    node.fields = std::move(parsed.fields);
     t.defaults[position] = std::move(defaults);
     t.parsed[position].store(true, std::memory_order_release);
 }

@@ -78,8 +78,10 @@ TEST(Grammar, AMalformedNodeIsReportedWithItsFileAndLine) {
     const Registry lazy(texts, Registry::Lazy{});
     ASSERT_NE(lazy.find(Spec::X3d, "Good"), nullptr);
     EXPECT_EQ(lazy.find(Spec::X3d, "Good")->fields.size(), 1u);
-    EXPECT_EQ(message([&] { lazy.find(Spec::X3d, "Bad"); }).rfind("x3d.nodes:8: default of c", 0),
-              0u);
+    for (int again = 0; again < 2; ++again)  // the same message each time it is asked for
+        EXPECT_EQ(
+            message([&] { lazy.find(Spec::X3d, "Bad"); }).rfind("x3d.nodes:8: default of c", 0),
+            0u);
     const std::vector<GrammarText> unclosed = {{"x3d.nodes", "Open {\n  SFFloat [] a 1\n"}};
     EXPECT_EQ(message([&] { Registry r(unclosed, Registry::Lazy{}); }),
               "x3d.nodes: node Open is not closed");
