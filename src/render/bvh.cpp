@@ -159,8 +159,9 @@ class Builder {
         const uint32_t n = range.end - range.begin;
         if (n == 1) return make_leaf(node, range);
         // A leaf of this size is allowed and no split can cost less: a split costs the traversal
-        // and more (split_sah's cost). The tree is the one the SAH makes, without binning the most
-        // numerous ranges: on a 3.4M-atom molecule that binning took a fifth of the build.
+        // and more (split_sah's cost). The tree is the one the SAH makes (the leaf lists its boxes
+        // in input order, not split_sah's partition order), without binning the most numerous
+        // ranges: on a 3.4M-atom molecule, one thread, that took the build from 1.33 to 1.16 s.
         if (n <= uint32_t(options_.max_leaf_size) && range_cost(range) <= options_.traversal_cost)
             return make_leaf(node, range);
 
