@@ -1,7 +1,6 @@
 #include "parser/registry.h"
 
 #include <stdexcept>
-#include <unordered_map>
 
 #include "parser/field_value.h"
 #include "parser/lexer.h"
@@ -85,7 +84,6 @@ Registry::Registry(const std::vector<GrammarText>& texts) : Registry(texts, Lazy
 // Only the node headers ("Name {" or "Name : Role {") are read here, and where each node's
 // field lines lie; parse_node reads those lines when the node is first asked for.
 Registry::Registry(const std::vector<GrammarText>& texts, Lazy) : texts_(texts) {
-    std::unordered_map<Name, uint32_t> index[kSpecs];
     for (const GrammarText& g : texts_) {
         const Spec spec = spec_of_file(g.file);
         Table& t = tables_[static_cast<int>(spec)];
@@ -118,10 +116,10 @@ Registry::Registry(const std::vector<GrammarText>& texts, Lazy) : texts_(texts) 
                 bad("expected 'NodeName {' or 'NodeName : Role {'");
             }
             const Name n = intern(name);
-            auto& in_spec = index[static_cast<int>(spec)];
-            if (in_spec.count(n)) bad("node " + std::string(name) + " defined twice");
-            in_spec.emplace(n, static_cast<uint32_t>(t.decls.size()));
+            if (t.by_name.size() <= n) t.by_name.resize(n + 1, 0);
+            if (t.by_name[n] != 0) bad("node " + std::string(name) + " defined twice");
             t.decls.push_back({n, spec, role, {}});
+            t.by_name[n] = static_cast<uint32_t>(t.decls.size());  // 1 + position
             t.bodies.push_back({lines.text, &g, lines.number});
             open = true;
         }
@@ -132,10 +130,6 @@ Registry::Registry(const std::vector<GrammarText>& texts, Lazy) : texts_(texts) 
     }
     for (int s = 0; s < kSpecs; ++s) {
         Table& t = tables_[s];
-        for (const auto& [name, position] : index[s]) {
-            if (t.by_name.size() <= name) t.by_name.resize(name + 1, 0);
-            t.by_name[name] = position + 1;
-        }
         t.parsed = std::make_unique<std::atomic<bool>[]>(t.decls.size());
         t.defaults.resize(t.decls.size());
     }

@@ -68,10 +68,12 @@ class Flattener {
     };
     Bindables main_, inlined_;
 
-    // Marks the groups whose subtree holds a bindable node: an iterative post-order walk over the
-    // DAG, as USE chains can nest far deeper than the stack allows.
+    // Marks the groups whose subtree holds a bindable node: one backward pass when every group
+    // comes before its child groups, else mark_bindables_walk.
     void mark_bindables();
-    void mark_bindables_walk();  // any DAG
+    // The same for any DAG: an iterative post-order walk, as USE chains can nest far deeper than
+    // the stack allows.
+    void mark_bindables_walk();
 
     void collect_bindables();
 

@@ -51,21 +51,18 @@ void Flattener::mark_bindables() {
     // leaves the answer to the walk.
     const size_t n = scene_.groups.size();
     has_bindable_.assign(n, 0);
-    bool in_order = true;
-    for (size_t g = n; g-- > 0 && in_order;) {
+    for (size_t g = n; g-- > 0;) {
         uint8_t any = 0;
         for (const sg::ChildRef& c : scene_.children_of(scene_.groups[g])) {
             if (c.kind == sg::NodeKind::Group) {
-                in_order = in_order && c.index > g;
-                any |= in_order ? has_bindable_[c.index] : 0;
+                if (c.index <= g) return mark_bindables_walk();
+                any |= has_bindable_[c.index];
             } else if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light) {
                 any = 1;
             }
         }
         has_bindable_[g] = any;
     }
-    if (in_order) return;
-    mark_bindables_walk();
 }
 
 void Flattener::mark_bindables_walk() {

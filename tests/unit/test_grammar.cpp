@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -26,7 +27,11 @@ std::string describe(const NodeTypeDecl& d) {
                std::to_string(int(f.access)) + "/" + f.range + "/" + std::to_string(f.extension);
         if (f.default_field == UINT32_MAX) continue;
         const FieldView v = f.default_tree->view(f.default_tree->fields[f.default_field]);
-        for (double x : v.numbers) out += " " + std::to_string(x);
+        for (double x : v.numbers) {
+            char exact[32];  // every bit of the value: the two registries must agree exactly
+            std::snprintf(exact, sizeof exact, " %.17g", x);
+            out += exact;
+        }
         for (std::string_view t : v.strings) out += " '" + std::string(t) + "'";
     }
     return out;
