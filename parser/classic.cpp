@@ -967,6 +967,7 @@ class Reader {
             piece.tree = std::move(spare);
             spare = NodeTree{};
         }
+        if (consume_text(file, piece)) return;
         Reader reader(Target{scene_.sources, piece.diagnostics, piece.tree, piece.stats}, spec_,
                       limits_, resolver_);
         reader.in_piece_ = true;
@@ -995,9 +996,32 @@ class Reader {
         if (!consumer_->consume(piece.index, t, piece.roots)) return;
         piece.consumed = true;
         piece.nodes = static_cast<uint32_t>(t.nodes.size());
+        piece.root_count = static_cast<uint32_t>(piece.roots.size());
         piece.tree.clear_keeping_memory();
         spare = std::move(piece.tree);
         piece.tree = NodeTree{};
+    }
+
+    // A piece the consumer read from its text with no node tree (piece_consumer.h): usable as a
+    // tree read without a message would be.
+    bool consume_text(uint32_t file, Piece& piece) {
+        if (!consumer_ || angle_unit_) return false;
+        const PieceText text{scene_.sources.file(file).text,
+                             file,
+                             piece.begin,
+                             piece.end,
+                             spec_,
+                             std::min<size_t>(limits_.max_nodes, kFirstOuterNode),
+                             limits_.max_nesting_depth,
+                             limits_.max_mf_values};
+        std::optional<TextConsumed> took = consumer_->consume_text(piece.index, text);
+        if (!took) return false;
+        piece.usable = piece.consumed = true;
+        piece.nodes = took->nodes;
+        piece.root_count = took->roots;
+        piece.stats.use_count = took->uses;
+        piece.outer_uses = std::move(took->outer_uses);
+        return true;
     }
 
     // A piece read on its own cannot see the PROTOs and DEFs of the file before it, nor may it

@@ -171,8 +171,7 @@ void append_stats(ReadStats& stats, const ReadStats& later) {
 void join_piece(Piece& piece, std::vector<NodeId> outer, const PieceJoin& to) {
     if (piece.consumed) {
         to.consumed.push_back({piece.index, static_cast<uint32_t>(to.roots.size()),
-                               static_cast<uint32_t>(piece.roots.size()), piece.nodes,
-                               std::move(outer)});
+                               piece.root_count, piece.nodes, std::move(outer)});
         to.consumed_nodes += piece.nodes;
     } else {
         const NodeId base = append_tree(to.tree, std::move(piece.tree), outer);

@@ -52,9 +52,11 @@ struct Piece {
     std::vector<Name> outer_tags;  // XML: the element each was USEd as (its DEF's node type)
     bool usable =
         false;  // read to its end with no error and nothing that needs the rest of the file
-    // Taken by the PieceConsumer: `tree` is empty, `nodes` says how many nodes it held.
+    // Taken by the PieceConsumer: `tree` and `roots` are empty; `nodes` and `root_count` say how
+    // many nodes and top-level nodes it held.
     bool consumed = false;
     uint32_t nodes = 0;
+    uint32_t root_count = 0;
     uint32_t lines = 0;  // XML: the piece's line breaks, which the main reader's libxml2 never sees
 };
 

@@ -5,10 +5,13 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "parser/node_tree.h"
+#include "parser/registry.h"
 
 namespace vr {
 
@@ -19,9 +22,36 @@ namespace vr {
 constexpr NodeId kFirstOuterNode = 0xC0000000u;
 inline bool is_outer_node(NodeId id) { return id >= kFirstOuterNode && id != kNullNode; }
 
+// A piece's text, for a consumer that reads it itself (PieceConsumer::consume_text).
+struct PieceText {
+    std::string_view source;  // the whole file
+    uint32_t file = 0;
+    uint32_t begin = 0, end = 0;  // the piece's bytes in `source`
+    Spec spec = Spec::Vrml97;
+    size_t max_nodes = 0;  // the reader's limits for the piece: past them it gives up
+    size_t max_depth = 0;
+    size_t max_values = 0;  // nodes in one MFNode field
+};
+// What a consumer that read a piece's text itself took from it: what the reader's tree would have
+// counted and the names the piece USEs from before it (outer node k is the k-th, as in Piece).
+struct TextConsumed {
+    uint32_t roots = 0;
+    uint32_t nodes = 0;
+    uint32_t uses = 0;  // USE statements (ReadStats::use_count)
+    std::vector<Name> outer_uses;
+};
+
 class PieceConsumer {
   public:
     virtual ~PieceConsumer() = default;
+    // On a reading thread, before the piece is read into a tree: a consumer may read the text
+    // itself (src/scene/plain_piece.h builds the scene fragment of a plain piece with no node
+    // tree). It must take exactly what consume() would take from the piece's tree, and give up
+    // (nullopt) on anything that tree would warn about; the reader then reads the piece as
+    // before.
+    virtual std::optional<TextConsumed> consume_text(size_t /*piece*/, const PieceText& /*text*/) {
+        return std::nullopt;
+    }
     // On a reading thread, for the main file's piece `piece` (an index in file order): its tree,
     // read to its end without an error, with no DEF, ROUTE, PROTO, IMPORT or EXPORT in it, and its
     // top-level nodes. Node references may be outer nodes (is_outer_node). True when the consumer

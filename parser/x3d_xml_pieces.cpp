@@ -180,6 +180,7 @@ void XmlReader::read_piece(uint32_t file, uint32_t prefix_end, Piece& piece,
     if (!consumer->consume(piece.index, t, piece.roots)) return;
     piece.consumed = true;
     piece.nodes = static_cast<uint32_t>(t.nodes.size());
+    piece.root_count = static_cast<uint32_t>(piece.roots.size());
     piece.tree = NodeTree{};
 }
 

@@ -257,7 +257,7 @@ void Builder::count_references() {
     shared_nodes_ = shared;
 }
 
-size_t Builder::KeyHash::operator()(const MaterialKey& key) const {
+size_t MaterialKeyHash::operator()(const MaterialKey& key) const {
     uint64_t h = 0x9E3779B97F4A7C15ull;
     for (uint64_t k : key) {
         h ^= k + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);

@@ -77,6 +77,9 @@ class FirstIndexMap {
 // (hints belong to their node; a non-finite value is warned about per node by flattening).
 using MaterialKey = std::array<uint64_t, 15>;
 bool material_key(const sg::Material& m, MaterialKey& key);
+struct MaterialKeyHash {
+    size_t operator()(const MaterialKey& key) const;
+};
 
 class Builder {
   public:
@@ -202,10 +205,7 @@ class Builder {
     // an identical Material and Appearance per atom, and a Sphere per atom with a few radii. The
     // first node's origin is kept (only non-finite values are reported against a Material, and
     // those are never merged).
-    struct KeyHash {
-        size_t operator()(const MaterialKey& key) const;
-    };
-    std::unordered_map<MaterialKey, sg::Index, KeyHash> same_material_;
+    std::unordered_map<MaterialKey, sg::Index, MaterialKeyHash> same_material_;
     FirstIndexMap same_appearance_;  // (material, texture)
     FirstIndexMap same_sphere_;      // radius bits
     size_t depth_ = 0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 
+#include "scene/plain_piece.h"
+
 namespace vr {
 
 namespace {
@@ -68,6 +70,16 @@ bool SceneFragments::consume(size_t piece, const NodeTree& tree, std::span<const
     std::lock_guard lock(mutex_);
     built_[piece] = std::move(built);
     return true;
+}
+
+std::optional<TextConsumed> SceneFragments::consume_text(size_t piece, const PieceText& text) {
+    std::optional<PlainPiece> plain = read_plain_piece(text);
+    if (!plain) return std::nullopt;
+    auto built = std::make_unique<Scene>(std::move(plain->fragment));
+    ++text_pieces_;
+    std::lock_guard lock(mutex_);
+    built_[piece] = std::move(built);
+    return std::move(plain->counts);
 }
 
 void SceneFragments::discard(size_t piece) {

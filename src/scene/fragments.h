@@ -11,6 +11,7 @@
 // build reports nothing (a warning stays with the node tree, so that messages keep their order).
 // Everything else is left to the tree.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <unordered_map>
@@ -24,6 +25,8 @@ namespace vr {
 class SceneFragments final : public PieceConsumer, public FragmentStore {
   public:
     bool consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) override;
+    // A plain piece (plain_piece.h), built from its tokens.
+    std::optional<TextConsumed> consume_text(size_t piece, const PieceText& text) override;
     void discard(size_t piece) override;
 
     // The fragment of a consumed piece (built, not discarded); null if there is none. The scene
@@ -32,7 +35,11 @@ class SceneFragments final : public PieceConsumer, public FragmentStore {
     // Frees a fragment once it is spliced in (build_scene_releasing_tree).
     void release(size_t piece) override { discard(piece); }
 
+    // Pieces built from their tokens so far (tests check that the path is taken).
+    size_t text_pieces() const { return text_pieces_; }
+
   private:
+    std::atomic<size_t> text_pieces_{0};
     std::mutex mutex_;
     std::unordered_map<size_t, std::unique_ptr<Scene>> built_;
 };

@@ -120,15 +120,23 @@ std::string scene_difference(const Scene& a, const Scene& b) {
 
 // Reads `file` by one thread and in `piece`-byte pieces built as they are read; "" when the two
 // give the same scene and the same messages (reading and building), and the same exit.
+// `from_text`: how many of the consumed pieces were built from their tokens (plain_piece.h).
 std::string difference(const fs::path& file, size_t piece, size_t* consumed = nullptr,
-                       LoadLimits limits = {}) {
+                       LoadLimits limits = {}, size_t* from_text = nullptr) {
     LoadedScene one = load_in_pieces(file, 0, false, limits);
     LoadedScene many = load_in_pieces(file, piece, true, limits);
     if (consumed) *consumed = many.consumed_pieces.size();
+    if (from_text) {
+        const auto* f = dynamic_cast<const SceneFragments*>(many.piece_consumer.get());
+        *from_text = f ? f->text_pieces() : 0;
+    }
     const std::string r1 = one.diagnostics.format(one.sources);
     const std::string r2 = many.diagnostics.format(many.sources);
     if (r1 != r2) return "reading messages differ:\n" + r1 + "---\n" + r2;
     if (one.ok() != many.ok()) return "one read failed";
+    if (one.stats.def_count != many.stats.def_count || one.stats.use_count != many.stats.use_count)
+        return "DEF or USE counts differ: " + std::to_string(one.stats.use_count) + " vs " +
+               std::to_string(many.stats.use_count) + " USEs";
     if (!one.ok()) return "";
     Diagnostics d1, d2;
     const Scene a = build_scene_releasing_tree(one, d1);
@@ -219,9 +227,12 @@ TEST(SceneFragments, RealMoleculeExportsAreBuiltInPieces) {
          {"pymol/il2_spheres.wrl", "pymol/c551_ballstick.wrl", "pymol/pept_sticks.wrl"}) {
         const fs::path file = molecular / name;
         size_t consumed = 0;
-        EXPECT_EQ(difference(file, 4096, &consumed), "") << name;
-        // Every 4 KB piece of these files is atoms and bonds: nearly all are built.
+        size_t from_text = 0;
+        EXPECT_EQ(difference(file, 4096, &consumed, {}, &from_text), "") << name;
+        // Every 4 KB piece of these files is atoms and bonds: nearly all are built, and from
+        // their tokens (plain_piece.h).
         EXPECT_GT(consumed, fs::file_size(file) / 4096 / 2) << name;
+        EXPECT_GT(from_text, consumed * 9 / 10) << name << ": " << consumed << " pieces built";
     }
 }
 
@@ -251,6 +262,179 @@ std::string atoms(int n, int seed) {
              " } Group { children Shape { geometry Sphere { radius 0.25 } } } ] }\n";
     }
     return s;
+}
+
+// Atoms that use every field the scene build reads of the plain pattern's nodes (plain_piece.h),
+// given, left to its default or dropped, in the spellings exporters write.
+std::string plain_atoms(int n, int seed) {
+    std::string s;
+    for (int i = 0; i < n; ++i) {
+        const int k = i + seed;
+        const std::string a = std::to_string(k % 7), b = std::to_string(k % 5);
+        switch (k % 8) {
+            case 0:  // PyMOL's atom
+                s += "Transform {\n translation " + a + ".25 -" + b +
+                     ".5 1e-1\n children Shape {\n"
+                     "  geometry Sphere { radius 1.55 }\n  appearance Appearance {\n   material "
+                     "Material { diffuseColor 0.2000 1.0000 0." +
+                     a +
+                     "\n specularColor 0.8 0.8 "
+                     "0.8 shininess 0.8 }\n  }\n }\n}\n";
+                break;
+            case 1:  // PyMOL's bond: a rotation and a cylinder
+                s += "Transform { translation " + a + " " + b +
+                     " 2 rotation 0.499724 0.000000 "
+                     "0.866185 0." +
+                     b +
+                     "54346 children [ Shape { geometry Cylinder { radius "
+                     "0.25 height 0.7" +
+                     a +
+                     " } appearance Appearance { material Material { "
+                     "diffuseColor 0.2 0.2 1 } } } ] }\n";
+                break;
+            case 2:  // every Transform field, the bounding box read and dropped, a comment
+                s += "Transform { center 1 " + a + " 0 scale 2 1 0." + b +
+                     "1 scaleOrientation 1 0 "
+                     "0 0.3 rotation 0 0 1 -1.5 translation +.5 -0 " +
+                     b +
+                     " bboxCenter 0 0 0 "
+                     "bboxSize 4 4 4 # a comment\n children [ Shape { geometry Box { size 1 2 " +
+                     a + ".5 } } ] }\n";
+                break;
+            case 3:  // every Material field, commas as white space; a default Sphere
+                s += "Shape { appearance Appearance { material Material { ambientIntensity 0." + a +
+                     ", diffuseColor 1, 0, 0, emissiveColor 0 0." + b +
+                     " 0 shininess 1 "
+                     "specularColor 0.5 0.5 0.5 transparency 0.2" +
+                     a + " } } geometry Sphere { } }\n";
+                break;
+            case 4:  // nested groups, an empty list, NULL appearance and material
+                s +=
+                    "Group { children [ Transform { translation " + a +
+                    " 0 0 children [ ] } Group "
+                    "{ children Shape { appearance NULL geometry Cone { bottomRadius 0." +
+                    b +
+                    "5 height 2 bottom FALSE } } } Shape { appearance Appearance { material NULL } "
+                    "geometry Cylinder { side FALSE top FALSE bottom TRUE } } ] }\n";
+                break;
+            case 5:  // a Shape without geometry draws nothing, its appearance is still built
+                s += "Transform { translation 0 " + a +
+                     " 0 children [ Shape { appearance Appearance "
+                     "{ material Material { diffuseColor 0 1 0." +
+                     b +
+                     " } } } Shape { geometry "
+                     "Sphere { radius 0." +
+                     a + "5 } } ] }\n";
+                break;
+            case 6:  // identity and pure-translation transforms, spelled out
+                s += "Transform { rotation 0 1 0 0 scale 1 1 1 translation " + b + " " + a +
+                     " 3 children Shape { geometry Sphere { radius 2." + b + " } } }\n";
+                break;
+            default:  // a top-level Shape, a Cone with its defaults
+                s += "Shape { geometry Cone { } appearance Appearance { } }\n";
+                break;
+        }
+    }
+    return s;
+}
+
+TEST(SceneFragments, PlainPiecesAreBuiltFromTheirTokens) {
+    // S3's pattern too: each piece USEs Appearances DEF'd among the first atoms.
+    std::string uses;
+    for (int c = 0; c < 3; ++c)
+        uses += "Shape { appearance DEF M" + std::to_string(c) +
+                " Appearance { material Material "
+                "{ diffuseColor 0." +
+                std::to_string(c + 1) + " 0.5 0.5 } } geometry Sphere { } }\n";
+    for (int i = 0; i < 300; ++i)
+        uses += "Transform { translation " + std::to_string(i) +
+                " 0 0 children Shape { "
+                "appearance USE M" +
+                std::to_string(i % 3) + " geometry Sphere { radius 0." + std::to_string(1 + i % 9) +
+                " } } }\n";
+    const std::pair<std::string, const char*> cases[] = {
+        {"#VRML V2.0 utf8\n" + plain_atoms(400, 0), ".wrl"},
+        {"#VRML V2.0 utf8\n" + uses, ".wrl"},
+        // X3D: a Shape that is not visible, fields VRML97 lacks read and dropped
+        {"#X3D V3.3 utf8\nPROFILE Interchange\n" + plain_atoms(200, 3) +
+             "Transform { visible FALSE bboxDisplay TRUE children Shape { visible FALSE "
+             "castShadow FALSE geometry Box { } } }\n" +
+             plain_atoms(200, 5),
+         ".x3dv"},
+    };
+    int n = 0;
+    for (const auto& [text, extension] : cases) {
+        TempFile file(text, extension);
+        for (size_t piece : {300, 700, 4096}) {
+            size_t consumed = 0, from_text = 0;
+            EXPECT_EQ(difference(file.path, piece, &consumed, {}, &from_text), "")
+                << "case " << n << ", pieces of " << piece << " bytes";
+            // Every piece but the first, which the main reader reads itself, is plain.
+            EXPECT_GT(consumed, text.size() / piece / 2) << "case " << n << ", " << piece;
+            EXPECT_EQ(from_text, consumed) << "case " << n << ", pieces of " << piece;
+        }
+        ++n;
+    }
+}
+
+TEST(SceneFragments, PiecesThatAreNotPlainAreReadIntoATree) {
+    // What the tree's reading or build would warn about, or what the plain pattern lacks: the
+    // piece holding it is read into a tree, with the same messages in the same places.
+    const std::string odd[] = {
+        "Transform { rotation 0 2 0 1 children Shape { geometry Box { } } }\n",  // axis warned
+        "Transform { translation 1 0 0 translation 2 0 0 }\n",                   // given twice
+        "Shape { geometry Cylinder { side true } }\n",                           // lower case
+        "Shape { geometry Material { } }\n",                                     // wrong type
+        "Shape { appearance Appearance { material Material { } material NULL } }\n",
+        "Transform { children [ NULL Shape { geometry Box { } } ] }\n",  // NULL among children
+        "Shape { geometry Sphere { radius 0 } }\n",                      // zero radius
+        "Transform { scale 1 0 1 children Shape { geometry Sphere { } } }\n",  // singular
+        "Transform { children Shape { geometry DEF S Sphere { } } }\nShape { geometry USE S }\n",
+        "Shape { appearance Appearance { texture ImageTexture { url \"t.png\" } } }\n",
+        "Group { children Shape { geometry Sphere { radius 1e999 } } }\n",  // not finite
+    };
+    int n = 0;
+    for (const std::string& line : odd) {
+        TempFile file("#VRML V2.0 utf8\n" + plain_atoms(120, n) + line + plain_atoms(120, n + 1));
+        for (size_t piece : {300, 4096}) {
+            size_t consumed = 0, from_text = 0;
+            EXPECT_EQ(difference(file.path, piece, &consumed, {}, &from_text), "")
+                << "case " << n << ", pieces of " << piece << " bytes";
+            EXPECT_GT(from_text, 0u) << "case " << n << ", pieces of " << piece;
+        }
+        ++n;
+    }
+}
+
+TEST(SceneFragments, PlainPiecesKeepTheReadersLimits) {
+    // Nesting deeper than --max-depth allows, and more children in one list than a field may
+    // hold: the read fails with the same message at the same place.
+    std::string deep = "Shape { geometry Box { } }";
+    for (int i = 0; i < 8; ++i) deep = "Transform { children [ " + deep + " ] }";
+    const std::string many = "Group { children [ Shape { } Shape { } Shape { } ] }\n";
+    LoadLimits shallow, narrow;
+    shallow.max_nesting_depth = 6;  // the Box is 9 deep
+    narrow.max_mf_values = 2;
+    std::string spheres;  // no list of more than one node
+    for (int i = 0; i < 200; ++i)
+        spheres += "Transform { translation " + std::to_string(i) +
+                   " 0 0 children [ Shape { geometry Sphere { } } ] }\n";
+    const std::pair<std::string, LoadLimits> cases[] = {
+        {spheres + deep + "\n" + spheres, shallow},
+        {spheres + many + spheres, narrow},
+    };
+    int n = 0;
+    for (const auto& [text, limits] : cases) {
+        TempFile file("#VRML V2.0 utf8\n" + text);
+        EXPECT_FALSE(load_in_pieces(file.path, 300, true, limits).ok()) << "case " << n;
+        for (size_t piece : {300, 4096}) {
+            size_t consumed = 0, from_text = 0;
+            EXPECT_EQ(difference(file.path, piece, &consumed, limits, &from_text), "")
+                << "case " << n << ", pieces of " << piece << " bytes";
+            EXPECT_GT(from_text, 0u) << "case " << n << ", pieces of " << piece;
+        }
+        ++n;
+    }
 }
 
 TEST(SceneFragments, CutsThatStayInTheTreeBuildAsFromTheWholeTree) {
