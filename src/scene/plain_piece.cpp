@@ -18,11 +18,20 @@ using detail::MaterialKey;
 
 // ---- the node types and the fields the scene build reads of them -----------------------------
 
-enum class Type : uint8_t { Transform, Group, Shape, Appearance, Material, Sphere, Box, Cylinder, Cone };
+enum class Type : uint8_t {
+    Transform,
+    Group,
+    Shape,
+    Appearance,
+    Material,
+    Sphere,
+    Box,
+    Cylinder,
+    Cone
+};
 constexpr size_t kTypes = 9;
-constexpr std::string_view kTypeNames[kTypes] = {"Transform", "Group",  "Shape",
-                                                 "Appearance", "Material", "Sphere",
-                                                 "Box",       "Cylinder", "Cone"};
+constexpr std::string_view kTypeNames[kTypes] = {
+    "Transform", "Group", "Shape", "Appearance", "Material", "Sphere", "Box", "Cylinder", "Cone"};
 bool is_child(Type t) { return t == Type::Transform || t == Type::Group || t == Type::Shape; }
 bool is_geometry(Type t) { return t >= Type::Sphere; }
 
@@ -34,7 +43,8 @@ enum class NodeField : uint8_t { None, Children, Appearance, Geometry, Material 
 struct BuildField {
     std::string_view name;
     uint8_t slot;
-    uint8_t count;  // numbers: 1 for SFFloat and SFBool, 3 for SFVec3f and SFColor, 4 for SFRotation
+    uint8_t
+        count;  // numbers: 1 for SFFloat and SFBool, 3 for SFVec3f and SFColor, 4 for SFRotation
 };
 constexpr size_t kSlots = 17;  // Transform's five fields
 const std::vector<BuildField>& build_fields(Type t) {
@@ -85,7 +95,8 @@ struct Grammar {
 };
 
 NodeField node_field(Type t, std::string_view name) {
-    if ((t == Type::Transform || t == Type::Group) && name == "children") return NodeField::Children;
+    if ((t == Type::Transform || t == Type::Group) && name == "children")
+        return NodeField::Children;
     if (t == Type::Shape && name == "appearance") return NodeField::Appearance;
     if (t == Type::Shape && name == "geometry") return NodeField::Geometry;
     if (t == Type::Appearance && name == "material") return NodeField::Material;
@@ -245,7 +256,9 @@ class PlainReader {
 
     // A numeric or boolean field, converted exactly as the tree's reader converts it.
     void value(const FieldInfo& field, std::array<double, kSlots>& values) {
-        std::array<double, 4> v{};
+        // Straight to the slots (a copy afterwards compiled to `rep movsq`: 22% of this reader).
+        std::array<double, 4> dropped;
+        double* v = field.slot >= 0 ? values.data() + field.slot : dropped.data();
         const int count = components(field.kind);
         for (int i = 0; i < count; ++i) {
             if (field.kind == ValueKind::Bool) {
@@ -261,9 +274,8 @@ class PlainReader {
                 (t.kind != TokenKind::Word || !parse_double(lexer_.text(t), v[i])))
                 give_up();
         }
-        if (field.kind == ValueKind::Rotation && !normalise_rotation(v.data()))
+        if (field.kind == ValueKind::Rotation && !normalise_rotation(v))
             give_up();  // the reader warns about the axis
-        if (field.slot >= 0) std::copy_n(v.begin(), count, values.begin() + field.slot);
     }
 
     // A node field: children (one node or a bracketed list), or one node, NULL or a USE.
