@@ -17,11 +17,14 @@ bool finite3(const Vec3& v) {
 }
 
 // One more float ulp outwards than make_build_box: covers the rounding of the double bounds.
+// (Every caller has checked that the bounds are finite.)
 BuildBox padded_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
-    BuildBox b = make_build_box(lo, hi, id);
+    BuildBox b;
+    b.id = id;
+    b.cost = 1.0f;  // as make_build_box's
     for (int k = 0; k < 3; ++k) {
-        b.lo[k] = float_step_down(b.lo[k]);
-        b.hi[k] = float_step_up(b.hi[k]);
+        b.lo[k] = float_down_padded(lo[k]);
+        b.hi[k] = float_up_padded(hi[k]);
     }
     return b;
 }

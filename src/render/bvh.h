@@ -6,6 +6,7 @@
 // bounds are single precision, rounded outwards so that every box contains its exact
 // double-precision contents; rays are tested against them in double precision.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -111,6 +112,37 @@ inline float float_up(double v) {
     float f = static_cast<float>(v);
     if (double(f) < v) f = float_step_up(f);
     return f;
+}
+
+// float_step_down(float_down(v)) and float_step_up(float_up(v)) for a v that is not NaN, without
+// branches: whether the rounding went the wrong way is as likely as not, and six such branches a
+// box cost 62 ns a sphere (4% of a 1 GB file's samples). Floats as integers in their order:
+// +0 and -0 are 0, one step is one ulp.
+inline int32_t float_order(float f) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    const int32_t magnitude = int32_t(bits & 0x7fffffffu);
+    return bits >> 31 ? -magnitude : magnitude;
+}
+// A zero reached by stepping keeps the sign of where the steps began, as float_step_* give it.
+inline float float_of_order(int32_t k, float from) {
+    uint32_t bits;
+    std::memcpy(&bits, &from, sizeof bits);
+    bits = k > 0 ? uint32_t(k) : k < 0 ? 0x80000000u | uint32_t(-k) : bits & 0x80000000u;
+    float f;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+constexpr int32_t kInfinityOrder = 0x7f800000;
+inline float float_down_padded(double v) {
+    const float f = static_cast<float>(v);
+    const int32_t k = float_order(f) - 1 - int32_t(double(f) > v);
+    return float_of_order(std::max(k, -kInfinityOrder), f);  // -inf stays
+}
+inline float float_up_padded(double v) {
+    const float f = static_cast<float>(v);
+    const int32_t k = float_order(f) + 1 + int32_t(double(f) < v);
+    return float_of_order(std::min(k, kInfinityOrder), f);  // +inf stays
 }
 inline BuildBox make_build_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
     BuildBox b;

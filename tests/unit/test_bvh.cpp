@@ -1,6 +1,7 @@
 // The BVH: structure invariants, and closest hits equal to a brute-force search.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <random>
 #include <set>
@@ -360,6 +361,31 @@ TEST(Bvh, NonFiniteAndEmptyPrimitivesAreLeftOut) {
     Bounds3 b = scene.bounds();
     EXPECT_EQ(b.lo, Vec3(-1.0));
     EXPECT_EQ(b.hi, Vec3(1.0));
+}
+
+// The branch-free padding of the boxes rounds exactly as two steps of the plain functions: at
+// every magnitude, on both sides of zero, among the subnormals and past the float range.
+TEST(Bvh, PaddedBoundsEqualTheStepwiseRounding) {
+    std::mt19937_64 rng(5);
+    std::vector<double> values = {
+        0.0,    -0.0,    1.0,   -1.0,   1e-45,
+        -1e-45, 1.4e-45, 3e-39, -3e-39, double(std::numeric_limits<float>::max()),
+        3.5e38, -3.5e38, 1e300, -1e300, double(std::numeric_limits<float>::denorm_min())};
+    for (int i = 0; i < 200000; ++i) {
+        const double mantissa = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+        const int exponent = std::uniform_int_distribution<int>(-160, 140)(rng);
+        values.push_back(std::ldexp(mantissa, exponent));
+        // Doubles that are floats, and their neighbours: the rounding's edge cases.
+        const double f = double(float(values.back()));
+        values.insert(values.end(),
+                      {f, std::nextafter(f, 2 * f + 1), std::nextafter(f, -2 * f - 1)});
+    }
+    for (double v : values) {
+        const float down = float_step_down(float_down(v)), up = float_step_up(float_up(v));
+        ASSERT_EQ(std::bit_cast<uint32_t>(float_down_padded(v)), std::bit_cast<uint32_t>(down))
+            << v;
+        ASSERT_EQ(std::bit_cast<uint32_t>(float_up_padded(v)), std::bit_cast<uint32_t>(up)) << v;
+    }
 }
 
 }  // namespace
