@@ -45,8 +45,8 @@ enum class NodeField : uint8_t { None, Children, Appearance, Geometry, Material 
 struct BuildField {
     std::string_view name;
     uint8_t slot;
-    uint8_t
-        count;  // numbers: 1 for SFFloat and SFBool, 3 for SFVec3f and SFColor, 4 for SFRotation
+    // Numbers: 1 for SFFloat and SFBool, 3 for SFVec3f and SFColor, 4 for SFRotation.
+    uint8_t count;
 };
 constexpr size_t kSlots = 17;  // Transform's five fields
 const std::vector<BuildField>& build_fields(Type t) {
