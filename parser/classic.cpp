@@ -963,11 +963,11 @@ class Reader {
         // The tree of the last piece this thread read and a consumer took, emptied: its memory
         // serves the next piece.
         static thread_local NodeTree spare;
+        if (consume_text(file, piece)) return;  // no tree: the spare waits for the next piece
         if (spare.nodes.capacity() > 0) {
             piece.tree = std::move(spare);
             spare = NodeTree{};
         }
-        if (consume_text(file, piece)) return;
         Reader reader(Target{scene_.sources, piece.diagnostics, piece.tree, piece.stats}, spec_,
                       limits_, resolver_);
         reader.in_piece_ = true;

@@ -21,7 +21,7 @@ bool finite3(const Vec3& v) {
 BuildBox padded_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
     BuildBox b;
     b.id = id;
-    b.cost = 1.0f;  // as make_build_box's
+    b.cost = kPlainBoxCost;
     for (int k = 0; k < 3; ++k) {
         b.lo[k] = float_down_padded(lo[k]);
         b.hi[k] = float_up_padded(hi[k]);

@@ -144,6 +144,8 @@ inline float float_up_padded(double v) {
     const int32_t k = float_order(f) + 1 + int32_t(double(f) < v);
     return float_of_order(std::min(k, kInfinityOrder), f);  // +inf stays
 }
+// A box's BuildBox::cost unless its maker says otherwise: one sphere test.
+constexpr float kPlainBoxCost = 1.0f;
 inline BuildBox make_build_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
     BuildBox b;
     for (int k = 0; k < 3; ++k) {
@@ -151,7 +153,7 @@ inline BuildBox make_build_box(const Vec3& lo, const Vec3& hi, uint32_t id) {
         b.hi[k] = float_up(hi[k]);
     }
     b.id = id;
-    b.cost = 1.0f;
+    b.cost = kPlainBoxCost;
     return b;
 }
 

@@ -545,11 +545,7 @@ sg::Index Builder::appearance(NodeId id) {
     a.texture_modulates =
         a.texture != sg::kNone && file < loaded_.x3d_major.size() && loaded_.x3d_major[file] >= 4;
     sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
-    // The key has no room for the rule: X3D 4 appearances are not shared (few files are large).
-    if (!a.has_texture_transform && !a.texture_modulates) {
-        const uint64_t key = (uint64_t(a.material) << 32) | a.texture;
-        index = same_appearance_.find_or_add(key, index);
-    }
+    if (uint64_t key; appearance_key(a, key)) index = same_appearance_.find_or_add(key, index);
     if (index == scene_.appearances.size()) scene_.appearances.push_back(std::move(a));
     if ((memo = shared(id))) memo->typed = index;
     return index;

@@ -80,6 +80,12 @@ bool material_key(const sg::Material& m, MaterialKey& key);
 struct MaterialKeyHash {
     size_t operator()(const MaterialKey& key) const;
 };
+// An appearance's merge key: its material and texture. False when it must not be merged: the key
+// has no room for a texture transform or X3D 4's modulate rule (few such files are large).
+inline bool appearance_key(const sg::Appearance& a, uint64_t& key) {
+    key = (uint64_t(a.material) << 32) | a.texture;
+    return !a.has_texture_transform && !a.texture_modulates;
+}
 
 class Builder {
   public:

@@ -57,8 +57,7 @@ void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, si
         sg::Appearance a = f.appearances[i];
         if (a.material != sg::kNone) a.material = material[a.material];
         sg::Index index = static_cast<sg::Index>(scene_.appearances.size());
-        if (!a.has_texture_transform && !a.texture_modulates)
-            index = same_appearance_.find_or_add((uint64_t(a.material) << 32) | a.texture, index);
+        if (uint64_t key; appearance_key(a, key)) index = same_appearance_.find_or_add(key, index);
         if (index == scene_.appearances.size()) scene_.appearances.push_back(a);
         appearance[i] = index;
     }

@@ -151,8 +151,7 @@ bool describe(const Registry& registry, Spec spec, Type t, TypeInfo& info) {
         const FieldDecl* f = registry.lookup_field(decl->spec, *decl, intern(b.name));
         if (!f || f->default_field == UINT32_MAX || f->type.multi) return false;
         const FieldView v = f->default_tree->view(f->default_tree->fields[f->default_field]);
-        if (v.numbers.size() != b.count || (b.count == 1) != (components(f->type.kind) == 1))
-            return false;
+        if (v.numbers.size() != b.count) return false;
         std::copy(v.numbers.begin(), v.numbers.end(), info.defaults.begin() + b.slot);
         for (FieldInfo& field : info.fields)
             if (field.name == b.name) field.slot = static_cast<int8_t>(b.slot);
@@ -463,9 +462,9 @@ class FragmentWriter {
         sg::Appearance a;
         a.origin = origin(n);
         if (n.material != kNoNode) a.material = material(n.material);
-        const uint64_t key = (uint64_t(a.material) << 32) | a.texture;
         auto index = static_cast<sg::Index>(scene_.appearances.size());
-        index = same_appearance_.find_or_add(key, index);
+        if (uint64_t key; detail::appearance_key(a, key))
+            index = same_appearance_.find_or_add(key, index);
         if (index == scene_.appearances.size()) scene_.appearances.push_back(a);
         return index;
     }
@@ -484,13 +483,8 @@ class FragmentWriter {
         m.transparency = v[11];
         auto index = static_cast<sg::Index>(scene_.materials.size());
         MaterialKey key;
-        if (detail::material_key(m, key)) {
-            // Exporters repeat one material atom after atom: the last key saves a hash.
-            if (last_material_ != sg::kNone && key == last_key_) return last_material_;
+        if (detail::material_key(m, key))
             index = same_material_.try_emplace(key, index).first->second;
-            last_key_ = key;
-            last_material_ = index;
-        }
         if (index == scene_.materials.size()) scene_.materials.push_back(m);
         return index;
     }
@@ -541,8 +535,6 @@ class FragmentWriter {
     std::vector<Vec3> translations_;
     std::vector<sg::Shape> shapes_;
     std::unordered_map<MaterialKey, sg::Index, detail::MaterialKeyHash> same_material_;
-    MaterialKey last_key_{};
-    sg::Index last_material_ = sg::kNone;
     FirstIndexMap same_appearance_, same_sphere_;
 };
 
