@@ -1,6 +1,11 @@
 #include "render/flat_scene.h"
 
+#include <algorithm>
 #include <cmath>
+#include <thread>
+#include <vector>
+
+#include "core/parallel.h"
 
 namespace vr {
 
@@ -13,12 +18,23 @@ bool finite3(const Vec3& v) {
 // World bounds of everything the tracer can hit (gas spheres included). Non-finite data is left
 // out, as the tracer leaves it out.
 Bounds3 FlatScene::bounds() const {
+    // Spheres on every core: a molecule of 3.4M atoms took 24 ms a call on one (the render asks
+    // twice). min and max are exact, and c - r or c + r is never -0 for r > 0, so the chunks do
+    // not change the bounds, not even a zero's sign.
+    const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    const int chunks = chunks_for(spheres.size(), threads);
+    std::vector<Bounds3> part(static_cast<size_t>(chunks));
+    parallel_chunks(spheres.size(), chunks, [&](size_t begin, size_t end, int c) {
+        Bounds3& p = part[size_t(c)];
+        for (size_t i = begin; i < end; ++i) {
+            const Sphere& s = spheres[i];
+            if (!(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center)) continue;
+            p.extend(s.center - Vec3(s.radius));
+            p.extend(s.center + Vec3(s.radius));
+        }
+    });
     Bounds3 b;
-    for (const Sphere& s : spheres) {
-        if (!(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center)) continue;
-        b.extend(s.center - Vec3(s.radius));
-        b.extend(s.center + Vec3(s.radius));
-    }
+    for (const Bounds3& p : part) b.extend(p);
     for (const Quadric& q : quadrics) {
         Vec3 half = q.size * 0.5;
         if (!finite3(half)) continue;

@@ -363,6 +363,34 @@ TEST(Bvh, NonFiniteAndEmptyPrimitivesAreLeftOut) {
     EXPECT_EQ(b.hi, Vec3(1.0));
 }
 
+// Enough spheres to be split across threads: the bounds are those of one pass, bit for bit, with
+// the extremes in any chunk and invalid spheres among them.
+TEST(Bvh, SceneBoundsOfManySpheresEqualOnePass) {
+    for (const size_t extreme_at : {size_t(0), size_t(150001), size_t(299999)}) {
+        FlatScene scene = testing::empty_scene();
+        testing::add_shading(scene, Material());
+        std::mt19937_64 rng(extreme_at);
+        std::uniform_real_distribution<double> u(-100.0, 100.0);
+        for (size_t i = 0; i < 300000; ++i)
+            testing::add_sphere(scene, Vec3(u(rng), u(rng), u(rng)), 0.5, 0);
+        scene.spheres[extreme_at].center = Vec3(-1000.25, 1000.5, -0.5);
+        scene.spheres[extreme_at].radius = 0.5;
+        scene.spheres[7].center.x = NAN;
+        scene.spheres[9].radius = INFINITY;
+        Vec3 lo(INFINITY), hi(-INFINITY);
+        for (const Sphere& s : scene.spheres) {
+            if (!std::isfinite(s.center.x) || !std::isfinite(s.radius)) continue;
+            lo = glm::min(lo, s.center - Vec3(s.radius));
+            hi = glm::max(hi, s.center + Vec3(s.radius));
+        }
+        const Bounds3 b = scene.bounds();
+        EXPECT_EQ(b.lo, lo);
+        EXPECT_EQ(b.hi, hi);
+        EXPECT_EQ(b.lo.x, -1000.75);
+        EXPECT_EQ(b.hi.y, 1001.0);
+    }
+}
+
 // The branch-free padding of the boxes rounds exactly as two steps of the plain functions: at
 // every magnitude, on both sides of zero, among the subnormals and past the float range.
 TEST(Bvh, PaddedBoundsEqualTheStepwiseRounding) {

@@ -226,6 +226,36 @@ TEST(Flatten, BindablesUnderAUseOfAnEarlierGroupAreFound) {
     EXPECT_NEAR(glm::length(f.flat.viewpoints[1].position - Vec3(5, 0, 10)), 0.0, kTight);
 }
 
+TEST(Flatten, BindablesAtTheTopAndUsedInAGroupAreAllFound) {
+    // The top-level Viewpoint is also used inside a Transform: the scene has a bindable below the
+    // top, though every bindable node stands at the top. Both places bind it, in file order.
+    const Flat f = flatten(R"(
+        DEF Top Viewpoint { description "top" }
+        NavigationInfo { headlight FALSE }
+        Transform { translation 5 0 0 children [ Shape { geometry Sphere {} } USE Top ] })");
+    ASSERT_EQ(f.flat.viewpoints.size(), 2u);
+    EXPECT_NEAR(glm::length(f.flat.viewpoints[0].position - Vec3(0, 0, 10)), 0.0, kTight);
+    EXPECT_NEAR(glm::length(f.flat.viewpoints[1].position - Vec3(5, 0, 10)), 0.0, kTight);
+    EXPECT_FALSE(f.flat.headlight);
+}
+
+TEST(Flatten, BindablesOnlyAtTheTopAreFoundAmongManyGroups) {
+    // The molecule exporters' layout: bindables among the top-level nodes, then many groups.
+    std::string body = "Background { skyColor 0 0 1 }\n";
+    for (int i = 0; i < 2000; ++i)
+        body += "Transform { translation " + std::to_string(i) +
+                " 0 0 children Shape { geometry Sphere {} } }\n";
+    body +=
+        "Viewpoint { position 1 2 3 description \"last\" }\nNavigationInfo { headlight FALSE }\n";
+    const Flat f = flatten(body);
+    ASSERT_EQ(f.flat.viewpoints.size(), 1u);
+    EXPECT_EQ(f.flat.viewpoints[0].description, "last");
+    EXPECT_EQ(f.flat.viewpoints[0].position, Vec3(1, 2, 3));
+    EXPECT_FALSE(f.flat.headlight);
+    EXPECT_TRUE(f.flat.background.present);
+    EXPECT_EQ(f.flat.spheres.size(), 2000u);
+}
+
 TEST(Flatten, BillboardFacesTheViewer) {
     const Flat f = flatten(R"(
         Viewpoint { position 10 0 0 }
