@@ -69,7 +69,16 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
         return;
     }
     if (++visits_ > options_.max_group_visits) return stop("grouping nodes");
-    Mat4 m = group.has_transform() ? parent * scene_.local_from_child(group) : parent;
+    Mat4 m = parent;
+    if (group.transform_kind == sg::GroupTransform::Translation && is_translation(parent)) {
+        // The molecule exporters' Transform per atom: the product's other columns are the
+        // parent's, and its last one the sum of the translations (the product adds only zeros,
+        // which can change no more than a zero's sign), for a 64-multiply product per group.
+        const Vec3& t = scene_.translations[group.transform];
+        m[3] = Vec4(Vec3(parent[3]) + t, 1.0);
+    } else if (group.has_transform()) {
+        m = parent * scene_.local_from_child(group);
+    }
     if (group.billboard()) {
         const Mat4 local_from_world = glm::inverse(m);
         const Vec3 viewer = transform_point(local_from_world, viewer_position_);

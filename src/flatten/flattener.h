@@ -165,6 +165,8 @@ class Flattener {
     std::unordered_map<MaterialKey, uint32_t, MaterialKeyHash, MaterialKeyEqual> material_index_;
     std::vector<int32_t> appearance_material_;  // per appearance (+1: none) without extra hints
     std::unordered_map<uint64_t, uint32_t> shading_index_;
+    uint64_t last_shading_key_ = UINT64_MAX;  // no material has index UINT32_MAX
+    uint32_t last_shading_ = 0;
     std::vector<int32_t> texture_index_;
     std::unordered_map<std::string, int32_t> image_index_;
     std::vector<std::unique_ptr<TriMesh>>

@@ -105,6 +105,7 @@ bool is_singular(const Mat4& m) {
 }
 
 double uniform_scale(const Mat3& l) {
+    if (l == Mat3(1.0)) return 1.0;        // what the test below gives, without its 27 products
     const Mat3 g = glm::transpose(l) * l;  // = s^2 I for a rotation times a uniform scale
     const double s2 = (g[0][0] + g[1][1] + g[2][2]) / 3.0;
     if (!(s2 > 0.0) || !std::isfinite(s2)) return 0.0;

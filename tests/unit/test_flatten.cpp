@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
+#include <random>
 #include <sstream>
 
 #include "flatten/flatten.h"
@@ -54,6 +56,55 @@ TEST(Flatten, TransformThroughTheParserMatchesHandComputed) {
     EXPECT_NEAR(glm::length(p[0] - Vec3(2, 1, 3)), 0.0, kTight);
     EXPECT_NEAR(glm::length(p[1] - Vec3(2, 2, 3)), 0.0, kTight);
     EXPECT_NEAR(glm::length(p[2] - Vec3(0, 1, 3)), 0.0, kTight);
+}
+
+// The scene's own product of matrices down to every sphere (what visit computed with no shortcut).
+void expected_centres(const Scene& scene, sg::Index g, const Mat4& parent,
+                      std::vector<Vec3>& centres, std::vector<Mat4>& boxes) {
+    const sg::Group& group = scene.groups[g];
+    const Mat4 m = group.has_transform() ? parent * scene.local_from_child(group) : parent;
+    for (const sg::ChildRef& c : scene.children_of(group)) {
+        if (c.kind == sg::NodeKind::Group) expected_centres(scene, c.index, m, centres, boxes);
+        if (c.kind != sg::NodeKind::Shape) continue;
+        const sg::Geometry& geometry = scene.geometries[scene.shapes[c.index].geometry];
+        if (std::holds_alternative<sg::Sphere>(geometry.shape))
+            centres.push_back(Vec3(m * Vec4(0.0, 0.0, 0.0, 1.0)));
+        else
+            boxes.push_back(m);
+    }
+}
+
+TEST(Flatten, NestedTranslationsGiveTheProductsOfTheirMatrices) {
+    // Nested translations of every magnitude and sign (-0 among them), under the root and under a
+    // rotation: the spheres' centres and the boxes' matrices are those of the matrix products.
+    std::mt19937_64 rng(3);
+    auto number = [&] {
+        const double v = std::ldexp(std::uniform_real_distribution<double>(-1.0, 1.0)(rng),
+                                    std::uniform_int_distribution<int>(-30, 30)(rng));
+        char text[32];
+        std::snprintf(text, sizeof text, "%.17g", v);
+        return rng() % 8 == 0 ? std::string(rng() % 2 ? "-0" : "0") : std::string(text);
+    };
+    auto translation = [&] { return number() + " " + number() + " " + number(); };
+    std::string body;
+    for (int i = 0; i < 200; ++i) {
+        const bool rotated = i % 3 == 0;
+        body += "Transform { " + std::string(rotated ? "rotation 0.6 0 0.8 0.7 " : "") +
+                "translation " + translation() + " children [ Transform { translation " +
+                translation() + " children [ Shape { geometry Sphere { radius 0.5 } } " +
+                "Transform { translation " + translation() +
+                " children Shape { geometry Box {} } } ] } Shape { geometry Sphere {} } ] }\n";
+    }
+    const Flat f = flatten(body);
+    std::vector<Vec3> centres;
+    std::vector<Mat4> boxes;
+    expected_centres(f.scene, Scene::kRoot, Mat4(1.0), centres, boxes);
+    ASSERT_EQ(f.flat.spheres.size(), centres.size());
+    ASSERT_EQ(f.flat.quadrics.size(), boxes.size());
+    for (size_t i = 0; i < centres.size(); ++i) EXPECT_EQ(f.flat.spheres[i].center, centres[i]);
+    for (size_t i = 0; i < boxes.size(); ++i)
+        EXPECT_EQ(f.flat.quadrics[i].world_from_object, boxes[i]);
+    for (const Sphere& s : f.flat.spheres) EXPECT_TRUE(s.radius == 0.5 || s.radius == 1.0);
 }
 
 TEST(Flatten, DirectionalLightIsScopedToItsGroup) {
