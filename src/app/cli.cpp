@@ -27,6 +27,8 @@ constexpr Label<SpheresOption> kSpheresLabels[] = {{"opaque", SpheresOption::Opa
 constexpr Label<CameraMode> kCameraLabels[] = {{"perspective", CameraMode::Perspective},
                                                {"ortho", CameraMode::Ortho},
                                                {"viewpoint", CameraMode::FromViewpoint}};
+constexpr Label<BvhBuild> kBvhLabels[] = {
+    {"auto", BvhBuild::Auto}, {"sah", BvhBuild::Sah}, {"morton", BvhBuild::Morton}};
 
 template <class E, size_t N>
 std::vector<std::string> label_names(const Label<E> (&table)[N]) {
@@ -87,7 +89,8 @@ int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* c
 struct Texts {
     std::vector<std::string> limits;
     std::vector<CLI::Option*> sandbox_options;
-    std::string spheres = "hints", camera = "viewpoint", background, albedo, emission, sky;
+    std::string spheres = "hints", camera = "viewpoint", bvh = "auto", background, albedo, emission,
+                sky;
     std::string position, look_at, up;  // camera overrides, X,Y,Z
     bool recover = false, no_recover = false;
     std::string bench_spheres = "hints", bench_sky;
@@ -186,6 +189,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--max-depth", o.max_depth, "Maximum reflection/refraction depth")
         ->check(CLI::Range(0, 1000));
     r->add_option("--threads", o.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+    r->add_option("--bvh", texts.bvh,
+                  "BVH build: sah (best tree), morton (5x quicker build), or auto (morton when "
+                  "the rays are fewer than 4 a primitive; default)")
+        ->check(CLI::IsMember(label_names(kBvhLabels)));
     r->add_option("--tolerance", o.tolerance, "Relative tolerance of the gas integrator")
         ->check(CLI::Range(1e-12, 1.0));
     r->add_option("--density", o.density, "Gas extinction per scene unit")
@@ -363,6 +370,7 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     if (texts.no_recover) render.recover_spheres = false;
     render.options.spheres = label_value(kSpheresLabels, texts.spheres);
     render.options.camera = label_value(kCameraLabels, texts.camera);
+    render.options.bvh = label_value(kBvhLabels, texts.bvh);
     for (auto [text, target, name] :
          {std::tuple{&texts.background, &render.options.background, "--background"},
           std::tuple{&texts.albedo, &render.options.albedo, "--albedo"},

@@ -69,7 +69,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
                        {"instanced_triangles", flat.instanced_triangle_count()},
                        {"materials", flat.materials.size()},
                        {"lights", flat.lights.size()},
-                       {"bvh_nodes", stats.bvh_nodes}};
+                       {"bvh_nodes", stats.bvh_nodes},
+                       {"bvh_build", stats.bvh_build == BvhBuild::Morton ? "morton" : "sah"}};
     j["rays"] = {{"primary", stats.primary_rays},
                  {"shadow", stats.shadow_rays},
                  {"secondary", stats.secondary_rays},

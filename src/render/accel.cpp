@@ -132,7 +132,7 @@ bool Accel::instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) con
 
 // Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs,
 // then mesh instances.
-void Accel::build(const FlatScene& scene, int threads) {
+void Accel::build(const FlatScene& scene, int threads, BvhBuild kind) {
     scene_ = &scene;
     threads = std::max(threads, 1);
     const uint32_t n_spheres = uint32_t(scene.spheres.size());
@@ -194,6 +194,7 @@ void Accel::build(const FlatScene& scene, int threads) {
     // 4-wide nodes (285k -> 159k, 36 -> 20 bytes a sphere) and shortened the build by a fifth,
     // render time unchanged. For the 8-wide tree a cost of 8 measured the same as 4 (bench/README).
     options.traversal_cost = 4.0;
+    options.morton = kind == BvhBuild::Morton;
     const Bvh binary = build_bvh(std::move(boxes), options);
     bvh_ = collapse_bvh(binary);
     const std::vector<uint32_t>& order = binary.order;

@@ -10,6 +10,7 @@
 #include "render/flat_scene.h"
 #include "render/frustum.h"
 #include "render/intersect.h"
+#include "render/options.h"
 #include "render/wide_bvh.h"
 
 namespace vr {
@@ -24,8 +25,8 @@ struct Hit {
 
 class Accel {
   public:
-    // threads: for the BVH build (0 or 1: one thread).
-    void build(const FlatScene& scene, int threads);
+    // threads: for the BVH build (0 or 1: one thread). `kind` Auto builds by the SAH.
+    void build(const FlatScene& scene, int threads, BvhBuild kind = BvhBuild::Sah);
 
     // Closest hit with t in (0, ray.t_max).
     bool intersect(const Ray& ray, Hit& hit) const;

@@ -10,6 +10,7 @@
 #include "render/bvh.h"
 
 #include <algorithm>
+#include <array>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
@@ -93,6 +94,7 @@ struct Range {
     uint32_t begin, end;
     Box4 box;        // bounds of the boxes
     Box4 centroids;  // bounds of their doubled centroids
+    int bit = -1;    // Morton build: the highest code bit not shared by the whole range
 };
 
 // A subtree built by one thread into its own array. Its root goes into slot `slot` of the parent
@@ -139,6 +141,7 @@ class Builder {
         const int threads = std::max(options_.threads, 1);
         Task& top = tasks_.emplace_back();
         top.range = root(threads);
+        if (options_.morton) sort_by_morton(top.range, threads);
         reserve_huge(top.nodes, 2 * boxes_.size() + 2);
         top.nodes.resize(2);
         pending_.push_back(&top);
@@ -148,12 +151,21 @@ class Builder {
         for (std::thread& t : helpers) t.join();
         join(threads, nodes);
         nodes[1] = BvhNode{};
+        if (options_.morton) bound_interior_nodes(nodes);
+    }
+
+    // Caller ids in leaf order.
+    void leaf_order(std::vector<uint32_t>& order) const {
+        resize_huge(order, boxes_.size());
+        for (size_t i = 0; i < boxes_.size(); ++i)
+            order[i] = boxes_[options_.morton ? uint32_t(keys_[i]) : i].id;
     }
 
   private:
     // Builds the subtree over `range` as part of task `self`: returns its root and appends the
     // descendants' pairs to `out` (self's array).
     BvhNode build(const Range& range, int depth, Task& self, BvhNodeArray& out) {
+        if (options_.morton) return build_morton(range, depth, self, out);
         BvhNode node;
         set_bounds(node, range.box);
         const uint32_t n = range.end - range.begin;
@@ -186,7 +198,13 @@ class Builder {
         }
         node.axis = uint8_t(axis);
         node.count = 0;
+        return add_children(node, left, right, depth, self, out);
+    }
 
+    // The children's pair of interior node `node`, built (or queued) and written to `out`.
+    BvhNode add_children(BvhNode node, const Range& left, const Range& right, int depth, Task& self,
+                         BvhNodeArray& out) {
+        const uint32_t n = right.end - left.begin;
         const uint32_t pair = uint32_t(out.size());
         out.resize(pair + 2);
         node.offset = pair;
@@ -205,6 +223,115 @@ class Builder {
             out[pair + 1] = r;
         }
         return node;
+    }
+
+    // The Morton build (BvhBuildOptions::morton): the range, ordered by the codes of its
+    // centroids, splits where its highest differing code bit changes (a spatial median), or in
+    // the middle where all codes are equal; up to max_leaf_size boxes make a leaf. Interior bounds
+    // are filled in after the build (bound_interior_nodes), leaves' here.
+    BvhNode build_morton(const Range& range, int depth, Task& self, BvhNodeArray& out) {
+        BvhNode node;
+        const uint32_t n = range.end - range.begin;
+        if (n <= uint32_t(std::max(options_.max_leaf_size, 1))) {
+            Box4 box;
+            for (uint32_t i = range.begin; i < range.end; ++i)
+                box.extend(load(boxes_[uint32_t(keys_[i])]));
+            set_bounds(node, box);
+            return make_leaf(node, range);
+        }
+        int bit = range.bit;
+        uint32_t mid = range.begin + n / 2;
+        for (; bit >= 0; --bit) {
+            // Every key of the range agrees above `bit`: those with it set come last.
+            const uint64_t mask = uint64_t(1) << (32 + bit);
+            const auto split =
+                std::partition_point(keys_.begin() + range.begin, keys_.begin() + range.end,
+                                     [mask](uint64_t key) { return (key & mask) == 0; });
+            const auto at = uint32_t(split - keys_.begin());
+            if (at != range.begin && at != range.end) {
+                mid = at;
+                break;
+            }
+        }
+        set_bounds(node, Box4());
+        node.axis = uint8_t(bit >= 0 ? 2 - bit % 3 : 0);
+        node.count = 0;
+        Range left{range.begin, mid, Box4(), Box4(), bit - 1};
+        Range right{mid, range.end, Box4(), Box4(), bit - 1};
+        if (bit < 0) left.bit = right.bit = -1;
+        return add_children(node, left, right, depth, self, out);
+    }
+
+    // 10 bits an axis, interleaved: bit 3l + 2 is x's bit l, 3l + 1 y's, 3l z's.
+    static uint32_t spread_bits(uint32_t v) {
+        v &= 0x3ffu;
+        v = (v | (v << 16)) & 0x030000ffu;
+        v = (v | (v << 8)) & 0x0300f00fu;
+        v = (v | (v << 4)) & 0x030c30c3u;
+        v = (v | (v << 2)) & 0x09249249u;
+        return v;
+    }
+
+    // keys_: (Morton code of the centroid << 32 | box index), sorted by code and then index (a
+    // stable radix sort of the code's four bytes), so the order depends on the boxes alone.
+    void sort_by_morton(Range& top, int threads) {
+        const size_t n = boxes_.size();
+        const f4 lo = top.centroids.lo;
+        f4 scale = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int k = 0; k < 3; ++k) {
+            const float extent = top.centroids.hi[k] - top.centroids.lo[k];
+            scale[k] = extent > 0.0f ? 1024.0f * (1.0f - 1e-6f) / extent : 0.0f;
+        }
+        resize_huge(keys_, n);
+        const int chunks = chunks_for(n, threads);
+        parallel_chunks(n, chunks, [&](size_t begin, size_t end, int) {
+            const i4 zero = {0, 0, 0, 0}, last = {1023, 1023, 1023, 1023};
+            for (size_t i = begin; i < end; ++i) {
+                i4 q = __builtin_convertvector((centroid2(load(boxes_[i])) - lo) * scale, i4);
+                q = q < zero ? zero : q;
+                q = q > last ? last : q;
+                const uint32_t code = (spread_bits(uint32_t(q[0])) << 2) |
+                                      (spread_bits(uint32_t(q[1])) << 1) |
+                                      spread_bits(uint32_t(q[2]));
+                keys_[i] = (uint64_t(code) << 32) | i;
+            }
+        });
+        NoFillVector<uint64_t> other;
+        resize_huge(other, n);
+        std::vector<std::array<size_t, 256>> start(static_cast<size_t>(chunks));
+        for (int shift = 32; shift < 64; shift += 8) {
+            parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+                std::array<size_t, 256>& count = start[size_t(c)];
+                count.fill(0);
+                for (size_t i = begin; i < end; ++i) ++count[(keys_[i] >> shift) & 0xff];
+            });
+            size_t at = 0;  // digit by digit, chunk by chunk: the sort is stable
+            for (int d = 0; d < 256; ++d)
+                for (auto& count : start) {
+                    const size_t c = count[size_t(d)];
+                    count[size_t(d)] = at;
+                    at += c;
+                }
+            parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+                std::array<size_t, 256>& next = start[size_t(c)];
+                for (size_t i = begin; i < end; ++i)
+                    other[next[(keys_[i] >> shift) & 0xff]++] = keys_[i];
+            });
+            keys_.swap(other);
+        }
+        top.bit = 29;
+    }
+
+    // Interior bounds from the children's, last node first: a pair always follows its parent.
+    static void bound_interior_nodes(BvhNodeArray& nodes) {
+        for (size_t i = nodes.size(); i-- > 0;) {
+            BvhNode& node = nodes[i];
+            if (i == 1 || node.count > 0) continue;
+            for (int k = 0; k < 3; ++k) {
+                node.lo[k] = std::min(nodes[node.offset].lo[k], nodes[node.offset + 1].lo[k]);
+                node.hi[k] = std::max(nodes[node.offset].hi[k], nodes[node.offset + 1].hi[k]);
+            }
+        }
     }
 
     Range root(int threads) const {
@@ -460,6 +587,7 @@ class Builder {
     }
 
     BuildBoxes& boxes_;
+    NoFillVector<uint64_t> keys_;  // the Morton build's order (sort_by_morton)
     const BvhBuildOptions& options_;
     const bool parallel_;
     std::deque<Task> tasks_;
@@ -474,9 +602,9 @@ class Builder {
 Bvh build_bvh(BuildBoxes boxes, const BvhBuildOptions& options) {
     Bvh bvh;
     if (boxes.empty()) return bvh;
-    Builder(boxes, options).build_all(bvh.nodes);
-    resize_huge(bvh.order, boxes.size());
-    for (size_t i = 0; i < boxes.size(); ++i) bvh.order[i] = boxes[i].id;
+    Builder builder(boxes, options);
+    builder.build_all(bvh.nodes);
+    builder.leaf_order(bvh.order);
     return bvh;
 }
 

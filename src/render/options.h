@@ -13,6 +13,9 @@ class SkyMap;  // render/sky_map.h
 
 enum class CameraMode : uint8_t { FromViewpoint, Perspective, Ortho };
 enum class SpheresOption : uint8_t { FromHints, Opaque, Gas };
+// How the opaque tracer's BVH is built (--bvh): by the surface area heuristic, by Morton code
+// splits (render/bvh.h), or by choose_bvh_build's rule (render/render.h).
+enum class BvhBuild : uint8_t { Auto, Sah, Morton };
 
 struct RenderOptions {
     int width = 640;
@@ -36,7 +39,8 @@ struct RenderOptions {
     double noise_threshold = 0.005;  // statistical sampler: target standard error of the pixel mean
     double timeout = 0.0;  // seconds; 0: none. The render stops with an error when exceeded
     int max_depth = 8;
-    int threads = 0;          // 0: all cores
+    int threads = 0;  // 0: all cores
+    BvhBuild bvh = BvhBuild::Auto;
     double tolerance = 1e-4;  // gas integrator, relative
     double density = 1.0;     // gas extinction per scene unit
     std::optional<Vec3>

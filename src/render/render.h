@@ -22,6 +22,7 @@ struct RenderStats {
     double build_seconds = 0, render_seconds = 0;
     uint64_t primary_rays = 0, shadow_rays = 0, secondary_rays = 0;
     size_t bvh_nodes = 0;
+    BvhBuild bvh_build = BvhBuild::Sah;  // how the BVH was built (never Auto)
     size_t primitives = 0;
     size_t tracer_bytes =
         0;                   // held by the opaque tracer's primitive copies and BVH while rendering
@@ -36,6 +37,12 @@ struct RenderStats {
 using ProgressFn = std::function<void(double fraction_done, uint64_t rays_so_far)>;
 
 // make_camera is declared in render/camera.h.
+
+// --bvh auto's rule: the Morton build when the render's rays are few against the primitives, the
+// SAH build otherwise (and for soft light, whose rays per pixel are many). `primitives`: what the
+// opaque tracer holds; `camera_samples`: pixels times samples a pixel; `lights`: point, spot and
+// directional lights, headlight included, each a shadow ray per hit.
+BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t lights, bool soft_light);
 
 // The image is traced in kTileSize x kTileSize tiles, numbered row by row; those of the right and
 // bottom edges are cut to the image.

@@ -3,11 +3,14 @@
 
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <set>
 
 #include "render/accel.h"
 #include "render/bvh.h"
+#include "render/camera.h"
+#include "render/render.h"
 #include "test_render_util.h"
 
 namespace vr {
@@ -63,38 +66,43 @@ TEST(Bvh, NodesAre32BytesAndCoverEveryPrimitiveOnce) {
     // Coincident boxes must still give small leaves.
     for (uint32_t i = 5000; i < 5100; ++i) boxes.push_back(make_build_box(Vec3(0.0), Vec3(1.0), i));
     const BuildBoxes original = boxes;
-    BvhBuildOptions options;
-    Bvh bvh = build_bvh(boxes, options);
-    ASSERT_EQ(bvh.order.size(), original.size());
-    std::set<uint32_t> seen(bvh.order.begin(), bvh.order.end());
-    EXPECT_EQ(seen.size(), original.size());
-    // Every leaf range lies inside its node's bounds, and every child inside its parent; children
-    // come in pairs at even indices, 64-byte aligned (one cache line a pair). Node 1 is padding.
-    EXPECT_EQ(reinterpret_cast<uintptr_t>(bvh.nodes.data()) % 64, 0u);
-    size_t leaf_prims = 0;
-    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
-        if (i == 1) continue;
-        const BvhNode& n = bvh.nodes[i];
-        auto inside = [&](const float* lo, const float* hi) {
-            for (int k = 0; k < 3; ++k)
-                if (lo[k] < n.lo[k] || hi[k] > n.hi[k]) return false;
-            return true;
-        };
-        if (n.count > 0) {
-            EXPECT_LE(n.count, 4u);
-            leaf_prims += n.count;
-            for (uint32_t j = n.offset; j < n.offset + n.count; ++j) {
-                const BuildBox& b = original[bvh.order[j]];
-                EXPECT_TRUE(inside(b.lo, b.hi));
+    for (const bool morton : {false, true}) {
+        SCOPED_TRACE(morton ? "Morton build" : "SAH build");
+        BvhBuildOptions options;
+        options.morton = morton;
+        Bvh bvh = build_bvh(boxes, options);
+        ASSERT_EQ(bvh.order.size(), original.size());
+        std::set<uint32_t> seen(bvh.order.begin(), bvh.order.end());
+        EXPECT_EQ(seen.size(), original.size());
+        // Every leaf range lies inside its node's bounds, and every child inside its parent;
+        // children come in pairs at even indices, 64-byte aligned (one cache line a pair). Node 1
+        // is padding.
+        EXPECT_EQ(reinterpret_cast<uintptr_t>(bvh.nodes.data()) % 64, 0u);
+        size_t leaf_prims = 0;
+        for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+            if (i == 1) continue;
+            const BvhNode& n = bvh.nodes[i];
+            auto inside = [&](const float* lo, const float* hi) {
+                for (int k = 0; k < 3; ++k)
+                    if (lo[k] < n.lo[k] || hi[k] > n.hi[k]) return false;
+                return true;
+            };
+            if (n.count > 0) {
+                EXPECT_LE(n.count, 4u);
+                leaf_prims += n.count;
+                for (uint32_t j = n.offset; j < n.offset + n.count; ++j) {
+                    const BuildBox& b = original[bvh.order[j]];
+                    EXPECT_TRUE(inside(b.lo, b.hi));
+                }
+            } else {
+                ASSERT_EQ(n.offset % 2, 0u);
+                ASSERT_GE(n.offset, 2u);
+                EXPECT_TRUE(inside(bvh.nodes[n.offset].lo, bvh.nodes[n.offset].hi));
+                EXPECT_TRUE(inside(bvh.nodes[n.offset + 1].lo, bvh.nodes[n.offset + 1].hi));
             }
-        } else {
-            ASSERT_EQ(n.offset % 2, 0u);
-            ASSERT_GE(n.offset, 2u);
-            EXPECT_TRUE(inside(bvh.nodes[n.offset].lo, bvh.nodes[n.offset].hi));
-            EXPECT_TRUE(inside(bvh.nodes[n.offset + 1].lo, bvh.nodes[n.offset + 1].hi));
         }
+        EXPECT_EQ(leaf_prims, original.size());
     }
-    EXPECT_EQ(leaf_prims, original.size());
 }
 
 // The leaf holding box `id`: its primitive count.
@@ -164,18 +172,21 @@ TEST(Bvh, ParallelBuildEqualsSerialBuild) {
             const double r = cluster ? 0.01 : 0.5;
             boxes.push_back(make_build_box(c - Vec3(r), c + Vec3(r), i));
         }
-        BvhBuildOptions one;
-        const Bvh a = build_bvh(boxes, one);
-        for (int threads : {2, 3, 4, 8}) {
-            for (int repeat = 0; repeat < 2; ++repeat) {
-                BvhBuildOptions many;
-                many.threads = threads;
-                const Bvh b = build_bvh(boxes, many);
-                ASSERT_EQ(a.nodes.size(), b.nodes.size()) << threads << " threads";
-                EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(),
-                                         a.nodes.size() * sizeof(BvhNode)))
-                    << threads << " threads, lopsided " << lopsided;
-                EXPECT_EQ(a.order, b.order);
+        for (const bool morton : {false, true}) {
+            BvhBuildOptions one;
+            one.morton = morton;
+            const Bvh a = build_bvh(boxes, one);
+            for (int threads : {2, 3, 4, 8}) {
+                for (int repeat = 0; repeat < 2; ++repeat) {
+                    BvhBuildOptions many = one;
+                    many.threads = threads;
+                    const Bvh b = build_bvh(boxes, many);
+                    ASSERT_EQ(a.nodes.size(), b.nodes.size()) << threads << " threads";
+                    EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(),
+                                             a.nodes.size() * sizeof(BvhNode)))
+                        << threads << " threads, lopsided " << lopsided << " Morton " << morton;
+                    EXPECT_EQ(a.order, b.order);
+                }
             }
         }
     }
@@ -183,9 +194,10 @@ TEST(Bvh, ParallelBuildEqualsSerialBuild) {
 
 // Closest hits and shadow queries of 4000 rays through the BVH equal brute force over every
 // primitive (exactly: the same primitive tests decide both).
-void expect_hits_equal_brute_force(const FlatScene& scene, Rng& rng, double extent, int label) {
+void expect_hits_equal_brute_force(const FlatScene& scene, Rng& rng, double extent, int label,
+                                   BvhBuild kind = BvhBuild::Sah) {
     Accel accel;
-    accel.build(scene, 2);
+    accel.build(scene, 2, kind);
     std::uniform_real_distribution<double> pos(-1.5 * extent, 1.5 * extent);
     std::uniform_int_distribution<size_t> pick(0, scene.spheres.size() - 1);
     int hits = 0;
@@ -216,8 +228,9 @@ TEST(Bvh, ClosestHitEqualsBruteForce) {
     for (int scene_index = 0; scene_index < 6; ++scene_index) {
         Rng rng(100 + scene_index);
         const double extent = scene_index < 3 ? 10.0 : 100.0;
-        expect_hits_equal_brute_force(random_scene(rng, 300, 100, 300, extent), rng, extent,
-                                      scene_index);
+        const FlatScene scene = random_scene(rng, 300, 100, 300, extent);
+        for (const BvhBuild kind : {BvhBuild::Sah, BvhBuild::Morton})
+            expect_hits_equal_brute_force(scene, rng, extent, scene_index, kind);
     }
 }
 
@@ -227,8 +240,9 @@ TEST(Bvh, SpheresOnlyClosestHitEqualsBruteForce) {
     for (int scene_index = 0; scene_index < 3; ++scene_index) {
         Rng rng(200 + scene_index);
         const double extent = scene_index == 0 ? 10.0 : 40.0;
-        expect_hits_equal_brute_force(random_scene(rng, 3000, 0, 0, extent), rng, extent,
-                                      scene_index);
+        const FlatScene scene = random_scene(rng, 3000, 0, 0, extent);
+        for (const BvhBuild kind : {BvhBuild::Sah, BvhBuild::Morton})
+            expect_hits_equal_brute_force(scene, rng, extent, scene_index, kind);
     }
 }
 
@@ -278,6 +292,113 @@ TEST(Bvh, DepthLimitTakesOver) {
     }
     EXPECT_GT(max_depth, 64);  // the limit was reached
     EXPECT_LT(max_depth, 128);
+}
+
+// Boxes whose centroids share Morton codes (all but the largest fall in the first cell) are
+// halved by count below the codes: the Morton tree stays shallow, and every leaf small.
+TEST(Bvh, MortonBuildOfSkewedBoxesStaysShallow) {
+    BuildBoxes boxes;
+    double x = 1e-37;
+    for (uint32_t i = 0; x < 1e38; ++i, x *= 1.4)
+        boxes.push_back(make_build_box(Vec3(x), Vec3(x * 1.1), i));
+    for (uint32_t i = 0; i < 3000; ++i)  // and coincident ones
+        boxes.push_back(make_build_box(Vec3(1.0), Vec3(2.0), uint32_t(boxes.size())));
+    BvhBuildOptions options;
+    options.morton = true;
+    const Bvh bvh = build_bvh(boxes, options);
+    int max_depth = 0;
+    size_t leaf_boxes = 0;
+    std::vector<std::pair<uint32_t, int>> todo = {{0u, 0}};
+    while (!todo.empty()) {
+        auto [i, d] = todo.back();
+        todo.pop_back();
+        max_depth = std::max(max_depth, d);
+        if (bvh.nodes[i].count == 0) {
+            todo.push_back({bvh.nodes[i].offset, d + 1});
+            todo.push_back({bvh.nodes[i].offset + 1, d + 1});
+        } else {
+            EXPECT_LE(bvh.nodes[i].count, 4u);
+            leaf_boxes += bvh.nodes[i].count;
+        }
+    }
+    EXPECT_EQ(leaf_boxes, boxes.size());
+    EXPECT_LE(max_depth, 30 + 12);  // the code's 30 bits, then halving ~3250 boxes
+}
+
+// The tree's expected cost for a ray through its root box (the surface area heuristic): two box
+// tests an interior node, one sphere test a leaf's box, each weighed by its area.
+double sah_cost(const Bvh& bvh) {
+    auto area = [](const BvhNode& n) {
+        const double dx = n.hi[0] - n.lo[0], dy = n.hi[1] - n.lo[1], dz = n.hi[2] - n.lo[2];
+        return dx * dy + dy * dz + dz * dx;
+    };
+    double cost = 0.0;
+    for (size_t i = 0; i < bvh.nodes.size(); ++i)
+        if (i != 1) cost += area(bvh.nodes[i]) * (bvh.nodes[i].count > 0 ? bvh.nodes[i].count : 2);
+    return cost / area(bvh.nodes[0]);
+}
+
+// Atoms spread through space, the case the Morton build is chosen for: its tree costs rays at
+// most a quarter more than the SAH's (measured 1.09 here; one on unsorted codes, 285).
+TEST(Bvh, MortonTreeOfSpreadSpheresCostsLittleMoreThanTheSahTree) {
+    Rng rng(17);
+    std::uniform_real_distribution<double> pos(-100.0, 100.0);
+    BuildBoxes boxes;
+    for (uint32_t i = 0; i < 100000; ++i) {
+        const Vec3 c(pos(rng), pos(rng), pos(rng));
+        boxes.push_back(make_build_box(c - Vec3(0.7), c + Vec3(0.7), i));
+    }
+    BvhBuildOptions options;
+    const double sah = sah_cost(build_bvh(boxes, options));
+    options.morton = true;
+    const double morton = sah_cost(build_bvh(boxes, options));
+    EXPECT_LT(morton, 1.25 * sah) << morton << " against " << sah;
+}
+
+TEST(Bvh, AutoBuildsByMortonOnlyWhenRaysAreFewAgainstPrimitives) {
+    const double full_hd = 1920.0 * 1080.0;
+    // A 3.4M-atom molecule at 1920x1080, one light: 4.1M rays for 3.4M atoms.
+    EXPECT_EQ(choose_bvh_build(3.4e6, full_hd, 1, false), BvhBuild::Morton);
+    EXPECT_EQ(choose_bvh_build(1.1e6, full_hd, 1, false), BvhBuild::Morton);
+    // S3's million spheres: 4.15M rays, just over four a sphere.
+    EXPECT_EQ(choose_bvh_build(1e6, full_hd, 1, false), BvhBuild::Sah);
+    EXPECT_EQ(choose_bvh_build(1e4, full_hd, 1, false), BvhBuild::Sah);
+    EXPECT_EQ(choose_bvh_build(3.4e6, 16 * full_hd, 1, false), BvhBuild::Sah);
+    EXPECT_EQ(choose_bvh_build(3.4e6, full_hd, 3, false), BvhBuild::Morton);  // 8.3M rays
+    EXPECT_EQ(choose_bvh_build(3.4e6, full_hd, 7, false), BvhBuild::Sah);     // 16.6M
+    EXPECT_EQ(choose_bvh_build(3.4e6, full_hd, 1, true), BvhBuild::Sah);
+    EXPECT_EQ(choose_bvh_build(0.0, 0.0, 0, false), BvhBuild::Sah);
+}
+
+// The tree decides only where the tracer looks, never what it finds: both builds give the same
+// image, bit for bit, of spheres, quadrics and triangles under a shadowing light.
+TEST(Bvh, SahAndMortonTreesRenderTheSameImage) {
+    Rng rng(31);
+    FlatScene scene = random_scene(rng, 4000, 400, 800, 20.0);
+    Light sun;
+    sun.kind = LightKind::Directional;
+    sun.direction = glm::normalize(Vec3(-1.0, -2.0, -0.5));
+    scene.lights.push_back(sun);
+    scene.light_sets.assign(1, {0});
+    Camera camera;
+    camera.position = Vec3(0.0, 0.0, 60.0);
+    RenderOptions options;
+    options.width = 96;
+    options.height = 64;
+    options.threads = 2;
+    RenderStats stats[2];
+    std::vector<Image> images;
+    for (const BvhBuild kind : {BvhBuild::Sah, BvhBuild::Morton}) {
+        options.bvh = kind;
+        images.push_back(render_image(scene, camera, options, nullptr, stats[images.size()]));
+    }
+    EXPECT_EQ(stats[0].bvh_build, BvhBuild::Sah);
+    EXPECT_EQ(stats[1].bvh_build, BvhBuild::Morton);
+    EXPECT_GT(stats[0].shadow_rays, 1000u);
+    EXPECT_EQ(stats[0].shadow_rays, stats[1].shadow_rays);
+    ASSERT_EQ(images[0].rgba.size(), images[1].rgba.size());
+    EXPECT_EQ(0, std::memcmp(images[0].rgba.data(), images[1].rgba.data(),
+                             images[0].rgba.size() * sizeof(float)));
 }
 
 // The collapse keeps the binary tree's leaves: every primitive lies in exactly one leaf, under

@@ -127,6 +127,7 @@ TEST(Cli, DefaultsWhenNoOptionIsGiven) {
     const RenderOptions defaults;
     EXPECT_EQ(cmd.render.options.spheres, SpheresOption::FromHints);
     EXPECT_EQ(cmd.render.options.camera, CameraMode::FromViewpoint);
+    EXPECT_EQ(cmd.render.options.bvh, BvhBuild::Auto);
     EXPECT_EQ(cmd.render.options.sampler, defaults.sampler);
     EXPECT_FALSE(cmd.render.recover_spheres.has_value());
     EXPECT_FALSE(cmd.render.options.background.has_value());
@@ -230,6 +231,9 @@ TEST(Cli, EnumLabelsMapToTheirValues) {
               CameraMode::Perspective);
     EXPECT_EQ(parse({"render", "s", "--camera", "viewpoint"}).render.options.camera,
               CameraMode::FromViewpoint);
+    EXPECT_EQ(parse({"render", "s", "--bvh", "sah"}).render.options.bvh, BvhBuild::Sah);
+    EXPECT_EQ(parse({"render", "s", "--bvh", "morton"}).render.options.bvh, BvhBuild::Morton);
+    EXPECT_EQ(parse({"render", "s", "--bvh", "auto"}).render.options.bvh, BvhBuild::Auto);
     EXPECT_EQ(parse({"render", "s", "--no-recover-spheres"}).render.recover_spheres,
               std::optional<bool>(false));
     EXPECT_EQ(parse({"bench", "s", "--spheres", "gas"}).bench.options.spheres, SpheresOption::Gas);
