@@ -97,9 +97,10 @@ BvhBuild bvh_build_for(const FlatScene& scene, const Camera& camera, const Rende
         ++lights;
         soft = soft || l.source_radius > 0.0 || l.angular_radius > 0.0;
     }
-    const double samples = double(std::max(options.width, 0)) *
-                           double(std::max(options.height, 0)) *
-                           camera_samples_per_pixel(camera.sampler);
+    // Each of many processes builds the whole tree for its share of the tiles.
+    const double samples =
+        double(std::max(options.width, 0)) * double(std::max(options.height, 0)) *
+        camera_samples_per_pixel(camera.sampler) / double(std::max(options.tile_stride, 1));
     return choose_bvh_build(primitives, samples, lights, soft);
 }
 

@@ -370,6 +370,28 @@ TEST(Bvh, AutoBuildsByMortonOnlyWhenRaysAreFewAgainstPrimitives) {
     EXPECT_EQ(choose_bvh_build(0.0, 0.0, 0, false), BvhBuild::Sah);
 }
 
+// The render applies the rule to its own counts: 1030 opaque spheres against 64 x 64 camera rays
+// (no light) take the Morton build, 1000 of them and 30 gas ones (not the tracer's) the SAH; a
+// process tracing every other tile traces half the rays.
+TEST(Bvh, AutoCountsTheTracersPrimitivesAndThisProcesssRays) {
+    Rng rng(41);
+    FlatScene scene = random_scene(rng, 1030, 0, 0, 20.0);
+    scene.headlight = false;
+    Camera camera;
+    camera.position = Vec3(0.0, 0.0, 60.0);
+    RenderOptions options;
+    options.width = options.height = 64;
+    RenderStats stats;
+    render_image(scene, camera, options, nullptr, stats);
+    EXPECT_EQ(stats.bvh_build, BvhBuild::Morton);  // 4096 rays, fewer than 4 x 1030
+    for (int i = 0; i < 30; ++i) scene.spheres[size_t(i)].gas = true;
+    render_image(scene, camera, options, nullptr, stats);
+    EXPECT_EQ(stats.bvh_build, BvhBuild::Sah);  // not fewer than 4 x 1000
+    options.tile_stride = 2;
+    render_image(scene, camera, options, nullptr, stats);
+    EXPECT_EQ(stats.bvh_build, BvhBuild::Morton);
+}
+
 // The tree decides only where the tracer looks, never what it finds: both builds give the same
 // image, bit for bit, of spheres, quadrics and triangles under a shadowing light.
 TEST(Bvh, SahAndMortonTreesRenderTheSameImage) {
