@@ -3,6 +3,7 @@
 #include "image/plot.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -177,6 +178,38 @@ struct Axis {
     double to_plot(double v) const { return log ? std::log10(v) : v; }
     double to_pixel(double v) const { return p_lo + (to_plot(v) - lo) / (hi - lo) * (p_hi - p_lo); }
 };
+
+// Where a legend of w x h pixels goes: the corner of the plot area (`margin` in from its edges)
+// that covers the fewest of 50 points along each segment of the series and their markers; the top
+// right when none covers fewer.
+Rect legend_box(const std::vector<PlotSeries>& series, const Axis& ax, const Axis& ay,
+                const Rect& area, int w, int h, int margin) {
+    Rect best{};
+    int hidden_least = INT_MAX;
+    for (const auto& [right, top] : {std::pair{true, true}, std::pair{false, true},
+                                     std::pair{true, false}, std::pair{false, false}}) {
+        const int x0 = right ? area.x1 - margin - w : area.x0 + margin;
+        const int y0 = top ? area.y0 + margin : area.y1 - margin - h;
+        const Rect box{x0, y0, x0 + w, y0 + h};
+        int hidden = 0;
+        for (const PlotSeries& ser : series) {
+            const size_t n = std::min(ser.x.size(), ser.y.size());
+            for (size_t i = 0; i < n; ++i) {
+                if (!ax.valid(ser.x[i]) || !ay.valid(ser.y[i])) continue;
+                const double x = ax.to_pixel(ser.x[i]), y = ay.to_pixel(ser.y[i]);
+                const bool next = i + 1 < n && ax.valid(ser.x[i + 1]) && ay.valid(ser.y[i + 1]);
+                const double dx = next ? ax.to_pixel(ser.x[i + 1]) - x : 0.0;
+                const double dy = next ? ay.to_pixel(ser.y[i + 1]) - y : 0.0;
+                for (int k = 0; k < (next ? 50 : 1); ++k) {
+                    const double px = x + k / 50.0 * dx, py = y + k / 50.0 * dy;
+                    hidden += px >= box.x0 && px <= box.x1 && py >= box.y0 && py <= box.y1;
+                }
+            }
+        }
+        if (hidden < hidden_least) hidden_least = hidden, best = box;
+    }
+    return best;
+}
 
 // 1, 2 or 5 times a power of ten, the nearest at or above `raw`.
 double nice_step(double raw) {
@@ -404,14 +437,14 @@ Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& opti
         draw_text(im, (area.x0 + area.x1 - text_width(options.title, s)) / 2, 6 * s, options.title,
                   s, kBlack);
 
-    // Legend in the top right corner of the plot area.
+    // The legend, in the corner where it hides the least of the series.
     int legend_w = 0, entries = 0;
     for (const PlotSeries& ser : series)
         if (!ser.label.empty()) legend_w = std::max(legend_w, text_width(ser.label, s)), ++entries;
     if (entries > 0) {
         const int sample_w = 20 * s, pad = 4 * s, row_h = line_h + 3 * s;
-        const Rect box{area.x1 - (legend_w + sample_w + 3 * pad) - 6 * s, area.y0 + 6 * s,
-                       area.x1 - 6 * s, area.y0 + 6 * s + entries * row_h + 2 * pad - 3 * s};
+        const int box_w = legend_w + sample_w + 3 * pad, box_h = entries * row_h + 2 * pad - 3 * s;
+        const Rect box = legend_box(series, ax, ay, area, box_w, box_h, 6 * s);
         fill_rect(im, box, kWhite);
         draw_segment(im, box.x0, box.y0, box.x1, box.y0, 1, kMajorGrid, all);
         draw_segment(im, box.x0, box.y1, box.x1, box.y1, 1, kMajorGrid, all);

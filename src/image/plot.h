@@ -27,9 +27,10 @@ struct PlotOptions {
 };
 
 // Draws the series on a white background with axes, grid, tick labels (whole decades on log axes),
-// axis labels, title and a legend (top right). Points that are not finite, or not positive on a log
-// axis, are left out and break the line there. Log axes span whole decades around the data, linear
-// axes "nice" 1-2-5 steps. The image is opaque (alpha 1) and holds display values: write it without
+// axis labels, title and a legend (in the corner that hides the least of the series). Points that
+// are not finite, or not positive on a log axis, are left out and break the line there. Log axes
+// span whole decades around the data, linear axes "nice" 1-2-5 steps. The image is opaque (alpha 1)
+// and holds display values: write it without
 // --srgb. Empty or invalid data still gives a plot with default ranges.
 Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& options);
 

@@ -84,8 +84,9 @@ struct BvhBuildOptions {
     // SAH cost of an interior node in sphere tests (BuildBox::cost): a binary node tests two boxes,
     // each about one primitive test.
     double traversal_cost = 2.0;
-    // Split at Morton code bits (a spatial median, as an LBVH) instead of by the SAH: about a
-    // fifth of the work, for a tree that costs rays more (render/accel.h says when).
+    // Split at Morton code bits (a spatial median, as an LBVH) instead of by the SAH: a quicker
+    // build (3.4M atoms: the build phase 0.32 s against 0.78) of a tree that may cost rays more
+    // (choose_bvh_build in render/render.h says when it pays).
     bool morton = false;
 };
 

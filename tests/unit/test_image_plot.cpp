@@ -52,6 +52,31 @@ TEST(ImagePlotTest, SeriesAreDrawnInTheirColour) {
     EXPECT_EQ(count_color(plot_series({bad}, PlotOptions{}), s.color), 0);
 }
 
+// Lines that end in the top right corner (bench/scale.sh's seconds against atoms) stay in view:
+// the legend moves to a corner they leave empty.
+TEST(ImagePlotTest, TheLegendHidesNoEndOfTheLines) {
+    PlotSeries rising, flat;
+    rising.label = "whole process";
+    rising.x = {1e5, 1e6, 1e7};
+    rising.y = {0.1, 1.0, 10.0};
+    rising.color = {0.0f, 0.8f, 0.0f};
+    flat.label = "render";
+    flat.x = rising.x;
+    flat.y = {0.3, 0.3, 0.3};
+    flat.color = {0.8f, 0.0f, 0.8f};
+    const Image im = plot_series({rising, flat}, PlotOptions{});
+    // The rising line's pixels where a top right legend's labels would be (its colour sample is
+    // further left).
+    int top_right = 0;
+    for (int y = 24; y < 45; ++y)
+        for (int x = im.width - 70; x < im.width - 35; ++x) {
+            const float* p = im.pixel(x, y);
+            top_right += std::fabs(p[0]) < 0.02f && std::fabs(p[1] - 0.8f) < 0.02f && p[2] < 0.02f;
+        }
+    EXPECT_GT(top_right, 30);  // 69 here; 8 under a legend (the end of its colour sample)
+    EXPECT_GT(count_color(im, flat.color), 200);
+}
+
 TEST(ImagePlotTest, LinearAxesAndPaletteColours) {
     PlotSeries a, b;
     a.x = {0, 1, 2};
