@@ -368,7 +368,8 @@ int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene
                      cmd.scene.c_str(), output.c_str(), p.x, p.y, p.z, c.x, c.y, c.z, u.x, u.y,
                      u.z);
     }
-    const std::string empty_scene = nothing_to_render(loaded, flat, job.scene->stats);
+    const std::string empty_scene =
+        nothing_to_render(loaded, flat, job.scene->stats, job.options.threads);
     if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
         std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
                      describe_camera(flat, cmd.options, camera).c_str());

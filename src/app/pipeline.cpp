@@ -104,8 +104,8 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
 }
 
 std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
-                              const FlattenStats& stats) {
-    if (!flat.bounds().empty()) return "";
+                              const FlattenStats& stats, int threads) {
+    if (!flat.bounds(threads).empty()) return "";
     size_t failed_inlines = 0;
     for (const Diagnostic& d : loaded.diagnostics.all())
         if (d.message.rfind("Inline not loaded", 0) == 0 ||

@@ -42,8 +42,9 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
 
 // Why the flattened scene has nothing to render ("" when it has something): every Inline failed,
 // every shape was skipped, or the file holds no geometry. For the one warning of an empty image.
+// `threads`: for the bounds (0: all cores).
 std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
-                              const FlattenStats& stats);
+                              const FlattenStats& stats, int threads = 1);
 
 // The bytes a render may use: --max-memory, else the machine's physical memory (0: unknown).
 double render_memory_limit(const CommonOptions& common);

@@ -254,7 +254,7 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
     // A camera placed by --position is where the user put it: no framing of a default view.
     if (options.camera_position) camera.framed_default = false;
 
-    const Bounds3 bounds = scene.bounds();
+    const Bounds3 bounds = scene.bounds(options.threads);
     const bool have_bounds = !bounds.empty();
     const Vec3 centre = have_bounds ? 0.5 * (bounds.lo + bounds.hi) : Vec3(0.0);
     // Distance from the camera to the scene centre along the view, for switching projections.
@@ -319,7 +319,7 @@ std::string point_text(const Vec3& p) {
 std::string describe_camera(const FlatScene& scene, const RenderOptions& options,
                             const Camera& camera) {
     if (camera.framed_default) {
-        if (scene.bounds().empty())
+        if (scene.bounds(options.threads).empty())
             return "no Viewpoint and nothing to frame: the default camera at " +
                    point_text(camera.position);
         char fov[48];

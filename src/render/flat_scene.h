@@ -188,7 +188,8 @@ struct FlatScene {
     std::vector<Viewpoint> viewpoints;              // in file order
     Background background;
     Fog fog;
-    Bounds3 bounds() const;                   // of all renderable primitives
+    // Of all renderable primitives; the spheres' part on `threads` threads (0: all cores).
+    Bounds3 bounds(int threads = 1) const;
     size_t triangle_count() const;            // in meshes (each stored once)
     size_t instanced_triangle_count() const;  // placed by instances, counted once a placement
 };

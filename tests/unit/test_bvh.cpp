@@ -526,9 +526,12 @@ TEST(Bvh, SceneBoundsOfManySpheresEqualOnePass) {
             lo = glm::min(lo, s.center - Vec3(s.radius));
             hi = glm::max(hi, s.center + Vec3(s.radius));
         }
-        const Bounds3 b = scene.bounds();
-        EXPECT_EQ(b.lo, lo);
-        EXPECT_EQ(b.hi, hi);
+        for (const int threads : {1, 2, 3, 0}) {
+            const Bounds3 b = scene.bounds(threads);
+            EXPECT_EQ(b.lo, lo);
+            EXPECT_EQ(b.hi, hi);
+        }
+        const Bounds3 b = scene.bounds(2);
         EXPECT_EQ(b.lo.x, -1000.75);
         EXPECT_EQ(b.hi.y, 1001.0);
     }
