@@ -7,6 +7,11 @@
 // children's bounds, and the partition pass their centroid bounds, so each level reads its boxes
 // twice. Subtrees of kParallelMin boxes or more are tasks that any thread may build (Builder); the
 // result does not depend on the thread count.
+//
+// The Morton build (BvhBuildOptions::morton; Lauterbach et al. 2009, "Fast BVH construction on
+// GPUs", as an LBVH) uses the same tasks and layout: the boxes' order is that of their centroids'
+// Morton codes, sorted once; a range splits where its highest differing code bit changes, found by
+// binary search, and interior bounds are filled in bottom-up after the build.
 #include "render/bvh.h"
 
 #include <algorithm>

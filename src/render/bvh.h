@@ -1,6 +1,6 @@
-// Bounding volume hierarchy over any set of boxes: binned SAH build, flat array of 32-byte nodes
-// (siblings paired in one cache line, pairs in depth-first order), iterative near-child-first
-// traversal with a stack.
+// Bounding volume hierarchy over any set of boxes: binned SAH or Morton-code build, flat array of
+// 32-byte nodes (siblings paired in one cache line, pairs in depth-first order), iterative
+// near-child-first traversal with a stack.
 //
 // The BVH knows boxes only; what is inside a leaf is the caller's business (render/accel.h). Node
 // bounds are single precision, rounded outwards so that every box contains its exact
