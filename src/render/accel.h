@@ -23,10 +23,30 @@ struct Hit {
     uint32_t triangle = 0;      // mesh instance: the triangle of its prototype
 };
 
+// --bvh auto's rule: the Morton build when the render's rays are few against the primitives, the
+// SAH build otherwise (and for soft light, whose rays per pixel are many). `primitives`: what the
+// opaque tracer holds; `camera_samples`: pixels times samples a pixel, of this process's tiles;
+// `lights`: point, spot and directional lights, headlight included, a shadow ray a hit each.
+BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t lights, bool soft_light);
+
+// How Accel::build builds its tree: by `kind`, or for Auto by choose_bvh_build on the primitives
+// the tracer keeps (gas, degenerate and non-finite ones left out) and the render's rays.
+struct BvhChoice {
+    BvhBuild kind = BvhBuild::Sah;
+    double camera_samples = 0.0;
+    size_t lights = 0;
+    bool soft_light = false;
+};
+
 class Accel {
   public:
-    // threads: for the BVH build (0 or 1: one thread). `kind` Auto builds by the SAH.
-    void build(const FlatScene& scene, int threads, BvhBuild kind = BvhBuild::Sah);
+    // threads: for the BVH build (0 or 1: one thread).
+    void build(const FlatScene& scene, int threads, const BvhChoice& choice);
+    void build(const FlatScene& scene, int threads, BvhBuild kind = BvhBuild::Sah) {
+        build(scene, threads, BvhChoice{kind});
+    }
+    // How the tree was built (never Auto).
+    BvhBuild built_by() const { return built_by_; }
 
     // Closest hit with t in (0, ray.t_max).
     bool intersect(const Ray& ray, Hit& hit) const;
@@ -80,6 +100,7 @@ class Accel {
     void prefetch_leaf(uint32_t first, uint32_t count) const;
 
     const FlatScene* scene_ = nullptr;
+    BvhBuild built_by_ = BvhBuild::Sah;
     WideBvh bvh_;  // collapsed from the binary build, which is not kept
     // The arrays a primitive fills are written by parallel loops after resize() (core/no_fill.h).
     NoFillVector<uint32_t> prims_;           // packed references in leaf order

@@ -86,7 +86,7 @@ struct BvhBuildOptions {
     double traversal_cost = 2.0;
     // Split at Morton code bits (a spatial median, as an LBVH) instead of by the SAH: a quicker
     // build (3.4M atoms: the build phase 0.32 s against 0.78) of a tree that may cost rays more
-    // (choose_bvh_build in render/render.h says when it pays).
+    // (choose_bvh_build in render/accel.h says when it pays).
     bool morton = false;
 };
 

@@ -14,7 +14,7 @@ class SkyMap;  // render/sky_map.h
 enum class CameraMode : uint8_t { FromViewpoint, Perspective, Ortho };
 enum class SpheresOption : uint8_t { FromHints, Opaque, Gas };
 // How the opaque tracer's BVH is built (--bvh): by the surface area heuristic, by Morton code
-// splits (render/bvh.h), or by choose_bvh_build's rule (render/render.h).
+// splits (render/bvh.h), or by choose_bvh_build's rule (render/accel.h).
 enum class BvhBuild : uint8_t { Auto, Sah, Morton };
 
 struct RenderOptions {

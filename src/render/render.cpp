@@ -86,37 +86,24 @@ double camera_samples_per_pixel(const PixelSampler& sampler) {
     return 1.0;  // quincunx and adaptive: a corner tap a pixel, and more where they differ
 }
 
-BvhBuild bvh_build_for(const FlatScene& scene, const Camera& camera, const RenderOptions& options) {
-    if (options.bvh != BvhBuild::Auto) return options.bvh;
-    double primitives =
-        double(scene.quadrics.size() + scene.triangle_count() + scene.instances.size());
-    for (const Sphere& s : scene.spheres) primitives += s.gas ? 0.0 : 1.0;
-    size_t lights = scene.headlight ? 1 : 0;
-    bool soft = options.sky.has_value() || options.sky_map != nullptr;
+// What --bvh auto weighs besides the primitives, which Accel::build counts as it makes their boxes.
+BvhChoice bvh_choice(const FlatScene& scene, const Camera& camera, const RenderOptions& options) {
+    BvhChoice choice;
+    choice.kind = options.bvh;
+    choice.lights = scene.headlight ? 1 : 0;
+    choice.soft_light = options.sky.has_value() || options.sky_map != nullptr;
     for (const Light& l : scene.lights) {
-        ++lights;
-        soft = soft || l.source_radius > 0.0 || l.angular_radius > 0.0;
+        ++choice.lights;
+        choice.soft_light = choice.soft_light || l.source_radius > 0.0 || l.angular_radius > 0.0;
     }
     // Each of many processes builds the whole tree for its share of the tiles.
-    const double samples =
+    choice.camera_samples =
         double(std::max(options.width, 0)) * double(std::max(options.height, 0)) *
         camera_samples_per_pixel(camera.sampler) / double(std::max(options.tile_stride, 1));
-    return choose_bvh_build(primitives, samples, lights, soft);
+    return choice;
 }
 
 }  // namespace
-
-BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t lights,
-                          bool soft_light) {
-    // On 3.4M atoms the build phase (two threads) took 0.78 s by the SAH and 0.32 by Morton
-    // codes: about 270 ns of CPU a primitive saved. The Morton tree cost S2's rays (bonds among
-    // atoms) about a fifth more, some 70 ns of a 350 ns ray, and spread atoms' nothing: it pays
-    // while a primitive gets fewer than about four rays. Soft light's rays per point are many and
-    // not known beforehand: the SAH then.
-    if (soft_light) return BvhBuild::Sah;
-    const double rays = camera_samples * (1.0 + double(lights));
-    return rays < 4.0 * primitives ? BvhBuild::Morton : BvhBuild::Sah;
-}
 
 size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& options) {
     const double pixels = double(std::max(options.width, 0)) * double(std::max(options.height, 0));
@@ -179,8 +166,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
 
     const auto build_start = Clock::now();
     Accel accel;
-    stats.bvh_build = bvh_build_for(scene, camera, options);
-    accel.build(scene, threads, stats.bvh_build);
+    accel.build(scene, threads, bvh_choice(scene, camera, options));
+    stats.bvh_build = accel.built_by();
     stats.build_seconds = seconds_since(build_start);
     stats.bvh_nodes = accel.node_count();
     stats.primitives = accel.primitive_count();

@@ -38,12 +38,6 @@ using ProgressFn = std::function<void(double fraction_done, uint64_t rays_so_far
 
 // make_camera is declared in render/camera.h.
 
-// --bvh auto's rule: the Morton build when the render's rays are few against the primitives, the
-// SAH build otherwise (and for soft light, whose rays per pixel are many). `primitives`: what the
-// opaque tracer holds; `camera_samples`: pixels times samples a pixel, of this process's tiles;
-// `lights`: point, spot and directional lights, headlight included, a shadow ray a hit each.
-BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t lights, bool soft_light);
-
 // The image is traced in kTileSize x kTileSize tiles, numbered row by row; those of the right and
 // bottom edges are cut to the image.
 constexpr int kTileSize = 16;

@@ -271,43 +271,20 @@ TEST(Bvh, DepthIsBoundedOnSkewedScenes) {
     }
 }
 
-// Boxes growing by 1.4x from 1e-37 to 1e38 push SAH far past the depth limit, where median splits
-// take over: the tree stays within the traversal stack.
-TEST(Bvh, DepthLimitTakesOver) {
+// Boxes growing by 1.4x from 1e-37 to 1e38: SAH peels one a level, and all but the largest share
+// the first Morton cell.
+BuildBoxes growing_boxes() {
     BuildBoxes boxes;
     double x = 1e-37;
     for (uint32_t i = 0; x < 1e38; ++i, x *= 1.4)
         boxes.push_back(make_build_box(Vec3(x), Vec3(x * 1.1), i));
-    Bvh bvh = build_bvh(boxes, BvhBuildOptions());
-    int max_depth = 0;
-    std::vector<std::pair<uint32_t, int>> todo = {{0u, 0}};
-    while (!todo.empty()) {
-        auto [i, d] = todo.back();
-        todo.pop_back();
-        max_depth = std::max(max_depth, d);
-        if (bvh.nodes[i].count == 0) {
-            todo.push_back({bvh.nodes[i].offset, d + 1});
-            todo.push_back({bvh.nodes[i].offset + 1, d + 1});
-        }
-    }
-    EXPECT_GT(max_depth, 64);  // the limit was reached
-    EXPECT_LT(max_depth, 128);
+    return boxes;
 }
 
-// Boxes whose centroids share Morton codes (all but the largest fall in the first cell) are
-// halved by count below the codes: the Morton tree stays shallow, and every leaf small.
-TEST(Bvh, MortonBuildOfSkewedBoxesStaysShallow) {
-    BuildBoxes boxes;
-    double x = 1e-37;
-    for (uint32_t i = 0; x < 1e38; ++i, x *= 1.4)
-        boxes.push_back(make_build_box(Vec3(x), Vec3(x * 1.1), i));
-    for (uint32_t i = 0; i < 3000; ++i)  // and coincident ones
-        boxes.push_back(make_build_box(Vec3(1.0), Vec3(2.0), uint32_t(boxes.size())));
-    BvhBuildOptions options;
-    options.morton = true;
-    const Bvh bvh = build_bvh(boxes, options);
+// The deepest level of the binary tree (the root is 0); `leaf(node)` sees every leaf.
+template <class LeafFn>
+int max_depth_of(const Bvh& bvh, LeafFn&& leaf) {
     int max_depth = 0;
-    size_t leaf_boxes = 0;
     std::vector<std::pair<uint32_t, int>> todo = {{0u, 0}};
     while (!todo.empty()) {
         auto [i, d] = todo.back();
@@ -317,10 +294,34 @@ TEST(Bvh, MortonBuildOfSkewedBoxesStaysShallow) {
             todo.push_back({bvh.nodes[i].offset, d + 1});
             todo.push_back({bvh.nodes[i].offset + 1, d + 1});
         } else {
-            EXPECT_LE(bvh.nodes[i].count, 4u);
-            leaf_boxes += bvh.nodes[i].count;
+            leaf(bvh.nodes[i]);
         }
     }
+    return max_depth;
+}
+
+// The growing boxes push SAH far past the depth limit, where median splits take over: the tree
+// stays within the traversal stack.
+TEST(Bvh, DepthLimitTakesOver) {
+    const int max_depth =
+        max_depth_of(build_bvh(growing_boxes(), BvhBuildOptions()), [](const BvhNode&) {});
+    EXPECT_GT(max_depth, 64);  // the limit was reached
+    EXPECT_LT(max_depth, 128);
+}
+
+// Boxes whose centroids share Morton codes (all but the largest fall in the first cell) are
+// halved by count below the codes: the Morton tree stays shallow, and every leaf small.
+TEST(Bvh, MortonBuildOfSkewedBoxesStaysShallow) {
+    BuildBoxes boxes = growing_boxes();
+    for (uint32_t i = 0; i < 3000; ++i)  // and coincident ones
+        boxes.push_back(make_build_box(Vec3(1.0), Vec3(2.0), uint32_t(boxes.size())));
+    BvhBuildOptions options;
+    options.morton = true;
+    size_t leaf_boxes = 0;
+    const int max_depth = max_depth_of(build_bvh(boxes, options), [&](const BvhNode& leaf) {
+        EXPECT_LE(leaf.count, 4u);
+        leaf_boxes += leaf.count;
+    });
     EXPECT_EQ(leaf_boxes, boxes.size());
     EXPECT_LE(max_depth, 30 + 12);  // the code's 30 bits, then halving ~3250 boxes
 }
