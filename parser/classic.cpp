@@ -18,6 +18,12 @@ bool has_dynamic_interface(std::string_view type) {
            type == "ShaderProgram";
 }
 
+// Field and node names never start with a digit, a sign or a period: such a word is a number.
+bool starts_identifier(std::string_view word) {
+    const char c = word.front();
+    return !std::isdigit(static_cast<unsigned char>(c)) && c != '+' && c != '-' && c != '.';
+}
+
 // One stream of tokens being read: the file itself, or the body of a PROTO being expanded.
 struct Frame {
     Lexer lexer;
@@ -58,7 +64,13 @@ class Reader {
         ClassicResult result;
         error_file_ = file;
         const std::string_view text = scene_.sources.file(file).text;
-        Frame frame{Lexer(text), file, {}, nullptr, std::make_shared<ProtoScope>()};
+        // A UTF-8 byte-order mark before the header is no token (the header is a comment).
+        const uint32_t bom = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+        Frame frame{Lexer(text, bom, static_cast<uint32_t>(text.size())),
+                    file,
+                    {},
+                    nullptr,
+                    std::make_shared<ProtoScope>()};
         frame.whole_file = true;
         result.protos = frame.protos;
         PieceScheduler pieces(
@@ -137,6 +149,26 @@ class Reader {
                  "component level");
     }
 
+    // COMPONENT name:level, where the classic grammar lets white space stand on either side of the
+    // colon (`Core:1`, `Core :1`, `Core: 1`, `Core : 1`); the lexer makes words of the pieces.
+    void component_statement(Frame& f) {
+        f.lexer.next();
+        const Token name = expect(f, TokenKind::Word, "a component name");
+        std::string level(f.lexer.text(name));
+        auto next_word_starts = [&](char c) {
+            return f.lexer.peek().kind == TokenKind::Word &&
+                   f.lexer.text(f.lexer.peek()).front() == c;
+        };
+        if (level.find(':') == std::string::npos && next_word_starts(':'))
+            level += f.lexer.text(f.lexer.next());  // "name :level" or "name : level"
+        if (level.back() == ':' && f.lexer.peek().kind == TokenKind::Word) {
+            const std::string_view digits = f.lexer.text(f.lexer.peek());
+            if (std::isdigit(static_cast<unsigned char>(digits.front())))
+                level += f.lexer.text(f.lexer.next());  // "name: level"
+        }
+        component_level(f, name, level);
+    }
+
     // UNIT category name conversionFactor. Read by the main reader only: the units belong to the
     // whole file (parser/units.h).
     void unit_statement(Frame& f) {
@@ -178,6 +210,68 @@ class Reader {
         }
     }
 
+    // A field name that a node does not have, at `t` (already read): a warning that names the
+    // node and the field, and its value skipped, so the rest of the node reads as browsers read it.
+    void unknown_field(Frame& f, const Token& t, std::string_view type, const char* what) {
+        const std::string name(f.lexer.text(t));
+        warn(f, t.offset,
+             "unknown field '" + name + "' in " + what + " " + std::string(type) +
+                 "; skipped with its value",
+             "unknown-field:" + std::string(type) + "." + name);
+        skip_unknown_value(f);
+    }
+
+    // Skips the value of a field the reader cannot type, whatever its shape: a run of numbers, a
+    // bracketed list, a string, TRUE or FALSE, NULL, USE name, IS name, or a node ([DEF name]
+    // Type { ... }). A word that is none of these is the next field's name: the value was empty.
+    void skip_unknown_value(Frame& f) {
+        const Token t = f.lexer.peek();
+        switch (t.kind) {
+            case TokenKind::LBracket:
+            case TokenKind::LBrace:
+                skip_group(f);
+                return;
+            case TokenKind::String:
+                f.lexer.next();
+                return;
+            case TokenKind::BadString:
+                fail(f, t, "string is not closed before the end of the file");
+            case TokenKind::Word:
+                break;
+            default:
+                return;  // '}', ']' or the end: the node's end says what is wrong
+        }
+        const std::string_view w = f.lexer.text(t);
+        if (!starts_identifier(w)) {
+            while (f.lexer.peek().kind == TokenKind::Word &&
+                   !starts_identifier(f.lexer.text(f.lexer.peek())))
+                f.lexer.next();
+            return;
+        }
+        if (w == "NULL" || w == "TRUE" || w == "FALSE") {
+            f.lexer.next();
+            return;
+        }
+        if (w == "USE" || w == "IS") {
+            f.lexer.next();
+            expect_word(f, w == "USE" ? "a name after USE" : "a PROTO field name after IS");
+            return;
+        }
+        Lexer probe = f.lexer;  // a node type is a word with '{' after it (after DEF name)
+        probe.next();
+        if (w == "DEF") {
+            probe.next();
+            probe.next();
+        }
+        if (probe.peek().kind != TokenKind::LBrace) return;
+        f.lexer.next();
+        if (w == "DEF") {
+            f.lexer.next();
+            f.lexer.next();
+        }
+        skip_group(f);
+    }
+
     // ---- statements ---------------------------------------------------------------------------
 
     // A statement at file or body level; returns the node it makes, or kNullNode.
@@ -210,13 +304,7 @@ class Reader {
                 return kNullNode;
             }
             if (w == "COMPONENT") {
-                f.lexer.next();
-                const Token name = expect(f, TokenKind::Word, "a component name");
-                std::string_view level = f.lexer.text(name);
-                if (f.lexer.peek().kind == TokenKind::Word &&
-                    f.lexer.text(f.lexer.peek()).front() == ':')
-                    level = f.lexer.text(f.lexer.next());  // "name :level" written with a space
-                component_level(f, name, level);
+                component_statement(f);
                 return kNullNode;
             }
             if (w == "META") {
@@ -354,11 +442,14 @@ class Reader {
                 ++scene_.stats.use_count;
                 return outer_node(name);
             }
-            if (it == f.defs.end())
-                fail(f, nt,
+            if (it == f.defs.end()) {  // as browsers do: the node is left out
+                warn(f, nt.offset,
                      "USE of '" + std::string(f.lexer.text(nt)) +
                          "', which no DEF before it names" +
-                         (f.is_values ? " in this PROTO body" : ""));
+                         (f.is_values ? " in this PROTO body" : "") + "; the node is left out",
+                     "use-unknown:" + std::string(f.lexer.text(nt)));
+                return kNullNode;
+            }
             ++scene_.stats.use_count;
             return it->second;
         }
@@ -451,8 +542,14 @@ class Reader {
                     continue;
                 }
             }
-            if (!field)
-                fail(f, t, "unknown field '" + std::string(w) + "' in node " + std::string(type));
+            if (!field) {
+                if (!starts_identifier(w))  // `radius 1 2`: a value too many, no field name
+                    fail(f, t,
+                         "expected a field name or '}' in " + std::string(type) + ", found " +
+                             describe(f, t));
+                unknown_field(f, t, type, "node");
+                continue;
+            }
             if (field->extension)
                 warn(f, t.offset,
                      "non-standard field '" + std::string(w) + "' of " + std::string(type) +
@@ -463,10 +560,14 @@ class Reader {
                 is_mapping(f, field->name, field->type, field->access, mark, events);
                 continue;
             }
-            if (!has_value(field->access))
-                fail(f, t,
+            if (!has_value(field->access)) {
+                warn(f, t.offset,
                      "'" + std::string(w) + "' is an event of " + std::string(type) +
-                         " and takes no value here");
+                         " and takes no value here; the value is skipped",
+                     "event-value:" + std::string(type) + "." + std::string(w));
+                skip_unknown_value(f);
+                continue;
+            }
             FieldEntry entry;
             entry.name = field->name;
             field_value(f, field->type, entry, depth);
@@ -625,15 +726,21 @@ class Reader {
         if (!f.is_values) fail(f, t, "IS may only be used inside a PROTO body");
         Name proto_field = intern(f.lexer.text(t));
         const ProtoField* pf = f.proto->find(proto_field);
-        if (!pf)
-            fail(f, t,
+        if (!pf) {
+            warn(f, t.offset,
                  "IS names '" + std::string(f.lexer.text(t)) + "', which is not a field of PROTO " +
-                     std::string(name_text(f.proto->name)));
-        if (pf->type != type)
-            fail(f, t,
+                     std::string(name_text(f.proto->name)) + "; the link is dropped",
+                 "is-unknown:" + std::string(f.lexer.text(t)));
+            return;
+        }
+        if (pf->type != type) {
+            warn(f, t.offset,
                  "IS connects a " + std::string(type_name(type)) + " field to PROTO field '" +
                      std::string(name_text(pf->name)) + "' of type " +
-                     std::string(type_name(pf->type)));
+                     std::string(type_name(pf->type)) + "; the link is dropped",
+                 "is-type:" + std::string(name_text(pf->name)));
+            return;
+        }
         if (access != Access::Field) events.emplace_back(field, proto_field);
         if (!has_value(access)) return;  // events carry no value at time 0
         auto it = f.is_values->find(proto_field);
@@ -757,29 +864,50 @@ class Reader {
                          ", found " + describe(f, t));
             Name field_name = intern(f.lexer.text(t));
             const ProtoField* pf = proto.find(field_name);
-            if (!pf)
-                fail(f, t,
-                     "unknown field '" + std::string(f.lexer.text(t)) + "' in PROTO instance " +
-                         std::string(name_text(proto.name)));
+            if (!pf) {
+                if (!starts_identifier(f.lexer.text(t)))
+                    fail(f, t,
+                         "expected a field name or '}' in " + std::string(name_text(proto.name)) +
+                             ", found " + describe(f, t));
+                unknown_field(f, t, name_text(proto.name), "PROTO instance");
+                continue;
+            }
             if (peek_word(f, "IS")) {
                 f.lexer.next();
                 Token is_name = f.lexer.next();
                 if (!f.is_values) fail(f, is_name, "IS may only be used inside a PROTO body");
                 Name outer = intern(f.lexer.text(is_name));
                 const ProtoField* opf = f.proto->find(outer);
-                if (!opf)
-                    fail(f, is_name,
+                if (!opf) {
+                    warn(f, is_name.offset,
                          "IS names a field that PROTO " + std::string(name_text(f.proto->name)) +
-                             " does not have");
-                if (opf->type != pf->type)
-                    fail(f, is_name, "IS connects fields of different types");
+                             " does not have; the link is dropped",
+                         "is-unknown:" + std::string(f.lexer.text(is_name)));
+                    continue;
+                }
+                if (opf->type != pf->type) {
+                    warn(f, is_name.offset,
+                         "IS connects a " + std::string(type_name(pf->type)) +
+                             " field to PROTO field '" + std::string(name_text(opf->name)) +
+                             "' of type " + std::string(type_name(opf->type)) +
+                             "; the link is dropped",
+                         "is-type:" + std::string(name_text(opf->name)));
+                    continue;
+                }
                 if (pf->access != Access::Field) events.emplace_back(field_name, outer);
                 auto it = f.is_values->find(outer);
                 if (it != f.is_values->end()) values[field_name] = it->second;
                 continue;
             }
-            if (!has_value(pf->access))
-                fail(f, t, "'" + std::string(f.lexer.text(t)) + "' is an event and takes no value");
+            if (!has_value(pf->access)) {
+                warn(f, t.offset,
+                     "'" + std::string(f.lexer.text(t)) +
+                         "' is an event and takes no value; the value is skipped",
+                     "event-value:" + std::string(name_text(proto.name)) + "." +
+                         std::string(f.lexer.text(t)));
+                skip_unknown_value(f);
+                continue;
+            }
             FieldEntry entry;
             entry.name = field_name;
             field_value(f, pf->type, entry, depth);
@@ -804,12 +932,15 @@ class Reader {
         std::unordered_map<Name, FieldEntry> bound;
         for (const ProtoField& pf : impl->fields) {
             auto it = values.find(pf.name);
+            if (it != values.end() && it->second.type != pf.type) {
+                warn(f, type_token.offset,
+                     "field '" + std::string(name_text(pf.name)) + "' of EXTERNPROTO " +
+                         std::string(name_text(proto.name)) +
+                         " has another type in its implementation; its default is used",
+                     "externproto-type:" + std::string(name_text(pf.name)));
+                it = values.end();
+            }
             if (it != values.end()) {
-                if (it->second.type != pf.type)
-                    fail(f, type_token,
-                         "field '" + std::string(name_text(pf.name)) + "' of EXTERNPROTO " +
-                             std::string(name_text(proto.name)) +
-                             " has another type in its implementation");
                 bound[pf.name] = it->second;
             } else if (pf.has_default) {
                 bound[pf.name] = pf.default_value;

@@ -1,5 +1,6 @@
 #include "parser/field_value.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -70,9 +71,10 @@ bool normalise_rotation(double* r) {
     r[0] *= inv;
     r[1] *= inv;
     r[2] *= inv;
-    // Axes written with a few decimals are off by rounding only (|len^2 - 1| ~ 1e-5): normalised
-    // silently.
-    return std::abs(len2 - 1.0) <= 1e-3;
+    // Any other axis has one direction, which every browser takes: normalised silently, so that
+    // --strict stays usable on Jmol's exports (their bond axes are unnormalised, of lengths 0.076
+    // to 10 in ../shared/corpus/molecular/jmol).
+    return true;
 }
 
 namespace {
@@ -247,6 +249,25 @@ void read_field_value(ValueContext& ctx, FieldType type, FieldEntry& entry) {
         }
     } else if (!ctx.xml) {
         read_single(ctx, type.kind, first);
+        // Several numbers without brackets (`fieldOfView -1 -1 1 1`, as X3D 3 files write
+        // OrthoViewpoint's): no field name starts like a number, so the run can only be this
+        // value. Read whole, with one warning a file.
+        auto number_next = [&] {
+            const Token& t = ctx.lexer.peek();
+            const char c = t.kind == TokenKind::Word ? ctx.lexer.text(t).front() : 'x';
+            return std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.';
+        };
+        if (!strings && type.kind != ValueKind::Image && number_next()) {
+            while (number_next()) {
+                read_single(ctx, type.kind, ctx.lexer.peek());
+                check_size(ctx, pool_size() - entry.begin, first);
+            }
+            if (ctx.diagnostics)
+                ctx.diagnostics->warning({ctx.file, first.offset},
+                                         "several values of a multiple-valued field without "
+                                         "brackets; read as one list",
+                                         "mf-without-brackets");
+        }
     } else {
         // X3D XML attributes list MF values without brackets.
         while (ctx.lexer.peek().kind != TokenKind::End) {

@@ -49,8 +49,8 @@ inline int32_t int32_of_number(double d, int32_t invalid) {
     return invalid;
 }
 
-// Normalises an SFRotation axis in place; returns false if it was further from unit length than the
-// rounding of a few written decimals explains (worth a warning).
+// Normalises an SFRotation axis in place; returns false only for a zero axis with a non-zero angle,
+// which names no rotation (worth a warning).
 bool normalise_rotation(double* r);
 
 }  // namespace vr

@@ -152,19 +152,44 @@ static std::string printable(std::string_view s) {
     return out;
 }
 
-static Encoding detect_encoding(std::string_view text, std::string& header) {
-    size_t start = 0;
-    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0)
-        start = 3;  // UTF-8 byte order mark
-    size_t end = text.find_first_of("\r\n", start);
-    header = printable(std::string_view(text).substr(
-        start, std::min<size_t>(end == std::string::npos ? text.size() : end, start + 60) - start));
-    auto starts = [&](const char* prefix) {
-        return text.compare(start, std::strlen(prefix), prefix) == 0;
-    };
-    if (starts("#VRML V2.0")) return Encoding::Vrml97;
-    if (starts("#X3D V3.") || starts("#X3D V4.")) return Encoding::X3dClassic;
-    if (starts("#VRML V1.0")) return Encoding::Vrml1;
+// The words of a classic header line, "#VRML V2.0 utf8 [comment]", which exporters write with
+// runs of spaces or tabs between them (browsers read those too). Empty words when the line does
+// not start with "#VRML" or "#X3D" and white space.
+struct HeaderWords {
+    std::string shown;  // the line as a message shows it
+    std::string_view tag, version, encoding;
+};
+
+static HeaderWords header_words(std::string_view text) {
+    HeaderWords h;
+    const size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // UTF-8 byte order mark
+    const size_t end = std::min(text.find_first_of("\r\n", start), text.size());
+    const std::string_view line = text.substr(start, end - start);
+    h.shown = printable(line.substr(0, 60));
+    std::string_view words[3];
+    size_t p = 0;
+    for (std::string_view& w : words) {
+        p = std::min(line.find_first_not_of(" \t", p), line.size());
+        const size_t q = std::min(line.find_first_of(" \t", p), line.size());
+        w = line.substr(p, q - p);
+        p = q;
+    }
+    if (words[0] != "#VRML" && words[0] != "#X3D") return h;
+    h.tag = words[0];
+    h.version = words[1];
+    h.encoding = words[2];
+    return h;
+}
+
+static Encoding detect_encoding(std::string_view text, HeaderWords& header) {
+    header = header_words(text);
+    const std::string_view v = header.version;
+    if (header.tag == "#VRML" && v == "V2.0") return Encoding::Vrml97;
+    if (header.tag == "#VRML" && v == "V1.0") return Encoding::Vrml1;
+    // "#X3D V2.0" names no X3D version; Titania's tests hold one such file, read as X3D 3 (warned).
+    if (header.tag == "#X3D" && (v.starts_with("V3.") || v.starts_with("V4.") || v == "V2.0"))
+        return Encoding::X3dClassic;
+    const size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
     size_t p = text.find_first_not_of(" \t\r\n", start);
     if (p != std::string::npos && text.compare(p, 1, "<") == 0) return Encoding::X3dXml;
     return Encoding::Unknown;
@@ -177,8 +202,8 @@ int x3d_major_version(std::string_view text) {
     auto digit_at = [&](size_t i) {
         return i < text.size() && text[i] >= '0' && text[i] <= '9' ? text[i] - '0' : 0;
     };
-    size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
-    if (text.compare(start, 6, "#X3D V") == 0) return digit_at(start + 6);
+    if (const HeaderWords h = header_words(text); h.tag == "#X3D")
+        return h.version == "V2.0" ? 3 : digit_at(size_t(h.version.data() - text.data()) + 1);
     const std::string_view head = text.substr(0, 1 << 16);
     size_t tag = head.find("<X3D");
     while (tag != std::string_view::npos && tag + 4 < head.size() &&
@@ -326,7 +351,7 @@ class Loader {
     // Reads one file's text (already added as source `file`); returns its top-level nodes.
     ClassicResult read_source(uint32_t file, size_t inline_depth) {
         const SourceFile& src = scene_.sources.file(file);
-        std::string header;
+        HeaderWords header;
         Encoding enc = detect_encoding(src.text, header);
         if (file == 0) scene_.encoding = enc;
         if (scene_.x3d_major.size() <= file) scene_.x3d_major.resize(file + 1, 0);
@@ -343,7 +368,10 @@ class Loader {
         switch (enc) {
             case Encoding::Vrml97:
             case Encoding::X3dClassic: {
-                check_header(file, enc, header);
+                if (!check_header(file, header)) {
+                    result.ok = false;
+                    break;
+                }
                 // Only the main file's pieces are consumed: Inline contents stay nodes.
                 result = read_classic(scene_, file, spec_of(enc), options_.limits, resolver,
                                       file == 0 ? options_.piece_consumer.get() : nullptr);
@@ -357,16 +385,29 @@ class Loader {
                 result = read_vrml1(scene_, file, options_.limits);
                 break;
             case Encoding::Unknown:
-                if (src.text.size() >= 2 && ((src.text[0] == '\xFF' && src.text[1] == '\xFE') ||
-                                             (src.text[0] == '\xFE' && src.text[1] == '\xFF'))) {
+                // UTF-16 with a byte-order mark was converted (parser/utf16.h); without one,
+                // '#' or '<' and a zero byte is all that shows it.
+                if (src.text.starts_with(std::string_view("\xE0\0\0\x01", 4))) {
                     scene_.diagnostics.error(
-                        {file, 0}, "the file is UTF-16 encoded; VRML and X3D files must be UTF-8");
+                        {file, 0},
+                        "the file is X3D's binary encoding (Fast Infoset, .x3db), which is not "
+                        "read; convert it to X3D XML or classic encoding");
+                    result.ok = false;
+                    break;
+                }
+                if (src.text.size() >= 2 &&
+                    ((src.text[1] == '\0' && (src.text[0] == '#' || src.text[0] == '<')) ||
+                     (src.text[0] == '\0' && (src.text[1] == '#' || src.text[1] == '<')))) {
+                    scene_.diagnostics.error(
+                        {file, 0},
+                        "the file looks UTF-16 encoded without a byte-order mark; save it as UTF-8 "
+                        "or as UTF-16 with a byte-order mark");
                     result.ok = false;
                     break;
                 }
                 scene_.diagnostics.error(
                     {file, 0},
-                    "not a VRML97 or X3D file: the first line is '" + header +
+                    "not a VRML97 or X3D file: the first line is '" + header.shown +
                         "', expected '#VRML V2.0 utf8', '#X3D V3.x utf8' or an XML document");
                 result.ok = false;
                 break;
@@ -405,25 +446,34 @@ class Loader {
         return r;
     }
 
-    void check_header(uint32_t file, Encoding enc, const std::string& header) {
-        // "#VRML V2.0 utf8" / "#X3D V3.3 utf8"; exporters add text after utf8, which is allowed.
-        size_t space = header.find(' ', 6);
-        std::string rest = space == std::string::npos ? "" : header.substr(space + 1);
-        if (rest.rfind("utf8", 0) != 0) {
-            scene_.diagnostics.warning(
-                {file, 0}, "header should say 'utf8' after the version: '" + header + "'",
-                "header-utf8");
+    // "#VRML V2.0 utf8" / "#X3D V3.3 utf8"; exporters add text after utf8, which is allowed. A
+    // header that names no encoding is not one (false, with an error).
+    bool check_header(uint32_t file, const HeaderWords& header) {
+        if (header.encoding.empty()) {
+            scene_.diagnostics.error({file, 0}, "the header names no encoding: '" + header.shown +
+                                                    "', expected '" + std::string(header.tag) +
+                                                    " " + std::string(header.version) + " utf8'");
+            return false;
         }
+        if (header.encoding != "utf8")
+            scene_.diagnostics.warning(
+                {file, 0}, "header should say 'utf8' after the version: '" + header.shown + "'",
+                "header-utf8");
+        if (header.tag == "#X3D" && header.version == "V2.0")
+            scene_.diagnostics.warning(
+                {file, 0}, "the header names X3D V2.0, which does not exist; read as X3D 3",
+                "header-x3d-v2");
+        return true;
     }
 
     // UNIT statements (parser/units.h): allowed from X3D 3.3 on, but a file that has them means
     // them, so they are applied either way. Lengths are left to the scene build's scale.
-    void apply_units(uint32_t file, Encoding enc, const std::string& header, size_t first_node,
+    void apply_units(uint32_t file, Encoding enc, const HeaderWords& header, size_t first_node,
                      const ClassicResult& result) {
         std::string version;
         if (enc == Encoding::X3dXml) version = result.x3d_version;
-        if (enc == Encoding::X3dClassic && header.rfind("#X3D V", 0) == 0)
-            version = header.substr(6, header.find(' ', 6) - 6);
+        if (enc == Encoding::X3dClassic && header.version.size() > 1)
+            version = header.version.substr(1);
         if (!units_allowed(version))
             scene_.diagnostics.warning(
                 result.units.first,

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "parser/utf16.h"
+
 namespace vr {
 
 SourceText::SourceText(std::string text) : owned_(std::move(text)) {}
@@ -63,6 +65,9 @@ uint32_t SourceManager::add(std::string path, SourceText text) {
         throw std::length_error("more than " + std::to_string(kMaxFiles) + " source files (limit)");
     auto file = std::make_unique<SourceFile>();
     file->path = std::move(path);
+    // UTF-16 with a byte-order mark: every reader reads UTF-8 (parser/utf16.h).
+    if (std::optional<std::string> utf8 = utf8_from_utf16(text.view()))
+        text = SourceText(std::move(*utf8));
     file->storage = std::move(text);
     file->text =
         file->storage.view();  // after the move: a short owned string lives inside the storage

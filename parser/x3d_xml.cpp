@@ -95,6 +95,21 @@ std::string_view x3d_default_container_field(std::string_view type) {
         add("source", {"AudioClip"});
         add("displacers", {"HAnimDisplacer"});
         add("motions", {"HAnimMotion"});
+        // X3D 4.0 components read but not modelled (grammar/x3d.nodes, their last block).
+        add("physics", {"BoundedPhysicsModel", "ForcePhysicsModel", "WindPhysicsModel"});
+        add("emitter", {"ConeEmitter", "ExplosionEmitter", "PointEmitter", "PolylineEmitter",
+                        "SurfaceEmitter", "VolumeEmitter"});
+        add("joints", {"BallJoint", "DoubleAxisHingeJoint", "MotorJoint", "SingleAxisHingeJoint",
+                       "SliderJoint", "UniversalJoint"});
+        add("collider", {"CollisionCollection"});
+        add("contacts", {"Contact"});
+        add("bodies", {"RigidBody"});
+        add("periodicWave", {"PeriodicWave"});
+        add("renderStyle",
+            {"BlendedVolumeStyle", "BoundaryEnhancementVolumeStyle", "CartoonVolumeStyle",
+             "ComposedVolumeStyle", "EdgeEnhancementVolumeStyle", "OpacityMapVolumeStyle",
+             "ProjectionVolumeStyle", "ShadedVolumeStyle", "SilhouetteEnhancementVolumeStyle",
+             "ToneMappedVolumeStyle"});
         return t;
     }();
     auto it = table.find(type);
@@ -460,9 +475,12 @@ void XmlReader::read_value(const XmlElement& e, const XmlAttr& a, FieldType type
                 p = close + 1;
             }
         } else {
-            warn(e.file, a.begin,
-                 what.text() + ": MFString value is not quoted; read as one string",
-                 "xml-mfstring-unquoted");
+            // One word unquoted (Jmol's type='EXAMINE', url='a.png') can only mean that word: read
+            // silently. Words with white space between them might have meant several strings.
+            if (t.find_first_of(" \t\r\n") != std::string_view::npos)
+                warn(e.file, a.begin,
+                     what.text() + ": MFString value is not quoted; read as one string",
+                     "xml-mfstring-unquoted");
             tree_.strings.emplace_back(t);
         }
         entry.count = static_cast<uint32_t>(tree_.strings.size() - entry.begin);

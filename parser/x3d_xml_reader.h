@@ -107,9 +107,9 @@ struct Names {
          url = intern("url"), node_field = intern("nodeField"), proto_field = intern("protoField"),
          from_node = intern("fromNode"), from_field = intern("fromField"),
          to_node = intern("toNode"), to_field = intern("toField"), inline_def = intern("inlineDEF"),
-         imported_def = intern("importedDEF"), local_def = intern("localDEF"), as = intern("AS"),
-         version = intern("version"), category = intern("category"),
-         conversion_factor = intern("conversionFactor");
+         imported_def = intern("importedDEF"), exported_def = intern("exportedDEF"),
+         local_def = intern("localDEF"), as = intern("AS"), version = intern("version"),
+         category = intern("category"), conversion_factor = intern("conversionFactor");
     // Elements of the encoding.
     Name x3d = intern("X3D"), scene = intern("Scene"), head = intern("head"), unit = intern("unit"),
          proto_interface = intern("ProtoInterface"), proto_body = intern("ProtoBody"),
@@ -343,6 +343,7 @@ class XmlReader {
     std::string required(const XmlElement& e, Name attr, const char* what);
     void route(const XmlElement& e);
     void import_export(const XmlElement& e);
+    std::string imported_def(const XmlElement& e);
     void read_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
                     const What& what);
     void lex_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,

@@ -214,6 +214,15 @@ void XmlReader::content_element(const XmlElement& e) {
              "<field> may only stand in <ProtoInterface>, <ExternProtoDeclare>, Script and shader "
              "nodes");
     }
+    if (tag == n_.field_value && parent.role == Role::Node) {
+        // Xj3D's tests set a node's field so; X3D gives <fieldValue> to ProtoInstance only. As an
+        // unknown attribute: a warning, and the node is read without it.
+        warn(e.file, e.offset,
+             "<fieldValue> inside <" + tag_of(parent) +
+                 "> ignored: only a <ProtoInstance> takes field values so",
+             "xml-node-field-value");
+        return push(make_open(Role::Skip, e));
+    }
     if (tag == n_.field_value || tag == n_.connect || tag == n_.proto_interface ||
         tag == n_.proto_body || tag == n_.scene || tag == n_.x3d)
         fail(e.file, e.offset,
@@ -250,19 +259,25 @@ void XmlReader::node_start(const XmlElement& e, const NodeTypeDecl* decl) {
         if (!field && (a.name == n_.cls || a.name == n_.id || a.name == n_.style)) continue;
         if (!field) field = field_in_x3d_case(e, *decl, a);
         const std::string_view type = name_text(e.tag);  // for messages
-        if (!field)
-            fail(e.file, a.name_offset,
+        if (!field) {  // as browsers do: a warning, and the rest of the node is read
+            warn(e.file, a.name_offset,
                  "unknown attribute '" + std::string(name_text(a.name)) + "' of node " +
-                     std::string(type));
+                     std::string(type) + "; ignored",
+                 "unknown-field:" + std::string(type) + "." + std::string(name_text(a.name)));
+            continue;
+        }
         if (field->extension)
             warn(e.file, a.name_offset,
                  "non-standard field '" + std::string(name_text(a.name)) + "' of " +
                      std::string(type) + " (a browser extension) read and ignored",
                  "extension-field:" + std::string(type) + "." + std::string(name_text(a.name)));
-        if (!has_value(field->access))
-            fail(e.file, a.name_offset,
+        if (!has_value(field->access)) {
+            warn(e.file, a.name_offset,
                  "'" + std::string(name_text(a.name)) + "' is an event of " + std::string(type) +
-                     " and takes no value");
+                     " and takes no value; ignored",
+                 "event-value:" + std::string(type) + "." + std::string(name_text(a.name)));
+            continue;
+        }
         FieldEntry entry;
         entry.name = field->name;
         read_value(e, a, field->type, entry, What{"attribute", a.name, e.tag});
@@ -283,10 +298,13 @@ void XmlReader::use_start(const XmlElement& e, const XmlAttr& use, bool instance
         o.use = f.outer_defs->at(key);
     } else if (piece_content_ && frames_.size() == 1) {
         o.use = outer_node(key, e);  // a DEF before the piece: the main reader resolves it
-    } else {
-        fail(e.file, use.begin,
+    } else {                         // as browsers do: the element is left out
+        warn(e.file, use.begin,
              "USE of '" + name + "', which no DEF before it names" +
-                 (f.is_values ? " in this ProtoBody" : ""));
+                 (f.is_values ? " in this ProtoBody" : "") + "; the node is left out",
+             "use-unknown:" + name);
+        push(make_open(Role::Skip, e));
+        return;
     }
     ++scene_.stats.use_count;
     for (const XmlAttr& a : e.attrs) {
@@ -445,14 +463,22 @@ void XmlReader::attach(NodeId id, const Open& child) {
     if (child.container != kNoName) {
         const Name wanted = x3d_field(parent.tag, child.container);
         const FieldDecl* field = registry_.lookup_field(Spec::X3d, *parent.decl, wanted);
-        if (!field || field->type.kind != ValueKind::Node)
-            fail(child.file, child.container_offset,
+        // As an unknown field: a warning, and the child is left out.
+        if (!field || field->type.kind != ValueKind::Node) {
+            warn(child.file, child.container_offset,
                  "containerField '" + std::string(name_text(child.container)) + "' of " + type() +
-                     " is not a node field of its parent " + parent_type());
-        if (!has_value(field->access))
-            fail(child.file, child.container_offset,
+                     " is not a node field of its parent " + parent_type() +
+                     "; the node is left out",
+                 "unknown-field:" + parent_type() + "." + std::string(name_text(child.container)));
+            return;
+        }
+        if (!has_value(field->access)) {
+            warn(child.file, child.container_offset,
                  "containerField '" + std::string(name_text(wanted)) + "' is an event of " +
-                     parent_type() + " and takes no nodes");
+                     parent_type() + " and takes no nodes; the node is left out",
+                 "event-value:" + parent_type() + "." + std::string(name_text(wanted)));
+            return;
+        }
         children_.push_back({field->name, id});
         return;
     }
@@ -507,14 +533,14 @@ void XmlReader::field_value_start(const XmlElement& e) {
     Instance& inst = *stack_.back().instance;
     std::string name = required(e, n_.name, "fieldValue");
     const ProtoField* pf = inst.proto->find(intern(name));
-    if (!pf)
-        fail(e.file, e.find(n_.name)->begin,
-             "ProtoInstance of " + std::string(name_text(inst.proto->name)) + " has no field '" +
-                 name + "'");
-    if (!has_value(pf->access))
-        fail(e.file, e.offset,
-             "field '" + name + "' of " + std::string(name_text(inst.proto->name)) +
-                 " is an event and takes no value");
+    if (!pf || !has_value(pf->access)) {  // as an unknown attribute: warned, skipped
+        const std::string proto(name_text(inst.proto->name));
+        warn(e.file, pf ? e.offset : e.find(n_.name)->begin,
+             pf ? "field '" + name + "' of " + proto + " is an event and takes no value; ignored"
+                : "ProtoInstance of " + proto + " has no field '" + name + "'; ignored",
+             (pf ? "event-value:" : "unknown-field:") + proto + "." + name);
+        return push(make_open(Role::Skip, e));
+    }
     if (const XmlAttr* value = e.find(n_.value)) {
         FieldEntry entry;
         entry.name = pf->name;
@@ -565,8 +591,7 @@ void XmlReader::import_export(const XmlElement& e) {
     const bool import = e.tag == n_.import;
     const Name def_attr = import ? n_.inline_def : n_.local_def;
     const std::string def(trim(required(e, def_attr, import ? "IMPORT" : "EXPORT")));
-    const std::string exported =
-        import ? std::string(trim(required(e, n_.imported_def, "IMPORT"))) : def;
+    const std::string exported = import ? imported_def(e) : def;
     const XmlAttr* as_attr = e.find(n_.as);
     std::string as = as_attr ? std::string(trim(attr_text(e, *as_attr))) : "";
     if (as.empty()) as = exported;
@@ -592,6 +617,17 @@ void XmlReader::import_export(const XmlElement& e) {
         {it->second, intern(exported), intern(as), PackedLoc(e.file, e.offset)});
 }
 
+// IMPORT's importedDEF attribute, or exportedDEF, its name in X3D 3.0's XML encoding (warned).
+std::string XmlReader::imported_def(const XmlElement& e) {
+    if (e.find(n_.imported_def) || !e.find(n_.exported_def))
+        return std::string(trim(required(e, n_.imported_def, "IMPORT")));
+    const XmlAttr& a = *e.find(n_.exported_def);
+    warn(e.file, a.name_offset,
+         "IMPORT attribute 'exportedDEF' is the older spelling of 'importedDEF'; read as it",
+         "xml-import-exported-def");
+    return std::string(trim(attr_text(e, a)));
+}
+
 // <connect nodeField protoField>: the enclosing node (or PROTO instance) field takes the instance's
 // value.
 void XmlReader::connect(const XmlElement& e) {
@@ -600,20 +636,32 @@ void XmlReader::connect(const XmlElement& e) {
     const std::string node_field = required(e, n_.node_field, "connect");
     const std::string proto_field = required(e, n_.proto_field, "connect");
     const ProtoField* outer = f.proto->find(intern(proto_field));
-    if (!outer)
-        fail(e.file, e.find(n_.proto_field)->begin,
+    if (!outer) {
+        warn(e.file, e.find(n_.proto_field)->begin,
              "connect names '" + proto_field + "', which is not a field of " +
-                 std::string(name_text(f.proto->name)));
+                 std::string(name_text(f.proto->name)) + "; the link is dropped",
+             "is-unknown:" + proto_field);
+        return;
+    }
     auto bound = f.is_values->find(outer->name);
     if (owner.role == Role::Instance) {
         Instance& inst = *owner.instance;
         const ProtoField* inner = inst.proto->find(intern(node_field));
-        if (!inner)
-            fail(e.file, e.find(n_.node_field)->begin,
+        if (!inner) {
+            warn(e.file, e.find(n_.node_field)->begin,
                  "connect names '" + node_field + "', which is not a field of " +
-                     std::string(name_text(inst.proto->name)));
-        if (inner->type != outer->type)
-            fail(e.file, e.offset, "connect joins fields of different types");
+                     std::string(name_text(inst.proto->name)) + "; the link is dropped",
+                 "is-unknown:" + node_field);
+            return;
+        }
+        if (inner->type != outer->type) {
+            warn(e.file, e.offset,
+                 "connect joins " + std::string(name_text(inst.proto->name)) + "." + node_field +
+                     " (" + std::string(type_name(inner->type)) + ") to " + proto_field +
+                     " of type " + std::string(type_name(outer->type)) + "; the link is dropped",
+                 "is-type:" + proto_field);
+            return;
+        }
         if (inner->access != Access::Field) inst.events.emplace_back(inner->name, outer->name);
         if (bound != f.is_values->end()) {
             inst.values[inner->name] = bound->second;
@@ -626,14 +674,20 @@ void XmlReader::connect(const XmlElement& e) {
         registry_.lookup_field(Spec::X3d, *owner.decl, intern(x3d_field_name(type, node_field)));
     if (!field) {
         if (owner.dynamic) return;  // a Script's own field: dropped with the Script's interface
-        fail(e.file, e.find(n_.node_field)->begin,
-             "connect names '" + node_field + "', which is not a field of " + std::string(type));
+        warn(e.file, e.find(n_.node_field)->begin,
+             "connect names '" + node_field + "', which is not a field of " + std::string(type) +
+                 "; the link is dropped",
+             "is-unknown:" + node_field);
+        return;
     }
-    if (field->type != outer->type)
-        fail(e.file, e.offset,
+    if (field->type != outer->type) {
+        warn(e.file, e.offset,
              "connect joins " + std::string(type) + "." + node_field + " (" +
                  std::string(type_name(field->type)) + ") to " + proto_field + " of type " +
-                 std::string(type_name(outer->type)));
+                 std::string(type_name(outer->type)) + "; the link is dropped",
+             "is-type:" + proto_field);
+        return;
+    }
     // Events go through IS links (as the classic reader keeps them), for ROUTEs into and out of
     // the instance.
     if (field->access != Access::Field) owner.events.emplace_back(field->name, outer->name);

@@ -200,8 +200,7 @@ struct CornerAttributes {
     bool want_uvs;
 };
 
-// Pass 2: triangulate the valid faces and emit their corners; counts faces without area in
-// list.degenerate.
+// Pass 2: triangulate the valid faces and emit their corners (faces without area emit none).
 void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttributes& at,
                 TriMesh& mesh) {
     const std::vector<Vec3>& coords = ifs.data.coords;
@@ -214,10 +213,9 @@ void emit_faces(const sg::IndexedFaceSet& ifs, FaceList& list, const CornerAttri
         points.assign(f.count, Vec3(0.0));
         for (uint32_t j = 0; j < f.count; ++j) points[j] = coords[list.corner_coord[f.begin + j]];
         local.clear();
-        if (!triangulate_polygon(points, local)) {
-            ++list.degenerate;
-            continue;
-        }
+        // A face with no area shows nothing and hides nothing: skipped silently, as browsers do
+        // (Jmol's cartoons hold such faces where a ribbon narrows to a line).
+        if (!triangulate_polygon(points, local)) continue;
         for (uint32_t corner_local : local) {
             const uint32_t corner = f.begin + corner_local;
             const int32_t c = list.corner_coord[corner];
@@ -294,7 +292,7 @@ TriMesh triangulate_face_set(const sg::IndexedFaceSet& ifs, bool want_uvs, NodeR
     if (list.degenerate)
         report.warn("degenerate",
                     std::to_string(list.degenerate) +
-                        " face(s) have fewer than 3 vertices or no area; those faces are skipped");
+                        " face(s) have fewer than 3 vertices; those faces are skipped");
     if (mesh.triangles.empty() && list.faces.empty() == false)
         report.warn("no-triangles", "no face has an area; nothing to render");
     return mesh;

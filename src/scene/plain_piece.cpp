@@ -287,7 +287,7 @@ class PlainReader {
                 give_up();
         }
         if (field.kind == ValueKind::Rotation && !normalise_rotation(v))
-            give_up();  // the reader warns about the axis
+            give_up();  // the reader warns about a zero axis
     }
 
     // A node field: children (one node or a bracketed list), or one node, NULL or a USE.

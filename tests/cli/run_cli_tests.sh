@@ -42,9 +42,15 @@ expect 2 "bad --background" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" 
 expect 3 "missing scene file" -- "$bin" render "$work/does_not_exist.wrl" -o "$work/x.png"
 expect_stderr "does_not_exist.wrl: error: cannot open file" "missing file message"
 printf '#VRML V2.0 utf8\nTransform {\n  children Shape { geometry Sphere { radius 1 colour 2 } }\n}\n' >"$work/bad_field.wrl"
-expect 3 "unknown field" -- "$bin" render "$work/bad_field.wrl" -o "$work/x.png"
-expect_stderr "bad_field.wrl:3:47: error: unknown field 'colour' in node Sphere" "error names file:line:col"
+# As browsers do (docs/input.md, "What is forgiven"): a warning at its place, and the scene renders;
+# --strict makes it exit 3 after the image is written.
+expect 0 "unknown field: a warning, the scene renders" -- "$bin" render "$work/bad_field.wrl" -W 8 -H 8 -o "$work/x.png"
+expect_stderr "bad_field.wrl:3:47: warning: unknown field 'colour' in node Sphere; skipped with its value" "warning names file:line:col"
 expect_stderr "^    +\^$" "caret under the column"
+rm -f "$work/strict.png"
+expect 3 "unknown field under --strict" -- "$bin" render "$work/bad_field.wrl" -W 8 -H 8 -o "$work/strict.png" --strict
+expect_stderr "vrmlray: error: --strict: 1 warning, exit 3" "--strict says why it exits 3"
+[ -s "$work/strict.png" ] && pass || fail "--strict writes the image before exiting 3"
 expect 4 "unwritable output" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 8 -H 8 -o "$work/no/such/dir/x.png"
 expect 0 "info on the seed scene" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
 # Files are written over in place and then cut to length (docs/manual.md): a named pipe or a device has
@@ -307,6 +313,12 @@ while IFS= read -r -d '' f; do
     if [ $code -eq 0 ] && cmp -s "$work/err.txt" "$src/tests/corpus/good/$stem.expected"; then pass; else
         fail "good/$name: exit $code, or warnings differ from $stem.expected:"; diff "$work/err.txt" "$src/tests/corpus/good/$stem.expected" | head -5
     fi
+    # Every warning is an error under --strict (exit 3); a file without one passes it.
+    want=0
+    grep -q ': warning: ' "$src/tests/corpus/good/$stem.expected" && want=3
+    (cd "$(dirname "$f")" && "$bin" info "$name" --strict >/dev/null 2>&1)
+    code=$?
+    [ $code -eq $want ] && pass || fail "good/$name: info --strict exits $code, expected $want"
 done < <(good_files)
 
 # --- tests/corpus/bad: every broken file fails with exit 3 and exactly its expected first message ---------
