@@ -8,6 +8,7 @@
 #include "parser/classic_pieces.h"
 #include "parser/field_value.h"
 #include "parser/lexer.h"
+#include "parser/skip_value.h"
 
 namespace vr {
 namespace {
@@ -16,12 +17,6 @@ namespace {
 bool has_dynamic_interface(std::string_view type) {
     return type == "Script" || type == "ComposedShader" || type == "PackagedShader" ||
            type == "ShaderProgram";
-}
-
-// Field and node names never start with a digit, a sign or a period: such a word is a number.
-bool starts_identifier(std::string_view word) {
-    const char c = word.front();
-    return !std::isdigit(static_cast<unsigned char>(c)) && c != '+' && c != '-' && c != '.';
 }
 
 // One stream of tokens being read: the file itself, or the body of a PROTO being expanded.
@@ -183,30 +178,13 @@ class Reader {
         if (units_.angle != 1.0) angle_unit_ = true;  // pieces read from now on stay trees
     }
 
-    // Skips a balanced { ... } or [ ... ] group whose opening token is next.
-    void skip_group(Frame& f) {
-        Token open = f.lexer.next();
-        if (open.kind != TokenKind::LBrace && open.kind != TokenKind::LBracket)
-            fail(f, open, "expected '{' or '[', found " + describe(f, open));
-        size_t depth = 1;
-        while (depth > 0) {
-            Token t = f.lexer.next();
-            switch (t.kind) {
-                case TokenKind::LBrace:
-                case TokenKind::LBracket:
-                    ++depth;
-                    break;
-                case TokenKind::RBrace:
-                case TokenKind::RBracket:
-                    --depth;
-                    break;
-                case TokenKind::End:
-                    fail(f, open, "this group is not closed before the end of the file");
-                case TokenKind::BadString:
-                    fail(f, t, "string is not closed before the end of the file");
-                default:
-                    break;
-            }
+    // Runs a skipper of parser/skip_value.h on this frame: its syntax errors are this file's.
+    void skip(Frame& f, void (*skipper)(Lexer&)) {
+        try {
+            skipper(f.lexer);
+        } catch (const SyntaxError&) {
+            error_file_ = f.file;
+            throw;
         }
     }
 
@@ -218,58 +196,7 @@ class Reader {
              "unknown field '" + name + "' in " + what + " " + std::string(type) +
                  "; skipped with its value",
              "unknown-field:" + std::string(type) + "." + name);
-        skip_unknown_value(f);
-    }
-
-    // Skips the value of a field the reader cannot type, whatever its shape: a run of numbers, a
-    // bracketed list, a string, TRUE or FALSE, NULL, USE name, IS name, or a node ([DEF name]
-    // Type { ... }). A word that is none of these is the next field's name: the value was empty.
-    void skip_unknown_value(Frame& f) {
-        const Token t = f.lexer.peek();
-        switch (t.kind) {
-            case TokenKind::LBracket:
-            case TokenKind::LBrace:
-                skip_group(f);
-                return;
-            case TokenKind::String:
-                f.lexer.next();
-                return;
-            case TokenKind::BadString:
-                fail(f, t, "string is not closed before the end of the file");
-            case TokenKind::Word:
-                break;
-            default:
-                return;  // '}', ']' or the end: the node's end says what is wrong
-        }
-        const std::string_view w = f.lexer.text(t);
-        if (!starts_identifier(w)) {
-            while (f.lexer.peek().kind == TokenKind::Word &&
-                   !starts_identifier(f.lexer.text(f.lexer.peek())))
-                f.lexer.next();
-            return;
-        }
-        if (w == "NULL" || w == "TRUE" || w == "FALSE") {
-            f.lexer.next();
-            return;
-        }
-        if (w == "USE" || w == "IS") {
-            f.lexer.next();
-            expect_word(f, w == "USE" ? "a name after USE" : "a PROTO field name after IS");
-            return;
-        }
-        Lexer probe = f.lexer;  // a node type is a word with '{' after it (after DEF name)
-        probe.next();
-        if (w == "DEF") {
-            probe.next();
-            probe.next();
-        }
-        if (probe.peek().kind != TokenKind::LBrace) return;
-        f.lexer.next();
-        if (w == "DEF") {
-            f.lexer.next();
-            f.lexer.next();
-        }
-        skip_group(f);
+        skip(f, skip_unknown_value);
     }
 
     // ---- statements ---------------------------------------------------------------------------
@@ -483,7 +410,7 @@ class Reader {
             warn(f, type_token.offset, "unknown node type '" + std::string(type) + "' skipped",
                  "unknown-node:" + std::string(type));
             ++scene_.stats.skipped_nodes[std::string(type)];
-            skip_group(f);
+            skip(f, skip_group);
             return kNullNode;
         }
         const bool dynamic = has_dynamic_interface(type);
@@ -565,7 +492,7 @@ class Reader {
                      "'" + std::string(w) + "' is an event of " + std::string(type) +
                          " and takes no value here; the value is skipped",
                      "event-value:" + std::string(type) + "." + std::string(w));
-                skip_unknown_value(f);
+                skip(f, skip_unknown_value);
                 continue;
             }
             FieldEntry entry;
@@ -905,7 +832,7 @@ class Reader {
                          "' is an event and takes no value; the value is skipped",
                      "event-value:" + std::string(name_text(proto.name)) + "." +
                          std::string(f.lexer.text(t)));
-                skip_unknown_value(f);
+                skip(f, skip_unknown_value);
                 continue;
             }
             FieldEntry entry;
