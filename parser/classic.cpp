@@ -9,6 +9,7 @@
 #include "parser/field_value.h"
 #include "parser/lexer.h"
 #include "parser/skip_value.h"
+#include "parser/suggest.h"
 
 namespace vr {
 namespace {
@@ -407,7 +408,9 @@ class Reader {
                 fail(f, f.lexer.peek(),
                      "expected '{' after node type '" + std::string(type) + "', found " +
                          describe(f, f.lexer.peek()));
-            warn(f, type_token.offset, "unknown node type '" + std::string(type) + "' skipped",
+            warn(f, type_token.offset,
+                 "unknown node type '" + std::string(type) + "' skipped" +
+                     did_you_mean(registry_.nearest_node(spec_, type)),
                  "unknown-node:" + std::string(type));
             ++scene_.stats.skipped_nodes[std::string(type)];
             skip(f, skip_group);

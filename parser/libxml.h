@@ -1,6 +1,6 @@
 // libxml2, loaded with dlopen on the first X3D XML read instead of linked: linked, it and the ICU
-// libraries it pulls in add 2-4 ms to every start of vrmlray, XML or not (10.8 -> 8.2 ms for
-// `vrmlray --version`, the middle of three means of 30 runs), while most scenes are classic VRML.
+// libraries it pulls in slow every start of vrmlray, XML or not, while most scenes are classic
+// VRML (bench/README.md, "Figures behind the comments").
 // Only the headers are needed at build time.
 #pragma once
 #include <libxml/parser.h>

@@ -5,6 +5,7 @@
 #include "parser/field_value.h"
 #include "parser/lexer.h"
 #include "parser/node_tree.h"
+#include "parser/suggest.h"
 
 namespace vr {
 
@@ -235,6 +236,14 @@ const NodeTypeDecl* Registry::lookup(Spec encoding, Name node) const {
         if (const NodeTypeDecl* d = find(Spec::Vrml97, node)) return d;
     }
     return find(Spec::Hint, node);
+}
+
+std::string Registry::nearest_node(Spec encoding, std::string_view node) const {
+    std::vector<std::string> names;
+    for (Spec spec : {encoding, encoding == Spec::Vrml97 ? Spec::X3d : Spec::Vrml97, Spec::Hint})
+        for (const NodeTypeDecl& d : tables_[int(spec)].decls)
+            names.emplace_back(name_text(d.name));
+    return nearest_name(node, names);
 }
 
 const FieldDecl* Registry::lookup_field(Spec encoding, const NodeTypeDecl& decl, Name field) const {

@@ -2,6 +2,7 @@
 // events that parser/x3d_xml.cpp delivers from libxml2, or that a recorded ProtoBody replays.
 #include <algorithm>
 
+#include "parser/suggest.h"
 #include "parser/x3d_xml.h"
 #include "parser/x3d_xml_reader.h"
 
@@ -232,7 +233,7 @@ void XmlReader::content_element(const XmlElement& e) {
     std::string hint =
         frame().protos->find(e.tag)
             ? " (to instantiate the prototype, use <ProtoInstance name='" + type + "'>)"
-            : "";
+            : did_you_mean(registry_.nearest_node(Spec::X3d, type));
     warn(e.file, e.offset, "unknown node type '" + type + "' skipped" + hint,
          "unknown-node:" + type);
     ++scene_.stats.skipped_nodes[type];

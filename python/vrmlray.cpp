@@ -632,6 +632,16 @@ py::dict compare_py(py::handle a, py::handle b, const py::kwargs& keywords) {
 
 PYBIND11_MODULE(vrmlray, m) {
     using namespace vr;
+    // Images come back as NumPy arrays: without NumPy the first render would fail with Python's
+    // bare "No module named 'numpy'", so say at import what is missing and how to get it.
+    try {
+        py::module_::import("numpy");
+    } catch (py::error_already_set& e) {
+        if (!e.matches(PyExc_ImportError)) throw;
+        throw py::import_error(
+            "vrmlray's Python module needs NumPy, which this Python cannot import (Debian: "
+            "apt-get install python3-numpy; in a virtual environment: pip install numpy)");
+    }
     m.doc() =
         "vrmlray: render, inspect and compare VRML97 and X3D scenes (docs/python.md).\n"
         "load(path_or_text) -> Scene; Scene.render(width, height, **options) -> numpy array;\n"

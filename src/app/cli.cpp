@@ -3,12 +3,14 @@
 #include "app/cli.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <tuple>
 
+#include "parser/suggest.h"
 #include "render/sampling.h"
 
 namespace vr {
@@ -49,13 +51,37 @@ std::vector<std::string> sampler_name_list() {
     return {kSamplerNames.begin(), kSamplerNames.end()};
 }
 
-// "R,G,B" -> Vec3
-std::optional<Vec3> parse_rgb(const std::string& text) {
+// "X,Y,Z" -> Vec3 (a position, a direction or a colour)
+std::optional<Vec3> parse_triple(const std::string& text) {
     Vec3 c;
     char extra;
     if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &c.x, &c.y, &c.z, &extra) != 3)
         return std::nullopt;
     return c;
+}
+
+// The colour words a user types first (`--background white`), as sRGB-free linear values: the
+// eight corners of the RGB cube and two greys.
+constexpr std::pair<const char*, Vec3> kColourNames[] = {
+    {"black", {0, 0, 0}},     {"white", {1, 1, 1}},   {"red", {1, 0, 0}},
+    {"green", {0, 1, 0}},     {"blue", {0, 0, 1}},    {"yellow", {1, 1, 0}},
+    {"cyan", {0, 1, 1}},      {"magenta", {1, 0, 1}}, {"grey", {0.5, 0.5, 0.5}},
+    {"gray", {0.5, 0.5, 0.5}}};
+
+// "R,G,B", a colour word, or "#RRGGBB" (components 0-255 over 255) -> Vec3
+std::optional<Vec3> parse_colour(const std::string& text) {
+    if (std::optional<Vec3> c = parse_triple(text)) return c;
+    std::string lower;
+    for (char ch : text) lower += char(std::tolower((unsigned char)ch));
+    for (const auto& [name, value] : kColourNames)
+        if (lower == name) return value;
+    unsigned r, g, b;
+    char extra;
+    if (text.size() == 7 && text[0] == '#' &&
+        text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos &&
+        std::sscanf(text.c_str() + 1, "%2x%2x%2x%c", &r, &g, &b, &extra) == 3)
+        return Vec3(r, g, b) / 255.0;
+    return std::nullopt;
 }
 
 // --help starts with the usage line, as git's and pbrt's do; the description follows it.
@@ -66,8 +92,55 @@ struct UsageFirstFormatter : CLI::Formatter {
     }
 };
 
-// CLI11's own parse errors in the house style, "vrmlray: error: MESSAGE", and where to read more:
-// the help of the subcommand named on the command line, else the program's.
+// Every spelling of the options of `app` ("--width", "-W").
+std::vector<std::string> option_spellings(const CLI::App& app) {
+    std::vector<std::string> names;
+    for (const CLI::Option* o : app.get_options()) {
+        for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+        for (const std::string& s : o->get_snames()) names.push_back("-" + s);
+    }
+    return names;
+}
+
+// "did you mean" lines for the words of the command line that name no subcommand or option.
+std::string suggestions(CLI::App& app, int argc, const char* const* argv) {
+    std::vector<std::string> subcommands;
+    const CLI::App* sub = nullptr;
+    for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; }))
+        subcommands.push_back(s->get_name());
+    std::string said;
+    for (int k = 1; k < argc; ++k) {
+        const std::string word = argv[k];
+        if (word == "--") break;
+        if (!sub && word[0] != '-') {
+            for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; }))
+                if (s->get_name() == word) sub = s;
+            if (sub) continue;
+            const std::string near = nearest_name(word, subcommands);
+            if (!near.empty())
+                said += "vrmlray: '" + word + "' is no command; did you mean '" + near + "'?\n";
+            break;
+        }
+        if (word.size() < 2 || word[0] != '-' || (word[1] >= '0' && word[1] <= '9') ||
+            word[1] == '.')
+            continue;  // a value, a negative number
+        const std::string name = word.substr(0, word.find('='));
+        std::vector<std::string> known = option_spellings(app);
+        if (sub) {
+            const std::vector<std::string> own = option_spellings(*sub);
+            known.insert(known.end(), own.begin(), own.end());
+        }
+        if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+        const std::string near = nearest_name(name, known);
+        if (!near.empty())
+            said += "vrmlray: unknown option '" + name + "'; did you mean '" + near + "'?\n";
+    }
+    return said;
+}
+
+// CLI11's own parse errors in the house style, "vrmlray: error: MESSAGE", a "did you mean" for a
+// mistyped command or option, and where to read more: the help of the subcommand named on the
+// command line, else the program's.
 int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* const* argv) {
     std::string help = "vrmlray --help";
     for (int k = 1; k < argc; ++k) {
@@ -81,7 +154,8 @@ int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* c
     if (message.size() > 1 && std::isupper((unsigned char)message[0]) &&
         !std::isupper((unsigned char)message[1]))
         message[0] = char(std::tolower((unsigned char)message[0]));
-    std::cerr << "vrmlray: error: " << message << "\nvrmlray: see '" << help << "'\n";
+    std::cerr << "vrmlray: error: " << message << "\n"
+              << suggestions(app, argc, argv) << "vrmlray: see '" << help << "'\n";
     return kExitUsage;
 }
 
@@ -118,7 +192,8 @@ void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
                                              // as DIR
             ->type_name("[DIR]"));
     sub->add_option("--allow-path", common.allow_paths,
-                    "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)");
+                    "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)")
+        ->type_name("DIR");
     sub->add_flag("--strict", common.strict, "Exit 3 when there is any warning (for CI)");
 }
 
@@ -129,17 +204,21 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                   "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv); several render into OUT/");
     r->add_option("-o,--output", render.output,
                   "Output image; the format follows the extension (default: SCENE's stem + .png); "
-                  "ending in / or a folder: a batch into it");
+                  "ending in / or a folder: a batch into it")
+        ->type_name("FILE");
     r->add_option("--list", render.list_path,
                   "Batch: render the scenes of FILE, one a line with its own options (paths "
-                  "relative to FILE's folder)");
-    r->add_option("--format", render.format, "Batch: the outputs' format (png, exr, tif, ...)");
+                  "relative to FILE's folder)")
+        ->type_name("FILE");
+    r->add_option("--format", render.format, "Batch: the outputs' format (png, exr, tif, ...)")
+        ->type_name("EXT");
     r->add_option("-W,--width", o.width, "Image width in pixels")->check(CLI::Range(1, 65536));
     r->add_option("-H,--height", o.height, "Image height in pixels")->check(CLI::Range(1, 65536));
     r->add_option("--spheres", texts.spheres,
                   "How spheres render: opaque, gas, or hints (per-node hints, else opaque)")
         ->check(CLI::IsMember(label_names(kSpheresLabels)));
-    r->add_option("--viewpoint", o.viewpoint, "Viewpoint to use: DEF name or description");
+    r->add_option("--viewpoint", o.viewpoint, "Viewpoint to use: DEF name or description")
+        ->type_name("NAME");
     r->add_flag("--fit", o.fit, "Move the camera to frame the scene's bounds");
     r->add_option("--position", texts.position,
                   "Camera position X,Y,Z (overrides the viewpoint's)");
@@ -161,7 +240,11 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
         ->check(CLI::Range(0, 1024));
     r->add_option("--orbit", render.orbit_degrees,
                   "Turn the camera by DEG degrees about the scene's centre over the frames "
-                  "(a turntable about the viewpoint's up axis)");
+                  "(a turntable about the viewpoint's up axis; one frame: turned by DEG)");
+    r->add_option("--frame", render.only_frame,
+                  "Render only frame K (0 to N-1) of the --frames N sequence, as the sequence "
+                  "renders it")
+        ->check(CLI::NonNegativeNumber);
     r->add_option("--camera", texts.camera,
                   "perspective, ortho, or viewpoint (as the viewpoint says)")
         ->check(CLI::IsMember(label_names(kCameraLabels)));
@@ -208,11 +291,13 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--emission", texts.emission,
                   "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
     r->add_option("--background", texts.background,
-                  "Background colour R,G,B (overrides the scene's Background)");
+                  "Background colour R,G,B (0-1), #RRGGBB or a word (white, black, grey, ...); "
+                  "overrides the scene's Background");
     r->add_option("--sky", texts.sky,
                   "Sky light R,G,B: adds diffuse * sky * ambient occlusion at opaque surfaces; or "
                   "an equirectangular image FILE.hdr|exr (+Y up), also the background unless the "
-                  "scene has one");
+                  "scene has one")
+        ->type_name("R,G,B|FILE");
     r->add_option("--ao-distance", o.ao_distance,
                   "Sky light: occluders farther than this do not count (default: unlimited)")
         ->check(CLI::PositiveNumber);
@@ -232,7 +317,8 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                 "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
                 "leaves the background out");
     r->add_option("--seed", o.seed, "Seed of the jitter and statistical samplers (default 0)");
-    r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file");
+    r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file")
+        ->type_name("FILE");
     r->add_flag("--recover-spheres", texts.recover,
                 "Render meshes whose vertices all lie on one sphere or cylinder to their written "
                 "precision (Jmol atoms, bonds) as exact shapes (default in gas mode)");
@@ -245,8 +331,13 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
 CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
     CLI::App* cmp = app.add_subcommand(
         "compare", "Compare two images, or two folders of them (golden-image test)");
-    cmp->add_option("a", compare.a, "First image (result), or the reference folder")->required();
-    cmp->add_option("b", compare.b, "Second image (reference), or the result folder")->required();
+    // Reference first for images and folders alike (the figures are symmetric; the messages and
+    // the folder form's --update are not).
+    cmp->add_option("reference", compare.a, "The reference: an image, or a folder of them")
+        ->required();
+    cmp->add_option("result", compare.b,
+                    "The result: an image, or a folder of them (matched by relative path)")
+        ->required();
     cmp->add_option("--max-rmse", compare.max_rmse, "Fail if RMSE is above this");
     cmp->add_option("--min-psnr", compare.min_psnr, "Fail if PSNR (dB) is below this");
     cmp->add_option("--min-ssim", compare.min_ssim, "Fail if SSIM is below this");
@@ -275,18 +366,22 @@ CLI::App* add_compare(CLI::App& app, CompareCommand& compare) {
         "Every figure but\n"
         "SSIM (luminance) covers alpha too. Exit: 0 pass (warnings included), 1 fail, 3 unreadable "
         "or size mismatch.");
-    cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference");
+    cmp->add_option("--diff", compare.diff_path, "Write a heat-map of the per-pixel difference")
+        ->type_name("FILE");
     cmp->add_flag("--json", compare.json, "Print the figures as JSON");
     cmp->add_option("--junit", compare.junit_path,
-                    "Folders: write a JUnit XML file, one test case per image");
+                    "Folders: write a JUnit XML file, one test case per image")
+        ->type_name("FILE");
     cmp->add_option("--report", compare.report_dir,
-                    "Folders: write an HTML report (index.html and its images) into this folder");
+                    "Folders: write an HTML report (index.html and its images) into this folder")
+        ->type_name("DIR");
     cmp->add_flag("--update", compare.update,
                   "Folders: copy each failing or extra result over its reference, printing each");
     cmp->add_option("--threads", compare.threads, "Folders: threads (0: all cores)")
         ->check(CLI::Range(0, 1024));
     cmp->add_option("--thresholds", compare.thresholds_path,
-                    "Folders: per-image thresholds, a line each: GLOB OPTIONS (first match wins)");
+                    "Folders: per-image thresholds, a line each: GLOB OPTIONS (first match wins)")
+        ->type_name("FILE");
     return cmp;
 }
 
@@ -296,10 +391,10 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
     CLI::App* b = app.add_subcommand(
         "bench", "Speed against error: render at rising quality, measure time and error");
     b->footer(
-        "Example: vrmlray bench scenes/seeds/000_scene1.wrl -W 320 -H 240\n"
+        "Example: vrmlray bench scenes/seeds/000_scene1_glass_bubbles.wrl -W 320 -H 240\n"
         "  prints seconds, rays per pixel, RMSE, PSNR, max error and SSIM per setting and which "
         "sampler reaches\n"
-        "  an error first; writes 000_scene1-bench.csv and 000_scene1-bench.png (RMSE against "
+        "  an error first; writes 000_scene1_glass_bubbles-bench.csv and -bench.png (RMSE against "
         "seconds, log-log,\n"
         "  one line per sampler; the README shows one).");
     b->add_option("scene", bench.scene, "Scene file")->required();
@@ -308,8 +403,9 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
     b->add_option("-H,--height", bench.options.height, "Image height (default 240)")
         ->check(CLI::Range(1, 16384));
     b->add_option(
-        "--reference", bench.reference,
-        "Reference image (default: rendered on a 32x32 grid, gas at tolerance 1e-8, and cached)");
+         "--reference", bench.reference,
+         "Reference image (default: rendered on a 32x32 grid, gas at tolerance 1e-8, and cached)")
+        ->type_name("FILE");
     b->add_option("--reference-spp", bench.reference_spp,
                   "Samples per pixel of the rendered reference (a square)")
         ->check(CLI::Range(1, 65536));
@@ -325,9 +421,11 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
                   "Gas integrator tolerance of the sampler series")
         ->check(CLI::Range(1e-12, 1.0));
     b->add_option("--seed", bench.options.seed, "Seed of the jitter and statistical samplers");
-    b->add_option("--csv", bench.csv, "Where to write the table (default: SCENE-bench.csv)");
+    b->add_option("--csv", bench.csv, "Where to write the table (default: SCENE-bench.csv)")
+        ->type_name("FILE");
     b->add_option("--plot", bench.plot,
-                  "Where to draw error against time (default: SCENE-bench.png)");
+                  "Where to draw error against time (default: SCENE-bench.png)")
+        ->type_name("FILE");
     b->add_option("--runs", bench.runs, "Renders per setting; the median time is reported")
         ->check(CLI::Range(1, 100));
     b->add_option("--spheres", texts.bench_spheres, "opaque, gas, or hints")
@@ -366,6 +464,12 @@ bool finish_common(const Texts& texts, CommonOptions& common) {
 
 // The render's enums and colours from their texts; false after printing why not.
 bool map_render(const Texts& texts, RenderCommand& render) {
+    if (render.only_frame && *render.only_frame >= render.frames) {
+        std::cerr << "vrmlray: error: --frame " << *render.only_frame
+                  << " is not a frame of the sequence: --frames " << render.frames
+                  << " has frames 0 to " << render.frames - 1 << "\n";
+        return false;
+    }
     if (texts.recover) render.recover_spheres = true;
     if (texts.no_recover) render.recover_spheres = false;
     render.options.spheres = label_value(kSpheresLabels, texts.spheres);
@@ -377,8 +481,8 @@ bool map_render(const Texts& texts, RenderCommand& render) {
           std::tuple{&texts.emission, &render.options.emission, "--emission"},
           std::tuple{&texts.sky, &render.options.sky, "--sky"}}) {
         if (text->empty()) continue;
-        *target = parse_rgb(*text);
-        // Anything but numbers and commas is an image's path, read by run_render.
+        *target = parse_colour(*text);
+        // Anything but numbers, commas and a colour word is an image's path, read by run_render.
         if (!*target && target == &render.options.sky &&
             text->find_first_not_of("0123456789.,+-eE ") != std::string::npos) {
             render.options.sky_file = *text;
@@ -386,7 +490,8 @@ bool map_render(const Texts& texts, RenderCommand& render) {
         }
         if (!*target) {
             std::cerr << "vrmlray: error: " << name
-                      << " wants R,G,B (three numbers separated by commas)\n";
+                      << " wants R,G,B (three numbers 0-1 separated by commas), #RRGGBB, or one "
+                         "of black, white, grey, red, green, blue, yellow, cyan, magenta\n";
             return false;
         }
     }
@@ -395,7 +500,7 @@ bool map_render(const Texts& texts, RenderCommand& render) {
           std::tuple{&texts.look_at, &render.options.look_at, "--look-at"},
           std::tuple{&texts.up, &render.options.up, "--up"}}) {
         if (text->empty()) continue;
-        *target = parse_rgb(*text);
+        *target = parse_triple(*text);
         if (!*target) {
             std::cerr << "vrmlray: error: " << name
                       << " wants X,Y,Z (three numbers separated by commas)\n";
@@ -475,7 +580,7 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
     if (cmd.command == Subcommand::Bench) {
         cmd.bench.common = cmd.common;
         cmd.bench.options.spheres = label_value(kSpheresLabels, texts.bench_spheres);
-        if (!texts.bench_sky.empty() && !(cmd.bench.options.sky = parse_rgb(texts.bench_sky))) {
+        if (!texts.bench_sky.empty() && !(cmd.bench.options.sky = parse_colour(texts.bench_sky))) {
             std::cerr << "vrmlray: error: --sky wants R,G,B (three numbers separated by commas)\n";
             return kExitUsage;
         }

@@ -23,6 +23,7 @@ struct BatchJob {
     RenderCommand cmd;  // scene and output resolved
     std::string error;  // set: the job fails before rendering (bad line, clashing output)
     std::string named;  // the scene as written, when the output is named after it (no -o NAME)
+    fs::path base;      // the folder `named` is relative to: the list's, else the current one
 };
 
 // "a/b.wrl.gz" -> "a/b": only scene extensions go, so "1.5_mol.wrl" keeps its first dot.
@@ -41,13 +42,17 @@ fs::path strip_scene_extension(fs::path p) {
     return p;
 }
 
-// DIR/<the scene's path as written>.FORMAT; the file name alone when that path is absolute or
-// leaves its base folder (".."), so that no output lands outside DIR. With keep_extension (two
-// scenes of one stem, a.wrl and a.x3d), DIR/a.wrl.FORMAT.
-fs::path batch_output(const fs::path& dir, const std::string& scene, const std::string& format,
-                      bool keep_extension = false) {
-    fs::path p = fs::path(scene).lexically_normal();
-    if (p.is_absolute() || (!p.empty() && *p.begin() == "..")) p = p.filename();
+// DIR/<where the scene lies, relative to BASE>.FORMAT, however its path was written (relative,
+// absolute, through ".." or a link), so that two runs that spell the same files differently
+// write the same names; the file name alone for a scene outside BASE, so that no output lands
+// outside DIR. With keep_extension (two scenes of one stem, a.wrl and a.x3d), DIR/a.wrl.FORMAT.
+fs::path batch_output(const fs::path& dir, const fs::path& base, const std::string& scene,
+                      const std::string& format, bool keep_extension = false) {
+    std::error_code ec;
+    const fs::path from = fs::weakly_canonical(fs::absolute(base.empty() ? "." : base, ec), ec);
+    const fs::path where = fs::weakly_canonical(fs::absolute(base / scene, ec), ec);
+    fs::path p = where.lexically_relative(from);
+    if (p.empty() || *p.begin() == "..") p = where.filename();
     if (!keep_extension) p = strip_scene_extension(p);
     p += "." + format;
     return dir / p;
@@ -62,7 +67,7 @@ void name_apart(std::vector<BatchJob>& jobs, const fs::path& dir, const std::str
         if (!job.named.empty()) ++uses[key(job)];
     for (BatchJob& job : jobs)
         if (!job.named.empty() && uses[key(job)] > 1)
-            job.cmd.output = batch_output(dir, job.named, format, true).string();
+            job.cmd.output = batch_output(dir, job.base, job.named, format, true).string();
 }
 
 // The command line's words less the scenes' destination and the list, which a line replaces.
@@ -119,7 +124,8 @@ bool list_jobs(const RenderCommand& cmd, const fs::path& dir, std::vector<BatchJ
             // The line's own -o names the output inside DIR (a golden image's name).
             if (job.cmd.output.empty()) {
                 job.named = written;
-                job.cmd.output = batch_output(dir, written, cmd.format).string();
+                job.base = list_dir;
+                job.cmd.output = batch_output(dir, list_dir, written, cmd.format).string();
             } else {
                 job.cmd.output = (dir / job.cmd.output).string();
             }
@@ -132,9 +138,9 @@ bool list_jobs(const RenderCommand& cmd, const fs::path& dir, std::vector<BatchJ
 std::vector<BatchJob> argument_jobs(const RenderCommand& cmd, const fs::path& dir) {
     std::vector<BatchJob> jobs;
     for (const std::string& scene : cmd.scenes) {
-        BatchJob job{scene, cmd, "", scene};
+        BatchJob job{scene, cmd, "", scene, "."};
         job.cmd.scene = scene;
-        job.cmd.output = batch_output(dir, scene, cmd.format).string();
+        job.cmd.output = batch_output(dir, job.base, scene, cmd.format).string();
         jobs.push_back(std::move(job));
     }
     return jobs;

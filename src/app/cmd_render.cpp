@@ -342,6 +342,9 @@ bool soft_light_on_placed_meshes(const FlatScene& flat, const RenderOptions& opt
     return false;
 }
 
+// Whether the command makes one image: no sequence, or one frame of it (--frame K).
+bool one_image(const RenderCommand& cmd) { return cmd.frames == 1 || cmd.only_frame.has_value(); }
+
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
 // when job.write_stats). The exit code all processes of `world` agree on.
 int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene& loaded,
@@ -359,7 +362,8 @@ int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene
         code = kExitUsage;
     }
     if ((code = agreed(world, code, "making the camera")) != kExitOk) return code;
-    if (job.options.orbit_angle && !cmd.common.quiet) {
+    // A sequence says once how its frames turn (render_frames); one image gives its camera.
+    if (job.options.orbit_angle && one_image(cmd) && !cmd.common.quiet) {
         // Full precision: these three options render this frame alone, bit for bit.
         const Vec3 &p = camera.position, &c = camera.orbit_centre, &u = camera.orbit_axis;
         std::fprintf(stderr,
@@ -370,7 +374,9 @@ int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene
     }
     const std::string empty_scene =
         nothing_to_render(loaded, flat, job.scene->stats, job.options.threads);
-    if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet)
+    static std::atomic<bool> framing_noted{false};  // once a run, not once a frame
+    if (camera.framed_default && empty_scene.empty() && !cmd.common.quiet &&
+        !framing_noted.exchange(true))
         std::fprintf(stderr, "%s: note: %s\n", cmd.scene.c_str(),
                      describe_camera(flat, cmd.options, camera).c_str());
     if (!empty_scene.empty()) report_warning(cmd.scene, empty_scene, cmd.common.quiet);
@@ -477,6 +483,10 @@ int thread_count(const RenderOptions& options) {
 // encoding and the writing, which run on fewer threads than the tracing, overlap.
 FramePlan plan_frames(const RenderCommand& cmd, const World& world) {
     FramePlan plan;
+    if (cmd.only_frame) {  // one image: its tiles are shared out, as for any single frame
+        plan.frames = {*cmd.only_frame};
+        return plan;
+    }
     plan.by_rank = world.parallel() && cmd.frames > 1;
     const int stride = plan.by_rank ? world.size() : 1;
     for (int k = plan.by_rank ? world.rank() : 0; k < cmd.frames; k += stride)
@@ -658,6 +668,12 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
                   std::vector<FrameRecord>& records, size_t& builds) {
     // Dealt whole frames, a process renders them alone, and says what it did itself.
     const World& frame_world = plan.by_rank ? World::alone() : world;
+    if (cmd.orbit_degrees && !one_image(cmd) && world.root() && !own_quiet)
+        std::fprintf(
+            stderr,
+            "%s: note: --orbit: frame k turns by k * %g / %d degrees about the scene's "
+            "centre; --frame K renders frame K alone, bit for bit, and prints its camera\n",
+            cmd.scene.c_str(), *cmd.orbit_degrees, cmd.frames);
     RenderCommand frame_cmd = cmd;
     if (plan.by_rank) frame_cmd.common.quiet = own_quiet;
     const size_t n = plan.frames.size();
@@ -692,9 +708,12 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
         job.options = cmd.options;
         if (plan.at_once > 1)
             job.options.threads = std::max(1, thread_count(cmd.options) / plan.at_once);
+        // One frame alone is turned by the whole angle (a still of the turntable at DEG).
         if (cmd.orbit_degrees)
             job.options.orbit_angle =
-                double(job.frame) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
+                cmd.frames == 1
+                    ? *cmd.orbit_degrees * (kPi / 180.0)
+                    : double(job.frame) * (*cmd.orbit_degrees * (kPi / 180.0)) / cmd.frames;
         bool unused = false;
         std::string error;
         job.output = frame_path(output, job.frame, unused, error);
@@ -702,7 +721,7 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
         if (plan.by_rank && !world.root()) job.write_to = sent_frame_path(job.output, job.frame);
         job.spheres_to_free = plan.at_once == 1 && i + 1 == n ? &scene->flat.spheres : nullptr;
         job.progress = plan.at_once == 1;
-        job.write_stats = cmd.frames == 1;
+        job.write_stats = one_image(cmd);
         job.timings = timings;
         job.timings.parse = i == 0 ? timings.parse : 0.0;
         job.timings.scene = i == 0 ? std::max(first_seconds, built_seconds) : built_seconds;
@@ -833,7 +852,7 @@ int run_render(const RenderCommand& command) {
         code = agreed(world, code, "rendering its frames");
         code = write_sent_frames(cmd, world, output, records, code);
     }
-    if (code != kExitOk || cmd.frames == 1 || cmd.stats_path.empty()) return code;
+    if (code != kExitOk || one_image(cmd) || cmd.stats_path.empty()) return code;
     return write_sequence_stats(cmd, world, plan, records, timings.parse, builds);
 }
 

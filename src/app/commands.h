@@ -43,10 +43,11 @@ struct RenderCommand {
     double fps = 25.0;                    // --fps
     int frames_at_once = 0;               // --frames-at-once; 0: chosen by frames and threads
     std::optional<double> orbit_degrees;  // --orbit: the camera's turn over the whole sequence
+    std::optional<int> only_frame;        // --frame K: frame K of the --frames sequence alone
     std::optional<bool>
         recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
     CommonOptions common;
-    // Batch render (app/batch.h): several scenes, or --list FILE, into the folder OUT.
+    // Batch render (app/cmd_batch.cpp): several scenes, or --list FILE, into the folder OUT.
     std::vector<std::string> scenes;  // the scene arguments (scene is the first)
     std::string list_path;            // --list: one scene a line, with options
     std::string format = "png";       // --format: the batch outputs' extension
@@ -54,7 +55,7 @@ struct RenderCommand {
 };
 
 struct CompareCommand {
-    std::string a, b;
+    std::string a, b;  // the reference and the result: two images or two folders
     std::optional<double> max_rmse, min_psnr, min_ssim, max_abs, max_fail_percent;
     std::optional<double> fail, failpercent, hardfail, warn, warnpercent, hardwarn;  // idiff's
     double pixel_threshold = 1.0 / 255.0;

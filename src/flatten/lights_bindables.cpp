@@ -49,8 +49,8 @@ void Flattener::mark_bindables() {
     has_bindable_.assign(n, 0);
     // Molecule exports put their Viewpoint and NavigationInfo among the top-level nodes. When
     // every reference to a bindable node is in the root's own block, no other group holds one:
-    // a scan of the references answers without the passes over millions of groups (on a
-    // 3.4M-atom file 48 ms here and 32 in collect, against about 10 for the scan).
+    // a scan of the references answers without the passes over millions of groups (a fifth of
+    // their cost on a large molecule: bench/README.md, "Figures behind the comments").
     const auto bindable = [](const sg::ChildRef& c) {
         return c.index != sg::kNone && c.kind != sg::NodeKind::Group &&
                c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light;

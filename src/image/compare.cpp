@@ -181,7 +181,7 @@ std::string describe_channels(const Image& image) {
 std::string channel_mismatch(const Image& a, const Image& b) {
     if (a.file_channels == 0 || b.file_channels == 0) return "";
     if (a.file_channels == b.file_channels && a.has_alpha == b.has_alpha) return "";
-    return "channel counts differ: the first image has " + describe_channels(a) + ", the second " +
+    return "channel counts differ: the reference has " + describe_channels(a) + ", the result " +
            describe_channels(b) + " (RGB compared)";
 }
 

@@ -1,8 +1,8 @@
 // The C interface between vrmlray and its OpenEXR module (vrmlray_exr.so, src/exr/).
 //
-// Why a module: linking OpenEXR's C++ libraries costs ~4.4 ms at every process start (measured on
-// a trivial program), most runs write PNG; dlopened on the first EXR read or write it costs that
-// once, and nothing like the OpenImageIO module's 0.2-0.4 s.
+// Why a module: linking OpenEXR's C++ libraries costs milliseconds at every process start, and most
+// runs write PNG; dlopened on the first EXR read or write it costs that once (figures:
+// bench/README.md, "Figures behind the comments").
 //
 // Plain C types only. Functions that can fail return 0 and write a NUL-terminated message into
 // `error` (at most `error_size` bytes). Samples are interleaved floats, rows from the top.

@@ -1,7 +1,8 @@
 // Opening an image file for writing. Re-rendering to the same path is the common case, so an
 // existing file is written over in place and cut to the new length at the end, not truncated
-// first: truncating frees the old page-cache pages and the write then allocates new ones (2.5 ms
-// of the 6.3 ms a 1920x1080 PPM took over its previous copy). The file ends the same either way.
+// first: truncating frees the old page-cache pages and the write then allocates new ones, a third
+// of a large PPM's write (bench/README.md, "Figures behind the comments"). The file ends the same
+// either way.
 #pragma once
 #include <cstdio>
 #include <string>

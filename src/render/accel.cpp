@@ -41,12 +41,9 @@ constexpr float kSkipped = 0.0f;  // a BuildBox::cost that marks a primitive wit
 
 // What a quadric costs the SAH, in sphere tests: its test (the ray to object space, a quadratic
 // and two caps) costs a few, and a thin bond's box, far larger than the bond, is entered by many
-// rays that miss it. Measured on the S2 molecule (10,000 atoms, 9,999 bonds), one thread,
-// 2026-12-05, render phase: its sky light at 480x270 and 2e-1 took 0.822 / 0.822 / 0.795 / 0.778 s
-// at weights 1 / 2 / 4 / 8 (medians of 3 runs) and 0.771 / 0.771 s at 16 / 32 (2 runs each, equal
-// to 1 ms); its plain 1920x1080 image 0.326 / 0.310 / 0.301 / 0.300 s at 1 / 4 / 8 / 16 (means of 2
-// runs); PyMOL's c551_ballstick.wrl 0.151 s at 1, 0.132-0.135 s at 16 (2 runs each). Past 16
-// each bond already has a leaf of its own.
+// rays that miss it. Weights 1 to 32 were timed on the S2 molecule and a PyMOL export
+// (bench/README.md, "Figures behind the comments"): the render phase falls up to 16 and is flat
+// past it, where each bond already has a leaf of its own.
 constexpr float kQuadricCost = 16.0f;
 
 bool quadric_box(const Quadric& q, uint32_t id, BuildBox& box) {

@@ -178,8 +178,8 @@ class Builder {
         // A leaf of this size is allowed and no split can cost less: a split costs the traversal
         // and more (split_sah's cost). The tree is the one the SAH makes (the leaf lists its boxes
         // in input order, not split_sah's partition order), without binning the most numerous
-        // ranges: on a 3.4M-atom molecule, one thread, the build took 13% less
-        // (bench/bvh_build.cpp; bench/README.md, part 11).
+        // ranges, which makes the build of a large molecule cheaper (bench/bvh_build.cpp;
+        // bench/README.md, "Figures behind the comments").
         if (n <= uint32_t(options_.max_leaf_size) && range_cost(range) <= options_.traversal_cost)
             return make_leaf(node, range);
 

@@ -18,9 +18,9 @@ bool finite3(const Vec3& v) {
 // World bounds of everything the tracer can hit (gas spheres included). Non-finite data is left
 // out, as the tracer leaves it out.
 Bounds3 FlatScene::bounds(int threads) const {
-    // A molecule of 3.4M atoms took 24 ms a call on one core (a render asks twice). min and max
-    // are exact, and c - r or c + r is never -0 for r > 0, so the chunks do not change the bounds,
-    // not even a zero's sign.
+    // Split over the threads: on a large molecule one core is slow enough to show in the scene
+    // phase (bench/README.md, "Figures behind the comments"). min and max are exact, and c - r or c
+    // + r is never -0 for r > 0, so the chunks do not change the bounds, not even a zero's sign.
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     const int chunks = chunks_for(spheres.size(), threads);
     std::vector<Bounds3> part(static_cast<size_t>(chunks));

@@ -1,5 +1,5 @@
 // What the tracer sees: world-space primitives in plain arrays, materials, lights, cameras,
-// background. Built by the flattening step (src/render/flatten.*) from the typed scene; knows
+// background. Built by the flattening step (src/flatten/) from the typed scene; knows
 // nothing of VRML nodes.
 #pragma once
 #include <cstdint>

@@ -168,10 +168,8 @@ class WideBoxTest {
 //
 // Any-hit queries whose answer does not depend on which hit is found (an opaque shadow ray: 0 or
 // 1) pass kNearFirst = false: the children hit are then visited in lane order, unsorted. Sorting
-// did not find blockers sooner: without it the S3 render phase (1M spheres, a sun's shadow rays, 2
-// threads) took 0.315 s instead of 0.337 (median of 7 alternating pairs), and the S2 molecule's sky
-// light at 480x270 on one thread 0.682 s instead of 0.774 (medians of 3), 2026-12-05; the same
-// images.
+// did not find blockers sooner, and without it S2's sky light and S3's shadow rays render faster,
+// to the same images (bench/README.md, "Figures behind the comments").
 template <bool kNearFirst = true, class LeafFn, class PrefetchFn = NoLeafPrefetch>
 inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max, LeafFn&& leaf,
                               PrefetchFn&& prefetch_leaf = NoLeafPrefetch{}) {
@@ -180,7 +178,7 @@ inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max,
     if (bvh.nodes.size() == 1 && nodes[0].lanes == 1 && nodes[0].count[0] > 0) {
         // One leaf (a scene of a few primitives): its box, padded outwards, would cull no ray that
         // meets a primitive in it. Skipping the test keeps 512-bit instructions out of such a
-        // render: S1's (one sphere) render phase went from 43 to 38 ms (bench/README.md, part 10).
+        // render, a tenth of S1's render phase (bench/README.md, "Figures behind the comments").
         leaf(nodes[0].child[0], uint32_t(nodes[0].count[0]), t_max);
         return;
     }

@@ -22,9 +22,24 @@ expect_usage_error "out-of-range value" "--width: Value 0 not in range 1 to 6553
     -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --width 0
 expect_usage_error "missing value" "--width: 1 required INT:INT in [1 - 65536] missing" "vrmlray render --help" \
     -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --width
-expect_usage_error "missing image" "b is required" "vrmlray compare --help" -- "$bin" compare "$work/a.png"
+expect_usage_error "missing image" "result is required" "vrmlray compare --help" -- "$bin" compare "$work/a.png"
 expect_usage_error "no subcommand" "a subcommand is required" "vrmlray --help" -- "$bin"
 "$bin" --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray [OPTIONS] SUBCOMMAND" ] && pass || fail "--help starts with the usage naming vrmlray"
+# bash completion: an option's value completes from the option's own --help line: a set of words, paths
+# for FILE and DIR values, nothing for a number or R,G,B (never unrelated file names).
+complete_words() {  # complete_words WORD... : what <Tab> offers after these words
+    # As bash-completion runs it: extglob on (the scene filter is an extended pattern).
+    bash -c 'shopt -s extglob; . "$1/tools/completion/vrmlray.bash"; shift; COMP_WORDS=("$@");
+             COMP_CWORD=$(($# - 1)); cd "$0" && { _vrmlray; printf "%s\n" "${COMPREPLY[@]}"; }' \
+        "$work" "$src" "$bin" "$@" | sed '/^$/d' | sort | tr '\n' ' '
+}
+touch "$work/zz_scene.wrl"
+[ "$(complete_words render x.wrl --sampler r)" = "rgss rooks8 " ] && pass || fail "--sampler r<Tab> offers rgss rooks8 ($(complete_words render x.wrl --sampler r))"
+[ "$(complete_words render x.wrl --spheres "")" = "gas hints opaque " ] && pass || fail "--spheres <Tab> offers its three words"
+[ -z "$(complete_words render x.wrl -W zz)" ] && pass || fail "-W <Tab> offers no file names"
+[ -z "$(complete_words render x.wrl --background zz)" ] && pass || fail "--background <Tab> offers no file names"
+[ "$(complete_words render x.wrl -o zz_)" = "zz_scene.wrl " ] && pass || fail "-o <Tab> offers files"
+[ "$(complete_words render zz_)" = "zz_scene.wrl " ] && pass || fail "a scene argument offers scene files"
 "$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] [scene...]" ] && pass || fail "render --help starts with its usage"
 # --stats is valid JSON whatever the scene's name, with figures at full precision: per_pixel must be
 # exactly primary / pixels as Python's double division gives it (the statistical sampler's ray count
@@ -254,7 +269,7 @@ mkpng "$work/grey_row.png" 10 10 4 128 0,0,0=179 1,0,0=179 2,0,0=179 3,0,0=179 4
 expect 1 "an alpha-only change fails --max-abs 0" -- "$bin" compare "$work/grey.png" "$work/grey_alpha.png" --max-abs 0
 grep -Eq '^max abs diff +0.501961$' "$work/out.txt" && pass || fail "alpha enters max abs diff (128/255)"
 expect 1 "RGB against RGBA fails" -- "$bin" compare "$work/grey_rgb.png" "$work/grey.png" --max-rmse 1
-grep -q "FAIL: channel counts differ: the first image has 3 channels (no alpha), the second 4 channels (with alpha)" "$work/out.txt" \
+grep -q "FAIL: channel counts differ: the reference has 3 channels (no alpha), the result 4 channels (with alpha)" "$work/out.txt" \
     && pass || fail "channel mismatch message"
 # idiff's flags, each on both sides of its threshold (the row differs by 0.2; 10% of the pixels).
 cmp_row() { "$bin" compare "$work/grey.png" "$work/grey_row.png" "$@"; }

@@ -422,3 +422,13 @@ def test_sequences_are_loops_over_render(tmp_path):
     for keyword in ("frames", "fps", "orbit"):
         with pytest.raises(vrmlray.UsageError, match="one image"):
             scene.render(16, 16, **{keyword: 2})
+
+
+def test_without_numpy_the_import_says_what_is_missing():
+    """A Python without NumPy (here: NumPy blocked) is told at import what to install, not a bare
+    "No module named 'numpy'" at the first render."""
+    code = "import sys; sys.modules['numpy'] = None\nimport vrmlray"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=dict(os.environ))
+    assert run.returncode != 0
+    assert "needs NumPy" in run.stderr and "python3-numpy" in run.stderr, run.stderr
