@@ -191,11 +191,13 @@ class Reader {
 
     // A field name that a node does not have, at `t` (already read): a warning that names the
     // node and the field, and its value skipped, so the rest of the node reads as browsers read it.
-    void unknown_field(Frame& f, const Token& t, std::string_view type, const char* what) {
+    // `known`: the fields it has, for a "did you mean".
+    void unknown_field(Frame& f, const Token& t, std::string_view type, const char* what,
+                       const std::vector<std::string>& known) {
         const std::string name(f.lexer.text(t));
         warn(f, t.offset,
              "unknown field '" + name + "' in " + what + " " + std::string(type) +
-                 "; skipped with its value",
+                 "; skipped with its value" + did_you_mean(nearest_name(name, known)),
              "unknown-field:" + std::string(type) + "." + name);
         skip(f, skip_unknown_value);
     }
@@ -477,7 +479,7 @@ class Reader {
                     fail(f, t,
                          "expected a field name or '}' in " + std::string(type) + ", found " +
                              describe(f, t));
-                unknown_field(f, t, type, "node");
+                unknown_field(f, t, type, "node", field_names(*decl));
                 continue;
             }
             if (field->extension)
@@ -799,7 +801,9 @@ class Reader {
                     fail(f, t,
                          "expected a field name or '}' in " + std::string(name_text(proto.name)) +
                              ", found " + describe(f, t));
-                unknown_field(f, t, name_text(proto.name), "PROTO instance");
+                std::vector<std::string> known;
+                for (const ProtoField& p : proto.fields) known.emplace_back(name_text(p.name));
+                unknown_field(f, t, name_text(proto.name), "PROTO instance", known);
                 continue;
             }
             if (peek_word(f, "IS")) {

@@ -238,6 +238,12 @@ const NodeTypeDecl* Registry::lookup(Spec encoding, Name node) const {
     return find(Spec::Hint, node);
 }
 
+std::vector<std::string> field_names(const NodeTypeDecl& decl) {
+    std::vector<std::string> names;
+    for (const FieldDecl& f : decl.fields) names.emplace_back(name_text(f.name));
+    return names;
+}
+
 std::string Registry::nearest_node(Spec encoding, std::string_view node) const {
     std::vector<std::string> names;
     for (Spec spec : {encoding, encoding == Spec::Vrml97 ? Spec::X3d : Spec::Vrml97, Spec::Hint})

@@ -44,6 +44,9 @@ struct NodeTypeDecl {
     const FieldDecl* find(std::string_view field) const;
 };
 
+// The names of a node type's fields, for a "did you mean" (parser/suggest.h).
+std::vector<std::string> field_names(const NodeTypeDecl& decl);
+
 struct GrammarText {
     std::string file;  // e.g. "vrml97.nodes"
     std::string text;

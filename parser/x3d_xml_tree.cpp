@@ -263,7 +263,8 @@ void XmlReader::node_start(const XmlElement& e, const NodeTypeDecl* decl) {
         if (!field) {  // as browsers do: a warning, and the rest of the node is read
             warn(e.file, a.name_offset,
                  "unknown attribute '" + std::string(name_text(a.name)) + "' of node " +
-                     std::string(type) + "; ignored",
+                     std::string(type) + "; ignored" +
+                     did_you_mean(nearest_name(name_text(a.name), field_names(*decl))),
                  "unknown-field:" + std::string(type) + "." + std::string(name_text(a.name)));
             continue;
         }

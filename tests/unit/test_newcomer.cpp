@@ -130,9 +130,9 @@ TEST(Newcomer, OrbitOnOneFrameTurnsTheCamera) {
     const std::string plain = (dir.path / "plain.png").string(),
                       turned = (dir.path / "turned.png").string();
     ASSERT_EQ(run({"render", scene, "-W", "48", "-H", "32", "-q", "-o", plain}).first, kExitOk);
-    ASSERT_EQ(run({"render", scene, "-W", "48", "-H", "32", "-q", "--orbit", "180", "-o", turned})
-                  .first,
-              kExitOk);
+    ASSERT_EQ(
+        run({"render", scene, "-W", "48", "-H", "32", "-q", "--orbit", "180", "-o", turned}).first,
+        kExitOk);
     // The box is right of the sphere from the front, left of it from behind.
     const auto [pl, pr] = red_left_right(plain);
     const auto [tl, tr] = red_left_right(turned);
@@ -146,8 +146,8 @@ TEST(Newcomer, ATurntableSaysItsCamerasOnceAndRendersAnyFrameAlone) {
     Folder dir;
     const std::string scene = dir.write("scene.wrl", kScene);
     const std::string pattern = (dir.path / "turn_%02d.png").string();
-    const auto [code, err] = run(
-        {"render", scene, "-W", "32", "-H", "24", "--frames", "6", "--orbit", "360", "-o", pattern});
+    const auto [code, err] = run({"render", scene, "-W", "32", "-H", "24", "--frames", "6",
+                                  "--orbit", "360", "-o", pattern});
     ASSERT_EQ(code, kExitOk) << err;
     // One note for the sequence, not one (or two) a frame.
     size_t notes = 0;
@@ -227,6 +227,20 @@ TEST(Newcomer, AMisspelledNodeTypeGetsADidYouMeanInBothEncodings) {
     // A name like no node type gets no guess.
     const LoadedScene far = load_scene_text("#VRML V2.0 utf8\nQqqqqqqqq { }\n", "a.wrl");
     EXPECT_EQ(far.diagnostics.format(far.sources).find("did you mean"), std::string::npos);
+}
+
+TEST(Newcomer, AMisspelledFieldGetsADidYouMeanInBothEncodings) {
+    const LoadedScene classic = load_scene_text(
+        "#VRML V2.0 utf8\nTransform { childern [ Shape { geometry Sphere { } } ] }\n", "a.wrl");
+    const std::string said = classic.diagnostics.format(classic.sources);
+    EXPECT_NE(said.find("unknown field 'childern'"), std::string::npos) << said;
+    EXPECT_NE(said.find("(did you mean 'children'?)"), std::string::npos) << said;
+    const LoadedScene xml = load_scene_text(
+        "<X3D profile='Interchange' version='3.3'><Scene><Transform translaton='1 2 3'/>"
+        "</Scene></X3D>",
+        "a.x3d");
+    const std::string xml_said = xml.diagnostics.format(xml.sources);
+    EXPECT_NE(xml_said.find("(did you mean 'translation'?)"), std::string::npos) << xml_said;
 }
 
 TEST(Newcomer, NearestNameFindsSlipsAndOnlySlips) {
