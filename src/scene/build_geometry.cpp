@@ -25,7 +25,6 @@ enum class GeometryKind : uint8_t {
     Composed,
     Text,
     Lines,
-    NoArea,
     Geometry2D,  // the eight nodes of X3D clause 14 (build_geometry2d.cpp)
     Unsupported,
 };
@@ -52,7 +51,6 @@ constexpr GeometryRole kGeometryRoles[] = {
     {"Extrusion", {GeometryKind::Extrusion}},
     {"Text", {GeometryKind::Text}},
     {"Lines", {GeometryKind::Lines}},
-    {"NoArea", {GeometryKind::NoArea}},
     {"Geometry2D", {GeometryKind::Geometry2D}},
     {"IndexedTriangleSet", {GeometryKind::Composed, C::IndexedTriangleSet}},
     {"TriangleSet", {GeometryKind::Composed, C::TriangleSet}},
@@ -110,12 +108,13 @@ sg::Index Builder::geometry(NodeId id) {
 
 sg::Geometry Builder::make_geometry(NodeId id) {
     sg::Geometry g = make_geometry_shape(id);
-    // X3D 11.2.3 / 13.3: back faces of solid geometry are not drawn. Only X3D files; only nodes
-    // whose interface has `solid` (VRML97's Sphere/Box/Cone/Cylinder have none).
-    const uint32_t file = g.origin.loc.file;
+    // X3D 11.2.3 / 13.3: back faces of solid geometry are not drawn. Only nodes read with X3D's
+    // interface (an X3D file's nodes, or a node only X3D defines) that have `solid` (VRML97's
+    // Sphere/Box/Cone/Cylinder have none). The interface, not the file's header, so that a piece
+    // built while the file is read (fragments.h) decides as the whole tree does.
     const NodeTypeDecl* decl = tree_.decl(id);
-    g.cull_back_faces = file < loaded_.x3d_major.size() && loaded_.x3d_major[file] >= 3 && decl &&
-                        decl->find("solid"_n) && boolean(id, "solid"_n);
+    g.cull_back_faces =
+        decl && decl->spec == Spec::X3d && decl->find("solid"_n) && boolean(id, "solid"_n);
     // A ring or rectangle made of lines has no faces to cull.
     if (std::holds_alternative<std::unique_ptr<sg::LineSet>>(g.shape)) g.cull_back_faces = false;
     return g;
@@ -258,12 +257,6 @@ sg::Geometry Builder::make_geometry_shape(NodeId id) {
             break;
         case GeometryKind::Geometry2D:
             make_geometry2d(id, g);
-            break;
-        case GeometryKind::NoArea:
-            diagnostics_.warning(
-                g.origin.loc,
-                std::string(g.origin.type_text()) + " has no area and is not rendered",
-                "no-area:" + std::string(g.origin.type_text()));
             break;
         case GeometryKind::Unsupported:
             diagnostics_.warning(

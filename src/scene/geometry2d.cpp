@@ -145,6 +145,7 @@ sg::LineSet arc_lines(double radius, double start_angle, double end_angle) {
         const Vec2 p = on_circle(radius, start_angle + sweep * i / n);
         l.coords.emplace_back(p.x, p.y, 0.0);
     }
+    if (sweep == kTwoPi) l.coords.back() = l.coords.front();  // closed exactly, not to rounding
     l.vertex_count = {n + 1};
     return l;
 }
