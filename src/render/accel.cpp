@@ -506,6 +506,13 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
         const uint32_t shading = shading_of(hit);
         if (shading >= scene_->shadings.size() || !scene_->shadings[shading].cull_back_faces)
             return (hit.t += t_done), true;
+        if (prim_kind(hit.prim) == PrimKind::Sphere) {
+            // A ray from outside a sphere meets its front first: no surface to evaluate (the
+            // atoms of an X3D molecule file).
+            const SphereGeom& g = spheres_[prim_index(hit.prim)];
+            const Vec3 oc = r.o - g.center;
+            if (glm::dot(oc, oc) > g.radius * g.radius) return (hit.t += t_done), true;
+        }
         const SurfaceHit s = surface(r, hit, false);
         if (glm::dot(s.ng, r.d) < 0.0) return (hit.t += t_done), true;  // a front face
         const Vec3 o = offset_ray_origin(s.p, s.p_error, s.ng, r.d);

@@ -42,6 +42,25 @@ TEST(BackFaces, SolidBoxSeenFromInsideIsCulledInX3d) {
     EXPECT_NEAR(glass[3], 0.5f, 1e-6);
 }
 
+TEST(BackFaces, SphereSeenFromInsideIsCulledInX3d) {
+    // A sky sphere around the camera needs `solid FALSE` in X3D (as in the browsers); from
+    // outside, a solid sphere is drawn (its front is always met first).
+    const std::string inside =
+        "Viewpoint { position 0 0 0 }\n"
+        "Shape { appearance Appearance { material Material { } } "
+        "geometry Sphere { radius 5 SOLID } }";
+    auto with = [&](const std::string& solid) {
+        std::string s = inside;
+        return s.replace(s.find("SOLID"), 5, solid);
+    };
+    EXPECT_EQ(centre(kX3d + with(""), "sky.x3dv")[3], 0.0f);
+    EXPECT_EQ(centre(kX3d + with("solid FALSE"), "sky.x3dv")[3], 1.0f);
+    EXPECT_EQ(centre(kVrml + with(""), "sky.wrl")[3], 1.0f);
+    std::string outside = with("");
+    outside.replace(outside.find("position 0 0 0"), 14, "position 0 0 20");
+    EXPECT_EQ(centre(kX3d + outside, "ball.x3dv")[3], 1.0f);
+}
+
 TEST(BackFaces, ConeWithoutBottomShowsTheBackgroundInside) {
     // The NIST Cone/no_bottom case: looking up into a cone through its missing bottom. X3D: the
     // inside of the side is culled and the background shows; VRML97: the inside is drawn.
