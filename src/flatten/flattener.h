@@ -137,7 +137,7 @@ class Flattener {
 
     uint32_t intern_material(const Material& m);
 
-    uint32_t shading_of(uint32_t material, uint32_t light_set);
+    uint32_t shading_of(uint32_t material, uint32_t light_set, bool cull_back_faces = false);
 
     Material resolve_material(const sg::Shape& shape, const sg::Geometry& g);
 

@@ -20,11 +20,19 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     const uint32_t material = material_of(shape, g);
     if (std::holds_alternative<std::unique_ptr<sg::LineSet>>(g.shape))
         return add_lines(g, shape, m, material);
-    const uint32_t shading = shading_of(material, light_set);
+    // Back faces are culled for opaque surfaces only: a see-through or refracting one needs its
+    // far side (docs/rendering.md, Back faces).
+    const uint32_t shading = shading_of(
+        material, light_set, g.cull_back_faces && out_.materials[material].transparency == 0.0);
 
     if (const auto* s = std::get_if<sg::Sphere>(&g.shape)) {
         const double scale = uniform_scale(linear_part(m));
-        if (scale > 0.0) {
+        // VRML97 6.42 maps a Sphere's texture in its own coordinate system: a textured sphere
+        // that its transforms turn stays analytic as an ellipsoid quadric, whose object space
+        // the texture lookup uses (an untextured one looks the same either way).
+        const bool turned_texture =
+            out_.materials[material].texture >= 0 && !is_scaled_identity(linear_part(m));
+        if (scale > 0.0 && !turned_texture) {
             Sphere sphere;
             sphere.center = transform_point(m, Vec3(0.0));
             sphere.radius = s->radius * scale;

@@ -11,6 +11,8 @@
 // * X = Y x Z.
 // * An entirely collinear spine: the SCP is the rotation taking +Y to the spine's direction.
 // * Coincident consecutive spine points share one SCP (computed on the spine with repeats removed).
+// * A spine whose points all coincide: the SCP is the identity, so orientation and scale alone
+//   place the cross-sections (VRML97 6.18.2's plane has no spine direction to follow).
 //
 // Interpretations: caps are left out for a closed spine, and where the end's scale is zero (a point
 // has no cap); scale/orientation lists shorter than the spine repeat their last value (with a
@@ -108,6 +110,14 @@ std::vector<Mat3> spine_planes(const std::vector<Vec3>& u, bool closed) {
     return planes;
 }
 
+// Whether a per-spine-point list holds more than one distinct value.
+template <typename T>
+bool varies(const std::vector<T>& values) {
+    for (const T& v : values)
+        if (v != values.front()) return true;
+    return false;
+}
+
 }  // namespace
 
 sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeReport& report) {
@@ -154,13 +164,20 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
             unique.push_back(e.spine[i]);
         unique_of[i] = unique.size() - 1;
     }
-    if (unique.size() < 2) {
-        report.warn("zero-size", "all spine points coincide; nothing to render");
+    // All spine points the same: the SCP is the identity (no direction to align to), and the
+    // shape, if any, comes from orientation and scale alone (cobweb's HalfSpheres turn one
+    // cross-section about the point).
+    const bool point_spine = unique.size() < 2;
+    if (point_spine && !varies(e.scale) && !varies(e.orientation)) {
+        report.warn("zero-size",
+                    "all spine points coincide and scale and orientation do not change; nothing "
+                    "to render");
         return faces;
     }
     const bool closed_spine =
         unique.size() > 2 && glm::length(unique.front() - unique.back()) <= tolerance;
-    const std::vector<Mat3> planes = spine_planes(unique, closed_spine);
+    const std::vector<Mat3> planes =
+        point_spine ? std::vector<Mat3>{Mat3(1.0)} : spine_planes(unique, closed_spine);
 
     Vec2 cs_lo(kInf), cs_hi(-kInf);
     for (const Vec2& p : e.cross_section) {
@@ -207,7 +224,9 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
         for (size_t i = 1; i < n; ++i)
             t_of[i] = t_of[i - 1] + glm::length(e.spine[i] - e.spine[i - 1]);
         for (double& s : s_of) s = s_of.back() > 0.0 ? s / s_of.back() : 0.0;
-        for (double& t : t_of) t = t_of.back() > 0.0 ? t / t_of.back() : 0.0;
+        // A spine of one point: t by the spine point's number instead of its length.
+        for (size_t i = 0; i < n; ++i)
+            t_of[i] = t_of.back() > 0.0 ? t_of[i] / t_of.back() : double(i) / double(n - 1);
         faces.data.texcoords.reserve(n * m + m);
         for (size_t i = 0; i < n; ++i)
             for (size_t j = 0; j < m; ++j) faces.data.texcoords.push_back(Vec2(s_of[j], t_of[i]));

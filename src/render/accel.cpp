@@ -145,6 +145,8 @@ BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t light
 void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) {
     scene_ = &scene;
     threads = std::max(threads, 1);
+    culls_back_faces_ = std::any_of(scene.shadings.begin(), scene.shadings.end(),
+                                    [](const Shading& s) { return s.cull_back_faces; });
     const uint32_t n_spheres = uint32_t(scene.spheres.size());
     const uint32_t n_quadrics = uint32_t(scene.quadrics.size());
     const uint32_t first_triangle = n_spheres + n_quadrics;
@@ -489,6 +491,38 @@ bool Accel::frustum_may_hit(const Frustum& f) const {
 }
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+    if (!culls_back_faces_) return intersect_any_face(ray, hit);
+    // X3D solid geometry (docs/rendering.md, Back faces): a back face of a culling shading is
+    // passed through, and the search goes on from just beyond it. The layers a ray can pass are
+    // bounded so that a pathological stack of coincident faces cannot loop.
+    Ray r = ray;
+    double t_done = 0.0;  // the parameter of `ray` at r's origin
+    const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
+    for (int layer = 0; layer < kMaxCulledLayers; ++layer) {
+        if (!intersect_any_face(r, hit)) return false;
+        const uint32_t shading = shading_of(hit);
+        if (shading >= scene_->shadings.size() || !scene_->shadings[shading].cull_back_faces)
+            return (hit.t += t_done), true;
+        if (prim_kind(hit.prim) == PrimKind::Sphere) {
+            // A ray from outside a sphere meets its front first: no surface to evaluate (the
+            // atoms of an X3D molecule file).
+            const SphereGeom& g = spheres_[prim_index(hit.prim)];
+            const Vec3 oc = r.o - g.center;
+            if (glm::dot(oc, oc) > g.radius * g.radius) return (hit.t += t_done), true;
+        }
+        const SurfaceHit s = surface(r, hit, false);
+        if (glm::dot(s.ng, r.d) < 0.0) return (hit.t += t_done), true;  // a front face
+        const Vec3 o = offset_ray_origin(s.p, s.p_error, s.ng, r.d);
+        const double t_o = glm::dot(o - ray.o, ray.d) * inv_a;
+        r.o = o;
+        r.t_max = ray.t_max - t_o;
+        t_done = t_o;
+        if (!(r.t_max > 0.0)) return false;
+    }
+    return false;
+}
+
+bool Accel::intersect_any_face(const Ray& ray, Hit& hit) const {
     double t_max = ray.t_max;
     bool found = false;
     auto prefetch = [this](uint32_t first, uint32_t count) { prefetch_leaf(first, count); };

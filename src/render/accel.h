@@ -48,8 +48,12 @@ class Accel {
     // How the tree was built (never Auto).
     BvhBuild built_by() const { return built_by_; }
 
-    // Closest hit with t in (0, ray.t_max).
+    // Closest hit with t in (0, ray.t_max), passing through the back faces of shadings that cull
+    // them (X3D solid geometry; at most kMaxCulledLayers of them, then no hit).
     bool intersect(const Ray& ray, Hit& hit) const;
+    static constexpr int kMaxCulledLayers = 64;
+    // Closest hit, back faces included (what intersect is for scenes that cull nothing).
+    bool intersect_any_face(const Ray& ray, Hit& hit) const;
     // The fraction of light passing along the segment t in (0, ray.t_max): 0 if an opaque surface
     // crosses it, else the product of transparency over every see-through surface crossing (a
     // see-through sphere crossed through counts twice: t^2, SPEC section 5). Order independent, so
@@ -106,7 +110,8 @@ class Accel {
     NoFillVector<uint32_t> prims_;           // packed references in leaf order
     NoFillVector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;
-    bool spheres_only_ = false;  // every primitive is a sphere: prims_[i] is sphere i
+    bool culls_back_faces_ = false;  // some Shading has cull_back_faces
+    bool spheres_only_ = false;      // every primitive is a sphere: prims_[i] is sphere i
 
     NoFillVector<SphereGeom> spheres_;
     NoFillVector<uint32_t>

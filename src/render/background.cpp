@@ -39,7 +39,8 @@ BackgroundModel::BackgroundModel(const FlatScene& scene, const std::optional<Vec
     }
     bool panorama = false;
     for (int32_t t : bg.panorama) panorama = panorama || t >= 0;
-    if (!constant_ && bg.sky_colors.size() <= 1 && bg.ground_colors.empty() && !panorama)
+    if (!constant_ && bg.sky_colors.size() <= 1 &&
+        (bg.ground_colors.empty() || bg.ground_angles.empty()) && !panorama)
         constant_ = bg.sky_colors.empty() ? Vec3(0.0) : bg.sky_colors[0];
     const Mat3& m = scene.background.world_from_background;
     double det = glm::determinant(m);
@@ -50,13 +51,14 @@ Vec3 BackgroundModel::gradient(const Vec3& v) const {
     const Background& bg = scene_.background;
     const double zenith_angle = std::acos(std::clamp(v.y, -1.0, 1.0));
     const double nadir_angle = kPi - zenith_angle;
-    if (!bg.ground_colors.empty()) {
-        double limit =
-            bg.ground_angles.empty() || bg.ground_colors.size() == 1
-                ? 0.5 * kPi
-                : bg.ground_angles[std::min(bg.ground_angles.size(), bg.ground_colors.size() - 1) -
-                                   1];
-        if (nadir_angle <= limit) return ramp(bg.ground_colors, bg.ground_angles, nadir_angle);
+    // VRML97 6.5: the ground runs from the nadir to the last groundAngle and does not exist beyond
+    // it, so without a groundAngle there is no ground and the sky shows below the horizon
+    // (docs/rendering.md, Background). One colour with angles: that colour up to the first angle.
+    if (!bg.ground_colors.empty() && !bg.ground_angles.empty()) {
+        const size_t last =
+            std::min(bg.ground_angles.size(), std::max<size_t>(bg.ground_colors.size() - 1, 1));
+        if (nadir_angle <= bg.ground_angles[last - 1])
+            return ramp(bg.ground_colors, bg.ground_angles, nadir_angle);
     }
     return ramp(bg.sky_colors, bg.sky_angles, zenith_angle);
 }

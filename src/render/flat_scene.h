@@ -48,6 +48,9 @@ struct Material {
 struct Shading {
     uint32_t material = 0;
     uint32_t light_set = 0;  // index into FlatScene::light_sets
+    // X3D solid geometry: camera and secondary rays pass through its back faces (Accel::intersect);
+    // shadow rays do not (docs/rendering.md, Back faces).
+    bool cull_back_faces = false;
 };
 
 struct Sphere {

@@ -79,7 +79,9 @@ int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t,
                 double inv = 1.0 / d[k];
                 double t_lo = (-h[k] - o[k]) * inv, t_hi = (h[k] - o[k]) * inv;
                 uint8_t f_lo = uint8_t(2 * k + 1), f_hi = uint8_t(2 * k);
-                if (t_lo > t_hi) {
+                // A flat box (size 0 on axis k) has t_lo == t_hi: the face the ray meets is the
+                // one it comes from, +k when it travels towards -k.
+                if (t_lo > t_hi || (t_lo == t_hi && d[k] < 0.0)) {
                     std::swap(t_lo, t_hi);
                     std::swap(f_lo, f_hi);
                 }

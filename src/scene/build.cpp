@@ -25,6 +25,7 @@ namespace {
 enum class ChildKind : uint8_t {
     Group,
     Transform,
+    MatrixTransform,
     Billboard,
     Switch,
     LOD,
@@ -44,6 +45,7 @@ enum class ChildKind : uint8_t {
 constexpr std::pair<const char*, ChildKind> kChildRoles[] = {
     {"Group", ChildKind::Group},
     {"Transform", ChildKind::Transform},
+    {"MatrixTransform", ChildKind::MatrixTransform},
     {"Billboard", ChildKind::Billboard},
     {"Switch", ChildKind::Switch},
     {"LOD", ChildKind::LOD},
@@ -379,6 +381,7 @@ std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
     switch (child_kind(tree_.decl(id))) {
         case ChildKind::Group:
         case ChildKind::Transform:
+        case ChildKind::MatrixTransform:
         case ChildKind::Billboard:
         case ChildKind::Switch:
         case ChildKind::LOD:
@@ -424,25 +427,14 @@ sg::Index Builder::make_group(NodeId id) {
             f.scale = vec3(id, "scale"_n);
             f.scale_orientation = rotation(id, "scaleOrientation"_n);
             f.center = vec3(id, "center"_n);
-            const Mat4 m = transform_matrix(f);
-            if (is_singular(m)) {
-                group.singular = true;  // flattening skips the subtree: no matrix to keep
-                warn(id, "singular",
-                     all_finite(m)
-                         ? "has a singular transform (a zero scale); its children are skipped"
-                         : "has a NaN or infinite transform value; its children are skipped");
-            } else if (is_translation(m)) {
-                group.transform_kind = sg::GroupTransform::Translation;
-                group.transform = static_cast<sg::Index>(scene_.translations.size());
-                scene_.translations.push_back(Vec3(m[3]));
-            } else {
-                group.transform_kind = sg::GroupTransform::Matrix;
-                group.transform = static_cast<sg::Index>(scene_.matrices.size());
-                scene_.matrices.push_back(m);
-            }
+            set_group_matrix(group, id, transform_matrix(f));
             children = nodes(id, "children"_n);
             break;
         }
+        case ChildKind::MatrixTransform:
+            set_group_matrix(group, id, matrix_transform(id));
+            children = nodes(id, "children"_n);
+            break;
         case ChildKind::Billboard:
             group.transform_kind = sg::GroupTransform::Billboard;
             group.transform = static_cast<sg::Index>(scene_.billboard_axes.size());

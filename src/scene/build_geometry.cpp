@@ -25,7 +25,7 @@ enum class GeometryKind : uint8_t {
     Composed,
     Text,
     Lines,
-    NoArea,
+    Geometry2D,  // the eight nodes of X3D clause 14 (build_geometry2d.cpp)
     Unsupported,
 };
 
@@ -51,7 +51,7 @@ constexpr GeometryRole kGeometryRoles[] = {
     {"Extrusion", {GeometryKind::Extrusion}},
     {"Text", {GeometryKind::Text}},
     {"Lines", {GeometryKind::Lines}},
-    {"NoArea", {GeometryKind::NoArea}},
+    {"Geometry2D", {GeometryKind::Geometry2D}},
     {"IndexedTriangleSet", {GeometryKind::Composed, C::IndexedTriangleSet}},
     {"TriangleSet", {GeometryKind::Composed, C::TriangleSet}},
     {"IndexedTriangleFanSet", {GeometryKind::Composed, C::IndexedTriangleFanSet}},
@@ -97,14 +97,30 @@ sg::Index Builder::geometry(NodeId id) {
     sg::Geometry g = make_geometry(id);
     sg::Index index = static_cast<sg::Index>(scene_.geometries.size());
     // Spheres of one radius are one geometry (nothing is reported against a Sphere after this).
+    // (X3D spheres, whose back faces are culled, share among themselves only.)
     if (const auto* sphere = std::get_if<sg::Sphere>(&g.shape); sphere && g.hints == sg::kNone)
-        index = same_sphere_.find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
+        index = (g.cull_back_faces ? same_solid_sphere_ : same_sphere_)
+                    .find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
     if (index == scene_.geometries.size()) scene_.geometries.push_back(std::move(g));
     if (Memo* memo = shared(id)) memo->typed = index;
     return index;
 }
 
 sg::Geometry Builder::make_geometry(NodeId id) {
+    sg::Geometry g = make_geometry_shape(id);
+    // X3D 11.2.3 / 13.3: back faces of solid geometry are not drawn. Only nodes read with X3D's
+    // interface (an X3D file's nodes, or a node only X3D defines) that have `solid` (VRML97's
+    // Sphere/Box/Cone/Cylinder have none). The interface, not the file's header, so that a piece
+    // built while the file is read (fragments.h) decides as the whole tree does.
+    const NodeTypeDecl* decl = tree_.decl(id);
+    g.cull_back_faces =
+        decl && decl->spec == Spec::X3d && decl->find("solid"_n) && boolean(id, "solid"_n);
+    // A ring or rectangle made of lines has no faces to cull.
+    if (std::holds_alternative<std::unique_ptr<sg::LineSet>>(g.shape)) g.cull_back_faces = false;
+    return g;
+}
+
+sg::Geometry Builder::make_geometry_shape(NodeId id) {
     sg::Geometry g;
     g.origin = origin(id);
     const GeometryType gt = geometry_type(tree_.decl(id));
@@ -122,11 +138,19 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         case GeometryKind::Box: {
             sg::Box b;
             b.size = vec3(id, "size"_n);
-            if (in_range(id, "size"_n, {b.size.x, b.size.y, b.size.z}))
+            // A size of 0 in one axis (the other two in range) is a flat rectangle, as
+            // view3dscene and X_ITE draw it: files use it for cards and floors.
+            const int zeros = int(b.size.x == 0.0) + int(b.size.y == 0.0) + int(b.size.z == 0.0);
+            Vec3 in_range_size = b.size;  // the zero axis, if only one, checked as 1
+            for (int k = 0; k < 3 && zeros == 1; ++k)
+                if (in_range_size[k] == 0.0) in_range_size[k] = 1.0;
+            if (zeros <= 1 &&
+                in_range(id, "size"_n, {in_range_size.x, in_range_size.y, in_range_size.z}))
                 g.shape = b;
             else
                 warn(id, "zero-size",
-                     "size must be positive and finite in x, y and z; not rendered");
+                     "size must be positive and finite in x, y and z (0 in one axis at most); not "
+                     "rendered");
             break;
         }
         case GeometryKind::Cylinder: {
@@ -231,11 +255,8 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         case GeometryKind::Lines:
             g.shape = std::make_unique<sg::LineSet>(make_lines(id));
             break;
-        case GeometryKind::NoArea:
-            diagnostics_.warning(
-                g.origin.loc,
-                std::string(g.origin.type_text()) + " has no area and is not rendered",
-                "no-area:" + std::string(g.origin.type_text()));
+        case GeometryKind::Geometry2D:
+            make_geometry2d(id, g);
             break;
         case GeometryKind::Unsupported:
             diagnostics_.warning(

@@ -155,6 +155,9 @@ class Builder {
     void splice(Scene& fragment, const ConsumedPiece& piece, size_t root_first, size_t& root_count);
     sg::Index make_group(NodeId node);
     void scale_lengths(sg::Group& group, double scale);
+    // build_group_matrix.cpp: `m` as the group's transform (singular: the subtree skipped, warned)
+    void set_group_matrix(sg::Group& group, NodeId node, const Mat4& m);
+    Mat4 matrix_transform(NodeId node);  // MatrixTransform's `matrix`
     std::optional<sg::ChildRef> make_shape(NodeId node);
     sg::Index appearance(NodeId node);
     sg::Index material(NodeId node);
@@ -170,8 +173,11 @@ class Builder {
 
     // build_geometry.cpp
     sg::Geometry make_geometry(NodeId node);
+    sg::Geometry make_geometry_shape(NodeId node);  // make_geometry without cull_back_faces
     sg::Text make_text(NodeId node);
     sg::LineSet make_lines(NodeId node);
+    // build_geometry2d.cpp: Arc2D ... TriangleSet2D into g.shape (left empty after a warning)
+    void make_geometry2d(NodeId node, sg::Geometry& g);
     void read_vertex_data(NodeId node, sg::VertexData& data, bool want_coords,
                           const sg::Origin& origin);
 
@@ -212,8 +218,9 @@ class Builder {
     // first node's origin is kept (only non-finite values are reported against a Material, and
     // those are never merged).
     std::unordered_map<MaterialKey, sg::Index, MaterialKeyHash> same_material_;
-    FirstIndexMap same_appearance_;  // (material, texture)
-    FirstIndexMap same_sphere_;      // radius bits
+    FirstIndexMap same_appearance_;    // (material, texture)
+    FirstIndexMap same_sphere_;        // radius bits
+    FirstIndexMap same_solid_sphere_;  // radius bits of spheres with cull_back_faces
     size_t depth_ = 0;
 };
 

@@ -66,11 +66,13 @@ void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, si
         sg::Index index = static_cast<sg::Index>(scene_.geometries.size());
         const auto* sphere = std::get_if<sg::Sphere>(&g.shape);
         if (sphere && g.hints == sg::kNone)
-            index = same_sphere_.find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
+            index = (g.cull_back_faces ? same_solid_sphere_ : same_sphere_)
+                        .find_or_add(std::bit_cast<uint64_t>(sphere->radius), index);
         if (index == scene_.geometries.size()) {
             sg::Geometry copy;  // only the four primitives (splicable): plain values
             copy.origin = g.origin;
             copy.hints = g.hints;
+            copy.cull_back_faces = g.cull_back_faces;
             std::visit(
                 [&copy](const auto& shape) {
                     using T = std::decay_t<decltype(shape)>;

@@ -244,6 +244,7 @@ class PlainReader {
                 give_up();  // another node's field, an event, a kind not read here, or twice
             n.given |= uint64_t(1) << k;
             const FieldInfo& field = info.fields[k];
+            if (field.name == "solid") give_up();  // the build reads it (back-face culling)
             if (field.node == NodeField::None)
                 value(field, n.values);
             else
@@ -495,6 +496,8 @@ class FragmentWriter {
         const auto& v = n.values;
         sg::Geometry g;
         g.origin = origin(n);
+        // An X3D primitive's `solid` is TRUE here (a piece that gives it is read as a tree).
+        g.cull_back_faces = &grammar_ == &grammar(Spec::X3d);
         const auto in_range = [&](size_t r, std::initializer_list<double> x) {
             if (!info.ranges[r]->contains({x.begin(), x.size()})) give_up();  // warned about
         };

@@ -238,6 +238,9 @@ struct Geometry {
     Origin origin;
     Index hints = kNone;  // the geometry node's own metadata (Sphere), into Scene::hints
     GeometryShape shape;  // monostate: nothing to render (already warned)
+    // X3D (classic and XML) `solid TRUE`: back faces are not drawn (X3D 11.2.3); VRML97 files
+    // keep both sides (docs/rendering.md, Back faces).
+    bool cull_back_faces = false;
 };
 
 struct Shape {

@@ -104,6 +104,11 @@ bool is_singular(const Mat4& m) {
     return std::abs(glm::determinant(l)) <= 1e-12 * product;
 }
 
+bool is_scaled_identity(const Mat3& l) {
+    const double s = l[0][0];
+    return s > 0.0 && l == Mat3(s);
+}
+
 double uniform_scale(const Mat3& l) {
     if (l == Mat3(1.0)) return 1.0;        // what the test below gives, without its 27 products
     const Mat3 g = glm::transpose(l) * l;  // = s^2 I for a rotation times a uniform scale

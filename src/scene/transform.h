@@ -48,6 +48,8 @@ bool is_singular(const Mat4& m);
 // When the linear part is a rotation times a uniform scale s (up to rounding of single-precision
 // input, relative 1e-6), returns s; else 0.
 double uniform_scale(const Mat3& linear);
+// True when `linear` is s times the identity (s > 0): a scale that turns and mirrors nothing.
+bool is_scaled_identity(const Mat3& linear);
 // Geometric mean of the scale along the three axes, |det|^(1/3): one length scale for a general
 // matrix.
 double mean_scale(const Mat3& linear);

@@ -206,8 +206,8 @@ TEST(Flatten, QuadricsCarryTheirParts) {
     const Flat f = flatten(R"(
         Shape { geometry Cylinder { radius 2 height 3 top FALSE } }
         Shape { geometry Cone { bottomRadius 1 height 4 bottom FALSE } }
-        Shape { geometry Box { size 1 0 1 } })");
-    ASSERT_EQ(f.flat.quadrics.size(), 2u);  // the flat box is warned and skipped
+        Shape { geometry Box { size 1 0 0 } })");
+    ASSERT_EQ(f.flat.quadrics.size(), 2u);  // the box of zero size in two axes is warned, skipped
     EXPECT_EQ(f.flat.quadrics[0].kind, QuadricKind::Cylinder);
     EXPECT_EQ(f.flat.quadrics[0].size, Vec3(4, 3, 4));
     EXPECT_FALSE(f.flat.quadrics[0].top);

@@ -94,6 +94,10 @@ Group { children [
   Shape { geometry TriangleStripSet { coord Coordinate {} } }
   Shape { geometry IndexedQuadSet { coord Coordinate {} } }
   Shape { geometry QuadSet { coord Coordinate {} } }
+  Shape { geometry Arc2D {} } Shape { geometry ArcClose2D {} } Shape { geometry Circle2D {} }
+  Shape { geometry Disk2D {} } Shape { geometry Polyline2D {} } Shape { geometry Polypoint2D {} }
+  Shape { geometry Rectangle2D {} } Shape { geometry TriangleSet2D {} }
+  MatrixTransform { children Shape { geometry Box {} } }
   DirectionalLight {} PointLight {} SpotLight {}
   Viewpoint {} OrthoViewpoint {} Background {} Fog {} NavigationInfo {}
 ] })";
@@ -264,7 +268,7 @@ TEST(GrammarSweep, RangeNotation) {
 TEST(GrammarSweep, OutOfRangeSizesWarnAsBefore) {
     Diagnostics diagnostics;
     const LoadedScene loaded = load_scene_text(
-        "#VRML V2.0 utf8\nShape { geometry Sphere { radius 0 } } Shape { geometry Box { size 1 0 1 "
+        "#VRML V2.0 utf8\nShape { geometry Sphere { radius 0 } } Shape { geometry Box { size 1 0 0 "
         "} }"
         "Shape { geometry Cylinder { height -1 } } Shape { geometry Cone { height 0 } }"
         "Shape { geometry Sphere { radius 2 } }",
@@ -275,8 +279,9 @@ TEST(GrammarSweep, OutOfRangeSizesWarnAsBefore) {
     ASSERT_EQ(messages.size(), 4u) << joined(messages);
     EXPECT_NE(messages[0].find("radius must be positive and finite; not rendered"),
               std::string::npos);
-    EXPECT_NE(messages[1].find("size must be positive and finite in x, y and z; not rendered"),
-              std::string::npos);
+    EXPECT_NE(
+        messages[1].find("size must be positive and finite in x, y and z (0 in one axis at most)"),
+        std::string::npos);
     EXPECT_NE(messages[2].find("radius and height must be positive and finite; not rendered"),
               std::string::npos);
     EXPECT_NE(messages[3].find("bottomRadius and height must be positive and finite; not rendered"),

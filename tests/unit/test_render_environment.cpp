@@ -151,6 +151,31 @@ TEST(RenderBackground, SkyAndGroundGradients) {
     EXPECT_NEAR(rotated.radiance(Vec3(-1, 0, 0)).z, 1.0, kTolerance);
 }
 
+TEST(RenderBackground, AGroundColourWithoutAnAngleIsNoGround) {
+    // VRML97 6.5: the ground runs from the nadir to the last groundAngle; with no angle there is
+    // none, and the sky (here a two-colour ramp, red from pi/2 on) shows straight down.
+    FlatScene scene;
+    Background& bg = scene.background;
+    bg.present = true;
+    bg.sky_colors = {Vec3(0, 0, 1), Vec3(1, 0, 0)};
+    bg.sky_angles = {kPi / 2};
+    bg.ground_colors = {Vec3(0, 1, 0)};
+    const BackgroundModel model(scene, std::nullopt);
+    EXPECT_EQ(model.radiance(Vec3(0, -1, 0)), Vec3(1, 0, 0));
+    EXPECT_EQ(model.radiance(Vec3(std::sin(0.6 * kPi), std::cos(0.6 * kPi), 0)), Vec3(1, 0, 0));
+    // One sky colour and the lone ground colour: the whole sphere is that sky colour.
+    bg.sky_colors = {Vec3(0.2, 0.3, 0.4)};
+    bg.sky_angles.clear();
+    const BackgroundModel plain(scene, std::nullopt);
+    EXPECT_EQ(plain.radiance(Vec3(0, -1, 0)), Vec3(0.2, 0.3, 0.4));
+    // With an angle, the one colour is the ground up to it: green within pi/4 of the nadir.
+    bg.ground_angles = {kPi / 4};
+    const BackgroundModel with_angle(scene, std::nullopt);
+    EXPECT_EQ(with_angle.radiance(Vec3(0, -1, 0)), Vec3(0, 1, 0));
+    EXPECT_EQ(with_angle.radiance(Vec3(std::sin(0.6 * kPi), std::cos(0.6 * kPi), 0)),
+              Vec3(0.2, 0.3, 0.4));
+}
+
 TEST(RenderBackground, PanoramaFaces) {
     FlatScene scene;
     scene.background.present = true;

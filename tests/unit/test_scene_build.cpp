@@ -127,17 +127,38 @@ TEST(SceneBuild, LightsGlobalByNodeTypeAndX3DField) {
     EXPECT_FALSE(x3d.scene.lights[1].global);
 }
 
-TEST(SceneBuild, NoAreaGeometryWarnsOncePerType) {
+TEST(SceneBuild, Geometry2DLineNodesAreLineSets) {
+    // X3D 14.4.3, 14.4.5: drawn as the LineSet marks, without a warning.
     const Built b = build(R"(
         Shape { geometry Circle2D { radius 1 } }
-        Shape { geometry Circle2D { radius 2 } }
         Shape { geometry Polyline2D { lineSegments [0 0, 1 0] } })");
-    EXPECT_EQ(b.diagnostics.warning_count(), 2u);
-    for (const Diagnostic& d : b.diagnostics.all()) {
-        if (d.message.find("Circle2D") != std::string::npos) {
-            EXPECT_EQ(d.count, 2u);
-        }
-    }
+    EXPECT_EQ(b.diagnostics.warning_count(), 0u);
+    ASSERT_EQ(b.scene.geometries.size(), 2u);
+    for (const sg::Geometry& g : b.scene.geometries)
+        EXPECT_TRUE(std::holds_alternative<std::unique_ptr<sg::LineSet>>(g.shape));
+}
+
+TEST(SceneBuild, MatrixTransformReadsItsMatrixColumnByColumn) {
+    // Castle's and Xj3D's files: the last group of four is the translation.
+    const Built b = build(R"(
+        MatrixTransform { matrix 0 1 0 0  -1 0 0 0  0 0 1 0  2 3 4 1
+                          children Shape { geometry Box {} } }
+        MatrixTransform { matrix 2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 2 children Shape { geometry Box {} } }
+        MatrixTransform { matrix 1 0 0 0  0 1 0 0  0 0 1 0.5  0 0 0 1 children Shape { geometry Box {} } }
+        MatrixTransform { matrix 0 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1 children Shape { geometry Box {} } })",
+                          "#X3D V3.3 utf8\nPROFILE Full\n");
+    ASSERT_EQ(b.scene.groups.size(), 5u);
+    const Mat4 m = b.scene.local_from_child(b.scene.groups[1]);
+    // x -> y, y -> -x (a quarter turn about z), then the translation.
+    EXPECT_EQ(transform_point(m, Vec3(1, 0, 0)), Vec3(2, 4, 4));
+    EXPECT_EQ(transform_point(m, Vec3(0, 1, 0)), Vec3(1, 3, 4));
+    // w = 2 divides out: the identity.
+    EXPECT_EQ(b.scene.groups[2].transform_kind, sg::GroupTransform::Translation);
+    EXPECT_EQ(b.scene.local_from_child(b.scene.groups[2]), Mat4(1.0));
+    // A projective part is dropped with a warning; a zero column is singular.
+    EXPECT_EQ(b.scene.local_from_child(b.scene.groups[3]), Mat4(1.0));
+    EXPECT_TRUE(has_warning(b, "projective part"));
+    EXPECT_TRUE(b.scene.groups[4].singular);
 }
 
 TEST(SceneBuild, SingularTransformIsMarkedAndWarned) {
