@@ -25,6 +25,9 @@ enum class GeometryKind : uint8_t {
     Composed,
     Text,
     Lines,
+    GeoElevationGrid,
+    NurbsSurface,
+    NurbsCurve,
     NoArea,
     Unsupported,
 };
@@ -51,6 +54,11 @@ constexpr GeometryRole kGeometryRoles[] = {
     {"Extrusion", {GeometryKind::Extrusion}},
     {"Text", {GeometryKind::Text}},
     {"Lines", {GeometryKind::Lines}},
+    {"GeoElevationGrid", {GeometryKind::GeoElevationGrid}},
+    {"NurbsSurface", {GeometryKind::NurbsSurface}},
+    {"NurbsSweptSurface", {GeometryKind::NurbsSurface}},
+    {"NurbsSwungSurface", {GeometryKind::NurbsSurface}},
+    {"NurbsCurve", {GeometryKind::NurbsCurve}},
     {"NoArea", {GeometryKind::NoArea}},
     {"IndexedTriangleSet", {GeometryKind::Composed, C::IndexedTriangleSet}},
     {"TriangleSet", {GeometryKind::Composed, C::TriangleSet}},
@@ -231,6 +239,19 @@ sg::Geometry Builder::make_geometry(NodeId id) {
         case GeometryKind::Lines:
             g.shape = std::make_unique<sg::LineSet>(make_lines(id));
             break;
+        case GeometryKind::GeoElevationGrid:
+            g.shape = make_geo_elevation_grid(id);
+            break;
+        case GeometryKind::NurbsSurface:
+            g.shape = make_nurbs_surface(id);
+            break;
+        case GeometryKind::NurbsCurve: {
+            auto l = std::make_unique<sg::LineSet>();
+            l->kind = sg::LineKind::Curve;
+            l->curve = std::make_unique<sg::NurbsCurve>(read_nurbs_curve(id));
+            g.shape = std::move(l);
+            break;
+        }
         case GeometryKind::NoArea:
             diagnostics_.warning(
                 g.origin.loc,
@@ -269,9 +290,7 @@ sg::LineSet Builder::make_lines(NodeId id) {
                                 : sg::LineKind::Indexed;
     // Only coord and color: the X3D normal, fogCoord and attrib fields do not change unlit marks.
     if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
-        if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
-            l.coords = vec3s(c, "point"_n);
-        else
+        if (!coordinate_points(c, l.coords))
             warn(c, "wrong-type", "is not a coordinate node vrmlray reads; nothing to draw");
     }
     if (const NodeId c = node(id, "color"_n); c != kNullNode) read_colors(c, l.colors, l.alphas);
@@ -335,9 +354,7 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
                                const sg::Origin& origin) {
     if (want_coords) {
         if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
-            if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
-                data.coords = vec3s(c, "point"_n);
-            else
+            if (!coordinate_points(c, data.coords))
                 warn(c, "wrong-type",
                      "is not a coordinate node vrmlray reads; the geometry has no coordinates");
         }
