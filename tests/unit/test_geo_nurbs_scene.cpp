@@ -56,6 +56,25 @@ TEST(GeoScene, GeoLocationPlacesItsChildrenInTheLocalFrame) {
     EXPECT_EQ(b->diagnostics.warning_count(), 0u) << b->messages();
 }
 
+TEST(GeoScene, GeoTransformActsInTheTangentFrameAtItsCenter) {
+    // At the origin's own point with rotateYUp, the tangent frame is the world's axes: the
+    // GeoTransform is its plain Transform (translation, then a quarter turn about +Y).
+    const auto b = build(std::string("GeoTransform { geoOrigin ") + kOrigin +
+                         " geoCenter 34.07636 -118.26667 0 translation 1 2 3"
+                         " rotation 0 1 0 1.5707963267948966 children Shape { geometry Box {} } }");
+    ASSERT_EQ(b->scene.matrices.size(), 1u) << b->messages();
+    const Mat4& m = b->scene.matrices[0];
+    // 1e-8: the frame's products round at 1e-16 of 6.4e6 m.
+    EXPECT_NEAR(glm::distance(transform_point(m, Vec3(0)), Vec3(1, 2, 3)), 0.0, 1e-8);
+    EXPECT_NEAR(glm::distance(transform_point(m, Vec3(1, 0, 0)), Vec3(1, 2, 2)), 0.0, 1e-8);
+}
+
+TEST(GeoScene, GeoLodDrawsItsRootNodeWhenNoChildFileLoads) {
+    const auto b =
+        build("GeoLOD { rootNode Shape { geometry Box {} } child1Url \"missing.x3dv\" }");
+    EXPECT_EQ(b->scene.shapes.size(), 1u) << b->messages();
+}
+
 TEST(GeoScene, GeoCoordinatePointsAreGeocentricLessTheOrigin) {
     // Without rotateYUp the world point is the CartConvert value (tests/data/geo) less the
     // origin's: New York's minus LA's, both from gd_wgs84_cartconvert.txt.
