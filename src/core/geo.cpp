@@ -44,6 +44,23 @@ constexpr double kUtmScale = 0.9996;  // UTM's central scale factor
 constexpr double kUtmFalseEasting = 500000.0;
 constexpr double kUtmFalseNorthingSouth = 10000000.0;
 
+// GeographicLib's objects precompute their series per ellipsoid (TransverseMercator's cost
+// microseconds): one of each kept per thread for the last ellipsoid, since a grid's posts share
+// one.
+const GeographicLib::Geocentric& geocentric_for(const Ellipsoid& e) {
+    thread_local Ellipsoid last{-1.0, -1.0};
+    thread_local GeographicLib::Geocentric earth = GeographicLib::Geocentric::WGS84();
+    if (last.a != e.a || last.f != e.f) earth = GeographicLib::Geocentric(e.a, e.f), last = e;
+    return earth;
+}
+const GeographicLib::TransverseMercator& utm_for(const Ellipsoid& e) {
+    thread_local Ellipsoid last{-1.0, -1.0};
+    thread_local GeographicLib::TransverseMercator tm = GeographicLib::TransverseMercator::UTM();
+    if (last.a != e.a || last.f != e.f)
+        tm = GeographicLib::TransverseMercator(e.a, e.f, kUtmScale), last = e;
+    return tm;
+}
+
 Ellipsoid wgs84() { return Ellipsoid{6378137.0, 1.0 / 298.257223563}; }
 
 // "Z10" (or "z10"): the UTM zone number, 0 when the word is no zone.
@@ -120,15 +137,14 @@ Geodetic to_geodetic(const System& s, const Vec3& c) {
             if (!(std::abs(g.latitude) <= 90.0) || !std::isfinite(g.longitude)) g.latitude = nan;
             return g;
         case Frame::Geocentric: {
-            const GeographicLib::Geocentric earth(s.ellipsoid.a, s.ellipsoid.f);
-            earth.Reverse(c.x, c.y, c.z, g.latitude, g.longitude, g.height);
+            geocentric_for(s.ellipsoid).Reverse(c.x, c.y, c.z, g.latitude, g.longitude, g.height);
             return g;
         }
         case Frame::Utm: {
             if (s.zone == 0) return Geodetic{nan, nan, nan};
             const double northing = s.easting_first ? c.y : c.x;
             const double easting = s.easting_first ? c.x : c.y;
-            const GeographicLib::TransverseMercator tm(s.ellipsoid.a, s.ellipsoid.f, kUtmScale);
+            const GeographicLib::TransverseMercator& tm = utm_for(s.ellipsoid);
             const double central_meridian = 6.0 * s.zone - 183.0;
             tm.Reverse(central_meridian, easting - kUtmFalseEasting,
                        northing - (s.south ? kUtmFalseNorthingSouth : 0.0), g.latitude,
@@ -145,9 +161,8 @@ Vec3 to_geocentric(const System& s, const Vec3& c) {
     const Geodetic g = to_geodetic(s, c);
     if (!std::isfinite(g.latitude) || !std::isfinite(g.longitude) || !std::isfinite(g.height))
         return Vec3(std::numeric_limits<double>::quiet_NaN());
-    const GeographicLib::Geocentric earth(s.ellipsoid.a, s.ellipsoid.f);
     Vec3 out;
-    earth.Forward(g.latitude, g.longitude, g.height, out.x, out.y, out.z);
+    geocentric_for(s.ellipsoid).Forward(g.latitude, g.longitude, g.height, out.x, out.y, out.z);
     return out;
 }
 
