@@ -487,9 +487,14 @@ class Loader {
     void resolve_inlines(uint32_t file, size_t first_node, size_t depth, double length) {
         static const Name kInline = intern("Inline");
         static const Name kUrl = intern("url");
+        static const Name kGeoLod = intern("GeoLOD");
         NodeTree& tree = scene_.tree;
         const size_t end = tree.nodes.size();
         for (size_t id = first_node; id < end; ++id) {
+            if (tree.type(id) == kGeoLod) {
+                resolve_geo_lod(static_cast<NodeId>(id), file, depth);
+                continue;
+            }
             if (tree.type(id) != kInline) continue;
             FieldView urls = tree.get(static_cast<NodeId>(id), kUrl);
             std::vector<std::string> list(urls.strings.begin(), urls.strings.end());
@@ -502,6 +507,26 @@ class Loader {
             if (loaded->length != length)
                 tree.inline_length_scale[static_cast<NodeId>(id)] = loaded->length / length;
         }
+    }
+
+    // A GeoLOD (X3D 25.4.4) is drawn at its finer level, as a LOD's first level is: the top-level
+    // nodes of the files child1Url to child4Url name, kept as the node's inline roots; when none
+    // of them loads, its rootUrl's (a rootNode given in the file needs no loading).
+    void resolve_geo_lod(NodeId id, uint32_t file, size_t depth) {
+        NodeTree& tree = scene_.tree;
+        const SourceLoc where = tree.nodes[id].loc;
+        std::vector<NodeId> roots;
+        auto load_field = [&](const char* field) {
+            FieldView urls = tree.get(id, intern(field));
+            std::vector<std::string> list(urls.strings.begin(), urls.strings.end());
+            if (list.empty()) return;
+            if (auto loaded = load_inline(list, file, where, depth))
+                roots.insert(roots.end(), loaded->roots.begin(), loaded->roots.end());
+        };
+        for (const char* field : {"child1Url", "child2Url", "child3Url", "child4Url"})
+            load_field(field);
+        if (roots.empty() && tree.get(id, intern("rootNode")).nodes.empty()) load_field("rootUrl");
+        if (!roots.empty()) tree.inline_roots[id] = std::move(roots);
     }
 
     // This file's IMPORTs [first, end) find their nodes among the EXPORTs of the file each Inline

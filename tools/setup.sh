@@ -6,6 +6,7 @@ pkgs=(cmake g++ make pkg-config libopenimageio-dev libglm-dev libxml2-dev libcli
       libgtest-dev libgmock-dev libpng-dev libjpeg62-turbo-dev libopenexr-dev libxml2-utils nlohmann-json3-dev
       python3 go-md2man dpkg-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
       chromium libfreetype-dev libfontconfig-dev fonts-dejavu-core groff-base bsdextrautils
+      libgeographiclib-dev geographiclib-tools
       openmpi-bin libopenmpi-dev "$@")
 missing=()
 for p in "${pkgs[@]}"; do

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "anim/geo_position.h"
 #include "anim/interpolate.h"
 #include "anim/time_sensor.h"
 #include "parser/registry.h"
@@ -268,6 +269,18 @@ void Animator::interpolate_at(NodeId node, double fraction) {
         const std::optional<double> f =
             ease_in_ease_out(keys.numbers, tree_.get(node, "easeInEaseOut").numbers, fraction);
         if (f) send(node, modified, {ValueKind::Float, false}, {*f}, {}, {});
+        return;
+    }
+    if (type == "GeoPositionInterpolator") {
+        std::vector<std::string> problems;
+        const std::optional<GeoPositionValue> v = geo_position_at(tree_, node, fraction, problems);
+        for (const std::string& p : problems)
+            warn_once(node, describe(tree_, node) + ": " + p, "geo-system");
+        if (!v) return;
+        send(node, intern("geovalue_changed"), {ValueKind::Vec3d, false},
+             {v->geovalue.x, v->geovalue.y, v->geovalue.z}, {}, {});
+        send(node, value_changed, {ValueKind::Vec3f, false}, {v->value.x, v->value.y, v->value.z},
+             {}, {});
         return;
     }
     Blend blend = Blend::Linear;

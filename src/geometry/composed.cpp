@@ -1,6 +1,7 @@
 #include <string>
 
 #include "geometry/mesh_nodes.h"
+#include "geometry/nurbs.h"
 #include "geometry/polygon_mesh.h"
 #include "geometry/text.h"
 
@@ -154,6 +155,11 @@ TriMesh triangulate_geometry(const sg::Geometry& geometry, bool want_uvs,
     }
     if (const auto* text = std::get_if<std::unique_ptr<sg::Text>>(&geometry.shape))
         return text_mesh(**text, want_uvs, report);
+    if (const auto* nurbs = std::get_if<std::unique_ptr<sg::NurbsSurface>>(&geometry.shape)) {
+        const sg::IndexedFaceSet faces = nurbs_surface_faces(**nurbs, want_uvs, report);
+        return faces.coord_index.empty() ? TriMesh{}
+                                         : triangulate_face_set(faces, want_uvs, report);
+    }
     return TriMesh{};
 }
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "geometry/nurbs.h"
+
 namespace vr {
 
 namespace {
@@ -64,6 +66,14 @@ std::vector<std::vector<Corner>> corners_of(const sg::LineSet& l, NodeReport& re
 
 Polylines line_geometry(const sg::LineSet& l, NodeReport& report) {
     Polylines out;
+    if (l.kind == sg::LineKind::Curve) {  // NurbsCurve: one polyline, the material's colour
+        if (l.curve) out.positions = curve_polyline(*l.curve, report, "NurbsCurve");
+        if (out.positions.size() >= 2)
+            out.starts.push_back(0);
+        else
+            out.positions.clear();
+        return out;
+    }
     out.points = l.kind == sg::LineKind::Points;
     const std::vector<std::vector<Corner>> polylines = corners_of(l, report);
     bool colors_ok = !l.colors.empty();

@@ -30,6 +30,8 @@ enum class ChildKind : uint8_t {
     Switch,
     LOD,
     Inline,
+    GeoLocation,  // GeoLocation and GeoTransform
+    GeoLOD,
     CADFace,
     Shape,
     Light,
@@ -51,6 +53,9 @@ constexpr std::pair<const char*, ChildKind> kChildRoles[] = {
     {"LOD", ChildKind::LOD},
     {"Inline", ChildKind::Inline},
     {"CADFace", ChildKind::CADFace},
+    {"GeoLocation", ChildKind::GeoLocation},
+    {"GeoTransform", ChildKind::GeoLocation},
+    {"GeoLOD", ChildKind::GeoLOD},
     {"Shape", ChildKind::Shape},
     {"Light", ChildKind::Light},
     {"Viewpoint", ChildKind::Viewpoint},
@@ -386,6 +391,8 @@ std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
         case ChildKind::Switch:
         case ChildKind::LOD:
         case ChildKind::Inline:
+        case ChildKind::GeoLocation:
+        case ChildKind::GeoLOD:
         case ChildKind::CADFace:
             return sg::ChildRef{NodeKind::Group, make_group(id)};
         case ChildKind::Shape:
@@ -468,6 +475,13 @@ sg::Index Builder::make_group(NodeId id) {
                 scale_lengths(group, scale->second);
             break;
         }
+        case ChildKind::GeoLocation:
+            set_group_matrix(id, group, geo_group_matrix(id));
+            children = nodes(id, "children"_n);
+            break;
+        case ChildKind::GeoLOD:
+            children = geo_lod_children(id, group.inline_content);
+            break;
         case ChildKind::CADFace:
             chosen.push_back(node(id, "shape"_n));
             children = chosen;
@@ -735,6 +749,7 @@ sg::Index Builder::make_viewpoint(NodeId id) {
     v.ortho = tree_.type_name(id) == "OrthoViewpoint";
     v.position = vec3(id, "position"_n);
     v.orientation = rotation(id, "orientation"_n);
+    if (type(id) == "GeoViewpoint"_n) read_geo_viewpoint(id, v);
     const std::vector<std::string> description = strings(id, "description"_n);
     if (!description.empty()) v.description = description[0];
     if (v.ortho) {

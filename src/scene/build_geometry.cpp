@@ -26,6 +26,9 @@ enum class GeometryKind : uint8_t {
     Text,
     Lines,
     Geometry2D,  // the eight nodes of X3D clause 14 (build_geometry2d.cpp)
+    GeoElevationGrid,
+    NurbsSurface,
+    NurbsCurve,
     Unsupported,
 };
 
@@ -52,6 +55,11 @@ constexpr GeometryRole kGeometryRoles[] = {
     {"Text", {GeometryKind::Text}},
     {"Lines", {GeometryKind::Lines}},
     {"Geometry2D", {GeometryKind::Geometry2D}},
+    {"GeoElevationGrid", {GeometryKind::GeoElevationGrid}},
+    {"NurbsSurface", {GeometryKind::NurbsSurface}},
+    {"NurbsSweptSurface", {GeometryKind::NurbsSurface}},
+    {"NurbsSwungSurface", {GeometryKind::NurbsSurface}},
+    {"NurbsCurve", {GeometryKind::NurbsCurve}},
     {"IndexedTriangleSet", {GeometryKind::Composed, C::IndexedTriangleSet}},
     {"TriangleSet", {GeometryKind::Composed, C::TriangleSet}},
     {"IndexedTriangleFanSet", {GeometryKind::Composed, C::IndexedTriangleFanSet}},
@@ -258,6 +266,19 @@ sg::Geometry Builder::make_geometry_shape(NodeId id) {
         case GeometryKind::Geometry2D:
             make_geometry2d(id, g);
             break;
+        case GeometryKind::GeoElevationGrid:
+            g.shape = make_geo_elevation_grid(id);
+            break;
+        case GeometryKind::NurbsSurface:
+            g.shape = make_nurbs_surface(id);
+            break;
+        case GeometryKind::NurbsCurve: {
+            auto l = std::make_unique<sg::LineSet>();
+            l->kind = sg::LineKind::Curve;
+            l->curve = std::make_unique<sg::NurbsCurve>(read_nurbs_curve(id));
+            g.shape = std::move(l);
+            break;
+        }
         case GeometryKind::Unsupported:
             diagnostics_.warning(
                 g.origin.loc,
@@ -290,9 +311,7 @@ sg::LineSet Builder::make_lines(NodeId id) {
                                 : sg::LineKind::Indexed;
     // Only coord and color: the X3D normal, fogCoord and attrib fields do not change unlit marks.
     if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
-        if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
-            l.coords = vec3s(c, "point"_n);
-        else
+        if (!coordinate_points(c, l.coords))
             warn(c, "wrong-type", "is not a coordinate node vrmlray reads; nothing to draw");
     }
     if (const NodeId c = node(id, "color"_n); c != kNullNode) read_colors(c, l.colors, l.alphas);
@@ -356,9 +375,7 @@ void Builder::read_vertex_data(NodeId id, sg::VertexData& data, bool want_coords
                                const sg::Origin& origin) {
     if (want_coords) {
         if (const NodeId c = node(id, "coord"_n); c != kNullNode) {
-            if (type(c) == "Coordinate"_n || type(c) == "CoordinateDouble"_n)
-                data.coords = vec3s(c, "point"_n);
-            else
+            if (!coordinate_points(c, data.coords))
                 warn(c, "wrong-type",
                      "is not a coordinate node vrmlray reads; the geometry has no coordinates");
         }

@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/geo.h"
 #include "core/hash.h"
 #include "parser/load.h"
 #include "scene/build.h"
@@ -180,6 +181,23 @@ class Builder {
     void make_geometry2d(NodeId node, sg::Geometry& g);
     void read_vertex_data(NodeId node, sg::VertexData& data, bool want_coords,
                           const sg::Origin& origin);
+    // A coordinate node's points (Coordinate, CoordinateDouble, GeoCoordinate converted to world
+    // coordinates); false for another node type.
+    bool coordinate_points(NodeId node, std::vector<Vec3>& points);
+
+    // build_geo.cpp: the Geospatial component (X3D 25), through src/core/geo.h.
+    geo::System geo_system(NodeId node);  // the node's geoSystem, problems warned
+    geo::Origin geo_origin(NodeId node);  // the node's geoOrigin field (none: geocentric)
+    std::vector<Vec3> geo_points(NodeId geo_coordinate);
+    Mat4 geo_group_matrix(NodeId node);  // GeoLocation, GeoTransform
+    std::span<const NodeId> geo_lod_children(NodeId node, bool& inlined);
+    void set_group_matrix(NodeId node, sg::Group& group, const Mat4& m);
+    void read_geo_viewpoint(NodeId node, sg::Viewpoint& viewpoint);
+    std::unique_ptr<sg::IndexedFaceSet> make_geo_elevation_grid(NodeId node);
+
+    // build_nurbs.cpp: the NURBS component (X3D 27); src/geometry/nurbs.h tessellates.
+    std::unique_ptr<sg::NurbsSurface> make_nurbs_surface(NodeId node);
+    sg::NurbsCurve read_nurbs_curve(NodeId node);  // NurbsCurve, NurbsCurve2D, ContourPolyline2D
 
   public:
     const LoadedScene& loaded_;

@@ -217,8 +217,44 @@ struct Text {
     bool solid = false;
 };
 
-// IndexedLineSet (VRML97 6.24, X3D 11.3.4), LineSet (X3D 11.3.7), PointSet (VRML97 6.36).
-enum class LineKind : uint8_t { Indexed, Strips, Points };
+// A NURBS curve's fields (X3D 27.4.2 NurbsCurve, 27.4.3 NurbsCurve2D, 27.4.1 ContourPolyline2D),
+// copied as they are: src/geometry/nurbs.h checks and evaluates them. 2D curves have z = 0.
+struct NurbsCurve {
+    std::vector<Vec3> points;     // control points
+    std::vector<double> weights;  // one a point, or empty (all 1)
+    std::vector<double> knots;    // points + order of them, or empty (uniform, clamped)
+    int order = 0;
+    int tessellation = 0;   // X3D's rule: > 0 segments, < 0 per control point, 0 ours
+    bool polyline = false;  // ContourPolyline2D: the points joined by straight segments
+};
+
+// NurbsPatchSurface and NurbsTrimmedSurface (X3D 27.4.7, 27.4.10), NurbsSweptSurface (27.4.8)
+// and NurbsSwungSurface (27.4.9); src/geometry/nurbs.h tessellates them.
+enum class NurbsSurfaceKind : uint8_t { Patch, Swept, Swung };
+struct NurbsSurface {
+    NurbsSurfaceKind kind = NurbsSurfaceKind::Patch;
+    // Patch: control point (i, j) is points[i + j * u_dimension]
+    std::vector<Vec3> points;
+    std::vector<double> weights;
+    std::vector<double> u_knots, v_knots;
+    int u_order = 0, v_order = 0, u_dimension = 0, v_dimension = 0;
+    int u_tessellation = 0, v_tessellation = 0;
+    // texCoord: a TextureCoordinate's points (one a control point, evaluated with the surface's
+    // basis) or a NurbsTextureCoordinate (`texture_surface`, points with z = 0); neither: (u, v)
+    // scaled to [0,1] over the domain.
+    std::vector<Vec2> texcoords;
+    std::unique_ptr<NurbsSurface> texture_surface;
+    // NurbsTrimmedSurface: closed contours in (u, v), each a chain of curves.
+    std::vector<std::vector<NurbsCurve>> trimming;
+    // Swept: `profile` is the cross section (x, z plane), `trajectory` the spine. Swung: `profile`
+    // in the x, y plane, `trajectory` in the x, z plane.
+    NurbsCurve profile, trajectory;
+    bool ccw = true, solid = false;
+};
+
+// IndexedLineSet (VRML97 6.24, X3D 11.3.4), LineSet (X3D 11.3.7), PointSet (VRML97 6.36),
+// NurbsCurve (X3D 27.4.2: `curve` evaluated into one polyline).
+enum class LineKind : uint8_t { Indexed, Strips, Points, Curve };
 struct LineSet {
     LineKind kind = LineKind::Indexed;
     std::vector<Vec3> coords;
@@ -227,13 +263,15 @@ struct LineSet {
     std::vector<int32_t> coord_index, color_index;  // Indexed: polylines separated by -1
     std::vector<int32_t> vertex_count;              // Strips: vertices of each polyline
     bool color_per_vertex = true;                   // Indexed: FALSE is a colour a polyline
+    std::unique_ptr<NurbsCurve> curve;              // Curve
 };
 
 // The polygon nodes are held out of line so that the many primitives stay small.
 using GeometryShape =
     std::variant<std::monostate, Sphere, Box, Cylinder, Cone, std::unique_ptr<IndexedFaceSet>,
                  std::unique_ptr<ElevationGrid>, std::unique_ptr<Extrusion>,
-                 std::unique_ptr<ComposedSet>, std::unique_ptr<Text>, std::unique_ptr<LineSet>>;
+                 std::unique_ptr<ComposedSet>, std::unique_ptr<Text>, std::unique_ptr<LineSet>,
+                 std::unique_ptr<NurbsSurface>>;
 struct Geometry {
     Origin origin;
     Index hints = kNone;  // the geometry node's own metadata (Sphere), into Scene::hints
