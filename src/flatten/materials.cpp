@@ -58,6 +58,12 @@ uint32_t Flattener::intern_material(const Material& m) {
 }
 
 uint32_t Flattener::shading_of(uint32_t material, uint32_t light_set) {
+    if (scope_ != 0) {
+        const auto [it, inserted] = scoped_shadings_.try_emplace({material, light_set, scope_},
+                                                                 uint32_t(out_.shadings.size()));
+        if (inserted) out_.shadings.push_back(Shading{material, light_set, scope_});
+        return it->second;
+    }
     const uint64_t key = (uint64_t(material) << 32) | light_set;
     // Atoms of one element follow each other in molecule files: the last answer, before hashing.
     if (key == last_shading_key_) return last_shading_;
