@@ -260,3 +260,28 @@ TEST(Layers, BadOrderIndexWarnsAndTheRestDraws) {
 
 }  // namespace
 }  // namespace vr
+
+namespace vr {
+namespace {
+
+TEST(Layers, XmlLayerAndViewportTakeTheirDefaultContainerFields) {
+    // X3D XML: <Layer> goes to LayerSet.layers, <Viewport> to Layer.viewport, <Layout> to
+    // LayoutGroup.layout without a containerField attribute (the X3D schema's defaults).
+    const std::string text =
+        "<?xml version='1.0' encoding='UTF-8'?>\n<X3D profile='Full' version='3.3'><Scene>\n"
+        "<LayerSet order='0 1'><Layer><Viewport clipBoundary='0 0.5 0 1'/>\n"
+        "<LayoutGroup><Layout size='1 1'/><Shape><Sphere/></Shape></LayoutGroup>\n"
+        "</Layer></LayerSet></Scene></X3D>\n";
+    LoadedScene loaded = load_scene_text(text, "test.x3d");
+    ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
+    EXPECT_EQ(loaded.diagnostics.warning_count(), 0u) << loaded.diagnostics.format(loaded.sources);
+    Diagnostics diagnostics;
+    const Scene scene = build_scene(loaded, diagnostics);
+    EXPECT_EQ(diagnostics.warning_count(), 0u) << diagnostics.format(loaded.sources);
+    ASSERT_EQ(scene.layers.size(), 2u);
+    EXPECT_EQ(scene.layers[1].clip[1], 0.5);
+    EXPECT_EQ(scene.layouts.size(), 1u);
+}
+
+}  // namespace
+}  // namespace vr
