@@ -312,7 +312,7 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
     }
 
     // A LocalFog above the shape replaces the scene's Fog for it (X3D 24.4.3).
-    const uint32_t scope = scene_.shadings[shading].scope;
+    const uint32_t scope = scene_.local_fogs.empty() ? 0 : scene_.shadings[shading].scope;
     const int32_t local_fog = scope == 0 ? -1 : scene_.scopes[scope].local_fog;
     const Fog& fog = local_fog < 0 ? scene_.fog : scene_.local_fogs[size_t(local_fog)];
     if (fog.kind != FogKind::None) {
