@@ -110,6 +110,10 @@ std::string_view x3d_default_container_field(std::string_view type) {
              "ComposedVolumeStyle", "EdgeEnhancementVolumeStyle", "OpacityMapVolumeStyle",
              "ProjectionVolumeStyle", "ShadedVolumeStyle", "SilhouetteEnhancementVolumeStyle",
              "ToneMappedVolumeStyle"});
+        // X3D Layering and Layout (clauses 35, 36)
+        add("layers", {"Layer", "LayoutLayer"});
+        add("viewport", {"Viewport"});
+        add("layout", {"Layout"});
         return t;
     }();
     auto it = table.find(type);

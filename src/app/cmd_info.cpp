@@ -95,6 +95,10 @@ int run_info(const std::string& path, const CommonOptions& common) {
             flat.instances.size(), flat.prototypes.size(), flat.instanced_triangle_count());
     std::printf("            %zu materials, %zu textures, %zu shapes skipped\n",
                 flat.materials.size(), flat.textures.size(), fs.skipped_shapes);
+    if (!flat.layers.empty())
+        std::printf(
+            "layers      %zu drawn (X3D LayerSet); the counts above are the active layer's\n",
+            flat.layers.size());
     const Bounds3 b = flat.bounds();
     const std::string empty_scene = nothing_to_render(loaded, flat, fs);
     if (!empty_scene.empty()) report_warning(path, empty_scene, common.quiet);

@@ -85,6 +85,8 @@ FlattenOptions flatten_options(const LoadedScene& loaded, const RenderOptions& o
     fo.viewpoint = options.viewpoint;
     fo.scene_file = loaded.main_file;
     fo.allowed_roots = loaded.allowed_roots;
+    fo.image_width = options.width;
+    fo.image_height = options.height;
     common.limits.apply(fo);
     return fo;
 }
@@ -106,6 +108,8 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
 std::string nothing_to_render(const LoadedScene& loaded, const FlatScene& flat,
                               const FlattenStats& stats, int threads) {
     if (!flat.bounds(threads).empty()) return "";
+    for (const FlatLayer& layer : flat.layers)  // X3D layers: any with something to draw
+        if (layer.scene && !layer.scene->bounds(threads).empty()) return "";
     size_t failed_inlines = 0;
     for (const Diagnostic& d : loaded.diagnostics.all())
         if (d.message.rfind("Inline not loaded", 0) == 0 ||

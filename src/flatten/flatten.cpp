@@ -25,9 +25,10 @@ FlatScene Flattener::run() {
     appearance_material_.assign(scene_.appearances.size() + 1, -1);
 
     collect_bindables();
+    start_layer();
     choose_viewer();
     out_.light_sets.emplace_back();  // light set 0: no scoped lights
-    visit(Scene::kRoot, Mat4(1.0), 0, 0);
+    visit(frame_.root, Mat4(1.0), 0, 0);
     for (auto& set : out_.light_sets)
         set.insert(set.end(), global_lights_.begin(), global_lights_.end());
     // World meshes whose geometry became a prototype on its second use were left empty.
@@ -79,6 +80,9 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
     } else if (group.has_transform()) {
         m = parent * scene_.local_from_child(group);
     }
+    const LayoutRect rect_before = layout_rect_;
+    if (group.transform_kind == sg::GroupTransform::Layout)
+        m = m * layout_matrix(scene_.layouts[group.transform], rect_before, layout_rect_);
     if (group.billboard()) {
         const Mat4 local_from_world = glm::inverse(m);
         const Vec3 viewer = transform_point(local_from_world, viewer_position_);
@@ -98,8 +102,21 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
             if (const auto index = add_light(l, m)) scoped_.push_back(*index);
         }
     if (scoped_.size() != scoped_before) light_set = light_set_of(scoped_);
+    const uint32_t scope_before = scope_;
+    for (const sg::ChildRef& c : children)
+        if (c.kind == sg::NodeKind::ClipPlane || c.kind == sg::NodeKind::LocalFog) {
+            scope_ = enter_scope(children, m);
+            break;
+        }
+    visit_children(group, m, light_set, depth);
+    scope_ = scope_before;
+    layout_rect_ = rect_before;
+    scoped_.resize(scoped_before);
+}
 
-    for (const sg::ChildRef& c : children) {
+void Flattener::visit_children(const sg::Group& group, const Mat4& m, uint32_t light_set,
+                               size_t depth) {
+    for (const sg::ChildRef& c : scene_.children_of(group)) {
         switch (c.kind) {
             case sg::NodeKind::Group:
                 visit(c.index, m, light_set, depth + 1);
@@ -114,10 +131,9 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
                 break;
             }
             default:
-                break;  // bindable nodes: first pass
+                break;  // bindable nodes: first pass; ClipPlane, LocalFog: the scope above
         }
     }
-    scoped_.resize(scoped_before);
 }
 
 void Flattener::stop(const char* what) {
@@ -157,6 +173,7 @@ const char* recovery_miss_label(RecoveryMiss m) {
 FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
                         FlattenStats& stats) {
     stats = FlattenStats{};
+    if (!scene.layers.empty()) return flatten_layers(scene, options, diagnostics, stats);
     flatten_detail::Flattener flattener(scene, options, diagnostics, stats);
     return flattener.run();
 }

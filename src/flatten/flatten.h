@@ -80,6 +80,9 @@ struct FlattenOptions {
     // An ImageTexture with more texels (width x height, read from the file's header before
     // decoding) is refused with the usual unreadable-texture warning, naming the size.
     size_t max_texture_pixels = kDefaultMaxTexturePixels;
+    // The image's size in pixels, for X3D Layout's FRACTION and PIXEL units and the layers'
+    // Viewports (docs/rendering.md "Layers"); 0: unknown (a pixel is then a unit).
+    int image_width = 0, image_height = 0;
 };
 
 // Why a mesh tried for recovery (FlattenOptions::recover_spheres) stayed a mesh. The first five are

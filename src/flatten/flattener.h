@@ -15,6 +15,12 @@
 #include "geometry/mesh_nodes.h"
 #include "geometry/sphere_fit.h"
 
+namespace vr {
+// flatten_scene for a Scene with layers (layers.cpp).
+FlatScene flatten_layers(const Scene& scene, const FlattenOptions& options,
+                         Diagnostics& diagnostics, FlattenStats& stats);
+}  // namespace vr
+
 namespace vr::flatten_detail {
 
 // Every field of a Material, as doubles: equal keys are equal materials.
@@ -43,11 +49,34 @@ struct MaterialKeyEqual {
 Mat3 billboard_rotation(const Vec3& axis, const Vec3& viewer_local, const Vec3& viewer_up_local,
                         const Vec3& viewer_back_local);
 
+// The layer a Flattener flattens (docs/rendering.md "Layers"): its group, and its viewport's size
+// in pixels for Layout's FRACTION and PIXEL units.
+struct LayerFrame {
+    sg::Index root = Scene::kRoot;
+    Vec2 viewport_pixels{0.0};  // 0: the image size is not known (Layout takes 1 pixel = 1 unit)
+    bool layout = false;        // LayoutLayer: without a Viewpoint, the default OrthoViewpoint
+};
+
+// A Layout's rectangle (X3D 36.4.2) in the current coordinates: its size, and a pixel's size.
+struct LayoutRect {
+    Vec2 size{2.0};
+    Vec2 pixel{1.0};
+};
+// The placement of `layout` in `parent`: the matrix to its children's coordinates, and their
+// rectangle.
+Mat4 layout_matrix(const sg::Layout& layout, const LayoutRect& parent, LayoutRect& child);
+// Adds the counts of one layer's flattening to the scene's.
+void add_stats(FlattenStats& to, const FlattenStats& layer);
+
 class Flattener {
   public:
     Flattener(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
-              FlattenStats& stats)
-        : scene_(scene), options_(options), diagnostics_(diagnostics), stats_(stats) {}
+              FlattenStats& stats, const LayerFrame& frame = LayerFrame{})
+        : scene_(scene),
+          options_(options),
+          diagnostics_(diagnostics),
+          stats_(stats),
+          frame_(frame) {}
 
     FlatScene run();
 
@@ -90,6 +119,16 @@ class Flattener {
     // ---- graph (second pass): flatten.cpp; lights: lights_bindables.cpp
 
     void visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_t depth);
+    void visit_children(const sg::Group& group, const Mat4& m, uint32_t light_set, size_t depth);
+
+    // ---- ClipPlane, LocalFog and Layout (layers.cpp)
+
+    // The scope of a group's ClipPlane and LocalFog children in world space (`m`: the group's),
+    // added to the current one; a new index into out_.scopes.
+    uint32_t enter_scope(std::span<const sg::ChildRef> children, const Mat4& m);
+    bool clipped() const { return !out_.scopes[scope_].clip_planes.empty(); }
+    // The initial Layout rectangle of the layer, and its default OrthoViewpoint (LayoutLayer).
+    void start_layer();
 
     uint32_t light_set_of(const std::vector<uint32_t>& lights);
 
@@ -137,6 +176,7 @@ class Flattener {
 
     uint32_t intern_material(const Material& m);
 
+    // In the current scope_; cull_back_faces: X3D solid geometry (Shading::cull_back_faces).
     uint32_t shading_of(uint32_t material, uint32_t light_set, bool cull_back_faces = false);
 
     Material resolve_material(const sg::Shape& shape, const sg::Geometry& g);
@@ -152,7 +192,11 @@ class Flattener {
     const FlattenOptions& options_;
     Diagnostics& diagnostics_;
     FlattenStats& stats_;
+    LayerFrame frame_;
     FlatScene out_;
+    uint32_t scope_ = 0;                                           // into out_.scopes
+    std::map<std::array<uint32_t, 3>, uint32_t> scoped_shadings_;  // (material, lights, scope)
+    LayoutRect layout_rect_;                                       // of the Layout in effect
 
     Vec3 viewer_position_{0.0, 0.0, 10.0};
     Vec3 viewer_up_{0.0, 1.0, 0.0};

@@ -116,7 +116,7 @@ void Flattener::mark_bindables_walk() {
 
 void Flattener::collect_bindables() {
     mark_bindables();
-    collect(Scene::kRoot, Mat4(1.0), false, 0);
+    collect(frame_.root, Mat4(1.0), false, 0);
 }
 
 void Flattener::collect(sg::Index g, const Mat4& parent, bool in_inline, size_t depth) {

@@ -58,8 +58,16 @@ uint32_t Flattener::intern_material(const Material& m) {
 }
 
 uint32_t Flattener::shading_of(uint32_t material, uint32_t light_set, bool cull_back_faces) {
-    // Light sets number far below 2^31: the top bit of the low word holds the culling flag.
-    const uint64_t key = (uint64_t(material) << 32) | light_set | (uint64_t(cull_back_faces) << 31);
+    // Light sets number far below 2^31: the top bit of the light set holds the culling flag.
+    const uint32_t lights_and_culling = light_set | (uint32_t(cull_back_faces) << 31);
+    if (scope_ != 0) {
+        const auto [it, inserted] = scoped_shadings_.try_emplace(
+            {material, lights_and_culling, scope_}, uint32_t(out_.shadings.size()));
+        if (inserted)
+            out_.shadings.push_back(Shading{material, light_set, cull_back_faces, scope_});
+        return it->second;
+    }
+    const uint64_t key = (uint64_t(material) << 32) | lights_and_culling;
     // Atoms of one element follow each other in molecule files: the last answer, before hashing.
     if (key == last_shading_key_) return last_shading_;
     const auto [it, inserted] = shading_index_.try_emplace(key, uint32_t(out_.shadings.size()));

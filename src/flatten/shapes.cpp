@@ -76,7 +76,8 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     if (stats_.triangles + cached->triangle_count() > options_.max_triangles)
         return stop("triangles");
     stats_.triangles += cached->triangle_count();
-    if (cached->triangle_count() >= kInstanceMinTriangles) {
+    // A mesh under a ClipPlane stays in world space: the tracer clips world hits only.
+    if (cached->triangle_count() >= kInstanceMinTriangles && !clipped()) {
         MeshUse& use = mesh_uses_[want_uvs ? 1 : 0][shape.geometry];
         if (use.prototype == kNone && use.first_mesh != kNone) {
             // The second placement: the geometry becomes a prototype, and its first placement, a

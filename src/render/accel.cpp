@@ -309,6 +309,7 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
                                    [](float t) { return t > 0.0f; });
     // Held for the whole render: keep only what traversal reads.
     if (!any_transparent_) prim_transparency_ = {};
+    build_clip_scopes();
 }
 
 size_t Accel::held_bytes() const {
@@ -523,6 +524,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool Accel::intersect_any_face(const Ray& ray, Hit& hit) const {
+    if (any_clip_) return intersect_clipped(ray, hit);
     double t_max = ray.t_max;
     bool found = false;
     auto prefetch = [this](uint32_t first, uint32_t count) { prefetch_leaf(first, count); };
@@ -562,6 +564,7 @@ bool Accel::intersect_any_face(const Ray& ray, Hit& hit) const {
 }
 
 double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
+    if (any_clip_) return transmittance_clipped(ray, blocker);
     const double inv_a = 1.0 / glm::dot(ray.d, ray.d);
     double t_max = ray.t_max;
     double result = 1.0;

@@ -103,6 +103,20 @@ class Accel {
     // Fetches what the leaf [first, first + count) of leaf order will read.
     void prefetch_leaf(uint32_t first, uint32_t count) const;
 
+    // ---- ClipPlane (accel_clip.cpp): the queries for a scene with clip planes, where each entry
+    // of leaf order is tested with the planes of its scope (prim_scope_), its hit interval cut.
+    void build_clip_scopes();
+    bool intersect_clipped(const Ray& ray, Hit& hit) const;
+    double transmittance_clipped(const Ray& ray, uint32_t* blocker) const;
+    // test_primitive and crossings for entry `entry` of leaf order, with its planes.
+    bool test_clipped(uint32_t entry, const Ray& ray, double inv_a, const TriangleRay& tri_ray,
+                      double& t_max, Hit& hit) const;
+    int crossings_clipped(uint32_t entry, const Ray& ray, double inv_a,
+                          const TriangleRay& tri_ray) const;
+    std::vector<uint32_t>
+        prim_scope_;         // per entry of prims_: its FlatScene scope with planes, or 0
+    bool any_clip_ = false;  // some scope has clip planes: the queries above answer
+
     const FlatScene* scene_ = nullptr;
     BvhBuild built_by_ = BvhBuild::Sah;
     WideBvh bvh_;  // collapsed from the binary build, which is not kept

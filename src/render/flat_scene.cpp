@@ -65,6 +65,10 @@ Bounds3 FlatScene::bounds(int threads) const {
             if (finite3(w)) b.extend(w);
         }
     }
+    // X3D layers without a Viewpoint of their own are seen through this scene's camera (render/
+    // layers.h), so they are framed with it.
+    for (const FlatLayer& layer : layers)
+        if (layer.scene && layer.scene->viewpoints.empty()) b.extend(layer.scene->bounds(threads));
     return b;
 }
 

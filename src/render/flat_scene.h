@@ -3,6 +3,7 @@
 // nothing of VRML nodes.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,7 @@ struct Shading {
     // X3D solid geometry: camera and secondary rays pass through its back faces (Accel::intersect);
     // shadow rays do not (docs/rendering.md, Back faces).
     bool cull_back_faces = false;
+    uint32_t scope = 0;      // index into FlatScene::scopes; 0: no ClipPlane, no LocalFog
 };
 
 struct Sphere {
@@ -174,6 +176,27 @@ struct PointMark {
     double alpha = 1.0;
 };
 
+// ---- X3D ClipPlane, LocalFog, Layering (docs/rendering.md "Layers", "ClipPlane")
+
+// What the ClipPlane and LocalFog nodes of the groups above a shape do to it.
+struct ShadingScope {
+    // World space: a point p of the shape exists (is seen, casts shadows) when dot(xyz, p) + w >= 0
+    // for every plane; xyz is unit.
+    std::vector<Vec4> clip_planes;
+    int32_t local_fog = -1;  // into FlatScene::local_fogs; -1: the scene's fog
+};
+
+struct FlatScene;
+// One layer of an X3D LayerSet, drawn over the layers before it in FlatScene::layers.
+struct FlatLayer {
+    std::shared_ptr<const FlatScene>
+        scene;                              // null: the FlatScene holding the list (the active one)
+    double clip[4] = {0.0, 1.0, 0.0, 1.0};  // Viewport: left right bottom top, image fractions
+    bool full() const {
+        return clip[0] <= 0.0 && clip[1] >= 1.0 && clip[2] <= 0.0 && clip[3] >= 1.0;
+    }
+};
+
 struct FlatScene {
     std::vector<LineSegment> segments;
     std::vector<PointMark> points;
@@ -191,7 +214,19 @@ struct FlatScene {
     std::vector<Viewpoint> viewpoints;              // in file order
     Background background;
     Fog fog;
-    // Of all renderable primitives; the spheres' part on `threads` threads (0: all cores).
+    // scopes[0] is empty (no clipping, the scene's fog); more only with ClipPlane or LocalFog.
+    std::vector<ShadingScope> scopes{ShadingScope{}};
+    std::vector<Fog> local_fogs;
+    // X3D layers in drawing order, the first with its background, each later one over them with
+    // its own camera and depth; empty: this scene alone (no LayerSet, or one full-image layer).
+    std::vector<FlatLayer> layers;
+    bool any_clip_planes() const {
+        for (const ShadingScope& s : scopes)
+            if (!s.clip_planes.empty()) return true;
+        return false;
+    }
+    // Of all renderable primitives, those of the layers seen through this scene's camera (the ones
+    // without a Viewpoint) included; the spheres' part on `threads` threads (0: all cores).
     Bounds3 bounds(int threads = 1) const;
     size_t triangle_count() const;            // in meshes (each stored once)
     size_t instanced_triangle_count() const;  // placed by instances, counted once a placement

@@ -311,10 +311,14 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
         }
     }
 
-    if (scene_.fog.kind != FogKind::None) {
-        const double f = s.has_fog_depth ? fog_coordinate_factor(s.fog_depth)
-                                         : fog_factor(scene_.fog, s.t * len);
-        color = f * color + (1.0 - f) * scene_.fog.color;
+    // A LocalFog above the shape replaces the scene's Fog for it (X3D 24.4.3).
+    const uint32_t scope = scene_.local_fogs.empty() ? 0 : scene_.shadings[shading].scope;
+    const int32_t local_fog = scope == 0 ? -1 : scene_.scopes[scope].local_fog;
+    const Fog& fog = local_fog < 0 ? scene_.fog : scene_.local_fogs[size_t(local_fog)];
+    if (fog.kind != FogKind::None) {
+        const double f =
+            s.has_fog_depth ? fog_coordinate_factor(s.fog_depth) : fog_factor(fog, s.t * len);
+        color = f * color + (1.0 - f) * fog.color;
         alpha = (1.0 - f) + f * alpha;
     }
     out.color = color;

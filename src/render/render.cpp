@@ -13,6 +13,7 @@
 #include "render/accel.h"
 #include "render/integrator.h"
 #include "render/intersect.h"
+#include "render/layers.h"
 
 namespace vr {
 namespace {
@@ -183,6 +184,12 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     gas.build(scene, options);
     // The integrator's soft lighting copies the opaque spheres it needs; then they may go.
     const Integrator integrator(scene, accel, camera, options, &gas);
+    // X3D layers: every tile traced layer by layer (render/layers.h).
+    std::unique_ptr<LayerStack> layers;
+    if (!scene.layers.empty()) {
+        layers = std::make_unique<LayerStack>(scene, camera, accel, options, threads);
+        stats.tracer_bytes += layers->held_bytes();
+    }
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
     const EmptyTiles empty_tiles = {
@@ -231,6 +238,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
             if (stop.load(std::memory_order_relaxed)) {
                 std::fill(pixels.begin(), pixels.end(),
                           0.0f);  // skipped: the sink still gets every tile
+            } else if (layers) {
+                layers->trace_tile(r, mine.scratch, c, pixels);
             } else {
                 trace_tile(camera, camera_rays, integrator, accel, empty_tiles, r, mine.scratch, c,
                            pixels);

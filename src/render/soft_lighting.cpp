@@ -131,8 +131,9 @@ SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const Gas
       seed_(options.seed),
       sky_(options.sky.has_value() || options.sky_map),
       sky_map_(options.sky_map) {
+    // (ClipPlane: the sphere occluders below know no planes; the tracer's clipped queries do.)
     spheres_only_ = scene.quadrics.empty() && scene.meshes.empty() && scene.instances.empty() &&
-                    gas_ == nullptr;
+                    gas_ == nullptr && !scene.any_clip_planes();
     for (const Sphere& s : scene.spheres) {
         if (!spheres_only_) break;
         const uint32_t m =

@@ -33,12 +33,17 @@ enum class ChildKind : uint8_t {
     GeoLocation,  // GeoLocation and GeoTransform
     GeoLOD,
     CADFace,
+    LayoutGroup,
+    Layer,
     Shape,
     Light,
     Viewpoint,
     Background,
     Fog,
     NavigationInfo,
+    LayerSet,
+    ClipPlane,
+    LocalFog,
     Silent,
     NotModelled,
 };
@@ -62,6 +67,11 @@ constexpr std::pair<const char*, ChildKind> kChildRoles[] = {
     {"Background", ChildKind::Background},
     {"Fog", ChildKind::Fog},
     {"NavigationInfo", ChildKind::NavigationInfo},
+    {"LayoutGroup", ChildKind::LayoutGroup},
+    {"Layer", ChildKind::Layer},
+    {"LayerSet", ChildKind::LayerSet},
+    {"ClipPlane", ChildKind::ClipPlane},
+    {"LocalFog", ChildKind::LocalFog},
     {"Silent", ChildKind::Silent},  // draws nothing at time 0 (SPEC section 2)
 };
 
@@ -297,7 +307,7 @@ void Builder::reserve() {
     for (const Node& node : tree_.nodes) {
         const ChildKind kind = kinds[node.kind];
         if (kind == ChildKind::Shape) ++shapes;
-        if (kind <= ChildKind::CADFace) ++groups;
+        if (kind <= ChildKind::Layer) ++groups;
         if (kind == ChildKind::Transform) ++transforms;
     }
     // Every child is a reference in the tree: an upper bound (pages past the end stay untouched).
@@ -394,7 +404,19 @@ std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
         case ChildKind::GeoLocation:
         case ChildKind::GeoLOD:
         case ChildKind::CADFace:
+        case ChildKind::LayoutGroup:
             return sg::ChildRef{NodeKind::Group, make_group(id)};
+        case ChildKind::Layer:
+            warn(id, "layer-child",
+                 "is a layer outside a LayerSet's `layers`; drawn as a group of the scene");
+            return sg::ChildRef{NodeKind::Group, make_group(id)};
+        case ChildKind::LayerSet:
+            make_layer_set(id);
+            return std::nullopt;
+        case ChildKind::ClipPlane:
+            return make_clip_plane(id);
+        case ChildKind::LocalFog:
+            return make_local_fog(id);
         case ChildKind::Shape:
             return make_shape(id);
         case ChildKind::Light:
@@ -485,6 +507,11 @@ sg::Index Builder::make_group(NodeId id) {
         case ChildKind::CADFace:
             chosen.push_back(node(id, "shape"_n));
             children = chosen;
+            break;
+        case ChildKind::LayoutGroup:
+        case ChildKind::Layer:
+            read_group_layout(id, group);
+            children = nodes(id, "children"_n);
             break;
         default:
             children = nodes(id, "children"_n);

@@ -168,6 +168,12 @@ class Builder {
     sg::Index make_background(NodeId node);
     sg::Index make_fog(NodeId node);
     sg::Index make_navigation_info(NodeId node);
+    // ---- build_layers.cpp: LayerSet, Layer, LayoutLayer, Viewport, Layout, ClipPlane, LocalFog
+    void make_layer_set(NodeId node);
+    // The `layout` field of a LayoutGroup or LayoutLayer as the group's transform.
+    void read_group_layout(NodeId node, sg::Group& group);
+    std::optional<sg::ChildRef> make_clip_plane(NodeId node);
+    std::optional<sg::ChildRef> make_local_fog(NodeId node);
     void read_texture_transform(NodeId node, sg::Appearance& appearance);
     // ---- texture_properties.cpp
     void read_texture_properties(NodeId node, TextureSampling& sampling);

@@ -344,7 +344,49 @@ struct NavigationInfo {
     bool headlight = false;
 };
 
-enum class NodeKind : uint8_t { Group, Shape, Light, Viewpoint, Background, Fog, NavigationInfo };
+// ---- X3D Layering, Layout, ClipPlane, LocalFog (docs/rendering.md "Layers", "ClipPlane")
+
+// ClipPlane (X3D 11.4.1): of the geometry in its parent group's subtree only the points p with
+// dot(plane.xyz, p) + plane.w >= 0 (in the parent's coordinates) are drawn or cast shadows.
+struct ClipPlane {
+    Origin origin;
+    Vec4 plane{};
+};
+
+// Layout (X3D 36.4.2): a rectangle placed in its parent's (the layer's viewport, or the enclosing
+// LayoutGroup's rectangle); per axis x, y.
+enum class LayoutUnits : uint8_t { World, Fraction, Pixel };
+enum class LayoutScale : uint8_t { None, Fraction, Stretch, Pixel };
+struct Layout {
+    std::array<int8_t, 2> align{};  // -1 LEFT/BOTTOM, 0 CENTER, +1 RIGHT/TOP
+    Vec2 offset{};
+    std::array<LayoutUnits, 2> offset_units{};
+    Vec2 size{};
+    std::array<LayoutUnits, 2> size_units{};
+    std::array<LayoutScale, 2> scale_mode{};
+};
+
+// One layer (X3D 35.4.2 Layer, 36.4.3 LayoutLayer): a group drawn with its own bound nodes and
+// depth over the layers before it, clipped to its Viewport.
+struct Layer {
+    Origin origin;
+    Index group = kNone;  // the layer's children as a group; Scene::kRoot for layer 0
+    std::array<double, 4> clip{0.0, 1.0, 0.0, 1.0};  // clipBoundary: left right bottom top, in
+                                                     // fractions of the image
+    bool layout = false;  // LayoutLayer: an orthographic overlay, units as Layout's WORLD
+};
+
+enum class NodeKind : uint8_t {
+    Group,
+    Shape,
+    Light,
+    Viewpoint,
+    Background,
+    Fog,
+    NavigationInfo,
+    ClipPlane,  // into Scene::clip_planes
+    LocalFog,   // into Scene::fogs
+};
 struct ChildRef {
     NodeKind kind = NodeKind::Group;
     Index index = kNone;  // into the arena of that kind
@@ -357,6 +399,7 @@ enum class GroupTransform : uint8_t {
     Translation,  // `transform` indexes Scene::translations; the matrix is exactly [I | t]
     Matrix,       // `transform` indexes Scene::matrices
     Billboard,    // `transform` indexes Scene::billboard_axes (the rotation depends on the viewer)
+    Layout,       // `transform` indexes Scene::layouts (the placement depends on the image size)
 };
 
 // Group, Transform, Billboard, Switch, LOD, Collision, Anchor, Inline, StaticGroup, CAD* ...
@@ -403,6 +446,14 @@ struct Scene {
     std::vector<sg::Fog> fogs;
     std::vector<sg::NavigationInfo> navigation_infos;
     std::vector<sg::Hints> hints;  // only the nodes that have hints point here
+    // X3D Layering (docs/rendering.md "Layers"): empty without a LayerSet; else layer 0 is the
+    // root group's content and 1.. the LayerSet's layers, drawn in `layer_order` (indices into
+    // `layers`), the user's camera options applying to `active_layer`.
+    std::vector<sg::ClipPlane> clip_planes;
+    std::vector<sg::Layout> layouts;
+    std::vector<sg::Layer> layers;
+    std::vector<uint32_t> layer_order;
+    uint32_t active_layer = 0;
 
     const sg::Hints& hints_of(sg::Index index) const {
         static const sg::Hints none;
