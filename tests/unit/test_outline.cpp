@@ -382,7 +382,7 @@ TEST(OutlineCorpus, SameShareOfLinesAtTwoSizes) {
         shares[n++] = mean(edge_coverage(scene.flat, scene.camera, o));
     }
     EXPECT_GT(shares[0], 0.02) << "the atoms are outlined";
-    EXPECT_NEAR(shares[1], shares[0], 0.05 * shares[0]);
+    EXPECT_NEAR(shares[1], shares[0], 0.02 * shares[0]);
 }
 
 // --outline's forms on the command line.
