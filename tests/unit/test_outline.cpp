@@ -135,7 +135,9 @@ TEST(Outline, SphereHeadOnIsARingAboutItsProjectedRim) {
         for (int x = 0; x < size; ++x) {
             const double d = std::hypot(x + 0.5 - 0.5 * size, y + 0.5 - 0.5 * size);
             const double s = share[size_t(y) * size + size_t(x)];
-            if (std::abs(d - rim) < half * std::cos(kPi / 8.0) - 0.05) EXPECT_EQ(s, 1.0);
+            if (std::abs(d - rim) < half * std::cos(kPi / 8.0) - 0.05) {
+                EXPECT_EQ(s, 1.0) << "pixel " << x << "," << y;
+            }
         }
     }
 }
