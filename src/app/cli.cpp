@@ -5,12 +5,16 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <tuple>
 
 #include "parser/suggest.h"
+#include "core/format.h"
 #include "render/sampling.h"
 
 namespace vr {
@@ -82,6 +86,52 @@ std::optional<Vec3> parse_colour(const std::string& text) {
         std::sscanf(text.c_str() + 1, "%2x%2x%2x%c", &r, &g, &b, &extra) == 3)
         return Vec3(r, g, b) / 255.0;
     return std::nullopt;
+}
+
+// A word that --outline's optional value took but names a scene: a file, or a scene's extension.
+bool looks_like_scene(const std::string& word) {
+    if (word.find_first_not_of("0123456789.,+-eE ") == std::string::npos) return false;
+    std::error_code error;
+    if (std::filesystem::exists(word, error)) return true;
+    std::string lower = word;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* ext : {".wrl", ".wrz", ".gz", ".x3d", ".x3dv", ".x3dz", ".x3dvz"})
+        if (lower.size() > std::strlen(ext) && lower.ends_with(ext)) return true;
+    return false;
+}
+
+// --outline's value: "" (the defaults), "WIDTH", "R,G,B", ",R,G,B" or "WIDTH,R,G,B". False
+// with `error` set when it is none of these, or the width is not in (0, 0.5] or a channel is
+// negative or not finite.
+bool parse_outline(const std::string& text, RenderOptions& options, std::string& error) {
+    options.outline_width = kDefaultOutlineWidth;
+    options.outline_color = Vec3(0.0);
+    std::vector<std::string> parts;
+    for (size_t start = 0;;) {
+        const size_t comma = text.find(',', start);
+        parts.push_back(text.substr(start, comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    auto number = [](const std::string& word, double& value) {
+        char extra;
+        return std::sscanf(word.c_str(), "%lf%c", &value, &extra) == 1 && std::isfinite(value);
+    };
+    const bool with_color = parts.size() == 3 || parts.size() == 4;
+    const size_t first_channel = parts.size() == 4 ? 1 : 0;
+    bool ok = parts.size() == 1 || with_color;
+    if (ok && parts.size() != 3 && !parts[0].empty())
+        ok = number(parts[0], options.outline_width) && options.outline_width > 0.0 &&
+             options.outline_width <= 0.5;
+    for (size_t k = 0; ok && with_color && k < 3; ++k)
+        ok = number(parts[first_channel + k], options.outline_color[int(k)]) &&
+             options.outline_color[int(k)] >= 0.0;
+    if (!ok)
+        error =
+            "--outline wants [WIDTH][,R,G,B]: a width in (0, 0.5] of the image height and/or "
+            "a colour of three non-negative numbers, separated by commas (got \"" +
+            text + "\")";
+    return ok;
 }
 
 // --help starts with the usage line, as git's and pbrt's do; the description follows it.
@@ -168,6 +218,9 @@ struct Texts {
     std::string position, look_at, up;  // camera overrides, X,Y,Z
     bool recover = false, no_recover = false;
     std::string bench_spheres = "hints", bench_sky;
+    // --outline [WIDTH][,R,G,B]: given at all (with or without a value), and its value.
+    CLI::Option* outline = nullptr;
+    std::string outline_text;
 };
 
 void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
@@ -312,6 +365,15 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--focus", o.focus,
                   "Depth of field: distance in focus along the view (default: the scene's centre)")
         ->check(CLI::PositiveNumber);
+    texts.outline =
+        r->add_option(
+             "--outline", texts.outline_text,
+             "Outlines (not VRML lighting): lines WIDTH of the image height wide (default " +
+                 format_g(kDefaultOutlineWidth) +
+                 ") around each shape and along creases, colour R,G,B (default black); "
+                 "from the traced shapes, depths and normals, antialiased by the sampler")
+            ->expected(0, 1)
+            ->type_name("[WIDTH][,R,G,B]");
     r->add_flag("--srgb", o.srgb, "sRGB-encode integer image formats");
     r->add_flag("--alpha", o.alpha,
                 "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
@@ -475,6 +537,19 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     render.options.spheres = label_value(kSpheresLabels, texts.spheres);
     render.options.camera = label_value(kCameraLabels, texts.camera);
     render.options.bvh = label_value(kBvhLabels, texts.bvh);
+    if (texts.outline != nullptr && texts.outline->count() > 0) {
+        std::string text = texts.outline_text;
+        // "--outline scene.wrl": the scene, taken for the option's optional value, is given back.
+        if (looks_like_scene(text)) {
+            render.scenes.insert(render.scenes.begin(), text);
+            text.clear();
+        }
+        std::string error;
+        if (!parse_outline(text, render.options, error)) {
+            std::cerr << "vrmlray: error: " << error << "\n";
+            return false;
+        }
+    }
     for (auto [text, target, name] :
          {std::tuple{&texts.background, &render.options.background, "--background"},
           std::tuple{&texts.albedo, &render.options.albedo, "--albedo"},

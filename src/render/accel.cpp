@@ -647,6 +647,12 @@ uint32_t Accel::shading_of(const Hit& hit) const {
     return 0;
 }
 
+uint32_t Accel::shape_of(const Hit& hit) const {
+    if (prim_kind(hit.prim) == PrimKind::Triangle)
+        return pack_prim(PrimKind::Triangle, triangle_mesh_[prim_index(hit.prim)]);
+    return hit.prim;  // a sphere, quadric or instance entry is a shape of its own
+}
+
 SurfaceHit Accel::surface(const Ray& ray, const Hit& hit, bool want_uv) const {
     const uint32_t index = prim_index(hit.prim);
     switch (prim_kind(hit.prim)) {

@@ -76,6 +76,10 @@ class Accel {
     SurfaceHit surface(const Ray& ray, const Hit& hit, bool want_uv = true) const;
     // The scene Shading index of the hit primitive.
     uint32_t shading_of(const Hit& hit) const;
+    // Which shape the hit primitive belongs to, as outlines see shapes (render/outline.h): each
+    // sphere, quadric and mesh instance is one, and all the triangles of one mesh are one. Equal
+    // for two hits exactly when they are on the same shape.
+    uint32_t shape_of(const Hit& hit) const;
 
     size_t node_count() const { return bvh_.nodes.size(); }
     size_t primitive_count() const { return prims_.size(); }

@@ -17,6 +17,10 @@ enum class SpheresOption : uint8_t { FromHints, Opaque, Gas };
 // splits (render/bvh.h), or by choose_bvh_build's rule (render/accel.h).
 enum class BvhBuild : uint8_t { Auto, Sah, Morton };
 
+// --outline without a width: the 2-pixel lines PyMOL's ray_trace_mode 1 draws at 1920x1080
+// (PyMOL keeps 2 pixels at every size, so they are half as wide, to the eye, at 4K).
+inline constexpr double kDefaultOutlineWidth = 0.002;
+
 struct RenderOptions {
     int width = 640;
     int height = 480;
@@ -63,6 +67,10 @@ struct RenderOptions {
     double light_tolerance = 1e-3;  // absolute error of A(p) and of each area light's visibility
     double aperture = 0.0;          // thin lens radius, scene units; 0: a pinhole
     double focus = 0.0;             // thin lens: distance of the plane in focus along the view
+    // --outline (docs/rendering.md "Outlines"); leaves the VRML lighting model. Line width as a
+    // fraction of the image height (0: no outlines, and no probe rays), and its colour.
+    double outline_width = 0.0;
+    Vec3 outline_color{0.0};
     // Which tiles this process traces (many processes, SPEC section 14): those whose row-major
     // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
     // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles

@@ -14,6 +14,7 @@
 #include "render/integrator.h"
 #include "render/intersect.h"
 #include "render/layers.h"
+#include "render/outline.h"
 
 namespace vr {
 namespace {
@@ -41,15 +42,18 @@ struct EmptyTiles {
 
 // Traces tile r into `pixels` (RGBA rows of the tile).
 void trace_tile(const Camera& camera, const CameraRays& camera_rays, const Integrator& integrator,
-                const Accel& accel, const EmptyTiles& skip, const TileRect& r,
-                SamplerScratch& scratch, RayCounters& c, std::vector<float>& pixels) {
+                const Accel& accel, const Outline& outline, const EmptyTiles& skip,
+                const TileRect& r, SamplerScratch& scratch, RayCounters& c,
+                std::vector<float>& pixels) {
     const int x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
     uint64_t& bad = c.nonfinite.shading;
     // A tile whose rays the BVH's boxes show to meet nothing sees the background: most of the
     // image of a small or distant scene. Samples lie in the tile's pixels; the frustum is a pixel
-    // wider all round.
+    // wider all round, and wider by the outline probes' reach (no probe of an empty tile meets a
+    // surface, so it has no edge either).
+    const double m = 1.0 + std::ceil(outline.radius_pixels());
     Frustum frustum;
-    const bool empty = skip.cull && camera_rays.frustum(x0 - 1, y0 - 1, x1 + 1, y1 + 1, frustum) &&
+    const bool empty = skip.cull && camera_rays.frustum(x0 - m, y0 - m, x1 + m, y1 + m, frustum) &&
                        !accel.frustum_may_hit(frustum);
     auto store = [&](int x, int y, const SampleValue& v) {
         float* out = &pixels[(size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)) * 4];
@@ -74,8 +78,9 @@ void trace_tile(const Camera& camera, const CameraRays& camera_rays, const Integ
         camera.sampler, x0, y0, x1, y1, scratch,
         [&](double px, double py) {
             const Ray ray = camera_rays(px, py);
-            return empty ? integrator.trace_camera_miss(ray, c)
-                         : integrator.trace_camera_ray(ray, c);
+            if (empty) return integrator.trace_camera_miss(ray, c);
+            if (outline.enabled() && outline.on_edge(px, py, c)) return outline.edge_value();
+            return integrator.trace_camera_ray(ray, c);
         },
         store);
 }
@@ -192,6 +197,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     }
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
+    const Outline outline(accel, camera_rays, options);
     const EmptyTiles empty_tiles = {
         integrator.camera_misses_see_background(),
         camera.sampler.kind == SamplerKind::Center && integrator.uniform_background()};
@@ -241,8 +247,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
             } else if (layers) {
                 layers->trace_tile(r, mine.scratch, c, pixels);
             } else {
-                trace_tile(camera, camera_rays, integrator, accel, empty_tiles, r, mine.scratch, c,
-                           pixels);
+                trace_tile(camera, camera_rays, integrator, accel, outline, empty_tiles, r,
+                           mine.scratch, c, pixels);
             }
             sink(x0, y0, x1, y1, pixels.data());
             rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);
