@@ -117,7 +117,7 @@ void Integrator::setup_look(const Camera& camera) {
     forward_ = camera.forward();
     if (!options_.depth_cue_near || !options_.depth_cue_far) {
         const DepthRange range = scene_depth_range(scene_, eye_, forward_);
-        cue_near_ = range.near;
+        cue_near_ = range.near + kDepthCueStart * (range.far - range.near);
         cue_far_ = range.far;
     }
     cue_near_ = options_.depth_cue_near.value_or(cue_near_);

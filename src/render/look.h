@@ -51,6 +51,11 @@ struct DepthRange {
 };
 DepthRange scene_depth_range(const FlatScene& scene, const Vec3& eye, const Vec3& forward);
 
+// --depth-cue without values starts this share of the way from the nearest to the farthest point
+// of the scene and ends at the farthest: ChimeraX's default (depth_cue_start 0.5, end 1; PyMOL's
+// fog_start is 0.45), so that the front half of a molecule keeps its colours.
+constexpr double kDepthCueStart = 0.5;
+
 // How far a point at view depth z has gone toward the background: 0 at or before `near`, 1 at
 // or beyond `far`, linear between (ChimeraX's and PyMOL's depth cue). A range that is empty or
 // inverted gives 0 everywhere.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -225,7 +226,9 @@ TEST(LookCorpus, HeadlightOffAndLightScaleOnAPymolExport) {
     // grazing ones at the atoms' rims, where n . v is nearly 0.
     EXPECT_GT(darker, mol.size() * 8 / 10);
     for (size_t i = 0; i < size_t(64 * 48); ++i)
-        if (plain.rgba[4 * i + 3] == 0.0f) EXPECT_EQ(rgb(no_head, i), rgb(plain, i));
+        if (plain.rgba[4 * i + 3] == 0.0f) {
+            EXPECT_EQ(rgb(no_head, i), rgb(plain, i));
+        }
 }
 
 // --tone hue: where the default's linear colour has a channel above 1 (it clips there), the toned
@@ -248,7 +251,8 @@ TEST(LookCorpus, HueToneKeepsChannelRatiosWhereTheDefaultClips) {
 
 // --depth-cue over the scene's depth range: every molecule pixel moves along the line from its
 // colour toward the background by a fraction f in [0, 1]; the nearest atoms keep their colour
-// (f near 0) and the far ones are well on their way (f above 0.4).
+// (f near 0: the cue starts halfway into the scene's depth) and the far ones visible between them
+// are on their way (f above 0.4; 0.61 measured).
 TEST(LookCorpus, DepthCueMovesFarAtomsTowardTheBackgroundAndLeavesTheNearest) {
     CORPUS_OR_SKIP(flat, kIl2Spheres);
     const Vec3 bg(1.0, 1.0, 1.0);
@@ -269,6 +273,8 @@ TEST(LookCorpus, DepthCueMovesFarAtomsTowardTheBackgroundAndLeavesTheNearest) {
     }
     EXPECT_LT(least, 0.05);
     EXPECT_GT(most, 0.4);
+    std::printf("depth cue fractions over il2_spheres' visible pixels: %.3f to %.3f\n", least,
+                most);
 }
 
 // The preset: far fewer molecule pixels with a channel at 255 than the default's (the issue
