@@ -15,6 +15,7 @@
 
 #include "parser/suggest.h"
 #include "core/format.h"
+#include "app/presets.h"
 #include "render/sampling.h"
 
 namespace vr {
@@ -221,6 +222,9 @@ struct Texts {
     // --outline [WIDTH][,R,G,B]: given at all (with or without a value), and its value.
     CLI::Option* outline = nullptr;
     std::string outline_text;
+    // The look for publication (docs/manual.md, "Leaving the VRML lighting model").
+    std::string light_scale, headlight, tone, preset;
+    std::vector<std::string> depth_cue;
 };
 
 void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
@@ -248,6 +252,87 @@ void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
                     "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)")
         ->type_name("DIR");
     sub->add_flag("--strict", common.strict, "Exit 3 when there is any warning (for CI)");
+}
+
+// "NEAR,FAR" -> two numbers, near < far.
+bool parse_depth_range(const std::string& text, double& near, double& far) {
+    char extra;
+    return std::sscanf(text.c_str(), "%lf,%lf%c", &near, &far, &extra) == 2 &&
+           std::isfinite(near) && std::isfinite(far) && near < far;
+}
+
+// The options that leave the VRML lighting model (docs/rendering.md), and the presets.
+void add_render_look(CLI::App* r, RenderOptions& o, Texts& texts) {
+    r->add_option("--exposure", o.exposure,
+                  "Leaves the VRML model: the linear colour x 2^EV before output encoding "
+                  "(default 0)")
+        ->check(CLI::Range(-30.0, 30.0))
+        ->type_name("EV");
+    r->add_option("--light-scale", texts.light_scale,
+                  "Leaves the VRML model: the direct lights (and headlight) x S; auto: the scale "
+                  "that keeps a white surface's brightest lit colour, sky light included, within "
+                  "1 (as Tachyon's -auto_skylight)")
+        ->type_name("S|auto");
+    r->add_option("--headlight", texts.headlight,
+                  "on or off: overrides the file's NavigationInfo headlight")
+        ->check(CLI::IsMember({"on", "off"}));
+    r->add_option("--depth-cue", texts.depth_cue,
+                  "Leaves the VRML model: blend surfaces linearly toward the background colour "
+                  "from view depth NEAR to FAR (default: the scene's depth range from the camera)")
+        ->expected(0, 1)
+        ->type_name("[NEAR,FAR]")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                double near, far;
+                return text.empty() || parse_depth_range(text, near, far)
+                           ? std::string()
+                           : "--depth-cue wants NEAR,FAR with NEAR < FAR (or nothing; put it "
+                             "after the scene)";
+            },
+            "NEAR,FAR"));
+    r->add_option("--tone", texts.tone,
+                  "clip (default: each channel clipped at 1) or hue (leaves the VRML model: a "
+                  "surface's colour scaled by a smooth shoulder of its largest channel, so that "
+                  "hue is kept where a channel would clip)")
+        ->check(CLI::IsMember({"clip", "hue"}));
+    r->add_option("--preset", texts.preset,
+                  "Leaves the VRML model: preview, publication or poster: an antialiasing "
+                  "sampler, sky light with --light-scale auto, --srgb, --fit, --depth-cue, --tone "
+                  "hue, and a size (960x540, 1920x1080, 3840x2160); options given win")
+        ->check(CLI::IsMember(preset_names()));
+}
+
+// The look's texts into the render options, then the preset under the options given; false
+// after printing why not.
+bool map_render_look(const Texts& texts, const CLI::App& r, RenderOptions& o) {
+    if (!texts.light_scale.empty()) {
+        char extra;
+        double s;
+        if (texts.light_scale == "auto") {
+            o.light_scale_auto = true;
+        } else if (std::sscanf(texts.light_scale.c_str(), "%lf%c", &s, &extra) == 1 &&
+                   std::isfinite(s) && s >= 0.0) {
+            o.light_scale = s;
+        } else {
+            std::cerr << "vrmlray: error: --light-scale wants a number >= 0 or auto\n";
+            return false;
+        }
+    }
+    if (!texts.headlight.empty()) o.headlight = texts.headlight == "on";
+    if (r.get_option("--depth-cue")->count() > 0) {
+        o.depth_cue = true;
+        double near, far;
+        if (!texts.depth_cue.empty() && parse_depth_range(texts.depth_cue.front(), near, far)) {
+            o.depth_cue_near = near;
+            o.depth_cue_far = far;
+        }
+    }
+    if (!texts.tone.empty()) o.tone_hue = texts.tone == "hue";
+    if (!texts.preset.empty()) {
+        auto given = [&](const char* name) { return r.get_option(name)->count() > 0; };
+        if (!apply_preset(texts.preset, given, o)) return false;
+    }
+    return true;
 }
 
 CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common, Texts& texts) {
@@ -374,6 +459,7 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                  "from the traced shapes, depths and normals, antialiased by the sampler")
             ->expected(0, 1)
             ->type_name("[WIDTH][,R,G,B]");
+    add_render_look(r, o, texts);
     r->add_flag("--srgb", o.srgb, "sRGB-encode integer image formats");
     r->add_flag("--alpha", o.alpha,
                 "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
@@ -649,6 +735,7 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
     if (cmd.command == Subcommand::Render) {
         cmd.render.common = cmd.common;
         if (!map_render(texts, cmd.render)) return kExitUsage;
+        if (!map_render_look(texts, *r, cmd.render.options)) return kExitUsage;
         if (!map_render_scenes(argc, argv, cmd.render)) return kExitUsage;
     }
     if (cmd.command == Subcommand::Compare) cmd.compare.args = words_after(argc, argv, "compare");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/lights.h"
+#include "render/look.h"
 
 namespace vr {
 namespace {
@@ -59,7 +60,7 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
         textured_[i] = m < scene.materials.size() && scene.materials[m].texture >= 0;
     }
     // NavigationInfo headlight: directional along the view, intensity 1, ambient 0, white.
-    has_headlight_ = scene.headlight;
+    has_headlight_ = options.headlight.value_or(scene.headlight);
     headlight_.kind = LightKind::Directional;
     headlight_.color = Vec3(1.0);
     headlight_.intensity = 1.0;
@@ -74,6 +75,7 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
         soft_ = std::make_unique<SoftLighting>(scene, accel, gas_, options);
         sky_ = options.sky.value_or(Vec3(0.0));
     }
+    setup_look(camera);
     if (gas_) {
         gas_lighting_.lights = &lights_;
         gas_lighting_.light_sets = &scene_.light_sets;
@@ -86,6 +88,40 @@ Integrator::Integrator(const FlatScene& scene, const Accel& accel, const Camera&
                 return soft_->light_visibility(light, p, Vec3(0.0), Vec3(0.0), unused);
             };
     }
+}
+
+void Integrator::setup_look(const Camera& camera) {
+    double scale = options_.light_scale;
+    if (options_.light_scale_auto) {
+        double sky_max = 0.0;
+        if (options_.sky) sky_max = std::max({options_.sky->x, options_.sky->y, options_.sky->z});
+        if (options_.sky_map) {
+            const Vec3& h = options_.sky_map->highest();
+            sky_max = std::max({h.x, h.y, h.z});
+        }
+        double ambient_max = 0.0;
+        for (const SurfaceLook& l : looks_)
+            if (l.lit) ambient_max = std::max(ambient_max, l.ambient_intensity);
+        scale = auto_light_scale(lights_, has_headlight_, sky_max, ambient_max);
+    }
+    if (scale != 1.0 && std::isfinite(scale) && scale >= 0.0) {
+        for (Light& l : lights_) l.color *= scale;
+        headlight_.color *= scale;
+    }
+    exposure_ = std::exp2(options_.exposure);
+    tone_hue_ = options_.tone_hue;
+    depth_cue_ = options_.depth_cue;
+    look_ = options_.exposure != 0.0 || tone_hue_ || depth_cue_;
+    if (!depth_cue_) return;
+    eye_ = camera.position;
+    forward_ = camera.forward();
+    if (!options_.depth_cue_near || !options_.depth_cue_far) {
+        const DepthRange range = scene_depth_range(scene_, eye_, forward_);
+        cue_near_ = range.near + kDepthCueStart * (range.far - range.near);
+        cue_far_ = range.far;
+    }
+    cue_near_ = options_.depth_cue_near.value_or(cue_near_);
+    cue_far_ = options_.depth_cue_far.value_or(cue_far_);
 }
 
 Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng,
@@ -169,8 +205,44 @@ SampleValue Integrator::trace_behind(const Ray& ray, RayCounters& counters) cons
     return alpha_rule(trace(ray, 0, 1.0, counters), ray);
 }
 
+SampleValue Integrator::trace_camera_look(const Ray& ray, RayCounters& counters) const {
+    Hit first;
+    const bool met = accel_.intersect(ray, first);
+    const double t_surface = met ? first.t : kInf;
+    SampleValue v;
+    if (gas_) {
+        v = trace(ray, 0, 1.0, counters);
+    } else if (met) {
+        const std::optional<Hit> known(first);
+        v = trace_surfaces(ray, 0, 1.0, counters, &known);
+    } else {
+        v = background_sample(ray);
+    }
+    const Vec3 background = exposure_ * background_.radiance(ray.d);
+    v.color *= exposure_;
+    if (tone_hue_ && v.alpha > 0.0) v.color = tone_hue(v.color);
+    if (depth_cue_ && met) {
+        const double z = glm::dot(ray.o + first.t * ray.d - eye_, forward_);
+        const double f = depth_cue_fraction(z, cue_near_, cue_far_);
+        v.color = (1.0 - f) * v.color + f * background;
+        // With --alpha the surface fades out (the rule below then leaves f * background out);
+        // without, alpha stays the coverage that a render's "nothing seen" check counts.
+        if (options_.alpha) v.alpha *= 1.0 - f;
+    }
+    SampleValue mark;
+    double opacity = 1.0;
+    if (!lines_.empty() && lines_.nearest(ray, t_surface, mark.color, opacity)) {
+        mark.color *= exposure_;
+        v.color = opacity * mark.color + (1.0 - opacity) * v.color;
+        v.alpha = opacity + (1.0 - opacity) * v.alpha;
+    }
+    if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background;
+    return v;
+}
+
 SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
+    if (look_) return trace_camera_look(ray, counters);
     if (!lines_.empty()) {
         // Lines and points are seen by camera rays only, in front of the first surface.
         Hit hit;
@@ -193,6 +265,13 @@ SampleValue Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) 
 
 SampleValue Integrator::trace_camera_miss(const Ray& ray, RayCounters& counters) const {
     ++counters.primary;
+    if (look_) {
+        // Only the exposure reaches a clean miss (no surface to tone or depth-cue).
+        SampleValue v = background_sample(ray);
+        v.color *= exposure_;
+        if (options_.alpha) v.color -= exposure_ * background_.radiance(ray.d);
+        return v;
+    }
     return alpha_rule(background_sample(ray), ray);
 }
 

@@ -104,6 +104,11 @@ class Integrator {
     SampleValue trace_behind(const Ray& ray, RayCounters& counters) const;
     // A camera ray's sample with the --alpha rule applied (the background it sees left out).
     SampleValue alpha_rule(SampleValue v, const Ray& ray) const;
+    // trace_camera_ray under the look for publication (render/look.h): exposure, tone curve and
+    // depth cue applied to the opaque sample, then the --alpha rule with the exposed background.
+    SampleValue trace_camera_look(const Ray& ray, RayCounters& counters) const;
+    // The light scale, exposure, tone curve and depth cue range from the options.
+    void setup_look(const Camera& camera);
 
     const FlatScene& scene_;
     const Accel& accel_;
@@ -121,6 +126,13 @@ class Integrator {
     // Only with --sky or an area light: without them shading is exactly as before.
     std::unique_ptr<SoftLighting> soft_;
     Vec3 sky_{0.0};
+    // The look for publication (render/look.h); `look_` false: camera rays as the VRML model has
+    // them, bit for bit.
+    bool look_ = false;
+    double exposure_ = 1.0;  // 2^EV
+    bool tone_hue_ = false, depth_cue_ = false;
+    double cue_near_ = 0.0, cue_far_ = 0.0;  // view depths where the depth cue starts and ends
+    Vec3 eye_{0.0}, forward_{0.0, 0.0, -1.0};
 };
 
 }  // namespace vr

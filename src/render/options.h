@@ -71,6 +71,18 @@ struct RenderOptions {
     // fraction of the image height (0: no outlines, and no probe rays), and its colour.
     double outline_width = 0.0;
     Vec3 outline_color{0.0};
+    // The look for publication (docs/rendering.md, "Leaving the VRML lighting model"): each of
+    // these leaves the VRML97 lighting model; all off by default (the image is then exact VRML).
+    double exposure = 0.0;          // --exposure EV: linear colour x 2^EV before output encoding
+    double light_scale = 1.0;       // --light-scale S: the direct lights' colours x S
+    bool light_scale_auto = false;  // --light-scale auto: S from auto_light_scale (render/look.h)
+    std::optional<bool> headlight;  // --headlight on|off: overrides NavigationInfo.headlight
+    bool depth_cue = false;         // --depth-cue: blend toward the background with view depth
+    std::optional<double> depth_cue_near, depth_cue_far;  // unset: the scene's depth range
+    bool tone_hue = false;  // --tone hue: the hue-keeping shoulder (render/look.h)
+    // --ao-distance given as a fraction of the scene's bounding-box diagonal (the presets'): 0:
+    // unset; else it replaces ao_distance once the scene is known.
+    double ao_distance_of_scene = 0.0;
     // Which tiles this process traces (many processes, SPEC section 14): those whose row-major
     // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
     // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles

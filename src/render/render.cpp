@@ -15,6 +15,7 @@
 #include "render/intersect.h"
 #include "render/layers.h"
 #include "render/outline.h"
+#include "render/work_estimate.h"
 
 namespace vr {
 namespace {
@@ -161,10 +162,18 @@ double RenderStats::rays_per_second() const {
     return render_seconds > 0.0 ? rays / render_seconds : 0.0;
 }
 
-void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
+void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& given,
                   const ProgressFn& progress, RenderStats& stats, const TileSink& sink,
                   std::vector<Sphere>* spheres_to_free) {
     stats = RenderStats();
+    RenderOptions options = given;
+    if (options.ao_distance_of_scene > 0.0) {
+        // The presets' sky light reach, the same share of any scene (docs/manual.md, --preset).
+        const Bounds3 b = scene.bounds(options.threads);
+        const double diagonal = b.empty() ? 0.0 : glm::length(b.hi - b.lo);
+        if (diagonal > 0.0 && std::isfinite(diagonal))
+            options.ao_distance = options.ao_distance_of_scene * diagonal;
+    }
     const auto start = Clock::now();
     const int width = std::max(options.width, 0), height = std::max(options.height, 0);
     int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
@@ -201,7 +210,12 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const EmptyTiles empty_tiles = {
         integrator.camera_misses_see_background(),
         camera.sampler.kind == SamplerKind::Center && integrator.uniform_background()};
-    const std::vector<int> tiles = tiles_of(options);
+    // Rows coarse first, so that the progress estimate has traced rows all over the image.
+    const int tiles_x = (width + kTileSize - 1) / kTileSize;
+    const int tiles_y = (height + kTileSize - 1) / kTileSize;
+    const std::vector<int> tiles = trace_order(tiles_of(options), tiles_x, tiles_y);
+    TileWorkEstimate work(tiles, tiles_x, tiles_y);
+    stats.tile_rays.assign(size_t(tiles_x) * size_t(tiles_y), 0);
     const int tile_count = int(tiles.size());
     if (tile_count == 0) {
         stats.render_seconds = seconds_since(render_start);
@@ -234,7 +248,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
         for (;;) {
             const int index = next_tile.fetch_add(1, std::memory_order_relaxed);
             if (index >= tile_count) break;
-            const uint64_t before = c.total();
+            // Rays of every kind: the sky and area lights' own count too.
+            const uint64_t before = c.total() + c.soft.rays;
             if (has_deadline && !stop.load(std::memory_order_relaxed) && Clock::now() > deadline)
                 stop.store(true, std::memory_order_relaxed);
             const TileRect r = tile_rect(tiles[size_t(index)], width, height);
@@ -251,7 +266,10 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
                            mine.scratch, c, pixels);
             }
             sink(x0, y0, x1, y1, pixels.data());
-            rays_done.fetch_add(c.total() - before, std::memory_order_relaxed);
+            const uint64_t tile_rays = c.total() + c.soft.rays - before;
+            work.record(tiles[size_t(index)], tile_rays);
+            stats.tile_rays[size_t(tiles[size_t(index)])] = tile_rays;  // one writer a tile
+            rays_done.fetch_add(tile_rays, std::memory_order_relaxed);
             if (tiles_done.fetch_add(1, std::memory_order_acq_rel) + 1 == tile_count) {
                 std::lock_guard<std::mutex> lock(mutex);
                 finished.notify_all();
@@ -269,7 +287,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
             int done = tiles_done.load(std::memory_order_acquire);
             if (done < tile_count) {
                 lock.unlock();
-                progress(double(done) / tile_count, rays_done.load(std::memory_order_relaxed));
+                progress(work.fraction_done(), rays_done.load(std::memory_order_relaxed));
                 lock.lock();
             }
         }

@@ -30,6 +30,9 @@ struct RenderStats {
     // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
     NonFiniteCounts nonfinite;
     SoftLightCounts soft;  // sky light and area lights (SPEC section 13)
+    // Rays of every kind each tile took, by tile id (row by row; 0 for tiles not traced here):
+    // where an image's cost lies, which the progress estimate predicts (render/work_estimate.h).
+    std::vector<uint64_t> tile_rays;
     double rays_per_second() const;
 };
 
