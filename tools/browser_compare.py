@@ -31,12 +31,12 @@ BACKGROUND = "0.6 0 0.6"
 TIMEOUT = 120  # seconds per program and file: view3dscene takes ~1 s, vrmlray a few at most
 
 
-def fit_position(lo, hi):
+def fit_position(lo, hi, width=W, height=H):
     """The camera position looking down -Z whose view holds all eight corners of the box, as
     vrmlray's fit_distance (src/render/camera.cpp) computes it for the same image size."""
     c = [(a + b) / 2 for a, b in zip(lo, hi)]
     tan_y = math.tan(FOV / 2)
-    tan_x = tan_y * W / H
+    tan_x = tan_y * width / height
     d = 0.0
     for i in range(8):
         q = [(hi if i >> k & 1 else lo)[k] - c[k] for k in range(3)]
@@ -208,4 +208,5 @@ def main():
         sys.stdout.write(text)
 
 
-main()
+if __name__ == "__main__":  # tools/conformance.py imports the framing from here
+    main()

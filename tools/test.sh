@@ -2,7 +2,8 @@
 # Installs the packages vrmlray needs (if missing), configures, builds and runs every test with CTest, then
 # says in one line what ran and what was skipped, and why.
 # VRMLRAY_BUILD picks the build folder (default build/); VRMLRAY_CMAKE_ARGS adds configure options;
-# VRMLRAY_CORPUS=DIR points the corpus tests at a folder of real files (default ../shared/corpus, when it exists).
+# VRMLRAY_CORPUS=DIR points the corpus tests at a folder of real files (default ../shared/corpus, when it exists);
+# VRMLRAY_CONFORMANCE=DIR the conformance test at the Xj3D and Titania suites (default ../shared/conformance).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/tools/setup.sh"
@@ -27,6 +28,11 @@ if [ "$skipped" -gt 0 ]; then
     if [ "$corpus" = none ]; then why=" (VRMLRAY_CORPUS=none: the corpus tests were skipped)"
     elif [ ! -d "$corpus" ]; then why=" (no corpus of real files at $corpus: its tests were skipped; set VRMLRAY_CORPUS=DIR)"
     else why=" (see 'The following tests did not run' above)"; fi
+    # The conformance suites are looked for on their own (tools/conformance.py): say so when they were not found.
+    conformance=${VRMLRAY_CONFORMANCE:-$(cd "$root/.." && pwd)/shared/conformance}
+    if [ "$conformance" = none ] || [ ! -d "$conformance" ]; then
+        why="$why (no conformance suites at $conformance: the 'conformance' test was skipped; set VRMLRAY_CONFORMANCE=DIR)"
+    fi
 fi
 echo "tests: $passed passed, $failed failed, $skipped skipped$why"
 exit "$status"
