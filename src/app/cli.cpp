@@ -13,9 +13,9 @@
 #include <memory>
 #include <tuple>
 
-#include "parser/suggest.h"
-#include "core/format.h"
 #include "app/presets.h"
+#include "core/format.h"
+#include "parser/suggest.h"
 #include "render/sampling.h"
 
 namespace vr {

@@ -52,7 +52,7 @@ struct Shading {
     // X3D solid geometry: camera and secondary rays pass through its back faces (Accel::intersect);
     // shadow rays do not (docs/rendering.md, Back faces).
     bool cull_back_faces = false;
-    uint32_t scope = 0;      // index into FlatScene::scopes; 0: no ClipPlane, no LocalFog
+    uint32_t scope = 0;  // index into FlatScene::scopes; 0: no ClipPlane, no LocalFog
 };
 
 struct Sphere {
