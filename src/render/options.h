@@ -59,13 +59,10 @@ struct RenderOptions {
     // radiance instead of a colour, and the background where the scene binds none.
     std::string sky_file;
     std::shared_ptr<const SkyMap> sky_map;
-    double ao_distance = kInf;  // sky light: occluders farther than this do not count
-    // Absolute error of A(p) and of each area light's visibility (a pixel's mean over its samples
-    // on the sampling path): 2e-2 keeps the sky light's RMSE below half an 8-bit step on the S2
-    // molecule and on PyMOL's 1tii export (bench/README.md, "Sky light at publication settings").
-    double light_tolerance = 2e-2;
-    double aperture = 0.0;  // thin lens radius, scene units; 0: a pinhole
-    double focus = 0.0;     // thin lens: distance of the plane in focus along the view
+    double ao_distance = kInf;      // sky light: occluders farther than this do not count
+    double light_tolerance = 2e-2;  // error of A(p) and V_l; a pixel's mean (docs/rendering.md)
+    double aperture = 0.0;          // thin lens radius, scene units; 0: a pinhole
+    double focus = 0.0;             // thin lens: distance of the plane in focus along the view
     // Which tiles this process traces (many processes, SPEC section 14): those whose row-major
     // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
     // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles
