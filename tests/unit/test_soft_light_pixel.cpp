@@ -124,8 +124,8 @@ TEST(SoftLightPixel, PixelMeanInACreviceBesideAMeshIsWithinToleranceOfBruteForce
             double sum = 0.0;
             SoftLightCounts counts;
             for (int k = 0; k < 4; ++k)  // the pixel's points, 1e-13 apart: the same A
-                sum += four.sky_visibility(p + Vec3(0.0, 1e-13 * (4 * pixel + k), 0.0),
-                                           Vec3(1e-15), n, n, counts);
+                sum += four.sky_visibility(p + Vec3(0.0, 1e-13 * (4 * pixel + k), 0.0), Vec3(1e-15),
+                                           n, n, counts);
             EXPECT_EQ(counts.sampled_points, 4u);
             // Stratified 10^6 rays: their error is far below 1e-3, inside the allowance below.
             within += std::abs(sum / 4.0 - reference) <= e + 1e-3 ? 1 : 0;
@@ -190,8 +190,8 @@ TEST(SoftLightPixel, SeeThroughSphereLetsThroughItsShareOfAnAreaLight) {
     const Vec3 c(0.3, 0.0, 5.0);
     const double occ_half = std::asin(occ_r / glm::length(c));
     const double gamma = std::acos(glm::normalize(c).z);
-    const double share = cap_overlap(light_half, occ_half, gamma) /
-                         (2.0 * kPi * (1.0 - std::cos(light_half)));
+    const double share =
+        cap_overlap(light_half, occ_half, gamma) / (2.0 * kPi * (1.0 - std::cos(light_half)));
     ASSERT_GT(share, 0.1);
     ASSERT_LT(share, 0.9);
     for (double t : {0.0, 0.5, 0.9}) {
