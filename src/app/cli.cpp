@@ -440,8 +440,8 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                   "Sky light: occluders farther than this do not count (default: unlimited)")
         ->check(CLI::PositiveNumber);
     r->add_option("--light-tolerance", o.light_tolerance,
-                  "Absolute error bound of the sky light and of each area light's visibility "
-                  "(default 1e-3)")
+                  "Absolute error bound of the sky light and of each area light's visibility, "
+                  "per pixel over its samples (default 2e-2)")
         ->check(CLI::Range(1e-7, 0.5));
     r->add_option("--aperture", o.aperture,
                   "Depth of field: thin lens radius in scene units (needs a sampler with several "
@@ -590,7 +590,7 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
                   "Sky light: occluders farther than this do not count (default: unlimited)")
         ->check(CLI::PositiveNumber);
     b->add_option("--light-tolerance", bench.options.light_tolerance,
-                  "Light tolerance of the sampler series (default 1e-3)")
+                  "Light tolerance of the sampler series (default 2e-2)")
         ->check(CLI::Range(1e-7, 0.5));
     add_common(b, common, texts);
     return b;

@@ -64,7 +64,7 @@ struct RenderOptions {
     std::string sky_file;
     std::shared_ptr<const SkyMap> sky_map;
     double ao_distance = kInf;      // sky light: occluders farther than this do not count
-    double light_tolerance = 1e-3;  // absolute error of A(p) and of each area light's visibility
+    double light_tolerance = 2e-2;  // error of A(p) and V_l; a pixel's mean (docs/rendering.md)
     double aperture = 0.0;          // thin lens radius, scene units; 0: a pinhole
     double focus = 0.0;             // thin lens: distance of the plane in focus along the view
     // --outline (docs/rendering.md "Outlines"); leaves the VRML lighting model. Line width as a

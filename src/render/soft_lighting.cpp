@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <string>
 
 #include "render/sampling.h"
 #include "render/sobol.h"
@@ -131,6 +132,16 @@ SoftLighting::SoftLighting(const FlatScene& scene, const Accel& accel, const Gas
       seed_(options.seed),
       sky_(options.sky.has_value() || options.sky_map),
       sky_map_(options.sky_map) {
+    // The pixel's samples share the sampling path's error budget (docs/rendering.md, "What
+    // --light-tolerance E guarantees"): K box-filtered samples, each point's estimate independent
+    // of the others' (its own scrambled sequence), make a pixel mean whose error has 1/sqrt(K) of
+    // one point's spread, and whose K n rays together see any share as large as E.
+    PixelSampler sampler;
+    std::string error;
+    if (make_sampler(options, sampler, error))
+        pixel_samples_ = std::max(1, sampler.fixed_samples_per_pixel());
+    point_interval_ = tolerance_ * std::sqrt(double(pixel_samples_));
+    min_rays_ = min_samples_to_see(tolerance_) / double(pixel_samples_);
     // (ClipPlane: the sphere occluders below know no planes; the tracer's clipped queries do.)
     spheres_only_ = scene.quadrics.empty() && scene.meshes.empty() && scene.instances.empty() &&
                     gas_ == nullptr && !scene.any_clip_planes();
@@ -374,12 +385,12 @@ double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec
     // Neighbouring directions are mostly blocked by the same primitive (a hint only).
     uint32_t blocker = UINT32_MAX;
     const double mean = stratified_mean<double>(
-        axis, theta_max, measure, key, min_samples_to_see(tolerance_),
+        axis, theta_max, measure, key, min_rays_,
         [&](const Vec3& w) {
             return shadow_visibility(p, p_error, ng, w, reach, target, target_radius, counts,
                                      blocker);
         },
-        [&](double v, double t99) { return t99 * std::sqrt(v) <= tolerance_; }, done);
+        [&](double v, double t99) { return t99 * std::sqrt(v) <= point_interval_; }, done);
     if (!done) ++counts.unconverged;
     return mean;
 }
@@ -398,8 +409,7 @@ Vec3 SoftLighting::sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& 
     bool done = true;
     uint32_t blocker = UINT32_MAX;
     out += stratified_mean<Vec3>(
-        n, 0.5 * kPi, CapMeasure::Cosine, point_key(seed_ ^ 0x5c1e5, p, n),
-        min_samples_to_see(tolerance_),
+        n, 0.5 * kPi, CapMeasure::Cosine, point_key(seed_ ^ 0x5c1e5, p, n), min_rays_,
         [&](const Vec3& w) {
             const double v =
                 shadow_visibility(p, p_error, ng, w, ao_distance_, Vec3(0.0), 0.0, counts, blocker);
@@ -407,8 +417,8 @@ Vec3 SoftLighting::sky_radiance(const Vec3& p, const Vec3& p_error, const Vec3& 
         },
         [&](const Vec3& v, double t99) {
             const Vec3 half = t99 * glm::sqrt(v);
-            return half.x <= tolerance_ * range.x && half.y <= tolerance_ * range.y &&
-                   half.z <= tolerance_ * range.z;
+            return half.x <= point_interval_ * range.x && half.y <= point_interval_ * range.y &&
+                   half.z <= point_interval_ * range.z;
         },
         done);
     if (!done) ++counts.unconverged;

@@ -162,6 +162,11 @@ class SoftLighting {
     const Accel& accel_;
     const GasVolume* gas_;
     double tolerance_;
+    // The sampling path per point: its 99% interval's half-width, E sqrt(K), and its least rays,
+    // ln(100) / (K E), for the K samples of a pixel of a fixed sampler (1 for the others).
+    int pixel_samples_ = 1;
+    double point_interval_ = 0.0;
+    double min_rays_ = 0.0;
     double ao_distance_;
     uint64_t seed_;
     bool sky_ = false;
