@@ -153,8 +153,8 @@ int main(int argc, char** argv) {
     lighting.lights = &scene.flat.lights;
     lighting.light_sets = &scene.flat.light_sets;
 
-    // Camera rays through the pixel centres; fieldOfView spans the smaller image dimension (SPEC
-    // 4).
+    // Camera rays through the pixel centres; fieldOfView spans the smaller image dimension
+    // (docs/manual.md, Camera).
     const Vec3 right = scene.world_from_camera[0], up = scene.world_from_camera[1],
                forward = -scene.world_from_camera[2];
     const double scale = std::tan(0.5 * scene.fov) / (0.5 * std::min(width, height));

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One image by many processes (SPEC section 14) against one process with threads, on this machine:
+# One image by many processes (docs/mpi.md) against one process with threads, on this machine:
 # 1 rank x 2 threads, 2 ranks x 1 thread, 4 ranks x 1 thread (oversubscribed: 4 processes on the
 # cores there are), plus 1 rank x 1 thread as the base of the speed-up, at 1920x1080 on
 #   S2: a 10,000-atom PyMOL-style molecule with bonds (tools/gen_molecule.py 10000), opaque;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soft light: time and achieved error against --light-tolerance (SPEC 13) on a real molecule.
+# Soft light: time and achieved error against --light-tolerance (docs/rendering.md, Soft light with error bounds) on a real molecule.
 # The molecule (default: Jmol's c551_spacefill.wrl from the shared corpus, 1,216 atoms as exact spheres)
 # is Inlined under one sphere light; every render is compared with a reference at tolerance 1e-6.
 # The colour error of a pixel is at most diffuse * (sky * dA + light * dV) <= (0.45 + 1) * E here, so

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Soft light beside its peers at equal error: the peer harness's S2 molecule (../shared/bench: 10,000 atoms
 # + 9,999 bond cylinders, written as .wrl, .dat and .pov by its generator), in two lightings, each the same
-# in every renderer (SPEC 13):
+# in every renderer (docs/rendering.md, Soft light with error bounds):
 #
 #   sky   sky light only: colour = Kd * 0.7 * A(p), A = (1/pi) * integral of V max(n.w, 0) over the
 #         hemisphere, no distance limit. vrmlray --sky 0.7,0.7,0.7; Tachyon -auto_skylight 0.7 (its sky

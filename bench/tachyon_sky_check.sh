@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Does Tachyon's sky light compute SPEC 13's A(p), and where do its pixels look? The simplest scene with a
+# Does Tachyon's sky light compute docs/rendering.md, Soft light with error bounds's A(p), and where do its pixels look? The simplest scene with a
 # closed form: a plane y = 0 (Tachyon PLANE, green) under one sphere of radius r = 1 at height h = 2 (red),
 # seen straight down by a pinhole camera 20 above the plane whose image spans 10 x 10 of it. On the plane,
 # at a distance s from the sphere's foot, d^2 = s^2 + h^2 and cos(theta) = h/d, so

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent check of animation at --time (SPEC section 12) against view3dscene (Castle Game Engine).
+"""Independent check of animation at --time (docs/animation.md) against view3dscene (Castle Game Engine).
 
 For each scene, renders t = 0, 0.5, 1.0 s with vrmlray and with view3dscene's --screenshot-range
 (headless under xvfb-run), and prints the silhouette overlap (intersection over union of the pixels

@@ -140,7 +140,7 @@ void Animator::resolve(const Route& route) {
             warned_scripts_.insert(route.from).second)
             warn_once(route.from,
                       describe(tree_, route.from) +
-                          " is not run (SPEC section 2): the fields its ROUTEs feed keep their "
+                          " is not run (docs/input.md): the fields its ROUTEs feed keep their "
                           "file values",
                       "script-not-run:" + std::to_string(route.from));
         return;

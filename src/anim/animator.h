@@ -1,4 +1,4 @@
-// The world at time T (SPEC section 12): TimeSensors send their events, interpolators map them,
+// The world at time T (docs/animation.md): TimeSensors send their events, interpolators map them,
 // and ROUTEs carry them into fields of the node tree, which the scene build then reads as it reads
 // any file value. The tracer never sees time.
 //

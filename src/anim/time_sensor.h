@@ -1,5 +1,6 @@
 // What a TimeSensor (VRML97 6.50, X3D 8.4.1) has sent by the time the world's clock reads `now`:
-// the clock starts at 0 when the file is loaded (SPEC section 12), so startTime counts from there.
+// the clock starts at 0 when the file is loaded (docs/animation.md), so startTime counts from
+// there.
 #pragma once
 
 namespace vr {

@@ -1,7 +1,7 @@
-// vrmlray bench SCENE: speed against error (SPEC section 11). The scene is read and flattened once;
-// then a reference image is read (--reference) or rendered at a much higher setting, and a ladder
-// of settings is rendered and measured against it: seconds, rays/s, RMSE, PSNR, max error, SSIM.
-// The table goes to the terminal and to a CSV file, and error against time to a log-log plot.
+// vrmlray bench SCENE: speed against error (docs/manual.md, bench). The scene is read and flattened
+// once; then a reference image is read (--reference) or rendered at a much higher setting, and a
+// ladder of settings is rendered and measured against it: seconds, rays/s, RMSE, PSNR, max error,
+// SSIM. The table goes to the terminal and to a CSV file, and error against time to a log-log plot.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -142,7 +142,8 @@ int run_info(const std::string& path, const CommonOptions& common) {
         else
             std::printf(" at (%g %g %g) radius %g", l.position.x, l.position.y, l.position.z,
                         l.radius);
-        // Area lights (SPEC 13): only when a hint made one, so other files' output is unchanged.
+        // Area lights (docs/rendering.md, Soft light with error bounds): only when a hint made one,
+        // so other files' output is unchanged.
         if (l.source_radius > 0.0) std::printf(" sourceRadius %g", l.source_radius);
         if (l.angular_radius > 0.0) std::printf(" angularRadius %g", l.angular_radius);
         std::printf("\n");

@@ -1,4 +1,4 @@
-// The subcommands of the vrmlray program. Each returns the process exit code (SPEC section 1).
+// The subcommands of the vrmlray program. Each returns the process exit code (docs/manual.md).
 #pragma once
 #include <filesystem>
 #include <optional>
@@ -61,7 +61,8 @@ struct CompareCommand {
     double pixel_threshold = 1.0 / 255.0;
     std::string diff_path;
     bool json = false;
-    // Folders only (SPEC section 10): the JUnit file, the HTML report's folder, --update, threads.
+    // Folders only (docs/golden-tests.md): the JUnit file, the HTML report's folder, --update,
+    // threads.
     std::string junit_path, report_dir;
     bool update = false;
     int threads = 0;                // 0: all cores

@@ -1,5 +1,6 @@
-// The bounds that keep hostile input from exhausting the machine (SPEC sections 2 and 8), in one
-// place, each with its default and the name `--limit NAME=VALUE` raises or lowers it by.
+// The bounds that keep hostile input from exhausting the machine (docs/input.md and
+// docs/rendering.md, Numbers), in one place, each with its default and the name `--limit
+// NAME=VALUE` raises or lowers it by.
 #pragma once
 #include <cstddef>
 #include <string>

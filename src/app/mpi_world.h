@@ -1,4 +1,4 @@
-// Many processes rendering one image (SPEC section 14). Every MPI call of vrmlray is in the MPI
+// Many processes rendering one image (docs/mpi.md). Every MPI call of vrmlray is in the MPI
 // module (src/mpi/vrmlray_mpi.cpp), which mpi_world.cpp loads only when a launcher started this
 // process with peers: a plain run loads no MPI library, and a build without MPI (VRMLRAY_MPI off)
 // has no module, so both see a world of one process.

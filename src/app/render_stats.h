@@ -1,4 +1,4 @@
-// render --stats: the JSON a render writes about itself (SPEC section 1, README "Statistics").
+// render --stats: the JSON a render writes about itself (docs/manual.md, README "Statistics").
 #pragma once
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -23,7 +23,7 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
                                          size_t sphere_count, const RenderStats& stats,
                                          const RenderTimings& timings);
 
-// One process's share of a render with many processes (SPEC section 14), as the doubles that
+// One process's share of a render with many processes (docs/mpi.md), as the doubles that
 // World::gather carries: tiles, rays (all kinds), then seconds of MPI's start-up, parse, scene,
 // build, render and gather (which includes waiting for the slowest process).
 std::vector<double> process_share(size_t tiles, const RenderStats& own,

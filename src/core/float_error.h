@@ -1,4 +1,5 @@
-// Rounding-error bounds for double-precision geometry (SPEC section 8: no fixed epsilons).
+// Rounding-error bounds for double-precision geometry (docs/rendering.md, Numbers: no fixed
+// epsilons).
 //
 // gamma_bound(n) bounds the relative error of n successive IEEE double operations, each correctly
 // rounded with unit roundoff u = 2^-53: |computed - exact| <= gamma(n) * |exact| (Higham, "Accuracy

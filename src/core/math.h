@@ -1,5 +1,5 @@
 // Double-precision vector types used everywhere in src/ (single precision fails far tiny spheres
-// and scenes translated by 1e5: SPEC section 8).
+// and scenes translated by 1e5: docs/rendering.md, Numbers).
 #pragma once
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>

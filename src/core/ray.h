@@ -1,4 +1,4 @@
-// Rays, and how new rays leave a surface without re-hitting it (SPEC section 8).
+// Rays, and how new rays leave a surface without re-hitting it (docs/rendering.md, Numbers).
 //
 // A hit point p is known only to within a per-component error bound p_error. A new ray starts at
 // the corner of that error box that lies on the side of the surface it travels to, pushed out along

@@ -1,5 +1,5 @@
-// Golden-image comparison (SPEC section 10): error metrics between two images of the same size,
-// pass/fail thresholds on them, their text and JSON reports, and a difference heat-map.
+// Golden-image comparison (docs/golden-tests.md): error metrics between two images of the same
+// size, pass/fail thresholds on them, their text and JSON reports, and a difference heat-map.
 //
 // All metrics but SSIM are over every channel as stored, alpha included (R, G, B, A; R, G, B when
 // an image has no alpha). Images whose files had different channel counts fail (RGB against RGBA).

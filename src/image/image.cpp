@@ -3,7 +3,7 @@
 // (oiio_module.h), which is loaded only then. Reading goes through read_file_pixels
 // (texture_file.h).
 //
-// What reaches a file (SPEC section 9):
+// What reaches a file (docs/manual.md, render):
 //   - The extension picks the format and the stored sample type:
 //       png, ppm/pnm, jpg/jpeg, bmp, tga, ...  8-bit unsigned integers
 //       tif/tiff                               16-bit unsigned integers

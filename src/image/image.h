@@ -86,10 +86,10 @@ inline bool write_image(const std::string& path, const Image& image, bool srgb,
     return write_image(path, image, WriteOptions{srgb, false}, error);
 }
 
-// Whether OUT can be written, asked before any rendering (SPEC section 9): its extension names a
-// format a writer knows (png, ppm and exr without OpenImageIO; others through its module, loaded
-// here), that format holds alpha if `alpha`, its folder exists and is writable, and OUT is not a
-// folder or a read-only file. Nothing is created.
+// Whether OUT can be written, asked before any rendering (docs/manual.md, render): its extension
+// names a format a writer knows (png, ppm and exr without OpenImageIO; others through its module,
+// loaded here), that format holds alpha if `alpha`, its folder exists and is writable, and OUT is
+// not a folder or a read-only file. Nothing is created.
 enum class OutputCheck { kOk, kNotWritable, kNoAlpha };
 OutputCheck check_output(const std::string& path, bool alpha, std::string& error);
 

@@ -1,4 +1,4 @@
-// Line plots drawn into an Image, for `vrmlray bench` (SPEC section 11: error against time,
+// Line plots drawn into an Image, for `vrmlray bench` (docs/manual.md, bench: error against time,
 // log-log). Self-contained: a built-in 5x7 bitmap font, anti-aliased lines and markers, no system
 // fonts.
 #pragma once

@@ -1,5 +1,5 @@
-// Golden-image suites (SPEC section 10): a reference folder and a result folder matched by relative
-// path, every pair compared with the same thresholds, the outcomes ordered worst first.
+// Golden-image suites (docs/golden-tests.md): a reference folder and a result folder matched by
+// relative path, every pair compared with the same thresholds, the outcomes ordered worst first.
 #pragma once
 #include <filesystem>
 #include <functional>

@@ -1,5 +1,5 @@
 // What a folder comparison publishes: a JUnit XML file for CI systems and an HTML report that a
-// browser shows offline (SPEC section 10).
+// browser shows offline (docs/golden-tests.md).
 #pragma once
 #include <filesystem>
 #include <string>

@@ -130,7 +130,7 @@ int vrmlray_oiio_write(const char* path, int width, int height, int channels, in
         if (ext == "ppm" || ext == "pnm") spec.attribute("pnm:binary", 1);
         spec.attribute("Software", "vrmlray");
         // OpenImageIO stamps the current time otherwise (EXR capDate, TIFF DateTime): the same
-        // render must write the same bytes (SPEC section 9).
+        // render must write the same bytes (docs/manual.md, render).
         spec.attribute("DateTime", "");
         if (!out->open(path, spec)) {
             set_error(error, error_size, oiio_error(out->geterror()));

@@ -56,8 +56,8 @@ class Accel {
     bool intersect_any_face(const Ray& ray, Hit& hit) const;
     // The fraction of light passing along the segment t in (0, ray.t_max): 0 if an opaque surface
     // crosses it, else the product of transparency over every see-through surface crossing (a
-    // see-through sphere crossed through counts twice: t^2, SPEC section 5). Order independent, so
-    // deterministic.
+    // see-through sphere crossed through counts twice: t^2, docs/rendering.md). Order independent,
+    // so deterministic.
     double transmittance(const Ray& ray) const { return transmittance(ray, nullptr); }
     // The same, trying first the entry `*blocker` names (an index of leaf order, any value) and
     // setting it to the opaque entry that blocks this ray, if one does. Shadow rays from

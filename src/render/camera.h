@@ -1,5 +1,5 @@
-// The camera (SPEC section 4): VRML conventions, a pinhole or orthographic projection, and the
-// pixel sampler chosen for the render.
+// The camera (docs/manual.md, Camera): VRML conventions, a pinhole or orthographic projection, and
+// the pixel sampler chosen for the render.
 #pragma once
 #include <cmath>
 #include <string>
@@ -21,13 +21,13 @@ struct Camera {
     double ortho_size = 2.0;           // ortho: world extent across the smaller image dimension
     Vec2 ortho_center{0.0};            // ortho: window centre in camera (x, y)
     PixelSampler sampler;
-    // Thin lens (SPEC section 13): radius in scene units (0: a pinhole) and the distance of the
-    // plane in focus along the view.
+    // Thin lens (docs/rendering.md, Soft light with error bounds): radius in scene units (0: a
+    // pinhole) and the distance of the plane in focus along the view.
     double lens_radius = 0.0;
     double focus_distance = 1.0;
     uint64_t lens_seed = 0;
     // The scene has no Viewpoint: the camera looks along -Z from the VRML default orientation and
-    // fieldOfView, moved back to frame the scene's bounds as --fit does (SPEC section 4).
+    // fieldOfView, moved back to frame the scene's bounds as --fit does (docs/manual.md, Camera).
     bool framed_default = false;
     // --orbit: the point looked at and the axis turned about (with the position, the --position,
     // --look-at and --up that give this camera).

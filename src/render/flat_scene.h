@@ -37,8 +37,8 @@ struct Material {
     Mat3 texture_transform{1.0};  // applied to (s, t, 1)
     // X3D 4: an RGB texture multiplies the colour; VRML97 and X3D 3: it replaces it.
     bool texture_modulates = false;
-    // Gas hints (SPEC section 6); negative/unset values mean "use the global option or the
-    // default".
+    // Gas hints (docs/rendering.md, Gas mode); negative/unset values mean "use the global option or
+    // the default".
     int8_t sphere_mode = -1;  // -1 unset, else SphereMode
     double density = -1.0;
     Vec3 albedo{-1.0};
@@ -115,7 +115,8 @@ struct Light {
     double beam_width = 1.570796;
     double cutoff_angle = 0.785398;
     bool headlight = false;       // follows the camera: direction set per render, never shadowed
-    double source_radius = 0.0;   // point, spot: a uniformly bright sphere (SPEC 13); 0: a point
+    double source_radius = 0.0;   // point, spot: a uniformly bright sphere (docs/rendering.md, Soft
+                                  // light with error bounds); 0: a point
     double angular_radius = 0.0;  // directional: a disc of this angular radius; 0: a direction
 };
 

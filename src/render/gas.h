@@ -1,6 +1,6 @@
-// Gas-volume spheres (SPEC section 6): spheres of constant extinction sigma, albedo rho and
-// emission e, whose extinctions add where they overlap. Along a ray up to the first opaque hit
-// t_end:
+// Gas-volume spheres (docs/rendering.md, Gas mode): spheres of constant extinction sigma, albedo
+// rho and emission e, whose extinctions add where they overlap. Along a ray up to the first opaque
+// hit t_end:
 //
 //   L = integral_0^t_end T(0,t) S(t) dt + T(0,t_end) L_end
 //   S(t) = sum_j sigma_j (e_j + rho_j (x) sum_l c_l att_l spot_l (a_l + i_l V_l))
@@ -91,8 +91,9 @@ class GasVolume {
         const std::vector<std::vector<uint32_t>>* light_sets = nullptr;
         const Light* headlight = nullptr;
         SurfaceTransmittance surfaces;  // null: nothing but gas can block light
-        // An area light's V_l from a gas point (SPEC 13): the share of its solid angle seen,
-        // through surfaces and gas, to --light-tolerance. Null: every light is a point.
+        // An area light's V_l from a gas point (docs/rendering.md, Soft light with error bounds):
+        // the share of its solid angle seen, through surfaces and gas, to --light-tolerance. Null:
+        // every light is a point.
         std::function<double(const Light& light, const Vec3& p)> area_visibility;
         // area_visibility's absolute error: the quadrature of an area light's term stops refining
         // at this times the term's unshadowed bound (on top of the relative tolerance).

@@ -143,7 +143,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
         if (std::isnan(inc.factor)) ++counters.nonfinite.light;
         if (!(inc.factor > 0.0)) return;
         const Vec3 light_rgb = light.color * inc.factor;
-        // The ambient term is never shadowed (SPEC section 5).
+        // The ambient term is never shadowed (docs/rendering.md).
         Vec3 term = light.ambient_intensity * look.ambient_intensity * look.diffuse;
         const Vec3& l = inc.to_light;
         const double n_dot_l = glm::dot(ns, l);
@@ -161,7 +161,7 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
                                  : spawn_ray_to(hit.p, hit.p_error, ng, light.position);
                 ++counters.shadow;
                 visibility = accel_.transmittance(shadow, &counters.shadow_blocker);
-                // Gas spheres on the way dim the light by their transmittance (SPEC section 5).
+                // Gas spheres on the way dim the light by their transmittance (docs/rendering.md).
                 if (gas_ && visibility > 0.0) visibility *= std::exp(-gas_->optical_depth(shadow));
                 if (std::isnan(visibility))
                     ++counters.nonfinite.light;  // dropped below, not hidden
@@ -194,9 +194,9 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
 }
 
 SampleValue Integrator::alpha_rule(SampleValue v, const Ray& ray) const {
-    // With --alpha the colour leaves out the background that reaches the pixel (SPEC section 9), so
-    // that colour + (1 - alpha) * background, the image composited over its background, is the
-    // opaque image again. A clean miss gives exactly 0.
+    // With --alpha the colour leaves out the background that reaches the pixel (docs/manual.md,
+    // render), so that colour + (1 - alpha) * background, the image composited over its background,
+    // is the opaque image again. A clean miss gives exactly 0.
     if (options_.alpha && v.alpha < 1.0) v.color -= (1.0 - v.alpha) * background_.radiance(ray.d);
     return v;
 }
@@ -284,7 +284,7 @@ SampleValue Integrator::trace(const Ray& ray, int depth, double weight,
         if (!accel_.intersect(ray, *hit)) return background_sample(ray);
         return trace_surfaces(ray, depth, weight, counters, &hit);
     }
-    // Gas along the ray up to the first surface (SPEC section 6): L = gas + T * L_end.
+    // Gas along the ray up to the first surface (docs/rendering.md, Gas mode): L = gas + T * L_end.
     std::optional<Hit> surface;
     if (Hit hit; accel_.intersect(ray, hit)) surface = hit;
     const double len = glm::length(ray.d);

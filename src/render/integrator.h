@@ -1,4 +1,4 @@
-// The opaque-mode integrator (SPEC section 5): Whitted-style recursion with the VRML97 lighting
+// The opaque-mode integrator (docs/rendering.md): Whitted-style recursion with the VRML97 lighting
 // equation at every hit, shadow rays with see-through attenuation, mirror reflection and
 // refraction/see-through transparency by the reflectivity/transparency/ior hints.
 #pragma once
@@ -38,7 +38,8 @@ struct NonFiniteCounts {
 struct RayCounters {
     uint64_t primary = 0, shadow = 0, secondary = 0;
     NonFiniteCounts nonfinite;
-    SoftLightCounts soft;  // sky light and area lights (SPEC section 13)
+    SoftLightCounts
+        soft;  // sky light and area lights (docs/rendering.md, Soft light with error bounds)
     // Not a count: this thread's last shadow-ray blocker, the hint of Accel::transmittance (any
     // value is correct; the thread's next shadow ray tries it first).
     uint32_t shadow_blocker = UINT32_MAX;

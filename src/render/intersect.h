@@ -234,7 +234,8 @@ struct SurfaceHit {
     bool has_fog_depth = false;  // FogCoordinate: fog_depth is the fog amount (render/background.h)
     double fog_depth = 0.0;
     uint32_t shading = 0;
-    bool gas = false;  // a gas sphere (SPEC section 6); the opaque integrator shades it as opaque
+    bool gas = false;  // a gas sphere (docs/rendering.md, Gas mode); the opaque integrator shades
+                       // it as opaque
 };
 
 // Texture coordinates (inverse trigonometry for round shapes) only when `want_uv`.

@@ -1,4 +1,4 @@
-// Everything a render can be told from the command line, with its default (SPEC section 1).
+// Everything a render can be told from the command line, with its default (docs/manual.md).
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -27,7 +27,7 @@ struct RenderOptions {
     SpheresOption spheres = SpheresOption::FromHints;  // hints win; otherwise opaque
     std::string viewpoint;  // DEF name or description; empty: first in file order
     bool fit = false;       // move the camera to frame the scene's bounds
-    // Camera overrides (SPEC section 12), applied to the chosen viewpoint before --fit.
+    // Camera overrides (docs/animation.md), applied to the chosen viewpoint before --fit.
     std::optional<Vec3> camera_position;  // --position, world
     std::optional<Vec3> look_at;          // --look-at: the view points at it
     std::optional<Vec3> up;               // --up: world direction shown upwards
@@ -52,12 +52,13 @@ struct RenderOptions {
     std::optional<Vec3> emission;    // gas emission where no hint says (default: emissiveColor)
     std::optional<Vec3> background;  // overrides the scene's Background
     bool srgb = false;
-    bool alpha = false;  // an alpha channel; the colour then leaves the background out (SPEC 9)
+    bool alpha = false;  // an alpha channel; the colour then leaves the background out
+                         // (docs/manual.md, render)
     uint64_t seed = 0;
-    double min_weight = 1e-3;  // a path whose weight drops below this stops (SPEC section 5)
+    double min_weight = 1e-3;  // a path whose weight drops below this stops (docs/rendering.md)
     double line_width = 1.0;   // pixels: lines of IndexedLineSet and LineSet
     double point_size = 1.0;   // pixels: the diameter of PointSet points
-    // Soft light (SPEC section 13); all off by default.
+    // Soft light (docs/rendering.md, Soft light with error bounds); all off by default.
     std::optional<Vec3> sky;  // sky light colour: adds diffuse * sky * A(p)
     // --sky FILE: the image's path, and the map itself once read (run_render): the sky light's
     // radiance instead of a colour, and the background where the scene binds none.
@@ -83,7 +84,7 @@ struct RenderOptions {
     // --ao-distance given as a fraction of the scene's bounding-box diagonal (the presets'): 0:
     // unset; else it replaces ao_distance once the scene is known.
     double ao_distance_of_scene = 0.0;
-    // Which tiles this process traces (many processes, SPEC section 14): those whose row-major
+    // Which tiles this process traces (many processes, docs/mpi.md): those whose row-major
     // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
     // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles
     // in every share, not all in one).

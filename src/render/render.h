@@ -29,7 +29,8 @@ struct RenderStats {
     bool timed_out = false;  // options.timeout passed; the image is incomplete
     // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
     NonFiniteCounts nonfinite;
-    SoftLightCounts soft;  // sky light and area lights (SPEC section 13)
+    SoftLightCounts
+        soft;  // sky light and area lights (docs/rendering.md, Soft light with error bounds)
     // Rays of every kind each tile took, by tile id (row by row; 0 for tiles not traced here):
     // where an image's cost lies, which the progress estimate predicts (render/work_estimate.h).
     std::vector<uint64_t> tile_rays;
@@ -59,12 +60,12 @@ size_t estimate_render_bytes(const FlatScene& scene, const RenderOptions& option
 
 // Builds the acceleration structure and renders the whole image (options.width x options.height) on
 // options.threads threads (0: all cores) in 16x16 tiles. Deterministic for any thread count. Pixels
-// hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel (SPEC
-// section 9); with options.alpha the colour leaves that background out (premultiplied); no NaN or
-// infinity ever reaches the image. Tiles that options.tile_stride/offset leave to other processes
-// hold zeros. With options.timeout > 0, tiles not begun when that many seconds
-// (counted from this call) have passed are skipped and stats.timed_out is set. `spheres_to_free`:
-// as for render_tiles below.
+// hold linear RGB and alpha = 1 - the weight with which the background reaches the pixel
+// (docs/manual.md, render); with options.alpha the colour leaves that background out
+// (premultiplied); no NaN or infinity ever reaches the image. Tiles that options.tile_stride/offset
+// leave to other processes hold zeros. With options.timeout > 0, tiles not begun when that many
+// seconds (counted from this call) have passed are skipped and stats.timed_out is set.
+// `spheres_to_free`: as for render_tiles below.
 Image render_image(const FlatScene& scene, const Camera& camera, const RenderOptions& options,
                    const ProgressFn& progress, RenderStats& stats,
                    std::vector<Sphere>* spheres_to_free = nullptr);

@@ -120,7 +120,8 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         }
         const int n = tiling(spp, 1);
         if (n == 0) return need("a square number of samples per pixel (1, 4, 9, 16, ...)");
-        // center with --spp > 1 is the grid: the SPEC makes center the default for spp 1 only.
+        // center with --spp > 1 is the grid: docs/manual.md makes center the default for spp 1
+        // only.
         sampler.kind = *kind == SamplerKind::Jitter ? SamplerKind::Jitter : SamplerKind::Grid;
         sampler.n = n;
         return true;

@@ -1,7 +1,7 @@
-// Pixel samplers (SPEC section 7; the seed thesis 000_*, section 6). A sampler decides where in a
-// pixel to trace and how often, and how the samples make the pixel's value. All of them are a box
-// filter over the pixel except quincunx and adaptive, whose corner taps are shared with the
-// neighbouring pixels (their weights: centre 1/2, each corner 1/8, as the seed describes).
+// Pixel samplers (docs/manual.md, Samplers; the seed thesis 000_*, section 6). A sampler decides
+// where in a pixel to trace and how often, and how the samples make the pixel's value. All of them
+// are a box filter over the pixel except quincunx and adaptive, whose corner taps are shared with
+// the neighbouring pixels (their weights: centre 1/2, each corner 1/8, as the seed describes).
 //
 // Random positions come from a counter-based hash of (seed, pixel, sample index), never from a
 // stream shared between pixels, so an image is the same for every thread count and tile order.
@@ -21,8 +21,8 @@
 namespace vr {
 
 // What one camera ray brings back: colour, and alpha = 1 - the weight with which the background
-// reaches it (SPEC section 9). Alpha is carried as itself, not as that weight, so that a tiny alpha
-// (thin gas: -expm1(-1e-14)) keeps its digits instead of being 1 - (1 - 1e-14).
+// reaches it (docs/manual.md, render). Alpha is carried as itself, not as that weight, so that a
+// tiny alpha (thin gas: -expm1(-1e-14)) keeps its digits instead of being 1 - (1 - 1e-14).
 struct SampleValue {
     Vec3 color{0.0};
     double alpha = 0.0;

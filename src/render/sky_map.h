@@ -1,5 +1,5 @@
-// An equirectangular environment image as the sky light's radiance (SPEC section 13, --sky FILE)
-// and as the background where the scene binds no Background node.
+// An equirectangular environment image as the sky light's radiance (docs/rendering.md, Soft light
+// with error bounds, --sky FILE) and as the background where the scene binds no Background node.
 //
 // Mapping, world axes (not the viewpoint's): +Y is the zenith, the image's top row; the image's
 // middle column looks along -Z (the default VRML view), a quarter to its right along +X, a quarter

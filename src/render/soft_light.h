@@ -1,5 +1,6 @@
-// Soft light with error bounds (SPEC section 13): the share of a cone of directions that a union of
-// spherical caps leaves open, integrated with a hard error bound.
+// Soft light with error bounds (docs/rendering.md, Soft light with error bounds): the share of a
+// cone of directions that a union of spherical caps leaves open, integrated with a hard error
+// bound.
 //
 // The region is the set of directions within `theta_max` of an axis (the hemisphere about a normal
 // for sky light, a light's cap for an area light), measured either cosine-weighted about the axis

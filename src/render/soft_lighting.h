@@ -1,5 +1,5 @@
-// Sky light A(p) and area-light visibility V_l (SPEC section 13) at a shading point, to the
-// absolute error --light-tolerance.
+// Sky light A(p) and area-light visibility V_l (docs/rendering.md, Soft light with error bounds) at
+// a shading point, to the absolute error --light-tolerance.
 //
 // Fast path (hard bound): in a scene whose only primitives are opaque spheres, with no gas, the
 // closed part of a region of directions is exactly a union of spherical caps (one per sphere; an

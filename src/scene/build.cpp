@@ -72,7 +72,7 @@ constexpr std::pair<const char*, ChildKind> kChildRoles[] = {
     {"LayerSet", ChildKind::LayerSet},
     {"ClipPlane", ChildKind::ClipPlane},
     {"LocalFog", ChildKind::LocalFog},
-    {"Silent", ChildKind::Silent},  // draws nothing at time 0 (SPEC section 2)
+    {"Silent", ChildKind::Silent},  // draws nothing at time 0 (docs/input.md)
 };
 
 ChildKind child_kind(const NodeTypeDecl* decl) {
@@ -753,7 +753,8 @@ sg::Index Builder::make_light(NodeId id) {
         l.beam_width = number(id, "beamWidth"_n);
         l.cut_off_angle = number(id, "cutOffAngle"_n);
     }
-    // Area light hints (SPEC section 13): each only on the light type it fits.
+    // Area light hints (docs/rendering.md, Soft light with error bounds): each only on the light
+    // type it fits.
     if (const NodeId metadata = node(id, "metadata"_n); metadata != kNullNode) {
         const sg::Hints h = read_hints(tree_, metadata, diagnostics_);
         const bool directional = l.type == sg::LightType::Directional;
@@ -793,8 +794,8 @@ sg::Index Builder::make_viewpoint(NodeId id) {
     } else {
         v.field_of_view = number(id, "fieldOfView"_n);
         if (!(v.field_of_view > 0.0 && v.field_of_view < kPi)) {
-            // Every value in (0, pi) is a camera, however narrow (SPEC section 4). Outside, pi or
-            // more is taken as the widest sensible view; 0, negative or NaN as the default.
+            // Every value in (0, pi) is a camera, however narrow (docs/manual.md, Camera). Outside,
+            // pi or more is taken as the widest sensible view; 0, negative or NaN as the default.
             const double given = v.field_of_view;
             v.field_of_view =
                 given >= kPi ? kPi - 0.01 : default_of("Viewpoint"_n, "fieldOfView"_n).numbers[0];

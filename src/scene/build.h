@@ -1,4 +1,4 @@
-// Node tree -> typed scene graph (scene.h). Reads every node SPEC section 2 says the tracer models,
+// Node tree -> typed scene graph (scene.h). Reads every node docs/input.md says the tracer models,
 // from VRML97 and X3D alike (e.g. Switch `choice` or `children`, LOD `level` or `children`, X3D
 // `global` on lights, PhysicalMaterial, UnlitMaterial, CoordinateDouble, ColorRGBA), with values
 // from the file or the grammar's defaults.

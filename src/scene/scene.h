@@ -44,8 +44,8 @@ struct Origin {
     std::string_view def_text() const { return name_text(def_name); }
 };
 
-// Renderer hints (SPEC section 3) read from a MetadataSet named "vrmlray". Negative means "not
-// set".
+// Renderer hints (docs/input.md, Renderer hints) read from a MetadataSet named "vrmlray". Negative
+// means "not set".
 enum class SphereHint : int8_t { Unset = -1, Opaque = 0, Gas = 1 };
 struct Hints {
     SphereHint sphere_mode = SphereHint::Unset;
@@ -54,7 +54,8 @@ struct Hints {
     double ior = -1.0;           // index of refraction (> 0)
     Vec3 albedo{-1.0};           // gas colours
     Vec3 emission{-1.0};
-    double source_radius = -1.0;   // PointLight/SpotLight: a sphere of this radius (SPEC 13)
+    double source_radius = -1.0;   // PointLight/SpotLight: a sphere of this radius
+                                   // (docs/rendering.md, Soft light with error bounds)
     double angular_radius = -1.0;  // DirectionalLight: a disc of this angular radius (radians)
 
     bool any() const;

@@ -1,5 +1,5 @@
 # Sourced by run_cli_tests.sh: the command line of --time, --frames and the camera overrides, on
-# repo-only inputs (SPEC section 12). Uses its $bin, $src, $work and pass/fail helpers.
+# repo-only inputs (docs/animation.md). Uses its $bin, $src, $work and pass/fail helpers.
 seed=$src/scenes/seeds/001_sphere.wrl
 expect 2 "--frames 2 without a pattern" -- "$bin" render "$seed" -W 8 -H 8 --frames 2 -o "$work/x.png"
 expect_stderr "error: --frames 2 needs -o with a frame number pattern" "frames without pattern message"

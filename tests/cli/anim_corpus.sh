@@ -1,5 +1,5 @@
 # Sourced by run_cli_corpus.sh: animation at --time, frame sequences and the turntable on real files
-# (SPEC section 12). Uses its $bin, $work, $corpus and pass/fail helpers.
+# (docs/animation.md). Uses its $bin, $work, $corpus and pass/fail helpers.
 anim=$work/anim
 mkdir -p "$anim"
 prim=$corpus/x3dv/castle-engine-demo-models/shadow_maps/primitives.x3dv

@@ -5,7 +5,7 @@
 # shellcheck source=tests/cli/common.sh
 . "$(dirname "$0")/common.sh"
 
-# --- exit codes and messages (SPEC section 1) ---------------------------------------------------------
+# --- exit codes and messages (docs/manual.md) ---------------------------------------------------------
 expect 2 "no subcommand" -- "$bin"
 # Command-line errors in the house style, with where to read more; usage lines name vrmlray, not a path.
 # expect_usage_error DESCRIPTION MESSAGE HELP -- COMMAND...: exit 2 and exactly these two stderr lines.
@@ -86,7 +86,7 @@ expect_stderr "sampler 'grid' needs a square number" "sampler message"
 for s in center grid rgss rooks8 quincunx jitter adaptive statistical; do
     expect 0 "sampler $s renders" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --sampler $s -W 24 -H 16 -o "$work/s_$s.png" -q
 done
-# Soft light (SPEC 13): options, the centre sampler refused with a lens, the hints read from light metadata.
+# Soft light (docs/rendering.md, Soft light with error bounds): options, the centre sampler refused with a lens, the hints read from light metadata.
 soft="$src/scenes/demos/soft_light.wrl"
 expect 2 "--aperture with the centre sampler" -- "$bin" render "$soft" --aperture 0.1 -W 8 -H 8 -o "$work/x.png"
 expect_stderr "aperture needs several samples per pixel spread over the lens: pick a sampler" "lens message says to pick a sampler"
@@ -161,7 +161,7 @@ for scene in 000_scene2_metal_glass 003_particles_gas; do
     expect 0 "$scene: 1 and 2 threads give the same image" -- "$bin" compare "$work/det1.exr" "$work/det2.exr" --max-abs 0
     expect 0 "$scene: a second run gives the same image" -- "$bin" compare "$work/det2.exr" "$work/det3.exr" --max-abs 0
 done
-# Deterministic bytes (SPEC section 9): the same render writes the same file for any thread count, with
+# Deterministic bytes (docs/manual.md, render): the same render writes the same file for any thread count, with
 # no timestamp (the second run starts a second later, so a clock in the file would show).
 for ext in exr png tif; do
     for alpha in "" --alpha; do
@@ -206,7 +206,7 @@ expect_stderr "error: the render passed --timeout 0.5 s" "timeout message"
 expect 2 "unknown viewpoint" -- "$bin" render "$src/scenes/seeds/001_sphere.wrl" --viewpoint Nowhere -W 8 -H 8 -o "$work/x.png"
 expect_stderr "error: no viewpoint named 'Nowhere' \\(the scene has: 'Camera'\\)" "unknown viewpoint lists the scene's viewpoints"
 
-# --- info: the figures a user reads (SPEC section 1) ---------------------------------------------------
+# --- info: the figures a user reads (docs/manual.md) ---------------------------------------------------
 expect 0 "info on the table-and-chairs seed" -- "$bin" info "$src/scenes/seeds/000_scene5_table_chairs.wrl"
 for line in '^encoding +VRML97 \(classic\)$' '^nodes +100 read \(PROTO bodies expanded\), 13 top-level$' '^  Box +17$' \
     '^tracer +0 spheres, 17 quadrics .*, 1 meshes with 2 triangles$' '^ +3 materials, 1 textures, 0 shapes skipped$' \
@@ -216,7 +216,7 @@ for line in '^encoding +VRML97 \(classic\)$' '^nodes +100 read \(PROTO bodies ex
     grep -Eq -- "$line" "$work/out.txt" && pass || fail "info output lacks /$line/"
 done
 
-# --- URLs, --sandbox, --strict, empty images, the camera without a Viewpoint (SPEC sections 1, 2, 4) ---
+# --- URLs, --sandbox, --strict, empty images, the camera without a Viewpoint (docs/manual.md, 2, 4) ---
 mkdir -p "$work/urls/scene" "$work/urls/textures"
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 4 -H 4 -q -o "$work/urls/textures/t.png"
 printf '#VRML V2.0 utf8\nViewpoint { position 0 0 4 }\nShape { appearance Appearance { texture ImageTexture { url "../textures/t.png" } } geometry Box {} }\n' >"$work/urls/scene/up.wrl"
@@ -244,7 +244,7 @@ expect_stderr "no_viewpoint.wrl: note: no Viewpoint: framed from \+Z at \(100 0 
 expect 0 "info names the bound Viewpoint" -- "$bin" info "$src/scenes/seeds/001_sphere.wrl"
 grep -q '^camera      Viewpoint DEF Camera "seed camera" at (-1 0 1)$' "$work/out.txt" && pass || fail "info camera line for a Viewpoint"
 
-# --- compare (SPEC section 10) -----------------------------------------------------------------------
+# --- compare (docs/golden-tests.md) -----------------------------------------------------------------------
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 -o "$work/a.png" -q
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --background 1,1,1 -o "$work/b.png" -q
 "$bin" render "$src/scenes/seeds/001_sphere.wrl" -W 16 -H 16 -o "$work/c.png" -q
@@ -290,7 +290,7 @@ for w in "--warn 0.25" "--warnpercent 10" "--hardwarn 0.25 --warnpercent 100"; d
     grep -q "WARNING" "$work/out.txt" && fail "$w prints no warning" || pass
 done
 
-# --- bench (SPEC section 11) ------------------------------------------------------------------------
+# --- bench (docs/manual.md, bench) ------------------------------------------------------------------------
 (cd "$work" && "$bin" bench "$src/scenes/seeds/001_sphere.wrl" -W 32 -H 24 --runs 1 -q >"$work/out.txt" 2>"$work/err.txt")
 [ $? -eq 0 ] && pass || fail "bench runs"
 [ "$(wc -l <"$work/001_sphere-bench.csv")" -eq 25 ] && pass || fail "bench CSV has a header and 24 settings"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Many processes (SPEC section 14): `mpirun -np 3 vrmlray render` writes the same bytes as one
+# Many processes (docs/mpi.md): `mpirun -np 3 vrmlray render` writes the same bytes as one
 # process, for opaque spheres, gas, a textured mesh and every random or neighbour-sharing sampler,
 # 8-bit and float output; a process that cannot read the scene makes all exit alike, none hangs.
 # Usage: run_mpi_tests.sh VRMLRAY_BINARY SOURCE_DIR WORK_DIR MPI(ON|OFF). Exit 77 (skipped) when
@@ -94,7 +94,7 @@ expect_stderr "another process failed while reading the scene" "ranks 1-2 cannot
 expect 4 "unwritable output" -- timeout 60 "${mpi[@]}" "$bin" render "$good" -q -o "$work/no/such/folder.png"
 
 # --frames: whole frames go round-robin to the processes (frame k to rank k % 3), which send them
-# to rank 0, which writes them all (SPEC 14: process 0 writes); the files are the same bytes as one
+# to rank 0, which writes them all (docs/mpi.md: process 0 writes); the files are the same bytes as one
 # process's, and --stats says who rendered which.
 # frames NAME N ARGS...: one process on 2 threads and three on one thread each render N frames.
 frames() {

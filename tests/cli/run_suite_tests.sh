@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Whole-program tests of golden-image suites (SPEC section 10, docs/golden-tests.md): batch render, folder
+# Whole-program tests of golden-image suites (docs/golden-tests.md, docs/golden-tests.md): batch render, folder
 # compare, --junit against tests/cli/junit.xsd, the --report page in a real browser (Debian's chromium,
 # headless, which tools/setup.sh installs) and --update.
 # Usage: run_suite_tests.sh VRMLRAY_BINARY SOURCE_DIR WORK_DIR

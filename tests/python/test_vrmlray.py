@@ -396,7 +396,7 @@ ROUTE Path.value_changed TO Mover.set_translation
 
 
 def test_time_renders_the_world_at_t_as_the_command_line(tmp_path):
-    # SPEC 12: render(time=T) is `vrmlray render --time T`, byte for byte, and the world moves: the
+    # docs/animation.md: render(time=T) is `vrmlray render --time T`, byte for byte, and the world moves: the
     # sphere starts at the first key (-2 0 0), not at the Transform's file value (0 0 0).
     scene_file = tmp_path / "animated.wrl"
     scene_file.write_text(ANIMATED)

@@ -1,6 +1,7 @@
-// Alpha (SPEC section 9): 1 minus the weight with which the background reaches the pixel, computed
-// from optical depth with expm1 so that dense gas gives 1 and ultrathin gas keeps its digits; with
-// options.alpha the colour leaves the background out, so that compositing gives the opaque colour.
+// Alpha (docs/manual.md, render): 1 minus the weight with which the background reaches the pixel,
+// computed from optical depth with expm1 so that dense gas gives 1 and ultrathin gas keeps its
+// digits; with options.alpha the colour leaves the background out, so that compositing gives the
+// opaque colour.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

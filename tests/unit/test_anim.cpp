@@ -1,4 +1,4 @@
-// Animation at time T (SPEC section 12): the interpolators' functions, the TimeSensor's cycles,
+// Animation at time T (docs/animation.md): the interpolators' functions, the TimeSensor's cycles,
 // and ROUTE cascades on real node trees. Expected values are worked out by hand in the comments.
 #include <gtest/gtest.h>
 
@@ -64,7 +64,7 @@ TEST(Interpolate, OrientationTakesTheShortestArc) {
     // midpoint is (0.1 - 0.28319) / 2 = -0.091593 rad about +Z (not (0.1 + 6) / 2 = 3.05).
     const std::vector<double> s = at({0, 1}, {0, 0, 1, 0.1, 0, 0, 1, 6.0}, 4, Blend::Rotation, 0.5);
     EXPECT_NEAR(s[2] * s[3], (0.1 + (6.0 - 2 * kPiD)) / 2, 1e-14);
-    // An axis that is not unit length is normalised (SPEC section 2): same as above.
+    // An axis that is not unit length is normalised (docs/input.md): same as above.
     const std::vector<double> u =
         at({0, 1}, {0, 3, 0, 0, 0, 2, 0, kPiD / 2}, 4, Blend::Rotation, 0.5);
     EXPECT_NEAR(u[1], 1.0, 1e-15);

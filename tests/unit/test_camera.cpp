@@ -1,4 +1,4 @@
-// Camera conventions (SPEC section 4) and sampler selection.
+// Camera conventions (docs/manual.md, Camera) and sampler selection.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,7 +142,7 @@ TEST(Camera, FitFramesTheBounds) {
     EXPECT_NEAR(cam.ortho_size, 4.0, 1e-12);
 }
 
-// --position, --look-at, --up, --fov (SPEC section 12) on the viewpoint, then --fit and --orbit.
+// --position, --look-at, --up, --fov (docs/animation.md) on the viewpoint, then --fit and --orbit.
 TEST(Camera, OverridesComposeWithFit) {
     FlatScene scene = testing::empty_scene();
     testing::add_shading(scene, Material());

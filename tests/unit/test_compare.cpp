@@ -224,7 +224,7 @@ TEST(CompareTest, AlphaIsComparedInEveryFigureButSsim) {
     // 20 samples of 800 differ by 1.
     EXPECT_DOUBLE_EQ(m.mean_abs, 20.0 / 800.0);
     EXPECT_DOUBLE_EQ(m.rmse, std::sqrt(20.0 / 800.0));
-    EXPECT_DOUBLE_EQ(m.ssim, 1.0);  // luminance only, as SPEC 10 defines it
+    EXPECT_DOUBLE_EQ(m.ssim, 1.0);  // luminance only, as docs/golden-tests.md defines it
     CompareThresholds t;
     t.max_abs = 0;
     EXPECT_EQ(failed_thresholds(m, t).size(), 1u);

@@ -1,5 +1,5 @@
-// Gas-volume spheres (SPEC section 6): closed forms, the adaptive integrator against brute force,
-// and the hard cases of SPEC section 8.
+// Gas-volume spheres (docs/rendering.md, Gas mode): closed forms, the adaptive integrator against
+// brute force, and the hard cases of docs/rendering.md, Numbers.
 #include <gtest/gtest.h>
 
 #include <cmath>

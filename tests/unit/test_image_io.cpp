@@ -274,7 +274,7 @@ TEST_F(ImageIoTest, OverwritingAFileLeavesTheNewImageOnly) {
     EXPECT_EQ(bytes(target8), bytes(fresh8));
 }
 
-// SPEC section 9: no alpha channel unless asked for, in any format.
+// docs/manual.md, render: no alpha channel unless asked for, in any format.
 TEST_F(ImageIoTest, EveryFormatIsRgbByDefault) {
     Image im = ramp_image(0.0f, 1.0f);
     for (const char* name : {"rgb.png", "rgb.tif", "rgb.exr", "rgb.tga"}) {

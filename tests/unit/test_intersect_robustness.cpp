@@ -1,4 +1,4 @@
-// Numerical robustness of intersections and spawned rays (SPEC section 8).
+// Numerical robustness of intersections and spawned rays (docs/rendering.md, Numbers).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Every limit of the README's table that hostile input meets first stops the command with its own
-// message (SPEC section 2: never a crash, never a hang), through the real command line: `--limit`
+// message (docs/input.md: never a crash, never a hang), through the real command line: `--limit`
 // parsing with its k/M/G suffixes, the reader's and the flattener's checks, and the exit code. No
 // corpus file reaches these limits, so the inputs are generated here.
 #include <gtest/gtest.h>

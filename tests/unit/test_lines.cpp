@@ -201,7 +201,7 @@ TEST(Lines, ColorRgbaAndMaterialTransparencyAreTheMarksOpacity) {
     // Exact halves and quarters of 0/1 values: float rounding only.
     EXPECT_NEAR(p[0], 0.5, 1e-6);
     EXPECT_NEAR(p[2], 0.5, 1e-6);
-    EXPECT_NEAR(p[3], 0.5, 1e-6);  // alpha leaves the background out (SPEC section 9)
+    EXPECT_NEAR(p[3], 0.5, 1e-6);  // alpha leaves the background out (docs/manual.md, render)
     p = centre_of(head + R"(Shape {
         appearance Appearance { material Material { emissiveColor 1 0 0 transparency 0.75 } }
         geometry IndexedLineSet { coord Coordinate { point [-1 0 0, 1 0 0] } coordIndex [0 1] } })",

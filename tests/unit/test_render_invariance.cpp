@@ -1,6 +1,7 @@
 // What must not change an image: the thread count (random samplers and gas included: bit for bit,
-// SPEC section 7) and a translation of camera and scene together by 1e5 (SPEC section 8). And the
-// coupling of gas with opaque surfaces (SPEC section 6): L = gas emission in front + T * L_surface.
+// docs/manual.md, Samplers) and a translation of camera and scene together by 1e5
+// (docs/rendering.md, Numbers). And the coupling of gas with opaque surfaces (docs/rendering.md,
+// Gas mode): L = gas emission in front + T * L_surface.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -422,7 +422,7 @@ TEST(RenderShading, ShadowsAndSeeThroughShadows) {
 
 TEST(RenderShading, LightOnASurfaceIsNotBlockedByIt) {
     // A point light lying exactly in a plane lights another plane facing it; the shadow ray ends on
-    // the first plane and must be shortened there (SPEC section 8).
+    // the first plane and must be shortened there (docs/rendering.md, Numbers).
     FlatScene scene = empty_scene();
     Material m;
     m.diffuse = Vec3(1.0);

@@ -81,7 +81,7 @@ TEST(RenderTiles, EveryPixelOnceAndTheSameAsTheImage) {
     }
 }
 
-// mpirun -np N vrmlray render gives process r the tiles i with i % N == r (SPEC section 14): the
+// mpirun -np N vrmlray render gives process r the tiles i with i % N == r (docs/mpi.md): the
 // shares are disjoint, cover the image, and put together are the one-process image bit for bit, for
 // every sampler whose samples depend on random numbers or on neighbouring pixels (they are seeded
 // by pixel and sample index, never by the tile's order or thread), 3 processes with 2 and 1

@@ -1,6 +1,6 @@
-// The pixel samplers (SPEC section 7): where each puts its samples, how it weighs them, and how
-// fast its error falls on pixels whose exact value is known (a half-plane edge through the pixel, a
-// disc of known area).
+// The pixel samplers (docs/manual.md, Samplers): where each puts its samples, how it weighs them,
+// and how fast its error falls on pixels whose exact value is known (a half-plane edge through the
+// pixel, a disc of known area).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -31,8 +31,8 @@ std::string messages(const Built& b) {
 }
 
 TEST(SceneBindables, FieldOfViewOutsideZeroPiIsReplacedInTheScene) {
-    // Exact comparisons: the replacements are the constants SPEC section 4 names, not computed.
-    // 3.141592653589793 reads as the double nearest pi, kPi itself: pi is not a camera.
+    // Exact comparisons: the replacements are the constants docs/manual.md, Camera names, not
+    // computed. 3.141592653589793 reads as the double nearest pi, kPi itself: pi is not a camera.
     for (auto [fov, expected] :
          {std::pair{"0", 0.785398}, std::pair{"-1", 0.785398}, std::pair{"4", kPi - 0.01},
           std::pair{"3.141592653589793", kPi - 0.01}}) {

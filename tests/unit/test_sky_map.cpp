@@ -1,6 +1,6 @@
-// --sky FILE (SPEC section 13): the equirectangular mapping and its filter, files written and read
-// back through the image modules, the sky-light integral against closed forms, and the map as the
-// background.
+// --sky FILE (docs/rendering.md, Soft light with error bounds): the equirectangular mapping and its
+// filter, files written and read back through the image modules, the sky-light integral against
+// closed forms, and the map as the background.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -167,7 +167,8 @@ TEST(SkyMap, TwoColourMapUnderOneSphereIsTheClosedForm) {
     // Upper half `up`, lower half `down`. A surface tilted by alpha from +Y sees the
     // cosine-weighted share (1 + cos alpha) / 2 of the upper half and (1 - cos alpha) / 2 of the
     // lower (the sky view factor); a sphere wholly above both the surface and the horizon takes
-    // (r/d)^2 cos theta from the upper share (SPEC 13's closed form).
+    // (r/d)^2 cos theta from the upper share (docs/rendering.md, Soft light with error bounds's
+    // closed form).
     const Vec3 up(0.2, 0.5, 1.0), down(0.4, 0.3, 0.1);
     auto map = std::make_shared<const SkyMap>(
         make_image(64, 512, [&](int, int j) { return j < 256 ? up : down; }));

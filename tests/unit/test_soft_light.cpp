@@ -1,6 +1,6 @@
-// Soft light with error bounds (SPEC section 13): the cap integral against closed forms, the whole
-// sky light / area light evaluation against brute-force shadow rays on sphere clusters, and the
-// sampling path (non-sphere geometry) against the same closed form.
+// Soft light with error bounds (docs/rendering.md, Soft light with error bounds): the cap integral
+// against closed forms, the whole sky light / area light evaluation against brute-force shadow rays
+// on sphere clusters, and the sampling path (non-sphere geometry) against the same closed form.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -48,7 +48,8 @@ DirectionCap cap_of(const Vec3& p, const Vec3& c, double r, double reach = kInf)
 }
 
 TEST(SoftLight, SkyLightOfAPlanePointUnderOneSphereIsTheClosedForm) {
-    // A = 1 - (r/d)^2 cos(theta) for a sphere wholly above the plane (SPEC 13).
+    // A = 1 - (r/d)^2 cos(theta) for a sphere wholly above the plane (docs/rendering.md, Soft light
+    // with error bounds).
     CapScratch scratch;
     const Vec3 n(0.0, 0.0, 1.0);
     for (double r : {0.1, 0.5, 1.0})
@@ -838,7 +839,8 @@ TEST(SoftLight, ThinLensRaysMeetAtTheFocusAndSpreadOverTheLens) {
     EXPECT_NE(error.find("pick a sampler"), std::string::npos) << error;
 }
 
-// ----- Area lights in the gas (SPEC 13 with section 6) -----
+// ----- Area lights in the gas (docs/rendering.md, Soft light with error bounds with section 6)
+// -----
 
 namespace gas_area {
 

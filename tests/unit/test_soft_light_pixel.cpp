@@ -37,8 +37,8 @@ void plane_under_sphere(Scene& s, double r, double d, double theta, double t) {
     s.accel.build(s.scene, 1);
 }
 
-// SPEC 13's closed form with SPEC 5's shadow-ray rule: every ray into the sphere's cap crosses its
-// surface twice, so it passes t^2.
+// docs/rendering.md, Soft light with error bounds's closed form with docs/rendering.md's shadow-ray
+// rule: every ray into the sphere's cap crosses its surface twice, so it passes t^2.
 double closed_form(double r, double d, double theta, double t) {
     return 1.0 - (1.0 - t * t) * (r / d) * (r / d) * std::cos(theta);
 }

@@ -1,5 +1,5 @@
-// Telephoto views (SPEC section 4: every fieldOfView in (0, pi) is valid, however small): a sphere
-// whose silhouette must fall at a computed pixel radius, rendered through the whole pipeline
+// Telephoto views (docs/manual.md, Camera: every fieldOfView in (0, pi) is valid, however small): a
+// sphere whose silhouette must fall at a computed pixel radius, rendered through the whole pipeline
 // (parser, flatten, camera, tracer), at fields of view down to 3e-8 rad.
 #include <gtest/gtest.h>
 

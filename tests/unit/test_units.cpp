@@ -164,7 +164,7 @@ TEST(Units, InlinedFileKeepsItsOwnUnits) {
 }
 
 TEST(Units, UnitOutsideX3d33IsAWarningAndStillApplies) {
-    // 7.2.5.5 makes UNIT in an X3D 3.2 file a failure; real files bend the rule (SPEC section 2),
+    // 7.2.5.5 makes UNIT in an X3D 3.2 file a failure; real files bend the rule (docs/input.md),
     // so it is read with a warning naming the version.
     const Rendered old =
         render_text("#X3D V3.2 utf8\nUNIT length km 1000\nShape { geometry Box { } }\n");

@@ -34,6 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     vr::RenderStats stats;
     vr::Image image = vr::render_image(flat, camera, ro, {}, stats);
     for (float v : image.rgba)
-        if (!(v == v)) __builtin_trap();  // a NaN in the output is a bug (SPEC section 8)
+        if (!(v == v))
+            __builtin_trap();  // a NaN in the output is a bug (docs/rendering.md, Numbers)
     return 0;
 }
