@@ -26,7 +26,8 @@ std::string nearest_name(std::string_view word, const std::vector<std::string>& 
     for (const std::string& name : names) {
         if (name == word) continue;
         const size_t d = edit_distance(word, name);
-        if (d < best_distance) best = name, best_distance = d;
+        // Every letter changed is a different word ("s" is no slip for "r").
+        if (d < best_distance && d < word.size()) best = name, best_distance = d;
     }
     return best;
 }

@@ -245,7 +245,7 @@ TEST(Cli, EverySamplerNameIsAcceptedAndUnknownOnesAreUsageErrors) {
     parse({"render", "s", "--sampler", "box"}, kExitUsage);
     parse({"render", "s", "--spheres", "foam"}, kExitUsage);
     parse({"render", "s", "--background", "1,2"}, kExitUsage);
-    parse({"render", "s", "--albedo", "red"}, kExitUsage);
+    parse({"render", "s", "--albedo", "redd"}, kExitUsage);  // "red" is a colour word
     parse({"render", "s", "--limit", "bogus=3"}, kExitUsage);
     parse({"render"}, kExitUsage);
 }

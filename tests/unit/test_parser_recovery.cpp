@@ -62,7 +62,8 @@ TEST(ParserRecovery, UnknownFieldIsSkippedWithItsValueWhateverItsShape) {
                              value + " children [ Shape { geometry Sphere {} } ] }\n");
         ASSERT_TRUE(s.ok()) << value << "\n" << messages(s);
         EXPECT_EQ(only_warning(s),
-                  "3:31: unknown field 'childern' in node Transform; skipped with its value")
+                  "3:31: unknown field 'childern' in node Transform; skipped with its value (did "
+                  "you mean 'children'?)")
             << value << "\n"
             << messages(s);
         const NodeId t = s.tree.roots[1];
