@@ -27,8 +27,8 @@ struct Preset {
 // looks like the publication image, larger.
 inline constexpr Preset kPresets[] = {
     {"preview", 960, 540, "quincunx", 1, 0.6, 3e-2, 0.15},
-    {"publication", 1920, 1080, "rgss", 1, 0.6, 1e-2, 0.15},
-    {"poster", 3840, 2160, "rgss", 1, 0.6, 1e-2, 0.15},
+    {"publication", 1920, 1080, "rgss", 1, 0.6, 3e-2, 0.15},
+    {"poster", 3840, 2160, "rgss", 1, 0.6, 3e-2, 0.15},
 };
 // Image rows per pixel of --line-width and --point-size under a preset: 1 pixel at 1080 rows.
 inline constexpr double kPresetRowsPerPixel = 1080.0;
