@@ -60,13 +60,17 @@ std::unique_ptr<sg::NurbsSurface> Builder::make_nurbs_surface(NodeId id) {
     if (const NodeId p = node(id, "controlPoint"_n); p != kNullNode)
         if (!coordinate_points(p, s->points))
             warn(p, "wrong-type", "is not a coordinate node; the surface has no control points");
-    s->weights = numbers(id, "weight"_n);
-    s->u_knots = numbers(id, "uKnot"_n);
-    s->v_knots = numbers(id, "vKnot"_n);
-    s->u_order = integer(id, "uOrder"_n);
-    s->v_order = integer(id, "vOrder"_n);
-    s->u_dimension = integer(id, "uDimension"_n);
-    s->v_dimension = integer(id, "vDimension"_n);
+    // The knot net a patch and a NurbsTextureCoordinate share (their fields have the same names).
+    auto read_net = [this](NodeId from, sg::NurbsSurface& net) {
+        net.weights = numbers(from, "weight"_n);
+        net.u_knots = numbers(from, "uKnot"_n);
+        net.v_knots = numbers(from, "vKnot"_n);
+        net.u_order = integer(from, "uOrder"_n);
+        net.v_order = integer(from, "vOrder"_n);
+        net.u_dimension = integer(from, "uDimension"_n);
+        net.v_dimension = integer(from, "vDimension"_n);
+    };
+    read_net(id, *s);
     s->u_tessellation = integer(id, "uTessellation"_n);
     s->v_tessellation = integer(id, "vTessellation"_n);
     if (const NodeId tc = node(id, "texCoord"_n); tc != kNullNode) {
@@ -75,13 +79,7 @@ std::unique_ptr<sg::NurbsSurface> Builder::make_nurbs_surface(NodeId id) {
         } else if (type(tc) == "NurbsTextureCoordinate"_n) {
             auto ts = std::make_unique<sg::NurbsSurface>();
             ts->points = lift(vec2s(tc, "controlPoint"_n));
-            ts->weights = numbers(tc, "weight"_n);
-            ts->u_knots = numbers(tc, "uKnot"_n);
-            ts->v_knots = numbers(tc, "vKnot"_n);
-            ts->u_order = integer(tc, "uOrder"_n);
-            ts->v_order = integer(tc, "vOrder"_n);
-            ts->u_dimension = integer(tc, "uDimension"_n);
-            ts->v_dimension = integer(tc, "vDimension"_n);
+            read_net(tc, *ts);
             s->texture_surface = std::move(ts);
         } else {
             warn(tc, "not-modelled",
