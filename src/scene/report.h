@@ -16,6 +16,8 @@ class NodeReport {
   public:
     NodeReport(Diagnostics& diagnostics, const sg::Origin& origin)
         : diagnostics_(diagnostics), origin_(origin) {}
+    // The report keeps a reference: a temporary Origin would dangle by the first warning.
+    NodeReport(Diagnostics& diagnostics, sg::Origin&& origin) = delete;
     // `cause` is a short key such as "coord-index-range"; the Diagnostics cause is "Type:cause".
     void warn(std::string_view cause, std::string_view message);
     const sg::Origin& origin() const { return origin_; }

@@ -87,7 +87,8 @@ TEST(PointSpineExtrusion, OrientationAloneTurnsTheCrossSection) {
     e.ccw = true;
     e.solid = false;
     Diagnostics diagnostics;
-    NodeReport report(diagnostics, sg::Origin{});
+    const sg::Origin origin;
+    NodeReport report(diagnostics, origin);
     const sg::IndexedFaceSet f = extrusion_faces(e, false, report);
     EXPECT_EQ(diagnostics.warning_count(), 0u);
     ASSERT_EQ(f.data.coords.size(), 6u);
@@ -101,7 +102,7 @@ TEST(PointSpineExtrusion, OrientationAloneTurnsTheCrossSection) {
     // Nothing changing along a point spine: nothing to draw, one warning.
     e.orientation = {Vec4(0, 1, 0, 0)};
     Diagnostics d2;
-    NodeReport r2(d2, sg::Origin{});
+    NodeReport r2(d2, origin);
     EXPECT_TRUE(extrusion_faces(e, false, r2).coord_index.empty());
     EXPECT_EQ(d2.warning_count(), 1u);
 }
