@@ -60,7 +60,7 @@ void Flattener::reserve_primitives() {
 void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_t depth) {
     if (stopped_) return;
     const sg::Group& group = scene_.groups[g];
-    if (group.singular) return;
+    if (group.singular && !group.has_transform()) return;  // NaN or inf: nothing to draw
     if (depth > options_.max_depth) {
         if (!depth_warned_)
             NodeReport(diagnostics_, group.origin)
@@ -83,7 +83,10 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
     const LayoutRect rect_before = layout_rect_;
     if (group.transform_kind == sg::GroupTransform::Layout)
         m = m * layout_matrix(scene_.layouts[group.transform], rect_before, layout_rect_);
-    if (group.billboard()) {
+    // A zero scale (docs/rendering.md, Zero scales) holds for the whole subtree.
+    const bool pressed_before = pressed_flat_;
+    pressed_flat_ = pressed_flat_ || group.singular;
+    if (group.billboard() && !pressed_flat_) {
         const Mat4 local_from_world = glm::inverse(m);
         const Vec3 viewer = transform_point(local_from_world, viewer_position_);
         const Mat3 local_from_world_linear = glm::inverse(linear_part(m));
@@ -96,7 +99,7 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
     const size_t scoped_before = scoped_.size();
     const std::span<const sg::ChildRef> children = scene_.children_of(group);
     for (const sg::ChildRef& c : children)
-        if (c.kind == sg::NodeKind::Light) {
+        if (c.kind == sg::NodeKind::Light && !pressed_flat_) {
             const sg::Light& l = scene_.lights[c.index];
             if (!l.on || l.global) continue;
             if (const auto index = add_light(l, m)) scoped_.push_back(*index);
@@ -104,12 +107,14 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
     if (scoped_.size() != scoped_before) light_set = light_set_of(scoped_);
     const uint32_t scope_before = scope_;
     for (const sg::ChildRef& c : children)
-        if (c.kind == sg::NodeKind::ClipPlane || c.kind == sg::NodeKind::LocalFog) {
+        if ((c.kind == sg::NodeKind::ClipPlane || c.kind == sg::NodeKind::LocalFog) &&
+            !pressed_flat_) {
             scope_ = enter_scope(children, m);
             break;
         }
     visit_children(group, m, light_set, depth);
     scope_ = scope_before;
+    pressed_flat_ = pressed_before;
     layout_rect_ = rect_before;
     scoped_.resize(scoped_before);
 }
@@ -126,7 +131,7 @@ void Flattener::visit_children(const sg::Group& group, const Mat4& m, uint32_t l
                 break;
             case sg::NodeKind::Light: {
                 const sg::Light& l = scene_.lights[c.index];
-                if (l.on && l.global)
+                if (l.on && l.global && !pressed_flat_)
                     if (const auto index = add_light(l, m)) global_lights_.push_back(*index);
                 break;
             }

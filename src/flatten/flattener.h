@@ -137,6 +137,8 @@ class Flattener {
     // ---- shapes and instances: shapes.cpp
 
     void emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light_set);
+    void emit_pressed_flat(const sg::Shape& shape, const sg::Geometry& g, const Mat4& m,
+                           uint32_t shading, uint32_t material);
     // IndexedLineSet, LineSet, PointSet: world-space segments and points, unlit.
     void add_lines(const sg::Geometry& g, const sg::Shape& shape, const Mat4& m, uint32_t material);
 
@@ -232,6 +234,8 @@ class Flattener {
     // Per geometry: unset until tried, then the exact shape its mesh stands for (or why none).
     std::vector<std::optional<Recovery>> recoveries_;
     bool recover_spheres_ = false;
+    // Inside a group with a zero scale: meshes are drawn flat, exact shapes and lights skipped.
+    bool pressed_flat_ = false;
     bool stopped_ = false;
     bool depth_warned_ = false;
     size_t visits_ = 0;

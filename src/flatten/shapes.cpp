@@ -24,6 +24,7 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     // far side (docs/rendering.md, Back faces).
     const uint32_t shading = shading_of(
         material, light_set, g.cull_back_faces && out_.materials[material].transparency == 0.0);
+    if (pressed_flat_) return emit_pressed_flat(shape, g, m, shading, material);
 
     if (const auto* s = std::get_if<sg::Sphere>(&g.shape)) {
         const double scale = uniform_scale(linear_part(m));
@@ -193,6 +194,36 @@ void Flattener::add_recovered_cylinder(const CylinderFit& c, const Mat4& m, uint
                              Vec3(2.0 * c.radius, c.height, 2.0 * c.radius), shading);
     q.top = c.top, q.bottom = c.bottom;
     ++stats_.recovered_cylinders;
+}
+
+void Flattener::emit_pressed_flat(const sg::Shape& shape, const sg::Geometry& g, const Mat4& m,
+                                  uint32_t shading, uint32_t material) {
+    // No inverse exists: no sphere, quadric or instance (each keeps object_from_world), so only
+    // meshes, in world space, with their flat faces' own normals (the vertex normals of a pressed
+    // surface all point along the plane's normal or vanish). The build warned once for the group.
+    if (std::holds_alternative<sg::Sphere>(g.shape) || std::holds_alternative<sg::Box>(g.shape) ||
+        std::holds_alternative<sg::Cylinder>(g.shape) ||
+        std::holds_alternative<sg::Cone>(g.shape)) {
+        ++stats_.skipped_shapes;
+        return;
+    }
+    const bool want_uvs = out_.materials[material].texture >= 0;
+    std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
+    if (!cached)
+        cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
+    if (cached->triangles.empty()) {
+        ++stats_.skipped_shapes;
+        return;
+    }
+    if (stats_.triangles + cached->triangle_count() > options_.max_triangles)
+        return stop("triangles");
+    stats_.triangles += cached->triangle_count();
+    Mesh mesh = object_mesh(*cached);
+    mesh.shading = shading;
+    mesh.normals.clear();
+    for (Vec3& p : mesh.positions) p = transform_point(m, p);
+    out_.meshes.push_back(std::move(mesh));
+    ++stats_.meshes;
 }
 
 Mat4 Flattener::translation_matrix(const Vec3& t) {

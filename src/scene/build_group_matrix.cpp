@@ -8,11 +8,20 @@
 namespace vr::detail {
 
 void Builder::set_group_matrix(sg::Group& group, NodeId id, const Mat4& m) {
-    if (is_singular(m)) {
+    if (!all_finite(m)) {
         group.singular = true;  // flattening skips the subtree: no matrix to keep
+        warn(id, "singular", "has a NaN or infinite transform value; its children are skipped");
+    } else if (is_singular(m)) {
+        // A zero scale presses the subtree into a plane or a line, as a browser draws it; the
+        // matrix is kept and flattening draws meshes flat (docs/rendering.md, Zero scales).
+        group.singular = true;
+        group.transform_kind = sg::GroupTransform::Matrix;
+        group.transform = static_cast<sg::Index>(scene_.matrices.size());
+        scene_.matrices.push_back(m);
         warn(id, "singular",
-             all_finite(m) ? "has a singular transform (a zero scale); its children are skipped"
-                           : "has a NaN or infinite transform value; its children are skipped");
+             "has a singular transform (a zero scale): its meshes, lines and points are drawn "
+             "pressed flat; spheres, boxes, cylinders, cones, lights and viewpoints in it are "
+             "skipped");
     } else if (is_translation(m)) {
         group.transform_kind = sg::GroupTransform::Translation;
         group.transform = static_cast<sg::Index>(scene_.translations.size());

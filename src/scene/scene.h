@@ -396,7 +396,7 @@ struct ChildRef {
 // How a group maps its children's space into its own. Most Transforms in molecular files only
 // translate; they keep the translation (24 bytes) instead of a matrix (128 bytes).
 enum class GroupTransform : uint8_t {
-    None,         // a plain group (or a singular Transform, whose subtree is skipped)
+    None,         // a plain group (or a Transform with NaN or inf, whose subtree is skipped)
     Translation,  // `transform` indexes Scene::translations; the matrix is exactly [I | t]
     Matrix,       // `transform` indexes Scene::matrices
     Billboard,    // `transform` indexes Scene::billboard_axes (the rotation depends on the viewer)
@@ -412,7 +412,9 @@ struct Group {
     uint32_t child_count = 0;
     Index transform = kNone;  // into the side array `transform_kind` names
     GroupTransform transform_kind = GroupTransform::None;
-    bool singular = false;        // the transform is singular or not finite: the subtree is skipped
+    // The transform is not finite (kind None: the subtree is skipped) or singular (kind Matrix: a
+    // zero scale; meshes are drawn pressed flat, exact shapes, lights and bindables skipped).
+    bool singular = false;
     bool inline_content = false;  // children are the top-level nodes of an inlined file
     bool has_transform() const {
         return transform_kind == GroupTransform::Translation ||

@@ -107,5 +107,34 @@ TEST(PointSpineExtrusion, OrientationAloneTurnsTheCrossSection) {
     EXPECT_EQ(d2.warning_count(), 1u);
 }
 
+TEST(ZeroScale, MeshesAreDrawnFlatAndExactShapesSkippedWithAWarning) {
+    // Xj3D's CombineTransform/shapeuse4.x3dv: a Transform with scale 1 1.5 0 over a triangle at
+    // z = -1. Browsers draw the triangle pressed into the z = 0 plane; so does vrmlray, with one
+    // warning that says the exact shapes (the sphere here) are skipped. The two corners go to
+    // (x + 2, 1.5 * 1.5, 0) and the apex (0, 1, -1) to (2, 1.5 * (1 + 1.5), 0).
+    const testing::FlattenedText flat = testing::flatten_scene_text(
+        "#X3D V3.3 utf8\nPROFILE Immersive\n"
+        "Transform { scale 1 1.5 0 children Transform { translation 2 1.5 0 children [\n"
+        "  Shape { geometry IndexedFaceSet { coord Coordinate { point [1 0 -1, -1 0 -1, 0 1 -1] }\n"
+        "                                    coordIndex [0 2 1] } }\n"
+        "  Shape { geometry Sphere {} } ] } }",
+        "shapeuse4.x3dv");
+    EXPECT_EQ(flat.build_warnings, 1u) << flat.messages;
+    EXPECT_TRUE(flat.flat.spheres.empty());  // a sphere pressed flat is no sphere: skipped
+    EXPECT_TRUE(flat.flat.quadrics.empty());
+    size_t triangles = 0;
+    for (const Mesh& m : flat.flat.meshes) {
+        triangles += m.triangle_count();
+        EXPECT_TRUE(m.normals.empty());  // the flat face's own normal
+        for (const Vec3& p : m.positions) EXPECT_EQ(p.z, 0.0);
+        if (m.positions.size() == 3) {  // in the face's corner order, coordIndex 0 2 1
+            EXPECT_EQ(m.positions[0], Vec3(3, 2.25, 0));
+            EXPECT_EQ(m.positions[1], Vec3(2, 3.75, 0));
+            EXPECT_EQ(m.positions[2], Vec3(1, 2.25, 0));
+        }
+    }
+    EXPECT_EQ(triangles, 1u);
+}
+
 }  // namespace
 }  // namespace vr
