@@ -261,6 +261,14 @@ def broken_on_purpose(rel):
     return None
 
 
+def examined(rel):
+    """The reason a person found on looking at the file and the three pictures (examined.tsv), if any."""
+    for pattern, reason in read_tsv(os.path.join(DATA, "examined.tsv")):
+        if fnmatch.fnmatch(rel, pattern):
+            return reason
+    return None
+
+
 WARNING = re.compile(r"^(\S.*?):(\d+:\d+:)? (warning|error): (.*)$")
 CAUSES = [  # (pattern on a warning's message, cause); the first that matches names the cause, with its names
     (re.compile(r"unknown node type '([^']+)'"), "unknown node types"),
@@ -323,6 +331,8 @@ def reason_for(rel, text, outcome, stderr, sizes=""):
     causes = causes_in(stderr)
     if re.search(r"\bScript\b", text) and not any(c.startswith("not run") for c in causes):
         causes.append("not run: Script")
+    if not causes and examined(rel):
+        return examined(rel) + (f" ({sizes})" if sizes else "")
     if not causes:
         # No message explains it: what the file uses, and the silhouettes' sizes, for a person to look at.
         causes.append((component_hint(text) or "unexplained") + (f" ({sizes})" if sizes else ""))
@@ -429,6 +439,11 @@ def cause_keys(reason):
     the rows of the count by cause (a file counts under each of its causes)."""
     if reason.startswith(("error: ", "broken on purpose", "X3D binary")):
         return [re.sub(r"'[^']*'", "'…'", reason)[:100]]
+    # A person's reason (examined.tsv) counts under its cause alone; its detail is for the file's row.
+    for _, looked in read_tsv(os.path.join(DATA, "examined.tsv")):
+        cause = looked.partition(": ")[0]
+        if reason.startswith(cause + ": "):
+            return [f"examined: {cause}"]
     keys = []
     for part in reason.split("; "):
         cause, _, names = re.sub(r" \(vrmlray \d+ px.*\)$", "", part).partition(": ")
@@ -486,8 +501,10 @@ def write_doc(results, browsers, summary, missing):
            f"silhouettes' intersection over union with the better browser is at least {IOU_MATCH}.", "",
            "X_ITE runs from a folder of npm packages: `PUPPETEER_SKIP_DOWNLOAD=1 npm install x_ite puppeteer-core`",
            "(Chromium is Debian's). The reasons come from vrmlray's own warnings and errors, from",
-           "`tests/conformance/broken.tsv` (the files the suites' README names as broken on purpose), and, when",
-           "nothing else explains a difference, from the X3D component nodes the file uses.", "",
+           "`tests/conformance/broken.tsv` (the files the suites' README names as broken on purpose), from",
+           "`tests/conformance/examined.tsv` (what a person found on looking at a file no warning explains, counted",
+           "as \"examined\"), and, when nothing else explains a difference, from the X3D component nodes the file uses.",
+           "",
            "## Counts", ""] + [f"- {line}" for line in summary] + ["", "## By cause", "",
            "Files a browser shows that vrmlray does not render, by cause (a file counts under each of its causes).",
            "", "| cause | files |", "|---|---|"]
