@@ -14,14 +14,14 @@ namespace vr {
 
 namespace {
 
-// What --recover-spheres (on in gas mode) makes of the scene's IndexedFaceSets, placement by
-// placement.
+// What --recover-spheres (on in gas mode) makes of the scene's triangle meshes (IndexedFaceSet,
+// IndexedTriangleSet, TriangleSet, ...), placement by placement.
 void print_recovery(const FlattenStats& rs) {
     if (rs.recovery_candidates == 0) return;
     const size_t recovered =
         rs.recovered_spheres + rs.recovered_ellipsoids + rs.recovered_cylinders;
     std::printf(
-        "recovery    %zu of %zu IndexedFaceSet placements are exact shapes (gas mode or "
+        "recovery    %zu of %zu mesh placements are exact shapes (gas mode or "
         "--recover-spheres): "
         "%zu spheres, %zu ellipsoids, %zu cylinders\n",
         recovered, rs.recovery_candidates, rs.recovered_spheres, rs.recovered_ellipsoids,
