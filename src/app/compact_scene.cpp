@@ -86,6 +86,9 @@ struct MeshPoints {
 std::optional<MeshPoints> mesh_points(const NodeTree& tree, NodeId mesh) {
     const FieldView coord = tree.get(mesh, intern("coord"));
     if (coord.nodes.empty() || coord.nodes[0] == kNullNode) return std::nullopt;
+    // GeoCoordinate points are latitudes and longitudes, not the mesh's own space.
+    const std::string_view coord_type = tree.type_name(coord.nodes[0]);
+    if (coord_type != "Coordinate" && coord_type != "CoordinateDouble") return std::nullopt;
     const FieldView point = tree.get(coord.nodes[0], intern("point"));
     MeshPoints m;
     for (size_t i = 0; i + 2 < point.numbers.size(); i += 3)
