@@ -36,6 +36,19 @@ void print_recovery(const FlattenStats& rs) {
                         recovery_miss_label(RecoveryMiss(m)));
 }
 
+// What the exporter wrote in its own XML namespace (docs/input.md "Exporters' own elements").
+void print_exporter_view(const ReadStats& s) {
+    if (s.foreign_elements == 0) return;
+    const ExporterView& v = s.exporter_view;
+    std::printf("exporter    %zu elements of another XML namespace", s.foreign_elements);
+    if (v.window_width > 0)
+        std::printf("; window %dx%d (the default image size)", v.window_width, v.window_height);
+    if (v.depth_cue)
+        std::printf("; depth cue %g to %g (--depth-cue without values)", v.depth_cue_near,
+                    v.depth_cue_far);
+    std::printf("\n");
+}
+
 }  // namespace
 
 int run_info(const std::string& path, const CommonOptions& common) {
@@ -72,6 +85,7 @@ int run_info(const std::string& path, const CommonOptions& common) {
         for (auto& [type, count] : s.skipped_nodes)
             std::printf("  %-28s %zu\n", type.c_str(), count);
     }
+    print_exporter_view(s);
 
     // Each stage's input is released once the next has what it needs, so that their peaks do not
     // stack.

@@ -118,8 +118,12 @@ const float* pixel(const Image& image, int x, int y) {
 
 TEST(ExporterHabits, WindowSizeIsTheDefaultImageSize) {
     const std::string text = chimera_scene("  <chimera:WindowSize width='48' height='40'/>\n");
-    const Rendered plain = render(text, {"--strict"});
-    ASSERT_EQ(plain.code, kExitOk);  // --strict: no warning
+    // No warning (what --strict counts; the count is the process's, so it is compared before and
+    // after rather than given --strict, which other tests' warnings in this process would trip).
+    const size_t warnings = warnings_reported();
+    const Rendered plain = render(text, {});
+    ASSERT_EQ(plain.code, kExitOk);
+    EXPECT_EQ(warnings_reported(), warnings);
     EXPECT_EQ(plain.image.width, 48);
     EXPECT_EQ(plain.image.height, 40);
     // A size given wins.
@@ -147,6 +151,28 @@ TEST(ExporterHabits, DepthCueWithoutValuesTakesTheFilesRangeAndColour) {
     EXPECT_GT(pixel(cued.image, x, c)[2], 0.01f);
     EXPECT_EQ(pixel(explicit_range.image, x, c)[2], 0.0f);
     EXPECT_NEAR(pixel(explicit_range.image, x, c)[0], pixel(cued.image, x, c)[0], 1.0 / 255.0);
+}
+
+TEST(ExporterHabits, InfoSaysWhatTheExporterWrote) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("vrmlray_exporter_info_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    const std::string scene = (dir / "chimera.x3d").string();
+    std::ofstream(scene) << chimera_scene(
+        "  <chimera:WindowSize width='48' height='40'/>\n"
+        "  <chimera:DepthCue range='9 11' color='0 0 1'/>\n");
+    std::vector<const char*> argv = {"vrmlray", "info", scene.c_str()};
+    CommandLine cmd;
+    ASSERT_EQ(parse_command_line(int(argv.size()), argv.data(), cmd), -1);
+    ::testing::internal::CaptureStdout();
+    EXPECT_EQ(run_command_line(cmd), kExitOk);
+    const std::string out = ::testing::internal::GetCapturedStdout();
+    fs::remove_all(dir);
+    EXPECT_NE(out.find("exporter    2 elements of another XML namespace; window 48x40 (the "
+                       "default image size); depth cue 9 to 11"),
+              std::string::npos)
+        << out;
+    EXPECT_EQ(out.find("skipped     unknown"), std::string::npos) << out;
 }
 
 // Every file of the molecular corpus reads without a warning: the habits of Jmol (unquoted
