@@ -49,10 +49,24 @@ class Writer {
             out_ += "\n";
         }
         if (scaled) out_ += "  ]\n}\n";
+        write_routes();
         return std::move(out_);
     }
 
   private:
+    // The ROUTEs between written nodes (those into or out of an Inline's file or an IMPORT stay
+    // with that file), after the nodes they name.
+    void write_routes() {
+        for (const Route& r : tree_.routes) {
+            if (r.from_import != Route::kNoImport || r.to_import != Route::kNoImport) continue;
+            if (!written_.count(r.from) || !written_.count(r.to)) continue;
+            const std::string from = names_.name(r.from), to = names_.name(r.to);
+            if (from.empty() || to.empty()) continue;
+            out_ += "ROUTE " + from + "." + std::string(name_text(r.from_event)) + " TO " + to +
+                    "." + std::string(name_text(r.to_event)) + "\n";
+        }
+    }
+
     void indent(int depth) {
         if (!compact_) out_.append(static_cast<size_t>(depth) * 2, ' ');
     }

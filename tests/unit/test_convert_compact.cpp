@@ -18,6 +18,7 @@
 #include "image/image.h"
 #include "parser/load.h"
 #include "parser/writer.h"
+#include "parser/xml_writer.h"
 
 namespace vr {
 namespace {
@@ -193,6 +194,39 @@ TEST(ConvertCompact, SyntheticSceneRendersAsTheOriginalWithRecovery) {
     // some 1e-16, which can turn a rounding of an 8-bit channel, never more than one step.
     EXPECT_LE(d.largest, 1.0f / 255.0f + 1e-6f);
     EXPECT_LE(d.pixels, a.rgba.size() / 4 / 100);  // at most 1% of the pixels
+}
+
+// A bug found by comparing renders of converted conformance files (Titania's extrude4.wrl): the
+// writers dropped every ROUTE, so a converted animation stood still.
+TEST(ConvertCompact, WritersKeepTheRoutes) {
+    const std::string text = R"(#VRML V2.0 utf8
+DEF Clock TimeSensor { cycleInterval 4 loop TRUE }
+DEF Mover PositionInterpolator { key [0 1] keyValue [0 0 0, 2 0 0] }
+DEF Ball Transform { children Shape { geometry Sphere {} } }
+ROUTE Clock.fraction_changed TO Mover.set_fraction
+ROUTE Mover.value_changed TO Ball.set_translation
+)";
+    const LoadedScene original = load_scene_text(text, "anim.wrl");
+    ASSERT_TRUE(original.ok());
+    ASSERT_EQ(original.tree.routes.size(), 2u);
+    const std::vector<std::pair<std::string, std::string>> outputs = {
+        {write_classic(original.tree, Encoding::Vrml97), "a.wrl"},
+        {write_classic(original.tree, Encoding::X3dClassic, true), "a.x3dv"},
+        {write_x3d_xml(original.tree), "a.x3d"}};
+    for (const auto& [written, name] : outputs) {
+        SCOPED_TRACE(name);
+        const LoadedScene back = load_scene_text(written, name);
+        ASSERT_TRUE(back.ok()) << back.diagnostics.format(back.sources) << written;
+        EXPECT_EQ(back.diagnostics.warning_count(), 0u) << back.diagnostics.format(back.sources);
+        ASSERT_EQ(back.tree.routes.size(), 2u) << written;
+        for (size_t i = 0; i < 2; ++i) {
+            const Route &a = original.tree.routes[i], &b = back.tree.routes[i];
+            EXPECT_EQ(original.tree.def_name(a.from), back.tree.def_name(b.from));
+            EXPECT_EQ(original.tree.def_name(a.to), back.tree.def_name(b.to));
+            EXPECT_EQ(name_text(a.from_event), name_text(b.from_event));
+            EXPECT_EQ(name_text(a.to_event), name_text(b.to_event));
+        }
+    }
 }
 
 // Every molecular corpus file: the converted file renders bit-identical to the original with
