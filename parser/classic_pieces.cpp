@@ -166,6 +166,19 @@ void append_stats(ReadStats& stats, const ReadStats& later) {
     stats.routes += later.routes;
     stats.pieces += later.pieces;
     for (const auto& [type, count] : later.skipped_nodes) stats.skipped_nodes[type] += count;
+    stats.foreign_elements += later.foreign_elements;
+    const ExporterView& v = later.exporter_view;
+    if (v.window_width > 0) {
+        stats.exporter_view.window_width = v.window_width;
+        stats.exporter_view.window_height = v.window_height;
+    }
+    if (v.depth_cue) {
+        stats.exporter_view.depth_cue = true;
+        stats.exporter_view.depth_cue_near = v.depth_cue_near;
+        stats.exporter_view.depth_cue_far = v.depth_cue_far;
+        stats.exporter_view.depth_cue_has_color = v.depth_cue_has_color;
+        stats.exporter_view.depth_cue_color = v.depth_cue_color;
+    }
 }
 
 void join_piece(Piece& piece, std::vector<NodeId> outer, const PieceJoin& to) {

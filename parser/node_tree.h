@@ -167,6 +167,18 @@ struct NodeTree {
     std::unordered_map<uint64_t, std::vector<uint32_t>> kind_index_;
 };
 
+// What an exporter wrote about the view its user saw, in elements of its own XML namespace
+// (UCSF Chimera's <chimera:WindowSize width height> and <chimera:DepthCue range color>): not
+// nodes, so not in the tree; the command line takes them as defaults (docs/input.md "Exporters'
+// own elements").
+struct ExporterView {
+    int window_width = 0, window_height = 0;           // pixels; 0: not given
+    bool depth_cue = false;                            // a depth cue range was given
+    double depth_cue_near = 0.0, depth_cue_far = 0.0;  // view depth, scene units
+    bool depth_cue_has_color = false;
+    std::array<double, 3> depth_cue_color{0.0, 0.0, 0.0};
+};
+
 // Statistics the readers keep for `vrmlray info`.
 struct ReadStats {
     size_t def_count = 0;
@@ -179,6 +191,9 @@ struct ReadStats {
     size_t pieces = 0;  // parts of a file read on other threads and appended (classic_pieces.h)
     std::unordered_map<std::string, size_t>
         skipped_nodes;  // node type -> count (unknown or not modelled)
+    // Elements of other XML namespaces: what they said, and how many were ignored.
+    ExporterView exporter_view;
+    size_t foreign_elements = 0;
 };
 
 }  // namespace vr

@@ -16,11 +16,20 @@ std::string format_number(double v) {
     return std::string(buf, r.ptr);
 }
 
+std::string format_number_compact(double v) {
+    std::string text = format_number(v);
+    // ".5" and "-.5" are numbers in both grammars; the zero in front is a byte a value.
+    if (text.starts_with("0.")) text.erase(0, 1);
+    if (text.starts_with("-0.")) text.erase(1, 1);
+    return text;
+}
+
 namespace {
 
 class Writer {
   public:
-    Writer(const NodeTree& tree, Encoding target) : tree_(tree), target_(target), names_(tree) {}
+    Writer(const NodeTree& tree, Encoding target, bool compact)
+        : tree_(tree), target_(target), compact_(compact), names_(tree) {}
 
     std::string run() {
         out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n"
@@ -40,11 +49,27 @@ class Writer {
             out_ += "\n";
         }
         if (scaled) out_ += "  ]\n}\n";
+        write_routes();
         return std::move(out_);
     }
 
   private:
-    void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
+    // The ROUTEs between written nodes (those into or out of an Inline's file or an IMPORT stay
+    // with that file), after the nodes they name.
+    void write_routes() {
+        for (const Route& r : tree_.routes) {
+            if (r.from_import != Route::kNoImport || r.to_import != Route::kNoImport) continue;
+            if (!written_.count(r.from) || !written_.count(r.to)) continue;
+            const std::string from = names_.name(r.from), to = names_.name(r.to);
+            if (from.empty() || to.empty()) continue;
+            out_ += "ROUTE " + from + "." + std::string(name_text(r.from_event)) + " TO " + to +
+                    "." + std::string(name_text(r.to_event)) + "\n";
+        }
+    }
+
+    void indent(int depth) {
+        if (!compact_) out_.append(static_cast<size_t>(depth) * 2, ' ');
+    }
 
     std::string_view field_name(NodeId id, Name field) {
         std::string_view type = tree_.type_name(id);
@@ -77,13 +102,13 @@ class Writer {
             out_ += " {}";
             return;
         }
-        out_ += " {\n";
+        out_ += compact_ ? " { " : " {\n";
         for (const FieldEntry& e : fields) {
             indent(depth + 1);
             out_ += field_name(id, e.name);
             out_ += " ";
             write_value(e, depth + 1);
-            out_ += "\n";
+            out_ += compact_ ? " " : "\n";
         }
         indent(depth);
         out_ += "}";
@@ -107,6 +132,8 @@ class Writer {
                 out_ += "[]";
                 return;
             }
+            // One node needs no brackets (VRML97 grammar: mfnodeValue ::= nodeStatement | [...]).
+            if (compact_ && v.nodes.size() == 1) return write_node(v.nodes[0], depth);
             out_ += "[\n";
             for (NodeId child : v.nodes) {
                 indent(depth + 1);
@@ -153,16 +180,17 @@ class Writer {
             if (i) {
                 bool value_break = i % n == 0;
                 if (value_break && t.multi && (i / n) % 8 == 0) {
-                    out_ += ",\n";
+                    out_ += compact_ ? "\n" : ",\n";  // commas are white space to a reader
                     indent(depth + 1);
                 } else {
-                    out_ += value_break && t.multi ? ", " : " ";
+                    out_ += value_break && t.multi && !compact_ ? ", " : " ";
                 }
             }
             if (t.kind == ValueKind::Bool) {
                 out_ += v.numbers[i] != 0.0 ? "TRUE" : "FALSE";
             } else {
-                out_ += format_number(v.numbers[i]);
+                out_ +=
+                    compact_ ? format_number_compact(v.numbers[i]) : format_number(v.numbers[i]);
             }
         }
         if (t.multi) out_ += "]";
@@ -170,6 +198,7 @@ class Writer {
 
     const NodeTree& tree_;
     Encoding target_;
+    bool compact_ = false;
     std::string out_;
     DefNames names_;
     std::unordered_set<NodeId> written_;
@@ -177,8 +206,8 @@ class Writer {
 
 }  // namespace
 
-std::string write_classic(const NodeTree& tree, Encoding target) {
-    return Writer(tree, target).run();
+std::string write_classic(const NodeTree& tree, Encoding target, bool compact) {
+    return Writer(tree, target, compact).run();
 }
 
 }  // namespace vr

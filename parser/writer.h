@@ -9,10 +9,14 @@
 
 namespace vr {
 
-// target: Encoding::Vrml97 or Encoding::X3dClassic.
-std::string write_classic(const NodeTree& tree, Encoding target);
+// target: Encoding::Vrml97 or Encoding::X3dClassic. compact: each node's fields on one line and
+// no indentation (a child list still puts each child on a line of its own; a list of one child
+// is written without brackets), for `convert --recover-spheres`, whose output is meant small.
+std::string write_classic(const NodeTree& tree, Encoding target, bool compact = false);
 
 // Formats one number the shortest way that reads back to the same double.
 std::string format_number(double value);
+// format_number without the zero before the point (".5", "-.5"): what compact output writes.
+std::string format_number_compact(double value);
 
 }  // namespace vr

@@ -305,7 +305,7 @@ Name XmlReader::cached(const xmlChar* text, uint32_t offset,
 }
 
 void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
-                         const xmlChar** attrs) {
+                         const xmlChar** attrs, bool foreign) {
     attr_scratch_.clear();
     string_scratch_.clear();
     raw_scratch_.clear();
@@ -407,6 +407,7 @@ void XmlReader::on_start(const xmlChar* local, int nb_attrs, int nb_defaulted,
     e.offset = offset;
     e.attrs = attr_scratch_;
     e.strings = &string_scratch_;
+    e.foreign = foreign;
     start_element(e);
 }
 

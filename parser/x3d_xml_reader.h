@@ -48,6 +48,8 @@ struct XmlElement {
     uint32_t offset = 0;  // of the element name
     std::span<const XmlAttr> attrs;
     const std::vector<std::string>* strings = nullptr;
+    // In another XML namespace (a prefix bound to anything but X3D's): an exporter's own element.
+    bool foreign = false;
     const XmlAttr* find(Name name) const {
         for (const XmlAttr& a : attrs)
             if (a.name == name) return &a;
@@ -231,11 +233,13 @@ class XmlReader {
     };
 
     // ---- libxml2 glue ---------------------------------------------------------------------------
-    static void sax_start(void* self, const xmlChar* local, const xmlChar*, const xmlChar*, int,
-                          const xmlChar**, int nb_attrs, int nb_defaulted, const xmlChar** attrs) {
+    static void sax_start(void* self, const xmlChar* local, const xmlChar* prefix,
+                          const xmlChar* uri, int, const xmlChar**, int nb_attrs, int nb_defaulted,
+                          const xmlChar** attrs) {
         auto* r = static_cast<XmlReader*>(self);
         ++r->events_;
-        r->guarded([&] { r->on_start(local, nb_attrs, nb_defaulted, attrs); });
+        const bool foreign = prefix != nullptr && !is_x3d_namespace(uri);
+        r->guarded([&] { r->on_start(local, nb_attrs, nb_defaulted, attrs, foreign); });
     }
     static void sax_end(void* self, const xmlChar*, const xmlChar*, const xmlChar*) {
         auto* r = static_cast<XmlReader*>(self);
@@ -283,7 +287,15 @@ class XmlReader {
     bool start_parser(uint32_t file);
     void finish_parser();
     void feed(std::string_view bytes, bool last);
-    void on_start(const xmlChar* local, int nb_attrs, int nb_defaulted, const xmlChar** attrs);
+    void on_start(const xmlChar* local, int nb_attrs, int nb_defaulted, const xmlChar** attrs,
+                  bool foreign);
+    // A prefixed element's namespace is X3D's when its URI is the X3D namespace (any version's
+    // schema folder under web3d.org), or unknown (an undeclared prefix, which libxml2 reports).
+    static bool is_x3d_namespace(const xmlChar* uri) {
+        if (uri == nullptr) return true;
+        const std::string_view u = reinterpret_cast<const char*>(uri);
+        return u.find("web3d.org") != std::string_view::npos;
+    }
     void on_xml_error(xmlErrorPtr error);
     uint32_t current_offset();
     uint32_t offset_at(int line, int column);
@@ -319,6 +331,9 @@ class XmlReader {
     // ---- elements -------------------------------------------------------------------------------
     void start_element(const XmlElement& e);
     void unit(const XmlElement& e);
+    // An element of an exporter's own namespace (x3d_xml_foreign.cpp): what it says of the view
+    // (Chimera's WindowSize, DepthCue) into the stats; anything else ignored silently.
+    void foreign_element(const XmlElement& e);
     void end_element();
     void content_element(const XmlElement& e);
     void node_start(const XmlElement& e, const NodeTypeDecl* decl);

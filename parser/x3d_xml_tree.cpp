@@ -108,6 +108,10 @@ void XmlReader::start_element(const XmlElement& e) {
     }
     const Role parent = stack_.back().role;
     const Name tag = e.tag;
+    if (e.foreign && parent != Role::Document && parent != Role::Skip && parent != Role::Leaf) {
+        foreign_element(e);
+        return push(make_open(Role::Skip, e));
+    }
     switch (parent) {
         case Role::Skip:
         case Role::Leaf:

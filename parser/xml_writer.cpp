@@ -118,12 +118,26 @@ class XmlWriter {
         out_ += "    <meta name='generator' content='vrmlray convert'/>\n  </head>\n";
         out_ += "  <Scene>\n";
         for (NodeId root : tree_.roots) write_node(root, 2, kNoName);
+        write_routes();
         out_ += "  </Scene>\n</X3D>\n";
         return std::move(out_);
     }
 
   private:
     void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
+
+    // The ROUTEs between written nodes, as the classic writer writes them (parser/writer.cpp).
+    void write_routes() {
+        for (const Route& r : tree_.routes) {
+            if (r.from_import != Route::kNoImport || r.to_import != Route::kNoImport) continue;
+            if (!written_.count(r.from) || !written_.count(r.to)) continue;
+            const std::string from = names_.name(r.from), to = names_.name(r.to);
+            if (from.empty() || to.empty()) continue;
+            out_ += "    <ROUTE fromNode='" + from + "' fromField='" +
+                    std::string(name_text(r.from_event)) + "' toNode='" + to + "' toField='" +
+                    std::string(name_text(r.to_event)) + "'/>\n";
+        }
+    }
 
     // `field`: the X3D name of the parent's field that holds the node (kNoName at the top level).
     void write_node(NodeId id, int depth, Name field) {

@@ -713,6 +713,9 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
                                      "XML (.x3d); gzip by .gz/.wrz/.x3dvz/.x3dz");
     c->add_option("in", cmd.in, "Input scene")->required();
     c->add_option("out", cmd.out, "Output scene")->required();
+    c->add_flag("--recover-spheres", cmd.convert.recover,
+                "Write tessellated spheres and cylinders (Jmol's, ChimeraX's atoms and bonds) as "
+                "Sphere and Cylinder nodes, share identical nodes by DEF/USE, and write compactly");
     add_common(c, cmd.common, texts);
     CLI::App* cmp = add_compare(app, cmd.compare);
     CLI::App* b = add_bench(app, cmd.bench, cmd.common, texts);
@@ -736,6 +739,8 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
         cmd.render.common = cmd.common;
         if (!map_render(texts, cmd.render)) return kExitUsage;
         if (!map_render_look(texts, *r, cmd.render.options)) return kExitUsage;
+        cmd.render.size_given = r->get_option("--width")->count() > 0 ||
+                                r->get_option("--height")->count() > 0 || !texts.preset.empty();
         if (!map_render_scenes(argc, argv, cmd.render)) return kExitUsage;
     }
     if (cmd.command == Subcommand::Compare) cmd.compare.args = words_after(argc, argv, "compare");
@@ -806,7 +811,7 @@ int run_command_line(const CommandLine& cmd) {
         case Subcommand::Info:
             return strict_exit(run_info(cmd.in, cmd.common), cmd.common);
         case Subcommand::Convert:
-            return strict_exit(run_convert(cmd.in, cmd.out, cmd.common), cmd.common);
+            return strict_exit(run_convert(cmd.in, cmd.out, cmd.common, cmd.convert), cmd.common);
         case Subcommand::Compare:
             return run_compare(cmd.compare);
         case Subcommand::None:

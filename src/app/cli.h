@@ -16,6 +16,7 @@ struct CommandLine {
     BenchCommand bench;      // command == Bench
     CompareCommand compare;  // command == Compare
     std::string in, out;     // info: in; convert: in, out
+    ConvertOptions convert;  // command == Convert
     CommonOptions common;
 };
 

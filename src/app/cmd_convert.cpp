@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/compact_scene.h"
 #include "app/pipeline.h"
 #include "parser/writer.h"
 #include "parser/xml_writer.h"
@@ -51,9 +52,23 @@ bool write_output(const std::string& path, const std::string& text, bool gzip) {
     return static_cast<bool>(out);
 }
 
+// What --recover-spheres made of the tree: the mesh nodes that became exact ones, why the others
+// did not (the renderer's reasons, as `vrmlray info` gives them), and the nodes shared.
+void print_compact_stats(const CompactStats& c, size_t bytes) {
+    std::cerr << "recovered " << c.spheres << " spheres and " << c.cylinders << " cylinders of "
+              << c.meshes << " mesh nodes; " << c.shared << " identical nodes shared; " << bytes
+              << " bytes\n";
+    for (size_t m = 0; m < c.misses.size(); ++m)
+        if (c.misses[m] > 0)
+            std::cerr << "  " << c.misses[m]
+                      << " mesh nodes not recovered: " << recovery_miss_label(RecoveryMiss(m))
+                      << "\n";
+}
+
 }  // namespace
 
-int run_convert(const std::string& in, const std::string& out, const CommonOptions& common) {
+int run_convert(const std::string& in, const std::string& out, const CommonOptions& common,
+                const ConvertOptions& options) {
     Target target = target_for(out);
     if (target.encoding == Encoding::Unknown) {
         std::cerr << "vrmlray: error: cannot tell the output encoding from '" << out
@@ -62,9 +77,14 @@ int run_convert(const std::string& in, const std::string& out, const CommonOptio
     }
     LoadedScene scene;
     if (!load_and_report(in, common, scene)) return kExitBadInput;
+    CompactStats compact;
+    if (options.recover) {
+        recover_exact_nodes(scene.tree, compact);
+        share_identical_nodes(scene.tree, compact);
+    }
     std::string text = target.encoding == Encoding::X3dXml
                            ? write_x3d_xml(scene.tree)
-                           : write_classic(scene.tree, target.encoding);
+                           : write_classic(scene.tree, target.encoding, options.recover);
     if (!write_output(out, text, target.gzip)) {
         std::cerr << out << ": error: cannot write the output file\n";
         return kExitOutput;
@@ -73,6 +93,7 @@ int run_convert(const std::string& in, const std::string& out, const CommonOptio
         std::cerr << "wrote " << out << " (" << encoding_name(target.encoding)
                   << (target.gzip ? ", gzip" : "") << ", " << scene.tree.nodes.size()
                   << " nodes read)\n";
+    if (!common.quiet && options.recover) print_compact_stats(compact, text.size());
     return kExitOk;
 }
 

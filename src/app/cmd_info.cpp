@@ -14,14 +14,14 @@ namespace vr {
 
 namespace {
 
-// What --recover-spheres (on in gas mode) makes of the scene's IndexedFaceSets, placement by
-// placement.
+// What --recover-spheres (on in gas mode) makes of the scene's triangle meshes (IndexedFaceSet,
+// IndexedTriangleSet, TriangleSet, ...), placement by placement.
 void print_recovery(const FlattenStats& rs) {
     if (rs.recovery_candidates == 0) return;
     const size_t recovered =
         rs.recovered_spheres + rs.recovered_ellipsoids + rs.recovered_cylinders;
     std::printf(
-        "recovery    %zu of %zu IndexedFaceSet placements are exact shapes (gas mode or "
+        "recovery    %zu of %zu mesh placements are exact shapes (gas mode or "
         "--recover-spheres): "
         "%zu spheres, %zu ellipsoids, %zu cylinders\n",
         recovered, rs.recovery_candidates, rs.recovered_spheres, rs.recovered_ellipsoids,
@@ -34,6 +34,19 @@ void print_recovery(const FlattenStats& rs) {
         if (rs.recovery_misses[m] > 0)
             std::printf("            %zu not recovered: %s\n", rs.recovery_misses[m],
                         recovery_miss_label(RecoveryMiss(m)));
+}
+
+// What the exporter wrote in its own XML namespace (docs/input.md "Exporters' own elements").
+void print_exporter_view(const ReadStats& s) {
+    if (s.foreign_elements == 0) return;
+    const ExporterView& v = s.exporter_view;
+    std::printf("exporter    %zu elements of another XML namespace", s.foreign_elements);
+    if (v.window_width > 0)
+        std::printf("; window %dx%d (the default image size)", v.window_width, v.window_height);
+    if (v.depth_cue)
+        std::printf("; depth cue %g to %g (--depth-cue without values)", v.depth_cue_near,
+                    v.depth_cue_far);
+    std::printf("\n");
 }
 
 }  // namespace
@@ -72,6 +85,7 @@ int run_info(const std::string& path, const CommonOptions& common) {
         for (auto& [type, count] : s.skipped_nodes)
             std::printf("  %-28s %zu\n", type.c_str(), count);
     }
+    print_exporter_view(s);
 
     // Each stage's input is released once the next has what it needs, so that their peaks do not
     // stack.

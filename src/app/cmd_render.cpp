@@ -813,6 +813,28 @@ int write_sequence_stats(const RenderCommand& cmd, const World& world, const Fra
 
 }  // namespace
 
+namespace {
+
+// What the exporter said of its window (Chimera's <chimera:WindowSize>, <chimera:DepthCue>) as
+// defaults: the image size when none was given, the depth cue's range and colour when one is asked
+// for without values (docs/input.md "Exporters' own elements").
+void take_exporter_view(const ExporterView& view, RenderCommand& cmd) {
+    RenderOptions& o = cmd.options;
+    if (view.window_width > 0 && !cmd.size_given) {
+        o.width = view.window_width;
+        o.height = view.window_height;
+    }
+    if (view.depth_cue && o.depth_cue && !o.depth_cue_near && !o.depth_cue_far) {
+        o.depth_cue_near = view.depth_cue_near;
+        o.depth_cue_far = view.depth_cue_far;
+        if (view.depth_cue_has_color)
+            o.depth_cue_color =
+                Vec3(view.depth_cue_color[0], view.depth_cue_color[1], view.depth_cue_color[2]);
+    }
+}
+
+}  // namespace
+
 int run_render(const RenderCommand& command) {
     auto t0 = std::chrono::steady_clock::now();
     const World& world = World::get();
@@ -824,6 +846,7 @@ int run_render(const RenderCommand& command) {
     FramePlan plan = plan_frames(cmd, world);
     int code = prepare(cmd, world, plan, output, loaded, timings.parse);
     if (code != kExitOk) return code;
+    take_exporter_view(loaded.stats.exporter_view, cmd);
     if (!cmd.options.sky_file.empty() && !cmd.options.sky_map) {
         std::string error;
         code = load_sky_map(cmd.options.sky_file, cmd.options.sky_map, error) ? kExitOk

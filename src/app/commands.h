@@ -46,6 +46,8 @@ struct RenderCommand {
     std::optional<int> only_frame;        // --frame K: frame K of the --frames sequence alone
     std::optional<bool>
         recover_spheres;  // --recover-spheres / --no-recover-spheres; unset: on in gas mode
+    // -W/-H or a preset's size given: an exporter's window size (<chimera:WindowSize>) is not used.
+    bool size_given = false;
     CommonOptions common;
     // Batch render (app/cmd_batch.cpp): several scenes, or --list FILE, into the folder OUT.
     std::vector<std::string> scenes;  // the scene arguments (scene is the first)
@@ -95,7 +97,13 @@ bool is_batch(const RenderCommand& cmd);
 int run_render_batch(const RenderCommand& cmd);
 int run_bench(const BenchCommand& cmd);
 int run_info(const std::string& scene, const CommonOptions& common);
-int run_convert(const std::string& in, const std::string& out, const CommonOptions& common);
+// convert --recover-spheres: exact Sphere and Cylinder nodes for tessellated ones, identical nodes
+// shared, compact classic text (app/compact_scene.h).
+struct ConvertOptions {
+    bool recover = false;
+};
+int run_convert(const std::string& in, const std::string& out, const CommonOptions& common,
+                const ConvertOptions& options = {});
 int run_compare(const CompareCommand& cmd);
 // The thresholds of `compare`'s options (the command line's and the Python module's compare()).
 CompareThresholds thresholds_of(const CompareCommand& cmd);

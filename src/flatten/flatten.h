@@ -58,8 +58,9 @@ namespace vr {
 struct FlattenOptions {
     SpheresOption spheres = SpheresOption::FromHints;
     double density = 1.0;
-    // Render an IndexedFaceSet whose vertices all lie on one sphere or axis-aligned cylinder, to
-    // the precision they were written with, as that exact shape (Jmol's atoms and bonds); unset: on
+    // Render a triangle mesh (IndexedFaceSet, IndexedTriangleSet, TriangleSet, ...) whose
+    // vertices all lie on one sphere or cylinder along an axis of the mesh, to the precision they
+    // were written with, as that exact shape (Jmol's, ChimeraX's atoms and bonds); unset: on
     // in gas mode, off otherwise. A sphere under a non-uniform scale becomes an ellipsoid quadric,
     // except in gas mode (gas needs true spheres: the mesh stays).
     std::optional<bool> recover_spheres;
@@ -106,7 +107,7 @@ struct FlattenStats {
     size_t instances =
         0;  // placements of instanced meshes (not in `meshes`; their triangles are in `triangles`)
     size_t skipped_shapes = 0;  // shapes with no renderable geometry
-    // Recovery (FlattenOptions::recover_spheres), counted per placement: IndexedFaceSets tried,
+    // Recovery (FlattenOptions::recover_spheres), counted per placement: triangle meshes tried,
     // those rendered as exact spheres, ellipsoids and cylinders, and why the others were not.
     size_t recovery_candidates = 0;
     size_t recovered_spheres = 0, recovered_ellipsoids = 0, recovered_cylinders = 0;

@@ -67,7 +67,12 @@ void Flattener::emit_shape(const sg::Shape& shape, const Mat4& m, uint32_t light
     std::unique_ptr<TriMesh>& cached = mesh_cache_[want_uvs ? 1 : 0][shape.geometry];
     if (!cached)
         cached = std::make_unique<TriMesh>(triangulate_geometry(g, want_uvs, diagnostics_));
-    if (recover_spheres_ && std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) &&
+    // Every triangle mesh is a candidate: Jmol's IndexedFaceSets, ChimeraX's IndexedTriangleSets,
+    // TriangleSets and the other composed sets alike (docs/rendering.md "Recovered spheres and
+    // cylinders").
+    const bool mesh = std::holds_alternative<std::unique_ptr<sg::IndexedFaceSet>>(g.shape) ||
+                      std::holds_alternative<std::unique_ptr<sg::ComposedSet>>(g.shape);
+    if (recover_spheres_ && mesh &&
         recover_exact(shape.geometry, *cached, m, shading, out_.materials[material], want_uvs))
         return;
     if (cached->triangles.empty()) {

@@ -224,7 +224,12 @@ SampleValue Integrator::trace_camera_look(const Ray& ray, RayCounters& counters)
     if (depth_cue_ && met) {
         const double z = glm::dot(ray.o + first.t * ray.d - eye_, forward_);
         const double f = depth_cue_fraction(z, cue_near_, cue_far_);
-        v.color = (1.0 - f) * v.color + f * background;
+        // An exporter's depth cue colour (<chimera:DepthCue color>); with --alpha the surface
+        // fades out, towards no colour at all.
+        const Vec3 fade_to = options_.depth_cue_color && !options_.alpha
+                                 ? exposure_ * *options_.depth_cue_color
+                                 : background;
+        v.color = (1.0 - f) * v.color + f * fade_to;
         // With --alpha the surface fades out (the rule below then leaves f * background out);
         // without, alpha stays the coverage that a render's "nothing seen" check counts.
         if (options_.alpha) v.alpha *= 1.0 - f;

@@ -80,6 +80,8 @@ struct RenderOptions {
     std::optional<bool> headlight;  // --headlight on|off: overrides NavigationInfo.headlight
     bool depth_cue = false;         // --depth-cue: blend toward the background with view depth
     std::optional<double> depth_cue_near, depth_cue_far;  // unset: the scene's depth range
+    // The colour surfaces fade to (an exporter's <chimera:DepthCue color>); unset: the background.
+    std::optional<Vec3> depth_cue_color;
     bool tone_hue = false;  // --tone hue: the hue-keeping shoulder (render/look.h)
     // --ao-distance given as a fraction of the scene's bounding-box diagonal (the presets'): 0:
     // unset; else it replaces ao_distance once the scene is known.

@@ -366,7 +366,7 @@ def test_a_jmol_molecule_opaque_and_as_gas_as_the_command_line(tmp_path):
     assert recovery["spheres"] > 0  # Jmol's atoms are meshes on spheres
     line = info_line(cli("info", path).stdout, "recovery")
     assert line.startswith(f"{recovery['spheres'] + recovery['ellipsoids'] + recovery['cylinders']} "
-                           f"of {recovery['candidates']} IndexedFaceSet placements"), line
+                           f"of {recovery['candidates']} mesh placements"), line
     opaque = module_render_bytes(tmp_path, scene, "opaque.png", 96, 72)
     assert opaque == cli_render_bytes(tmp_path, path, "opaque_cli.png", "-W", 96, "-H", 72)
     gas = module_render_bytes(tmp_path, scene, "gas.png", 96, 72, spheres="gas", density=0.03)
