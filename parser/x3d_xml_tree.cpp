@@ -431,6 +431,8 @@ void XmlReader::node_end(Open& o) {
     NodeId id = make_node(o.decl, o.tag, o.file, o.offset, o.field_mark);
     for (const auto& [field, proto_field] : o.events)
         tree_.is_links.push_back({kNullNode, proto_field, id, field});
+    if (o.tag == n_.script)
+        tree_.scripts[id] = ScriptInterface{std::move(o.script_fields), std::move(o.script_text)};
     if (o.def != kNoName) {
         tree_.nodes[id].def_name = o.def;
         frame().defs[o.def] = id;
@@ -675,7 +677,7 @@ void XmlReader::connect(const XmlElement& e) {
     const FieldDecl* field =
         registry_.lookup_field(Spec::X3d, *owner.decl, intern(x3d_field_name(type, node_field)));
     if (!field) {
-        if (owner.dynamic) return;  // a Script's own field: dropped with the Script's interface
+        if (owner.dynamic) return script_connect(owner, node_field, *outer, bound);
         warn(e.file, e.find(n_.node_field)->begin,
              "connect names '" + node_field + "', which is not a field of " + std::string(type) +
                  "; the link is dropped",
@@ -738,9 +740,31 @@ void XmlReader::field_start(const XmlElement& e, Role role) {
     push(std::move(o));
 }
 
+// <connect> of a field a Script (or shader) declared itself: the instance's value, and its events.
+void XmlReader::script_connect(Open& owner, const std::string& node_field, const ProtoField& outer,
+                               std::unordered_map<Name, FieldEntry>::const_iterator bound) {
+    for (ScriptField& field : owner.script_fields) {
+        if (name_text(field.name) != node_field || field.type != outer.type) continue;
+        if (field.access != Access::Field) owner.events.emplace_back(field.name, outer.name);
+        if (has_value(field.access) && bound != frame().is_values->end()) {
+            field.value = bound->second;
+            field.value.name = field.name;
+        }
+        return;
+    }
+}
+
 void XmlReader::field_end(Open& o) {
     if (o.role == Role::DynamicField) {
+        ScriptField field{o.field.name, o.field.type, o.field.access, o.field.default_value};
+        field.value.name = field.name;
+        field.value.type = field.type;
+        if (field.type.kind == ValueKind::Node && has_value(field.access))
+            node_entry(field.type, o.child_mark, field.value, o.file, o.offset,
+                       "field '" + std::string(name_text(field.name)) + "'");
         children_.resize(o.child_mark);
+        Open& owner = stack_.back();
+        if (owner.role == Role::Node) owner.script_fields.push_back(std::move(field));
         return;
     }
     if (o.role == Role::InterfaceField) {
