@@ -247,7 +247,9 @@ class XmlReader {
     // Text inside a Script element is its ECMAScript source (X3D 29.4.1: a CDATA section).
     static void sax_text(void* self, const xmlChar* text, int length) {
         auto* r = static_cast<XmlReader*>(self);
-        if (r->stopped_ || r->recording_ || r->stack_.empty()) return;
+        if (r->stopped_ || r->stack_.empty() || length <= 0) return;
+        if (r->recording_)
+            return r->record_text(reinterpret_cast<const char*>(text), size_t(length));
         Open& o = r->stack_.back();
         if (o.role == Role::Node && o.tag == r->n_.script && length > 0)
             o.script_text.append(reinterpret_cast<const char*>(text), size_t(length));
@@ -345,6 +347,7 @@ class XmlReader {
     void proto_declare_start(const XmlElement& e);
     void extern_start(const XmlElement& e);
     void record(const XmlElement& e);
+    void record_text(const char* text, size_t length);
     NodeId expand(const Instance& inst, uint32_t file, uint32_t offset);
     NodeId builtin_instance(const NodeTypeDecl& decl,
                             const std::unordered_map<Name, FieldEntry>& values, uint32_t file,

@@ -830,6 +830,19 @@ void XmlReader::record(const XmlElement& e) {
     decl.events.push_back(event);
 }
 
+// Text in a ProtoBody, for the Scripts in it (a Script's text is its ECMAScript): one event for
+// each run of text between elements, replayed into the Script it stands in.
+void XmlReader::record_text(const char* text, size_t length) {
+    XmlProtoDecl& decl = *recording_;
+    static const Name text_event = intern("#text");
+    if (!decl.events.empty() && decl.events.back().tag == text_event) {
+        decl.strings[decl.events.back().first_attr].append(text, length);
+        return;
+    }
+    decl.strings.emplace_back(text, length);
+    decl.events.push_back({text_event, 0, uint32_t(decl.strings.size() - 1), 0, false});
+}
+
 NodeId XmlReader::expand(const Instance& inst, uint32_t file, uint32_t offset) {
     const ProtoDecl& proto = *inst.proto;
     const std::string name(name_text(proto.name));
@@ -889,7 +902,13 @@ NodeId XmlReader::expand(const Instance& inst, uint32_t file, uint32_t offset) {
     const size_t depth = stack_.size();
     const size_t links_mark = tree_.is_links.size();
     push(std::move(root));
+    static const Name text_event = intern("#text");
     for (const RecordedEvent& ev : body.events) {
+        if (ev.tag == text_event) {
+            if (stack_.back().role == Role::Node && stack_.back().tag == n_.script)
+                stack_.back().script_text += body.strings[ev.first_attr];
+            continue;
+        }
         if (!ev.start) {
             end_element();
             continue;

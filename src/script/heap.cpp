@@ -11,7 +11,7 @@
 extern "C" int vrmlray_duk_timeout(void* udata) {
     auto* heap = static_cast<vr::ScriptHeap*>(udata);
     if (!heap || std::chrono::steady_clock::now() < heap->deadline) return 0;
-    heap->timed_out = true;
+    heap->timed_out = heap->interrupted = true;
     return 1;
 }
 
@@ -21,12 +21,23 @@ namespace {
 // Each block carries its size in front, so that the budget counts what is freed too.
 constexpr size_t kHeader = alignof(std::max_align_t);
 
+// A call past its deadline gets no more memory: a loop whose time goes into native code (a long
+// Array.join each turn) runs few bytecode instructions between the interrupt counter's checks,
+// but it allocates; refused, it ends with Duktape's preallocated DoubleError. Once the counter's
+// check has said so, the RangeError that ends the call (naming the line) gets its memory.
+bool over_time(ScriptHeap& heap) {
+    if (heap.interrupted || heap.deadline == std::chrono::steady_clock::time_point::max() ||
+        std::chrono::steady_clock::now() < heap.deadline)
+        return false;
+    heap.timed_out = true;
+    return true;
+}
+
 void* budget_alloc(void* udata, duk_size_t size) {
     auto* heap = static_cast<ScriptHeap*>(udata);
     if (size == 0) return nullptr;
-    if (heap->bytes + size > heap->limits.heap_bytes)
-        return nullptr;  // Duktape collects, then
-                         // throws "alloc failed"
+    // Over the budget Duktape collects garbage, then throws "alloc failed".
+    if (heap->bytes + size > heap->limits.heap_bytes || over_time(*heap)) return nullptr;
     auto* block = static_cast<unsigned char*>(std::malloc(size + kHeader));
     if (!block) return nullptr;
     std::memcpy(block, &size, sizeof size);
@@ -54,7 +65,8 @@ void* budget_realloc(void* udata, void* ptr, duk_size_t size) {
     unsigned char* block = static_cast<unsigned char*>(ptr) - kHeader;
     size_t old = 0;
     std::memcpy(&old, block, sizeof old);
-    if (size > old && heap->bytes + (size - old) > heap->limits.heap_bytes) return nullptr;
+    if (size > old && (heap->bytes + (size - old) > heap->limits.heap_bytes || over_time(*heap)))
+        return nullptr;
     auto* grown = static_cast<unsigned char*>(std::realloc(block, size + kHeader));
     if (!grown) return nullptr;
     std::memcpy(grown, &size, sizeof size);

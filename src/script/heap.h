@@ -27,8 +27,9 @@ struct ScriptHeap {
     ScriptLimits limits;
     size_t bytes = 0;  // allocated now
     std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
-    bool timed_out = false;  // the last call passed its deadline
-    bool broken = false;     // Duktape called its fatal handler: the heap is never used again
+    bool timed_out = false;    // the last call passed its deadline
+    bool interrupted = false;  // and the interrupt counter's check said so
+    bool broken = false;       // Duktape called its fatal handler: the heap is never used again
     std::jmp_buf* fatal_exit = nullptr;
     std::string fatal_message;
 };

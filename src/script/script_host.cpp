@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <csetjmp>
+#include <cstdio>
 #include <iostream>
 
 #include "duktape.h"
@@ -75,7 +76,7 @@ ScriptHost::ScriptHost(NodeTree& tree, Diagnostics& diagnostics, ScriptSettings 
     for (NodeId id : scripts) {
         std::string text, why;
         if (!script_text(id, text, why)) {
-            warn(id, describe(id) + " is not run: " + why, "script-source");
+            if (!why.empty()) warn(id, describe(id) + " is not run: " + why, "script-source");
             continue;
         }
         auto rt = std::make_unique<ScriptRuntime>();
@@ -130,7 +131,8 @@ bool ScriptHost::script_text(NodeId id, std::string& text, std::string& why) con
             failures.add(url + ": " + e.what());
         }
     }
-    why = "its url gives no script (" + failures.message() + ")";
+    // A Script with no URL at all (a parser test's) has nothing to run, and nothing to say.
+    if (!failures.reasons.empty()) why = "its url gives no script (" + failures.message() + ")";
     return false;
 }
 
@@ -182,7 +184,7 @@ bool ScriptHost::start(ScriptRuntime& rt, const std::string& text) {
 bool ScriptHost::run(ScriptRuntime& rt, int nargs, const std::string& what,
                      std::vector<ScriptEvent>& out) {
     ScriptHeap& heap = *rt.heap;
-    heap.timed_out = false;
+    heap.timed_out = heap.interrupted = false;
     heap.deadline = std::chrono::steady_clock::now() +
                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                         std::chrono::duration<double>(heap.limits.seconds_per_call));
@@ -202,8 +204,10 @@ bool ScriptHost::run(ScriptRuntime& rt, int nargs, const std::string& what,
         std::string message = error_text(ctx, rt.file_name);
         if (heap.timed_out) {
             rt.dead = true;
-            message = "ran longer than " + std::to_string(heap.limits.seconds_per_call) + " s (" +
-                      message + "); its outputs are dropped and the Script is not run again";
+            char seconds[32];
+            std::snprintf(seconds, sizeof seconds, "%g", heap.limits.seconds_per_call);
+            message = "ran longer than " + std::string(seconds) + " s (" + message +
+                      "); its outputs are dropped and the Script is not run again";
         } else {
             message += "; that call's outputs are dropped";
         }
