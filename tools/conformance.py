@@ -269,7 +269,10 @@ CAUSES = [  # (pattern on a warning's message, cause); the first that matches na
     (re.compile(r"EXTERNPROTO (\S+) not resolved"), "EXTERNPROTO not found"),
     (re.compile(r"(\w+): no texture image could be loaded"), "texture file missing"),
     (re.compile(r"(Inline)\b.*not found"), "file missing"),
-    (re.compile(r"(Script)"), "not run"),
+    (re.compile(r"(Script)\b.* is not run"), "not run"),
+    (re.compile(r"Script(?: '[^']*')?: .*?\b(\w*Error|ran longer)"), "script stopped"),
+    (re.compile(r"Script(?: '[^']*')?: (Browser\.\w+|cannot set|createVrmlFromString|createX3DFromString)"),
+     "script call ignored"),
 ]
 
 
@@ -305,7 +308,7 @@ COMPONENT_NODES = re.compile(
     r"\b(LayerSet|LayoutLayer|LayoutGroup|Layer|Viewport|Geo(?:Coordinate|ElevationGrid|Location|LOD|Origin|"
     r"Transform|Viewpoint|PositionInterpolator)|Nurbs[A-Z]\w*|ClipPlane|LocalFog|MatrixTransform|"
     r"(?:Arc|ArcClose|Circle|Disk|Polyline|Polypoint|Rectangle|TriangleSet)2D|ParticleSystem|CAD(?:Assembly|"
-    r"Face|Layer|Part)|MovieTexture|ComposedShader|TimeSensor)\b")
+    r"Face|Layer|Part)|MovieTexture|ComposedShader|TimeSensor|Script)\b")
 
 
 def component_hint(text):
@@ -321,8 +324,6 @@ def reason_for(rel, text, outcome, stderr, sizes=""):
     if outcome == "error":
         return "error: " + first_error(stderr)
     causes = causes_in(stderr)
-    if re.search(r"\bScript\b", text) and not any(c.startswith("not run") for c in causes):
-        causes.append("not run: Script")
     if not causes:
         # No message explains it: what the file uses, and the silhouettes' sizes, for a person to look at.
         causes.append((component_hint(text) or "unexplained") + (f" ({sizes})" if sizes else ""))

@@ -162,8 +162,18 @@ var MFVec2d = mfClass(same), MFVec3d = mfClass(same), MFVec4d = mfClass(same);
 var MFColor = mfClass(same), MFColorRGBA = mfClass(same), MFImage = mfClass(same);
 
 // SFNode: a proxy whose properties are the node's fields (reading them; setting them is
-// directOutput). One proxy a node, so that == compares nodes.
-var proxies = {};
+// directOutput). One proxy a node, so that == compares nodes. A field read during a call is one
+// live object until the call ends (a loop over geometry.height reads the node once), and what
+// the script changed in it is written back then, as a browser's field objects are live.
+var proxies = {}, live = {};
+function flush() {
+    var held = live;
+    live = {};
+    Object.keys(held).forEach(function (key) {
+        var e = held[key], now = flat(e.type, e.value);
+        if (JSON.stringify(now) !== e.before) __nodeSet(e.id, e.name, now);
+    });
+}
 function node(id) {
     if (id < 0) return null;
     if (proxies[id]) return proxies[id];
@@ -174,10 +184,17 @@ function node(id) {
             if (k === 'toString') return function () { return __nodeType(id) + ' { }'; };
             if (k === 'getNodeName' || k === 'getTypeName') return function () { return __nodeType(id); };
             if (k === 'valueOf') return function () { return p; };
+            var key = id + '/' + k;
+            if (live[key]) return live[key].value;
             var type = __nodeFieldType(id, k);
-            return type ? make(type, __nodeGet(id, k)) : undefined;
+            if (!type) return undefined;
+            var a = __nodeGet(id, k), value = make(type, a);
+            if (value !== null && typeof value === 'object' && !(value.__id >= 0))
+                live[key] = { id: id, name: k, type: type, value: value, before: JSON.stringify(a) };
+            return value;
         },
         set: function (t, k, v) {
+            delete live[id + '/' + String(k)];
             var type = __nodeFieldType(id, String(k));
             if (!type) { __warn('node ' + __nodeType(id) + ' has no field ' + String(k) + ' to set'); return true; }
             __nodeSet(id, String(k), flat(type, v));
@@ -265,11 +282,13 @@ g.__declare = function (name, type, isOut, a) {
 // x) runs with (value, timestamp); returns [name, flat] of each eventOut sent.
 g.__call = function (fn, field, type, a, ts) {
     assigned = {};
+    live = {};
     outs.forEach(function (n) { snapshot[n] = JSON.stringify(flat(types[n], fields[n])); });
     var value = type ? make(type, a) : undefined;
     if (field && types[field]) fields[field] = value;
     var f = g[fn];
     if (typeof f === 'function') f.call(g, value, ts);
+    flush();
     var sent = [];
     outs.forEach(function (n) {
         var now = flat(types[n], fields[n]);

@@ -103,18 +103,21 @@ TEST(ScriptRun, StateIsKeptFromFrameToFrame) {
 }
 
 TEST(ScriptRun, DirectOutputSetsFieldsOfHeldNodes) {
+    // Assigned whole (translation, rotation), or changed in place through the field object the
+    // node gave (scale.y): both reach the node when the call ends.
     LoadedScene scene = load_scene_text(
         "#VRML V2.0 utf8\n"
         "DEF T Transform {}\n"
         "DEF S Script { directOutput TRUE field SFNode t USE T\n"
         "  url \"javascript: function initialize() { t.translation = new SFVec3f(1, 2, 3); "
-        "t.rotation = new SFRotation(0, 1, 0, 0.5); }\" }\n",
+        "t.rotation = new SFRotation(0, 1, 0, 0.5); var s = t.scale; s.y = 4; }\" }\n",
         "direct.wrl");
     Diagnostics d;
     Animator animator(scene.tree, d);
     EXPECT_EQ(d.warning_count(), 0u) << messages(d);
     EXPECT_EQ(numbers(scene.tree, "T", "translation"), (std::vector<double>{1, 2, 3}));
     EXPECT_EQ(numbers(scene.tree, "T", "rotation"), (std::vector<double>{0, 1, 0, 0.5}));
+    EXPECT_EQ(numbers(scene.tree, "T", "scale"), (std::vector<double>{1, 4, 1}));
 }
 
 TEST(ScriptRun, X3dXmlScriptTextIsRun) {
