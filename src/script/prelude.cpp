@@ -183,6 +183,8 @@ function node(id) {
             if (typeof k !== 'string') return undefined;
             if (k === 'toString') return function () { return __nodeType(id) + ' { }'; };
             if (k === 'getNodeName' || k === 'getTypeName') return function () { return __nodeType(id); };
+            if (k === 'toVRMLString' || k === 'toX3DString') return function () { return __nodeType(id) + ' { }'; };
+            if (k === 'toXMLString') return function () { return '<' + __nodeType(id) + '/>'; };
             if (k === 'valueOf') return function () { return p; };
             var key = id + '/' + k;
             if (live[key]) return live[key].value;
@@ -314,8 +316,16 @@ var Browser = {
     loadURL: function () { __warn('Browser.loadURL does nothing in vrmlray (no world is replaced)'); },
     replaceWorld: function () { __warn('Browser.replaceWorld does nothing in vrmlray (no world is replaced)'); },
     createVrmlFromURL: function () { __warn('Browser.createVrmlFromURL does nothing in vrmlray'); },
-    setDescription: function () {}
+    setDescription: function () {},
+    setBrowserOption: function () {},
+    getBrowserOption: function () { return undefined; }
 };
+// X3D's properties of the same (ISO/IEC 19777-1 7.2).
+Object.defineProperty(Browser, 'name', { get: function () { return Browser.getName(); } });
+Object.defineProperty(Browser, 'version', { get: function () { return Browser.getVersion(); } });
+Object.defineProperty(Browser, 'currentTime', { get: function () { return __now(); } });
+Object.defineProperty(Browser, 'currentSpeed', { get: function () { return 0; } });
+Object.defineProperty(Browser, 'currentFrameRate', { get: function () { return 0; } });
 g.Browser = Browser;
 g.print = Browser.print;
 g.println = Browser.println;
