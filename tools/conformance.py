@@ -313,6 +313,8 @@ COMPONENT_NODES = re.compile(
 
 def component_hint(text):
     names = sorted(set(COMPONENT_NODES.findall(text)))
+    if len(names) > 6:  # a file that lists every node type (Titania's NodeIndex): a few, and the count
+        names = names[:6] + [f"... ({len(names)} in all)"]
     return "uses: " + ", ".join(names) if names else ""
 
 

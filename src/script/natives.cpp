@@ -1,5 +1,6 @@
 #include "script/natives.h"
 
+#include <cmath>
 #include <iostream>
 
 #include "duktape.h"
@@ -8,6 +9,13 @@
 
 namespace vr {
 namespace {
+
+void warn_nonfinite(const ScriptRuntime& rt, const std::string& field) {
+    rt.host->warn(
+        rt.node,
+        rt.host->describe(rt.node) + " sent NaN or infinity in " + field + "; 0 is used instead",
+        "script-nonfinite");
+}
 
 ScriptRuntime& runtime(duk_context* ctx) {
     duk_push_global_stash(ctx);
@@ -76,7 +84,9 @@ duk_ret_t node_set(duk_context* ctx) {
     const std::string name = duk_safe_to_string(ctx, 1);
     const FieldDecl* f = node == kNullNode ? nullptr : field_of(tree, node, name);
     if (!f) return 0;
-    ScriptValue value = read_flat(ctx, 2, f->type);
+    size_t nonfinite = 0;
+    ScriptValue value = read_flat(ctx, 2, f->type, &nonfinite);
+    if (nonfinite > 0) warn_nonfinite(rt, name);
     for (NodeId& id : value.nodes)  // ids the script made up are not nodes
         if (id != kNullNode && id >= tree.nodes.size()) id = kNullNode;
     std::string why;
@@ -215,7 +225,7 @@ void push_flat(duk_context* ctx, const ScriptValue& value) {
     }
 }
 
-ScriptValue read_flat(duk_context* ctx, int index, FieldType type) {
+ScriptValue read_flat(duk_context* ctx, int index, FieldType type, size_t* nonfinite) {
     ScriptValue v;
     v.type = type;
     index = duk_normalize_index(ctx, index);
@@ -229,9 +239,12 @@ ScriptValue read_flat(duk_context* ctx, int index, FieldType type) {
             v.strings.emplace_back(s, len);
         } else if (type.kind == ValueKind::Node) {
             const double id = duk_get_number_default(ctx, -1, -1);
-            v.nodes.push_back(id >= 0 ? NodeId(id) : kNullNode);
+            v.nodes.push_back(id >= 0 && id < double(kNullNode) ? NodeId(id) : kNullNode);
         } else {
-            v.numbers.push_back(duk_get_number_default(ctx, -1, 0.0));
+            // NaN or infinity never reaches the scene: 0 instead, and the caller warns.
+            const double x = duk_get_number_default(ctx, -1, 0.0);
+            if (!std::isfinite(x) && nonfinite) ++*nonfinite;
+            v.numbers.push_back(std::isfinite(x) ? x : 0.0);
         }
         duk_pop(ctx);
     }
@@ -248,7 +261,9 @@ void read_outputs(duk_context* ctx, const ScriptRuntime& rt, std::vector<ScriptE
         duk_pop(ctx);
         if (const ScriptField* f = rt.host->field(rt.node, name)) {
             duk_get_prop_index(ctx, -1, 1);
-            ScriptEvent e{rt.node, name, read_flat(ctx, -1, f->type)};
+            size_t nonfinite = 0;
+            ScriptEvent e{rt.node, name, read_flat(ctx, -1, f->type, &nonfinite)};
+            if (nonfinite > 0) warn_nonfinite(rt, std::string(name_text(name)));
             // Node ids the script made up are not nodes.
             for (NodeId& id : e.value.nodes)
                 if (id != kNullNode && id >= rt.host->tree().nodes.size()) id = kNullNode;

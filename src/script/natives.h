@@ -24,8 +24,8 @@ struct ScriptRuntime {
 void install_natives(duk_context* ctx, ScriptRuntime& rt);
 // Pushes `value` as the prelude's flat array (numbers, strings, or node ids with -1 for NULL).
 void push_flat(duk_context* ctx, const ScriptValue& value);
-// The array at `index` as a value of `type`.
-ScriptValue read_flat(duk_context* ctx, int index, FieldType type);
+// The array at `index` as a value of `type`; NaN and infinities become 0, counted in `nonfinite`.
+ScriptValue read_flat(duk_context* ctx, int index, FieldType type, size_t* nonfinite = nullptr);
 // __call()'s result at the stack top, [[name, flat], ...], as events of the Script's eventOuts.
 void read_outputs(duk_context* ctx, const ScriptRuntime& rt, std::vector<ScriptEvent>& out);
 

@@ -210,7 +210,9 @@ TEST(ScriptRun, NoScriptsLeavesFileValues) {
     animator.evaluate(3.0);
     EXPECT_EQ(numbers(scene.tree, "T", "translation"), (std::vector<double>{9, 9, 9}));
     EXPECT_EQ(scene.tree.get(def(scene.tree, "G"), "children").nodes.size(), 0u);
+    // Once per Script, however many of its outputs are routed (pos and made here).
     EXPECT_NE(messages(d).find("Script 'S' is not run (--no-scripts)"), std::string::npos);
+    EXPECT_EQ(messages(d).find("(2 times)"), std::string::npos) << messages(d);
 }
 
 TEST(ScriptRun, FileWithoutScriptsStartsNoEngine) {
@@ -251,6 +253,22 @@ TEST(ScriptRun, JsFileUrlObeysTheSandbox) {
     EXPECT_NE(messages(d).find("Script 'O' is not run: its url gives no script"), std::string::npos)
         << messages(d);
     std::filesystem::remove_all(dir);
+}
+
+TEST(ScriptRun, NanNeverReachesTheScene) {
+    // 0/0 is NaN and 1/0 infinity: each becomes 0, with a warning.
+    LoadedScene scene = load_scene_text(
+        "#VRML V2.0 utf8\n"
+        "DEF T Transform {}\n"
+        "DEF S Script { eventOut SFVec3f pos url \"javascript: function initialize() "
+        "{ pos = new SFVec3f(0 / 0, 1, 1 / 0); }\" }\n"
+        "ROUTE S.pos TO T.set_translation\n",
+        "nan.wrl");
+    Diagnostics d;
+    Animator animator(scene.tree, d);
+    EXPECT_EQ(numbers(scene.tree, "T", "translation"), (std::vector<double>{0, 1, 0}));
+    EXPECT_NE(messages(d).find("Script 'S' sent NaN or infinity in pos"), std::string::npos)
+        << messages(d);
 }
 
 }  // namespace
