@@ -113,6 +113,12 @@ bool Animator::route(bool add, NodeId from, Name from_event, NodeId to, Name to_
         r.loc = tree_.nodes[from].loc;
         resolve(r);
         fired_.resize(routes_.size(), 0);
+        // A TimeSensor routed only now sends its events from the next time on.
+        if (tree_.type_name(from) == "TimeSensor" &&
+            std::find(sensors_.begin(), sensors_.end(), from) == sensors_.end()) {
+            sensors_.insert(std::upper_bound(sensors_.begin(), sensors_.end(), from), from);
+            animated_ = true;
+        }
         return true;
     }
     for (const RouteEnd& x : a) {

@@ -76,6 +76,7 @@ bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common
 ScriptSettings script_settings(const LoadedScene& loaded, const CommonOptions& common) {
     ScriptSettings s;
     s.enabled = common.scripts;
+    s.quiet = common.quiet;
     s.sources = &loaded.sources;
     s.allowed_roots = loaded.allowed_roots;
     return s;

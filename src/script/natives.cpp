@@ -145,7 +145,8 @@ duk_ret_t route(duk_context* ctx) {
 
 duk_ret_t print(duk_context* ctx) {
     ScriptRuntime& rt = runtime(ctx);
-    std::cerr << rt.host->describe(rt.node) << ": " << duk_safe_to_string(ctx, 0) << "\n";
+    if (!rt.host->settings().quiet)
+        std::cerr << rt.host->describe(rt.node) << ": " << duk_safe_to_string(ctx, 0) << "\n";
     return 0;
 }
 

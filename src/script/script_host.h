@@ -37,6 +37,7 @@ struct ScriptEvent {
 
 struct ScriptSettings {
     bool enabled = true;  // --no-scripts: false
+    bool quiet = false;   // --quiet: print() and println() say nothing
     ScriptLimits limits;
     const SourceManager* sources = nullptr;  // to find a Script's file (for .js URLs)
     // Folders .js URLs are confined to (--sandbox; empty: not confined), as for other URLs.

@@ -111,8 +111,10 @@ TEST(ScriptFields, NodeFieldsAndBrowser) {
                          "}')[0];"
                          "var t = n.translation;"
                          "out = new MFFloat(t.x, t.y, t.z, Browser.getName() == 'vrmlray' ? 1 : 0,"
-                         " n.getTypeName() == 'Transform' ? 1 : 0, n.scale.y);"),
-              (std::vector<double>{1, 2, 3, 1, 1, 1}));
+                         " n.getTypeName() == 'Transform' ? 1 : 0, n.scale.y,"
+                         " Browser.createX3DFromString(\\\"<Transform translation='4 5 6'/>\\\")[0]"
+                         ".translation.z);"),
+              (std::vector<double>{1, 2, 3, 1, 1, 1, 6}));
 }
 
 }  // namespace

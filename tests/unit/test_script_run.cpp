@@ -120,6 +120,33 @@ TEST(ScriptRun, DirectOutputSetsFieldsOfHeldNodes) {
     EXPECT_EQ(numbers(scene.tree, "T", "scale"), (std::vector<double>{1, 4, 1}));
 }
 
+TEST(ScriptRun, AddRouteAndDeleteRoute) {
+    // initialize() routes the clock through the interpolator into T, and deletes the file's ROUTE
+    // into U. At t = 1 of a 4 s cycle, fraction 1/4: T moves to (1, 0, 0) of the (0 0 0, 4 0 0)
+    // keys; U keeps its file value.
+    LoadedScene scene = load_scene_text(
+        "#VRML V2.0 utf8\n"
+        "DEF T Transform {}\n"
+        "DEF U Transform { translation 0 5 0 }\n"
+        "DEF TS TimeSensor { cycleInterval 4 loop TRUE }\n"
+        "DEF P PositionInterpolator { key [0 1] keyValue [0 0 0, 4 0 0] }\n"
+        "DEF S Script { field SFNode clock USE TS field SFNode p USE P field SFNode t USE T\n"
+        "  field SFNode u USE U\n"
+        "  url \"javascript: function initialize() {\n"
+        "    Browser.addRoute(clock, 'fraction_changed', p, 'set_fraction');\n"
+        "    Browser.addRoute(p, 'value_changed', t, 'set_translation');\n"
+        "    Browser.deleteRoute(p, 'value_changed', u, 'set_translation'); }\" }\n"
+        "ROUTE P.value_changed TO U.set_translation\n",
+        "routes.wrl");
+    Diagnostics d;
+    Animator animator(scene.tree, d);
+    EXPECT_EQ(d.warning_count(), 0u) << messages(d);
+    EXPECT_TRUE(animator.animated());
+    animator.evaluate(1.0);
+    EXPECT_EQ(numbers(scene.tree, "T", "translation"), (std::vector<double>{1, 0, 0}));
+    EXPECT_EQ(numbers(scene.tree, "U", "translation"), (std::vector<double>{0, 5, 0}));
+}
+
 TEST(ScriptRun, X3dXmlScriptTextIsRun) {
     LoadedScene scene = load_scene_text(
         "<X3D version='3.2'><Scene>\n"
