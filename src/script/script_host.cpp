@@ -116,6 +116,16 @@ bool ScriptHost::script_text(NodeId id, std::string& text, std::string& why) con
     const SourceLoc loc = tree_.nodes[id].loc;
     for (const std::string& url : tree_.get(id, "url").strings) {
         if (inline_script(url, text)) return true;
+        // Another language's inline text (castlescript:) or a Java class: named, never looked up.
+        const std::string_view head = std::string_view(url).substr(0, url.find(':'));
+        if (head.size() < url.size() && head.ends_with("script")) {
+            failures.add(std::string(head) + ": is not ECMAScript");
+            continue;
+        }
+        if (url.ends_with(".class")) {
+            failures.add(url + ": Java is not run");
+            continue;
+        }
         if (!settings_.sources || !loc.valid()) {
             failures.add(url + ": no file to resolve it from");
             continue;
