@@ -426,7 +426,7 @@ class Reader {
                      describe(f, open));
 
         const size_t mark = scratch_.size();
-        std::vector<std::pair<Name, FieldType>> dynamic_fields;  // declared in a Script's body
+        std::vector<ScriptField> dynamic_fields;    // declared in a Script's body
         std::vector<std::pair<Name, Name>> events;  // (field, PROTO field) of `field IS name`
         for (;;) {
             Token t = f.lexer.peek();
@@ -452,24 +452,24 @@ class Reader {
                 continue;
             }
             if (dynamic && parse_access(w) && !peek_is_field(f, decl)) {
-                dynamic_fields.push_back(dynamic_field(f, depth));
+                dynamic_fields.push_back(dynamic_field(f, depth, events));
                 continue;
             }
             f.lexer.next();
             Name field_name = intern(w);
             const FieldDecl* field = registry_.lookup_field(spec_, *decl, field_name);
             if (!field && dynamic) {
-                // A field the Script declared itself: `name IS protoField` or `name value`;
-                // dropped.
+                // A field the Script declared itself, given again: `name IS protoField` or
+                // `name value`.
                 auto it = std::find_if(dynamic_fields.begin(), dynamic_fields.end(),
-                                       [&](const auto& d) { return d.first == field_name; });
+                                       [&](const auto& d) { return d.name == field_name; });
                 if (it != dynamic_fields.end()) {
                     if (peek_word(f, "IS")) {
                         f.lexer.next();
-                        expect_word(f, "a PROTO field name after IS");
+                        dynamic_is(f, *it, events);
                     } else {
-                        FieldEntry dropped;
-                        field_value(f, it->second, dropped, depth);
+                        field_value(f, it->type, it->value, depth);
+                        it->value.name = it->name;
                     }
                     continue;
                 }
@@ -508,6 +508,7 @@ class Reader {
         const NodeId id = make_node(f, decl, type_name, type_token, mark);
         for (const auto& [field, proto_field] : events)
             tree_.is_links.push_back({kNullNode, proto_field, id, field});
+        if (type == "Script") tree_.scripts[id].fields = std::move(dynamic_fields);
         return id;
     }
 
@@ -517,23 +518,50 @@ class Reader {
         return decl->find(f.lexer.text(f.lexer.peek())) != nullptr;
     }
 
-    // Script/shader interface declarations: access type name [value | IS name]. Read and dropped.
-    std::pair<Name, FieldType> dynamic_field(Frame& f, size_t depth) {
+    // Script/shader interface declarations: access type name [value | IS name], kept for a
+    // Script (src/script/ runs it).
+    ScriptField dynamic_field(Frame& f, size_t depth, std::vector<std::pair<Name, Name>>& events) {
         Token at = f.lexer.next();
-        Access access = *parse_access(f.lexer.text(at));
+        ScriptField field;
+        field.access = *parse_access(f.lexer.text(at));
         Token type_token = f.lexer.next();
         auto type = type_token.kind == TokenKind::Word ? parse_type_name(f.lexer.text(type_token))
                                                        : std::nullopt;
         if (!type) fail(f, type_token, "expected a field type, found " + describe(f, type_token));
-        Name name = intern(expect_word(f, "a field name"));
+        field.type = *type;
+        field.name = intern(expect_word(f, "a field name"));
+        field.value.type = *type;
+        field.value.name = field.name;
+        field.value.loc = {f.file, at.offset};
         if (peek_word(f, "IS")) {
             f.lexer.next();
-            expect_word(f, "a PROTO field name after IS");
-        } else if (has_value(access)) {
-            FieldEntry scratch;
-            field_value(f, *type, scratch, depth);
+            dynamic_is(f, field, events);
+        } else if (has_value(field.access)) {
+            field_value(f, *type, field.value, depth);
+            field.value.name = field.name;
         }
-        return {name, *type};
+        return field;
+    }
+
+    // `IS protoField` of a Script's own field: the instance's value, and its events.
+    void dynamic_is(Frame& f, ScriptField& field, std::vector<std::pair<Name, Name>>& events) {
+        Token t = f.lexer.peek();
+        const Name proto_field = intern(expect_word(f, "a PROTO field name after IS"));
+        if (!f.is_values || !f.proto) fail(f, t, "IS may only be used inside a PROTO body");
+        const ProtoField* pf = f.proto->find(proto_field);
+        if (!pf || pf->type != field.type) {
+            warn(f, t.offset,
+                 "IS connects Script field '" + std::string(name_text(field.name)) +
+                     "' to PROTO field '" + std::string(name_text(proto_field)) +
+                     "', which is not a field of that type; the link is dropped",
+                 "is-unknown:" + std::string(name_text(proto_field)));
+            return;
+        }
+        if (field.access != Access::Field) events.emplace_back(field.name, proto_field);
+        auto it = f.is_values->find(proto_field);
+        if (!has_value(field.access) || it == f.is_values->end()) return;
+        field.value = it->second;
+        field.value.name = field.name;
     }
 
     void push_field(Frame& f, size_t mark, const FieldEntry& entry, const Token& at) {

@@ -74,6 +74,7 @@ void NodeTree::clear_keeping_memory() {
     is_links.clear();
     exports.clear();
     imports.clear();
+    scripts.clear();
     inline_roots.clear();
     root_length_scale = 1.0;
     inline_length_scale.clear();

@@ -107,6 +107,25 @@ struct IsLink {
     Name field = kNoName;
 };
 
+// One field, eventIn or eventOut a Script node declares itself (VRML97 6.40, X3D 29.4.1), kept for
+// src/script/. A field's value lives in the pools like any field's (`value`; count 0 when the file
+// gives none, which is the type's initial value); events have none.
+struct ScriptField {
+    Name name = kNoName;
+    FieldType type;
+    Access access = Access::Field;
+    FieldEntry value;
+};
+struct ScriptInterface {
+    std::vector<ScriptField> fields;  // in declaration order
+    std::string source;  // X3D XML: the element's text (CDATA); the url field's forms are in `url`
+    const ScriptField* find(Name name) const {
+        for (const ScriptField& f : fields)
+            if (f.name == name) return &f;
+        return nullptr;
+    }
+};
+
 struct NodeTree {
     Pool<Node> nodes;
     std::vector<NodeKind> kinds{NodeKind{}};  // distinct (decl, type) pairs; 0 is (none, no name)
@@ -122,6 +141,7 @@ struct NodeTree {
     std::vector<IsLink> is_links;  // PROTO interface events, for routes into and out of instances
     std::vector<Export> exports;   // of every file read
     std::vector<Import> imports;
+    std::unordered_map<NodeId, ScriptInterface> scripts;  // every Script node's own interface
 
     // Inline nodes that were resolved: the top-level nodes of the file they name.
     std::unordered_map<NodeId, std::vector<NodeId>> inline_roots;

@@ -160,6 +160,8 @@ bool XmlReader::start_parser(uint32_t file) {
     sax.startElementNs = sax_start;
     sax.endElementNs = sax_end;
     sax.serror = sax_error;
+    sax.characters = sax_text;
+    sax.cdataBlock = sax_text;
     sax.entityDecl = sax_entity_decl;
     sax.unparsedEntityDecl = sax_unparsed_entity_decl;
     // getEntity, resolveEntity, externalSubset stay null: nothing is looked up or loaded.

@@ -215,6 +215,8 @@ class XmlReader {
         std::vector<std::string> urls;
         std::unique_ptr<Instance> instance;
         std::vector<std::pair<Name, Name>> events;  // a node's IS events: (field, PROTO field)
+        std::vector<ScriptField> script_fields;     // a Script's own interface
+        std::string script_text;                    // a Script's text (CDATA) content
     };
     // A scope of DEF names and PROTOs: the file, one PROTO instance, or one interface default
     // value.
@@ -245,6 +247,16 @@ class XmlReader {
         auto* r = static_cast<XmlReader*>(self);
         ++r->events_;
         r->guarded([&] { r->end_element(); });
+    }
+    // Text inside a Script element is its ECMAScript source (X3D 29.4.1: a CDATA section).
+    static void sax_text(void* self, const xmlChar* text, int length) {
+        auto* r = static_cast<XmlReader*>(self);
+        if (r->stopped_ || r->stack_.empty() || length <= 0) return;
+        if (r->recording_)
+            return r->record_text(reinterpret_cast<const char*>(text), size_t(length));
+        Open& o = r->stack_.back();
+        if (o.role == Role::Node && o.tag == r->n_.script && length > 0)
+            o.script_text.append(reinterpret_cast<const char*>(text), size_t(length));
     }
     static void sax_error(void* self, xmlErrorPtr error) {
         static_cast<XmlReader*>(self)->on_xml_error(error);
@@ -343,11 +355,14 @@ class XmlReader {
     void instance_start(const XmlElement& e);
     void field_value_start(const XmlElement& e);
     void connect(const XmlElement& e);
+    void script_connect(Open& owner, const std::string& node_field, const ProtoField& outer,
+                        std::unordered_map<Name, FieldEntry>::const_iterator bound);
     void field_start(const XmlElement& e, Role role);
     void field_end(Open& o);
     void proto_declare_start(const XmlElement& e);
     void extern_start(const XmlElement& e);
     void record(const XmlElement& e);
+    void record_text(const char* text, size_t length);
     NodeId expand(const Instance& inst, uint32_t file, uint32_t offset);
     NodeId builtin_instance(const NodeTypeDecl& decl,
                             const std::unordered_map<Name, FieldEntry>& values, uint32_t file,

@@ -435,6 +435,8 @@ void XmlReader::node_end(Open& o) {
     NodeId id = make_node(o.decl, o.tag, o.file, o.offset, o.field_mark);
     for (const auto& [field, proto_field] : o.events)
         tree_.is_links.push_back({kNullNode, proto_field, id, field});
+    if (o.tag == n_.script)
+        tree_.scripts[id] = ScriptInterface{std::move(o.script_fields), std::move(o.script_text)};
     if (o.def != kNoName) {
         tree_.nodes[id].def_name = o.def;
         frame().defs[o.def] = id;
@@ -679,7 +681,7 @@ void XmlReader::connect(const XmlElement& e) {
     const FieldDecl* field =
         registry_.lookup_field(Spec::X3d, *owner.decl, intern(x3d_field_name(type, node_field)));
     if (!field) {
-        if (owner.dynamic) return;  // a Script's own field: dropped with the Script's interface
+        if (owner.dynamic) return script_connect(owner, node_field, *outer, bound);
         warn(e.file, e.find(n_.node_field)->begin,
              "connect names '" + node_field + "', which is not a field of " + std::string(type) +
                  "; the link is dropped",
@@ -742,9 +744,31 @@ void XmlReader::field_start(const XmlElement& e, Role role) {
     push(std::move(o));
 }
 
+// <connect> of a field a Script (or shader) declared itself: the instance's value, and its events.
+void XmlReader::script_connect(Open& owner, const std::string& node_field, const ProtoField& outer,
+                               std::unordered_map<Name, FieldEntry>::const_iterator bound) {
+    for (ScriptField& field : owner.script_fields) {
+        if (name_text(field.name) != node_field || field.type != outer.type) continue;
+        if (field.access != Access::Field) owner.events.emplace_back(field.name, outer.name);
+        if (has_value(field.access) && bound != frame().is_values->end()) {
+            field.value = bound->second;
+            field.value.name = field.name;
+        }
+        return;
+    }
+}
+
 void XmlReader::field_end(Open& o) {
     if (o.role == Role::DynamicField) {
+        ScriptField field{o.field.name, o.field.type, o.field.access, o.field.default_value};
+        field.value.name = field.name;
+        field.value.type = field.type;
+        if (field.type.kind == ValueKind::Node && has_value(field.access))
+            node_entry(field.type, o.child_mark, field.value, o.file, o.offset,
+                       "field '" + std::string(name_text(field.name)) + "'");
         children_.resize(o.child_mark);
+        Open& owner = stack_.back();
+        if (owner.role == Role::Node) owner.script_fields.push_back(std::move(field));
         return;
     }
     if (o.role == Role::InterfaceField) {
@@ -810,6 +834,19 @@ void XmlReader::record(const XmlElement& e) {
     decl.events.push_back(event);
 }
 
+// Text in a ProtoBody, for the Scripts in it (a Script's text is its ECMAScript): one event for
+// each run of text between elements, replayed into the Script it stands in.
+void XmlReader::record_text(const char* text, size_t length) {
+    XmlProtoDecl& decl = *recording_;
+    static const Name text_event = intern("#text");
+    if (!decl.events.empty() && decl.events.back().tag == text_event) {
+        decl.strings[decl.events.back().first_attr].append(text, length);
+        return;
+    }
+    decl.strings.emplace_back(text, length);
+    decl.events.push_back({text_event, 0, uint32_t(decl.strings.size() - 1), 0, false});
+}
+
 NodeId XmlReader::expand(const Instance& inst, uint32_t file, uint32_t offset) {
     const ProtoDecl& proto = *inst.proto;
     const std::string name(name_text(proto.name));
@@ -869,7 +906,13 @@ NodeId XmlReader::expand(const Instance& inst, uint32_t file, uint32_t offset) {
     const size_t depth = stack_.size();
     const size_t links_mark = tree_.is_links.size();
     push(std::move(root));
+    static const Name text_event = intern("#text");
     for (const RecordedEvent& ev : body.events) {
+        if (ev.tag == text_event) {
+            if (stack_.back().role == Role::Node && stack_.back().tag == n_.script)
+                stack_.back().script_text += body.strings[ev.first_attr];
+            continue;
+        }
         if (!ev.start) {
             end_element();
             continue;

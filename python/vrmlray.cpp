@@ -257,7 +257,8 @@ void build(SceneData& s, const CommonOptions& common) {
     s.figures = tree_figures(s.loaded, s.name);
     Diagnostics diagnostics;
     // The world at time 0, as `vrmlray render` shows it (a running TimeSensor sets its first key).
-    s.animator = std::make_unique<Animator>(s.loaded.tree, s.animator_diagnostics);
+    const ScriptSettings scripts = script_settings(s.loaded, common);
+    s.animator = std::make_unique<Animator>(s.loaded.tree, s.animator_diagnostics, &scripts);
     if (!s.animator_diagnostics.has_errors()) s.animator->evaluate(0.0);  // a bad ROUTE: no world
     for (const Diagnostic& d : s.animator_diagnostics.all())
         s.diagnostics.push_back(row_of(d, s.loaded.sources));

@@ -277,7 +277,10 @@ CAUSES = [  # (pattern on a warning's message, cause); the first that matches na
     (re.compile(r"EXTERNPROTO (\S+) not resolved"), "EXTERNPROTO not found"),
     (re.compile(r"(\w+): no texture image could be loaded"), "texture file missing"),
     (re.compile(r"(Inline)\b.*not found"), "file missing"),
-    (re.compile(r"(Script)"), "not run"),
+    (re.compile(r"(Script)\b.* is not run"), "not run"),
+    (re.compile(r"Script(?: '[^']*')?: .*?\b(\w*Error|ran longer)"), "script stopped"),
+    (re.compile(r"Script(?: '[^']*')?: (Browser\.\w+|cannot set|createVrmlFromString|createX3DFromString)"),
+     "script call ignored"),
 ]
 
 
@@ -313,11 +316,13 @@ COMPONENT_NODES = re.compile(
     r"\b(LayerSet|LayoutLayer|LayoutGroup|Layer|Viewport|Geo(?:Coordinate|ElevationGrid|Location|LOD|Origin|"
     r"Transform|Viewpoint|PositionInterpolator)|Nurbs[A-Z]\w*|ClipPlane|LocalFog|MatrixTransform|"
     r"(?:Arc|ArcClose|Circle|Disk|Polyline|Polypoint|Rectangle|TriangleSet)2D|ParticleSystem|CAD(?:Assembly|"
-    r"Face|Layer|Part)|MovieTexture|ComposedShader|TimeSensor)\b")
+    r"Face|Layer|Part)|MovieTexture|ComposedShader|TimeSensor|Script)\b")
 
 
 def component_hint(text):
     names = sorted(set(COMPONENT_NODES.findall(text)))
+    if len(names) > 6:  # a file that lists every node type (Titania's NodeIndex): a few, and the count
+        names = names[:6] + [f"... ({len(names)} in all)"]
     return "uses: " + ", ".join(names) if names else ""
 
 
@@ -329,8 +334,6 @@ def reason_for(rel, text, outcome, stderr, sizes=""):
     if outcome == "error":
         return "error: " + first_error(stderr)
     causes = causes_in(stderr)
-    if re.search(r"\bScript\b", text) and not any(c.startswith("not run") for c in causes):
-        causes.append("not run: Script")
     if not causes and examined(rel):
         return examined(rel) + (f" ({sizes})" if sizes else "")
     if not causes:

@@ -7,7 +7,7 @@ pkgs=(cmake g++ make pkg-config libopenimageio-dev libglm-dev libxml2-dev libcli
       python3 go-md2man dpkg-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
       chromium libfreetype-dev libfontconfig-dev fonts-dejavu-core groff-base bsdextrautils
       libgeographiclib-dev geographiclib-tools
-      openmpi-bin libopenmpi-dev "$@")
+      openmpi-bin libopenmpi-dev duktape-dev "$@")
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

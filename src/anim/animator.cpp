@@ -42,12 +42,16 @@ std::string describe(const NodeTree& tree, NodeId node) {
 
 }  // namespace
 
-Animator::Animator(NodeTree& tree, Diagnostics& diagnostics)
+Animator::Animator(NodeTree& tree, Diagnostics& diagnostics, const ScriptSettings* scripts)
     : tree_(tree), diagnostics_(diagnostics) {
     for (uint32_t i = 0; i < tree_.is_links.size(); ++i) {
         const IsLink& l = tree_.is_links[i];
         is_index_[key_of(l.instance, l.proto_field)].push_back(i);
     }
+    const ScriptSettings defaults;
+    if (!tree_.scripts.empty() && (scripts ? *scripts : defaults).enabled)
+        scripts_ = std::make_unique<ScriptHost>(tree_, diagnostics_, scripts ? *scripts : defaults,
+                                                static_cast<ScriptWorld&>(*this));
     for (const Route& r : tree_.routes) resolve(r);
     const Name time_sensor = intern("TimeSensor");
     for (const ResolvedRoute& r : routes_)
@@ -56,6 +60,17 @@ Animator::Animator(NodeTree& tree, Diagnostics& diagnostics)
             sensors_.push_back(r.from.node);
     std::sort(sensors_.begin(), sensors_.end());  // node order is file order
     animated_ = !sensors_.empty();
+    if (this->scripts() > 0) {
+        // initialize() of every Script at load (t = 0), its events through the cascade; what they
+        // set is the world's from then on.
+        fired_.assign(routes_.size(), 0);
+        queue_.clear();
+        std::vector<ScriptEvent> sent;
+        scripts_->initialize(sent);
+        send_script_events(sent);
+        run_cascade();
+        for (auto& [k, original] : originals_) original = tree_.fields[entries_.at(k)];
+    }
     pool_marks_ = {tree_.numbers.size(), tree_.strings.size(), tree_.node_refs.size()};
     for (NodeId s : sensors_)
         for (const char* paused : {"pauseTime", "resumeTime"})
@@ -67,6 +82,8 @@ Animator::Animator(NodeTree& tree, Diagnostics& diagnostics)
                           "timesensor-pause");
 }
 
+Animator::~Animator() = default;
+
 void Animator::warn_once(NodeId node, const std::string& message, const std::string& cause) {
     diagnostics_.warning(tree_.nodes[node].loc, message, cause);
 }
@@ -74,6 +91,7 @@ void Animator::warn_once(NodeId node, const std::string& message, const std::str
 // `event` of `node` as a field: its own name, set_x for an input to exposedField x, x_changed for
 // an output of it.
 bool Animator::field_end(NodeId node, Name event, bool input, RouteEnd& end) const {
+    if (is_script(node)) return script_end(node, event, input, end);
     const NodeTypeDecl* decl = tree_.decl(node);
     if (!decl) return false;
     const Registry& reg = Registry::builtin();
@@ -135,12 +153,12 @@ void Animator::resolve(const Route& route) {
     resolve_end(route.from, route.from_event, false, from, 0);
     resolve_end(route.to, route.to_event, true, to, 0);
     const bool script_source = tree_.type_name(route.from) == "Script";
-    if (script_source || tree_.type_name(route.to) == "Script") {
+    if (!scripts_ && (script_source || tree_.type_name(route.to) == "Script")) {
         if (script_source && tree_.type_name(route.to) != "Script" &&
             warned_scripts_.insert(route.from).second)
             warn_once(route.from,
                       describe(tree_, route.from) +
-                          " is not run (docs/input.md): the fields its ROUTEs feed keep their "
+                          " is not run (--no-scripts): the fields its ROUTEs feed keep their "
                           "file values",
                       "script-not-run:" + std::to_string(route.from));
         return;
@@ -167,7 +185,9 @@ void Animator::resolve(const Route& route) {
             }
             routes_from_[key_of(a.node, a.field)].push_back(uint32_t(routes_.size()));
             routes_.push_back({a, b, route.loc});
+            if (is_script(b.node)) continue;
             if (has_value(b.access)) own_entry(b.node, b.field);
+            if (changes_children(b)) own_entry(b.node, intern("children"));
         }
     }
 }
@@ -234,6 +254,14 @@ void Animator::send(NodeId node, Name field, const FieldType& type, std::vector<
 void Animator::deliver(const RouteEnd& to, const FieldType& type,
                        const std::vector<double>& numbers, const std::vector<std::string>& strings,
                        const std::vector<NodeId>& nodes) {
+    if (is_script(to.node)) {
+        std::vector<ScriptEvent> sent;
+        scripts_->deliver(to.node, to.field, ScriptValue{type, numbers, strings, nodes}, now_,
+                          sent);
+        send_script_events(sent);
+        return;
+    }
+    if (changes_children(to)) return change_children(to, nodes);
     if (has_value(to.access)) {
         FieldEntry& e = tree_.fields[entries_.at(key_of(to.node, to.field))];
         if (type.kind == ValueKind::String) {
@@ -328,12 +356,18 @@ bool Animator::evaluate(double now) {
     // Without a TimeSensor no event is ever sent: nothing to restore or change (and the caller
     // may have released the tree after building it once).
     if (!animated_) return false;
-    for (const auto& [k, original] : originals_) tree_.fields[entries_.at(k)] = original;
-    // What earlier calls appended is referenced by no entry now: the pools shrink back, so that a
-    // long sequence holds one frame's values, not all of them.
-    tree_.numbers.resize(pool_marks_[0]);
-    tree_.strings.resize(pool_marks_[1]);
-    tree_.node_refs.resize(pool_marks_[2]);
+    const bool scripted = scripts() > 0;
+    if (scripted && evaluated_ && now == now_) return false;  // that time's events were sent
+    now_ = now;
+    if (!scripted) {
+        for (const auto& [k, original] : originals_) tree_.fields[entries_.at(k)] = original;
+        // What earlier calls appended is referenced by no entry now: the pools shrink back, so
+        // that a long sequence holds one frame's values, not all of them. (With Scripts the world
+        // goes on from the last call, as in a browser, and nodes they made hold values there.)
+        tree_.numbers.resize(pool_marks_[0]);
+        tree_.strings.resize(pool_marks_[1]);
+        tree_.node_refs.resize(pool_marks_[2]);
+    }
     fired_.assign(routes_.size(), 0);
     queue_.clear();
     static const Name fraction = intern("fraction_changed"), active = intern("isActive"),
@@ -356,34 +390,44 @@ bool Animator::evaluate(double now) {
         send(s, time, sf_time, {st.time}, {}, {});
         send(s, elapsed, sf_time, {st.time - f.start_time}, {}, {});
     }
-    // Breadth first: the events of one stage go out in ROUTE order before those they cause.
+    run_cascade();
+    // What the fields hold now, against the last call.
+    bool changed = false;
+    last_numbers_.resize(originals_.size());
+    last_nodes_.resize(originals_.size());
+    for (size_t i = 0; i < originals_.size(); ++i) {
+        const FieldView v = tree_.view(tree_.fields[entries_.at(originals_[i].first)]);
+        std::vector<double> now_values(v.numbers.begin(), v.numbers.end());
+        std::vector<NodeId> now_nodes(v.nodes.begin(), v.nodes.end());
+        if (!evaluated_) {
+            const FieldView file = tree_.view(originals_[i].second);
+            changed |= !std::equal(now_values.begin(), now_values.end(), file.numbers.begin(),
+                                   file.numbers.end()) ||
+                       !std::equal(now_nodes.begin(), now_nodes.end(), file.nodes.begin(),
+                                   file.nodes.end());
+        } else {
+            changed |= now_values != last_numbers_[i] || now_nodes != last_nodes_[i];
+        }
+        last_numbers_[i] = std::move(now_values);
+        last_nodes_[i] = std::move(now_nodes);
+    }
+    evaluated_ = true;
+    return changed;
+}
+
+// Breadth first: the events of one stage go out in ROUTE order before those they cause.
+void Animator::run_cascade() {
     for (size_t head = 0; head < queue_.size(); ++head) {
         auto it = routes_from_.find(key_of(queue_[head].node, queue_[head].field));
         if (it == routes_from_.end()) continue;
-        for (uint32_t r : it->second) {
+        const std::vector<uint32_t> targets = it->second;  // a Script's addRoute may add some
+        for (uint32_t r : targets) {
             if (fired_[r]) continue;
             fired_[r] = 1;
             const Pending event = queue_[head];  // deliver may grow the queue
             deliver(routes_[r].to, event.type, event.numbers, event.strings, event.nodes);
         }
     }
-    // What the fields hold now, against the last call.
-    bool changed = false;
-    last_numbers_.resize(originals_.size());
-    for (size_t i = 0; i < originals_.size(); ++i) {
-        const FieldView v = tree_.view(tree_.fields[entries_.at(originals_[i].first)]);
-        std::vector<double> now_values(v.numbers.begin(), v.numbers.end());
-        if (!evaluated_) {
-            const FieldView file = tree_.view(originals_[i].second);
-            changed |= !std::equal(now_values.begin(), now_values.end(), file.numbers.begin(),
-                                   file.numbers.end());
-        } else {
-            changed |= now_values != last_numbers_[i];
-        }
-        last_numbers_[i] = std::move(now_values);
-    }
-    evaluated_ = true;
-    return changed;
 }
 
 }  // namespace vr

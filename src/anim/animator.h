@@ -7,6 +7,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -14,6 +15,7 @@
 
 #include "parser/diagnostics.h"
 #include "parser/node_tree.h"
+#include "script/script_host.h"
 
 namespace vr {
 
@@ -31,12 +33,16 @@ struct ResolvedRoute {
     PackedLoc loc;
 };
 
-class Animator {
+class Animator : private ScriptWorld {
   public:
     // Matches every ROUTE of `tree` to fields (set_x and x_changed name the exposedField x; a
     // PROTO instance's events reach its body through IS) and checks it: mismatched types are
-    // errors, unknown events and Scripts (never run) warnings. `tree` must outlive this.
-    Animator(NodeTree& tree, Diagnostics& diagnostics);
+    // errors, unknown events warnings. `tree` must outlive this. Scripts (docs/scripts.md) run
+    // with `scripts` (null: the defaults, .js files not found); their initialize() runs here, at
+    // time 0, and what it sends becomes part of the world. A file without Scripts starts no
+    // script engine.
+    Animator(NodeTree& tree, Diagnostics& diagnostics, const ScriptSettings* scripts = nullptr);
+    ~Animator() override;
 
     // True when some TimeSensor reaches a field through ROUTEs: the scene changes with time.
     bool animated() const { return animated_; }
@@ -48,9 +54,28 @@ class Animator {
     // ROUTEs from it in ROUTE order, each ROUTE at most once (which also ends loops). Returns
     // true when some field now holds another value than after the previous call (the first call:
     // than in the file).
+    //
+    // With Scripts the world is not reset between calls (a Script keeps its state, and what it
+    // set stays, as in a browser): calls must come in time order, and a call at the time of
+    // the last one changes nothing.
     bool evaluate(double now);
+    // Scripts that run (0 without Scripts, or with them turned off).
+    size_t scripts() const { return scripts_ ? scripts_->size() : 0; }
 
   private:
+    // ScriptWorld: what a Script may do to other nodes.
+    bool set_field(NodeId node, Name field, const ScriptValue& value, std::string& why) override;
+    bool route(bool add, NodeId from, Name from_event, NodeId to, Name to_event,
+               std::string& why) override;
+    double now() const override { return now_; }
+    void start_scripts(const ScriptSettings& settings);
+    void run_cascade();
+    void send_script_events(std::vector<ScriptEvent>& events);
+    bool is_script(NodeId node) const { return scripts_ && tree_.scripts.count(node) > 0; }
+    void change_children(const RouteEnd& to, const std::vector<NodeId>& nodes);
+    bool script_end(NodeId node, Name event, bool input, RouteEnd& end) const;
+    static bool changes_children(const RouteEnd& end);
+
     void resolve(const Route& route);
     void resolve_end(NodeId node, Name event, bool input, std::vector<RouteEnd>& out, int depth);
     bool field_end(NodeId node, Name event, bool input, RouteEnd& end) const;
@@ -86,6 +111,9 @@ class Animator {
     std::unordered_set<NodeId> warned_scripts_;
     bool animated_ = false;
     bool evaluated_ = false;
+    std::unique_ptr<ScriptHost> scripts_;          // null: no Script in the file, or --no-scripts
+    double now_ = 0.0;                             // the time of the cascade running
+    std::vector<std::vector<NodeId>> last_nodes_;  // per originals_ entry, node values
 };
 
 }  // namespace vr

@@ -252,6 +252,10 @@ void add_common(CLI::App* sub, CommonOptions& common, Texts& texts) {
                     "With --sandbox: a folder URLs may reach besides the sandbox (repeatable)")
         ->type_name("DIR");
     sub->add_flag("--strict", common.strict, "Exit 3 when there is any warning (for CI)");
+    // Scripts (docs/scripts.md).
+    sub->add_flag(
+        "!--no-scripts", common.scripts,
+        "Do not run Script nodes' ECMAScript (what they would send keeps its file value)");
 }
 
 // "NEAR,FAR" -> two numbers, near < far.

@@ -677,6 +677,9 @@ int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, 
     RenderCommand frame_cmd = cmd;
     if (plan.by_rank) frame_cmd.common.quiet = own_quiet;
     const size_t n = plan.frames.size();
+    // Scripts keep state from frame to frame: the frames' events go in time order, one frame
+    // after another (docs/animation.md).
+    if (animator.scripts() > 0) plan.at_once = 1;
     auto time_of = [&](int k) { return cmd.time + double(k) / cmd.fps; };
     const bool probe = plan.at_once > 1 && cmd.frames_at_once == 0;
     FrameScenes scenes(loaded, animator, cmd, n + (probe ? 1 : 0));
@@ -861,7 +864,8 @@ int run_render(const RenderCommand& command) {
         if ((code = agreed(world, code, "reading the sky image")) != kExitOk) return code;
     }
     Diagnostics anim_diagnostics;
-    Animator animator(loaded.tree, anim_diagnostics);
+    const ScriptSettings scripts = script_settings(loaded, cmd.common);
+    Animator animator(loaded.tree, anim_diagnostics, &scripts);
     print_diagnostics(anim_diagnostics, loaded.sources, cmd.common.quiet);
     code = anim_diagnostics.has_errors() ? kExitBadInput : kExitOk;
     if ((code = agreed(world, code, "checking the ROUTEs")) != kExitOk) return code;

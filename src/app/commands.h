@@ -26,7 +26,9 @@ struct CommonOptions {
     std::vector<std::filesystem::path>
         allow_paths;      // --allow-path: folders URLs may reach besides the sandbox
     bool strict = false;  // --strict: any warning makes the command exit 3
-    Limits limits;        // --limit NAME=VALUE
+    // Script nodes (docs/scripts.md): --no-scripts leaves them unrun.
+    bool scripts = true;
+    Limits limits;  // --limit NAME=VALUE
     double max_memory_gb =
         0.0;  // --max-memory: a render that would need more is refused; 0: physical memory
 };

@@ -63,13 +63,23 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
 bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common,
                    size_t* routes_used, bool* animated) {
     Diagnostics diagnostics;
-    Animator animator(loaded.tree, diagnostics);
+    const ScriptSettings scripts = script_settings(loaded, common);
+    Animator animator(loaded.tree, diagnostics, &scripts);
     print_diagnostics(diagnostics, loaded.sources, common.quiet);
     if (diagnostics.has_errors()) return false;
     animator.evaluate(time);
     if (routes_used) *routes_used = animator.routes().size();
     if (animated) *animated = animator.animated();
     return true;
+}
+
+ScriptSettings script_settings(const LoadedScene& loaded, const CommonOptions& common) {
+    ScriptSettings s;
+    s.enabled = common.scripts;
+    s.quiet = common.quiet;
+    s.sources = &loaded.sources;
+    s.allowed_roots = loaded.allowed_roots;
+    return s;
 }
 
 void release_tree(LoadedScene& loaded) { loaded.tree = NodeTree{}; }

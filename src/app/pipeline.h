@@ -7,6 +7,7 @@
 #include "parser/load.h"
 #include "render/flat_scene.h"
 #include "render/options.h"
+#include "script/script_host.h"
 
 namespace vr {
 
@@ -27,6 +28,8 @@ bool load_and_report(const std::string& path, const CommonOptions& common, Loade
 // the number of ROUTEs that connect fields and `animated` whether a TimeSensor drives any.
 bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common,
                    size_t* routes_used = nullptr, bool* animated = nullptr);
+// The settings Script nodes run with: --no-scripts, --sandbox's folders, the scene's files.
+ScriptSettings script_settings(const LoadedScene& loaded, const CommonOptions& common);
 // Gives the node tree's memory back (build_scene has copied what it needs).
 void release_tree(LoadedScene& loaded);
 // The flattening settings a render with `options` uses (build_and_flatten's; the Python module's).

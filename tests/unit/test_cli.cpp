@@ -456,5 +456,25 @@ TEST(CliRenderUrls, QuietSilencesTheSummary) {
     EXPECT_EQ(render(scene, {"-q"}).err, "");
 }
 
+// Scripts (docs/scripts.md): a Script's initialize() builds a sphere; --no-scripts leaves the Group
+// empty and says so; -q silences the script's print() too.
+TEST(CliRenderScripts, NoScriptsAndQuiet) {
+    TempDir d("scripts");
+    const std::string scene = d.write(
+        "s.wrl",
+        "#VRML V2.0 utf8\nDEF G Group {}\n"
+        "DEF S Script { eventOut MFNode made url \"javascript: function initialize() { made = "
+        "Browser.createVrmlFromString('Shape { geometry Sphere {} }'); print('made'); }\" }\n"
+        "ROUTE S.made TO G.addChildren\n");
+    const Rendered run = render(scene, {});
+    ASSERT_EQ(run.code, kExitOk) << run.err;
+    EXPECT_EQ(run.stats["primitives"]["spheres"], 1);
+    EXPECT_NE(run.err.find("Script 'S': made"), std::string::npos) << run.err;
+    const Rendered off = render(scene, {"--no-scripts"});
+    EXPECT_EQ(off.stats["primitives"]["spheres"], 0);
+    EXPECT_NE(off.err.find("Script 'S' is not run (--no-scripts)"), std::string::npos) << off.err;
+    EXPECT_EQ(render(scene, {"-q"}).err, "");
+}
+
 }  // namespace
 }  // namespace vr
