@@ -13,9 +13,9 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "flatten/flatten.h"
-#include "image/compare.h"
 #include "image/image.h"
-#include "image/plot.h"
+#include "qa/compare.h"
+#include "qa/plot.h"
 #include "render/render.h"
 
 namespace vr {

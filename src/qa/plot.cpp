@@ -1,6 +1,6 @@
 // Line plots into an Image (see plot.h): axis ranges and ticks, coverage-based anti-aliased
 // drawing, and a 5x7 bitmap font.
-#include "image/plot.h"
+#include "qa/plot.h"
 
 #include <algorithm>
 #include <climits>
