@@ -389,6 +389,21 @@ class Reader {
 
     // ---- nodes --------------------------------------------------------------------------------
 
+    // A node of a type neither built in nor a PROTO: warned (with the nearest known name) and its
+    // body skipped.
+    void skip_unknown_node(Frame& f, const Token& type_token, std::string_view type) {
+        if (f.lexer.peek().kind != TokenKind::LBrace)
+            fail(f, f.lexer.peek(),
+                 "expected '{' after node type '" + std::string(type) + "', found " +
+                     describe(f, f.lexer.peek()));
+        warn(f, type_token.offset,
+             "unknown node type '" + std::string(type) + "' skipped" +
+                 did_you_mean(registry_.nearest_node(spec_, type)),
+             "unknown-node:" + std::string(type));
+        ++scene_.stats.skipped_nodes[std::string(type)];
+        skip(f, skip_group);
+    }
+
     NodeId node(Frame& f, const Token& type_token, size_t depth) {
         {
             // Node type names are identifiers: they never start with a digit, sign or period.
@@ -406,16 +421,7 @@ class Reader {
             return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
         if (!decl) {
-            if (f.lexer.peek().kind != TokenKind::LBrace)
-                fail(f, f.lexer.peek(),
-                     "expected '{' after node type '" + std::string(type) + "', found " +
-                         describe(f, f.lexer.peek()));
-            warn(f, type_token.offset,
-                 "unknown node type '" + std::string(type) + "' skipped" +
-                     did_you_mean(registry_.nearest_node(spec_, type)),
-                 "unknown-node:" + std::string(type));
-            ++scene_.stats.skipped_nodes[std::string(type)];
-            skip(f, skip_group);
+            skip_unknown_node(f, type_token, type);
             return kNullNode;
         }
         const bool dynamic = has_dynamic_interface(type);
