@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "image/image.h"
-#include "image/plot.h"
+#include "qa/plot.h"
 
 namespace {
 

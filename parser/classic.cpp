@@ -389,6 +389,21 @@ class Reader {
 
     // ---- nodes --------------------------------------------------------------------------------
 
+    // A node of a type neither built in nor a PROTO: warned (with the nearest known name) and its
+    // body skipped.
+    void skip_unknown_node(Frame& f, const Token& type_token, std::string_view type) {
+        if (f.lexer.peek().kind != TokenKind::LBrace)
+            fail(f, f.lexer.peek(),
+                 "expected '{' after node type '" + std::string(type) + "', found " +
+                     describe(f, f.lexer.peek()));
+        warn(f, type_token.offset,
+             "unknown node type '" + std::string(type) + "' skipped" +
+                 did_you_mean(registry_.nearest_node(spec_, type)),
+             "unknown-node:" + std::string(type));
+        ++scene_.stats.skipped_nodes[std::string(type)];
+        skip(f, skip_group);
+    }
+
     NodeId node(Frame& f, const Token& type_token, size_t depth) {
         {
             // Node type names are identifiers: they never start with a digit, sign or period.
@@ -406,16 +421,7 @@ class Reader {
             return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
         if (!decl) {
-            if (f.lexer.peek().kind != TokenKind::LBrace)
-                fail(f, f.lexer.peek(),
-                     "expected '{' after node type '" + std::string(type) + "', found " +
-                         describe(f, f.lexer.peek()));
-            warn(f, type_token.offset,
-                 "unknown node type '" + std::string(type) + "' skipped" +
-                     did_you_mean(registry_.nearest_node(spec_, type)),
-                 "unknown-node:" + std::string(type));
-            ++scene_.stats.skipped_nodes[std::string(type)];
-            skip(f, skip_group);
+            skip_unknown_node(f, type_token, type);
             return kNullNode;
         }
         const bool dynamic = has_dynamic_interface(type);
@@ -815,6 +821,32 @@ class Reader {
         expect(f, TokenKind::LBrace, "'{' after PROTO instance type");
         std::unordered_map<Name, FieldEntry> values;
         std::vector<std::pair<Name, Name>> events;  // (field, enclosing PROTO's field) of IS
+        instance_values(f, proto, depth, values, events);
+        ++scene_.stats.proto_instances;
+
+        const ProtoDecl* impl = &proto;
+        if (proto.external) {
+            impl = proto.implementation.get();
+            if (!impl) {
+                warn(f, type_token.offset,
+                     "instance of EXTERNPROTO " + std::string(name_text(proto.name)) +
+                         " skipped: it was not resolved",
+                     "unresolved-externproto:" + std::string(name_text(proto.name)));
+                ++scene_.stats.skipped_nodes[std::string(name_text(proto.name))];
+                return kNullNode;
+            }
+        }
+        if (impl->builtin) return builtin_instance(f, type_token, *impl->builtin, values);
+        std::unordered_map<Name, FieldEntry> bound =
+            bind_fields(f, type_token, proto, *impl, values);
+        return instance_body(f, type_token, *impl, bound, events, depth);
+    }
+
+    // The fields an instance gives, up to its '}': values by name, and the (field, enclosing
+    // PROTO's field) pairs of its IS events.
+    void instance_values(Frame& f, const ProtoDecl& proto, size_t depth,
+                         std::unordered_map<Name, FieldEntry>& values,
+                         std::vector<std::pair<Name, Name>>& events) {
         for (;;) {
             Token t = f.lexer.next();
             if (t.kind == TokenKind::RBrace) break;
@@ -835,30 +867,7 @@ class Reader {
                 continue;
             }
             if (peek_word(f, "IS")) {
-                f.lexer.next();
-                Token is_name = f.lexer.next();
-                if (!f.is_values) fail(f, is_name, "IS may only be used inside a PROTO body");
-                Name outer = intern(f.lexer.text(is_name));
-                const ProtoField* opf = f.proto->find(outer);
-                if (!opf) {
-                    warn(f, is_name.offset,
-                         "IS names a field that PROTO " + std::string(name_text(f.proto->name)) +
-                             " does not have; the link is dropped",
-                         "is-unknown:" + std::string(f.lexer.text(is_name)));
-                    continue;
-                }
-                if (opf->type != pf->type) {
-                    warn(f, is_name.offset,
-                         "IS connects a " + std::string(type_name(pf->type)) +
-                             " field to PROTO field '" + std::string(name_text(opf->name)) +
-                             "' of type " + std::string(type_name(opf->type)) +
-                             "; the link is dropped",
-                         "is-type:" + std::string(name_text(opf->name)));
-                    continue;
-                }
-                if (pf->access != Access::Field) events.emplace_back(field_name, outer);
-                auto it = f.is_values->find(outer);
-                if (it != f.is_values->end()) values[field_name] = it->second;
+                is_link(f, *pf, field_name, values, events);
                 continue;
             }
             if (!has_value(pf->access)) {
@@ -875,24 +884,45 @@ class Reader {
             field_value(f, pf->type, entry, depth);
             values[field_name] = entry;
         }
-        ++scene_.stats.proto_instances;
+    }
 
-        const ProtoDecl* impl = &proto;
-        if (proto.external) {
-            impl = proto.implementation.get();
-            if (!impl) {
-                warn(f, type_token.offset,
-                     "instance of EXTERNPROTO " + std::string(name_text(proto.name)) +
-                         " skipped: it was not resolved",
-                     "unresolved-externproto:" + std::string(name_text(proto.name)));
-                ++scene_.stats.skipped_nodes[std::string(name_text(proto.name))];
-                return kNullNode;
-            }
+    // `field IS outer` in a PROTO body: the enclosing instance's value of `outer`, if it has one,
+    // and for an event field the link; dropped with a warning when `outer` is unknown or of another
+    // type.
+    void is_link(Frame& f, const ProtoField& field, Name field_name,
+                 std::unordered_map<Name, FieldEntry>& values,
+                 std::vector<std::pair<Name, Name>>& events) {
+        f.lexer.next();
+        Token is_name = f.lexer.next();
+        if (!f.is_values) fail(f, is_name, "IS may only be used inside a PROTO body");
+        Name outer = intern(f.lexer.text(is_name));
+        const ProtoField* opf = f.proto->find(outer);
+        if (!opf) {
+            warn(f, is_name.offset,
+                 "IS names a field that PROTO " + std::string(name_text(f.proto->name)) +
+                     " does not have; the link is dropped",
+                 "is-unknown:" + std::string(f.lexer.text(is_name)));
+            return;
         }
-        if (impl->builtin) return builtin_instance(f, type_token, *impl->builtin, values);
-        // Every field of the implementation gets a value: the instance's, else the PROTO default.
+        if (opf->type != field.type) {
+            warn(f, is_name.offset,
+                 "IS connects a " + std::string(type_name(field.type)) + " field to PROTO field '" +
+                     std::string(name_text(opf->name)) + "' of type " +
+                     std::string(type_name(opf->type)) + "; the link is dropped",
+                 "is-type:" + std::string(name_text(opf->name)));
+            return;
+        }
+        if (field.access != Access::Field) events.emplace_back(field_name, outer);
+        auto it = f.is_values->find(outer);
+        if (it != f.is_values->end()) values[field_name] = it->second;
+    }
+
+    // Every field of the implementation gets a value: the instance's, else the PROTO default.
+    std::unordered_map<Name, FieldEntry> bind_fields(
+        Frame& f, const Token& type_token, const ProtoDecl& proto, const ProtoDecl& impl,
+        const std::unordered_map<Name, FieldEntry>& values) {
         std::unordered_map<Name, FieldEntry> bound;
-        for (const ProtoField& pf : impl->fields) {
+        for (const ProtoField& pf : impl.fields) {
             auto it = values.find(pf.name);
             if (it != values.end() && it->second.type != pf.type) {
                 warn(f, type_token.offset,
@@ -908,20 +938,28 @@ class Reader {
                 bound[pf.name] = pf.default_value;
             }
         }
+        return bound;
+    }
+
+    // The implementation's body read with `bound` as its IS values: its first node stands for the
+    // instance (kNullNode when it has none), and takes the IS events of the body and `events`.
+    NodeId instance_body(Frame& f, const Token& type_token, const ProtoDecl& impl,
+                         std::unordered_map<Name, FieldEntry>& bound,
+                         const std::vector<std::pair<Name, Name>>& events, size_t depth) {
         if (f.proto_depth + 1 > limits_.max_proto_depth)
             fail(f, type_token,
                  "PROTO instances nested deeper than " + std::to_string(limits_.max_proto_depth) +
                      " (limit; a PROTO that instantiates itself?)");
-        const std::string_view text = scene_.sources.file(impl->file).text;
-        Frame body{Lexer(text, impl->body_begin, impl->body_end),
-                   impl->file,
+        const std::string_view text = scene_.sources.file(impl.file).text;
+        Frame body{Lexer(text, impl.body_begin, impl.body_end),
+                   impl.file,
                    {},
                    nullptr,
                    std::make_shared<ProtoScope>(),
                    &bound,
-                   impl,
+                   &impl,
                    f.proto_depth + 1};
-        body.protos->parent = impl->scope.lock();
+        body.protos->parent = impl.scope.lock();
         NodeId first = kNullNode;
         bool have_first = false;
         const size_t links_mark = tree_.is_links.size();

@@ -213,48 +213,12 @@ NodeId Upgrader::group_of(std::vector<NodeId> nodes, SourceLoc loc) {
 
 // ---- traversal ----
 
-void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
-    if (++steps_ > limits_.max_nodes)
-        fail(id, "the VRML 1.0 scene expands to more than " + std::to_string(limits_.max_nodes) +
-                     " nodes (limit; USE of groups inside USE of groups?)");
-    if (depth > limits_.max_nesting_depth)
-        fail(id, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) +
-                     " (limit, counting USE of groups)");
+// A property node (material, bindings, coordinates, texture, shape hints, font, transform): into
+// the state that the shapes after it use.
+void Upgrader::set_property(uint32_t id, State& s) {
     const V1Node& node = file_.nodes[id];
-    if (node.vrml97 != kNullNode) {
-        emit(node.vrml97, s, out);
-        return;
-    }
     const Names& n = names();
     switch (kind_of(node.type)) {
-        case Kind::Separator:
-            separator(id, s, out, depth, false);
-            break;
-        case Kind::Anchor:
-            separator(id, s, out, depth, true);
-            break;
-        case Kind::Group:
-            children(id, s, out, depth);
-            break;
-        case Kind::TransformSeparator: {
-            const Affine local = s.local;
-            const bool identity = s.identity;
-            const uint64_t version = s.matrix_version;
-            children(id, s, out, depth);
-            s.local = local;
-            s.identity = identity;
-            s.matrix_version = version;
-            break;
-        }
-        case Kind::Switch:
-            switch_node(id, s, out, depth);
-            break;
-        case Kind::LOD:
-            lod(id, s, out, depth);
-            break;
-        case Kind::Inline:
-            inline_node(id, s, out);
-            break;
         case Kind::Material:
             s.material = id;
             break;
@@ -307,6 +271,55 @@ void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
         case Kind::MatrixTransform:
             transform(id, s);
             break;
+        case Kind::FontStyle:
+            s.font_style = id;
+            break;
+        default:
+            break;
+    }
+}
+
+void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
+    if (++steps_ > limits_.max_nodes)
+        fail(id, "the VRML 1.0 scene expands to more than " + std::to_string(limits_.max_nodes) +
+                     " nodes (limit; USE of groups inside USE of groups?)");
+    if (depth > limits_.max_nesting_depth)
+        fail(id, "nodes nested deeper than " + std::to_string(limits_.max_nesting_depth) +
+                     " (limit, counting USE of groups)");
+    const V1Node& node = file_.nodes[id];
+    if (node.vrml97 != kNullNode) {
+        emit(node.vrml97, s, out);
+        return;
+    }
+    switch (kind_of(node.type)) {
+        case Kind::Separator:
+            separator(id, s, out, depth, false);
+            break;
+        case Kind::Anchor:
+            separator(id, s, out, depth, true);
+            break;
+        case Kind::Group:
+            children(id, s, out, depth);
+            break;
+        case Kind::TransformSeparator: {
+            const Affine local = s.local;
+            const bool identity = s.identity;
+            const uint64_t version = s.matrix_version;
+            children(id, s, out, depth);
+            s.local = local;
+            s.identity = identity;
+            s.matrix_version = version;
+            break;
+        }
+        case Kind::Switch:
+            switch_node(id, s, out, depth);
+            break;
+        case Kind::LOD:
+            lod(id, s, out, depth);
+            break;
+        case Kind::Inline:
+            inline_node(id, s, out);
+            break;
         case Kind::Sphere:
             sphere(id, s, out);
             break;
@@ -331,9 +344,6 @@ void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
         case Kind::AsciiText:
             ascii_text(id, s, out);
             break;
-        case Kind::FontStyle:
-            s.font_style = id;
-            break;
         case Kind::DirectionalLight:
         case Kind::PointLight:
         case Kind::SpotLight:
@@ -344,6 +354,9 @@ void Upgrader::traverse(uint32_t id, State& s, OutList& out, size_t depth) {
             camera(id, s, out);
             break;
         case Kind::Silent:
+            break;
+        default:
+            set_property(id, s);
             break;
     }
 }

@@ -93,6 +93,7 @@ class Upgrader {
     // ---- vrml1_upgrade.cpp ---------------------------------------------------------------------
   private:
     void traverse(uint32_t id, State& s, OutList& out, size_t depth);
+    void set_property(uint32_t id, State& s);  // traverse for a property node
     void children(uint32_t id, State& s, OutList& out, size_t depth);
     void separator(uint32_t id, const State& s, OutList& out, size_t depth, bool anchor);
     void switch_node(uint32_t id, State& s, OutList& out, size_t depth);

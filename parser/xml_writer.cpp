@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <unordered_set>
 
+#include "core/xml_escape.h"
 #include "parser/def_names.h"
 #include "parser/writer.h"
 #include "parser/x3d_xml.h"
@@ -66,35 +67,10 @@ std::string clean_utf8(std::string_view s) {
     return out;
 }
 
-// Escapes text for an attribute value written between single quotes.
+// Escapes text for an attribute value written between single quotes (after clean_utf8, which
+// leaves no control character but tab, newline and carriage return).
 void append_attr_text(std::string& out, std::string_view s) {
-    for (char c : clean_utf8(s)) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '\'':
-                out += "&apos;";
-                break;
-            case '\n':
-                out += "&#10;";
-                break;
-            case '\r':
-                out += "&#13;";
-                break;
-            case '\t':
-                out += "&#9;";
-                break;
-            default:
-                out += c;
-        }
-    }
+    append_xml_escaped(out, clean_utf8(s), XmlEscape::kSingleQuotedAttribute);
 }
 
 class XmlWriter {

@@ -339,9 +339,9 @@ bool map_render_look(const Texts& texts, const CLI::App& r, RenderOptions& o) {
     return true;
 }
 
-CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common, Texts& texts) {
+// The scene (or scenes, or a --list), where the image goes, its size and how spheres render.
+void add_render_files(CLI::App* r, RenderCommand& render, Texts& texts) {
     RenderOptions& o = render.options;
-    CLI::App* r = app.add_subcommand("render", "Render a scene to an image");
     r->add_option("scene", render.scenes,
                   "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv); several render into OUT/");
     r->add_option("-o,--output", render.output,
@@ -359,6 +359,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--spheres", texts.spheres,
                   "How spheres render: opaque, gas, or hints (per-node hints, else opaque)")
         ->check(CLI::IsMember(label_names(kSpheresLabels)));
+}
+
+// Where the camera is and where it looks.
+void add_render_camera(CLI::App* r, RenderOptions& o, Texts& texts) {
     r->add_option("--viewpoint", o.viewpoint, "Viewpoint to use: DEF name or description")
         ->type_name("NAME");
     r->add_flag("--fit", o.fit, "Move the camera to frame the scene's bounds");
@@ -368,6 +372,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--up", texts.up,
                   "World direction X,Y,Z shown upwards (default: the viewpoint's)");
     r->add_option("--fov", o.fov, "Field of view in radians across the smaller image dimension");
+}
+
+// The world's clock, and a sequence of frames (an animation or a turntable).
+void add_render_frames(CLI::App* r, RenderCommand& render) {
     r->add_option("--time", render.time,
                   "Render the scene as it is at T seconds after loading (TimeSensors, "
                   "interpolators, ROUTEs; default 0)");
@@ -387,6 +395,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                   "Render only frame K (0 to N-1) of the --frames N sequence, as the sequence "
                   "renders it")
         ->check(CLI::NonNegativeNumber);
+}
+
+// The projection, then the anti-aliasing samplers and their settings.
+void add_render_sampling(CLI::App* r, RenderOptions& o, Texts& texts) {
     r->add_option("--camera", texts.camera,
                   "perspective, ortho, or viewpoint (as the viewpoint says)")
         ->check(CLI::IsMember(label_names(kCameraLabels)));
@@ -407,6 +419,11 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                   "statistical: add samples until the standard error of the pixel mean is below "
                   "this (default 0.005)")
         ->check(CLI::PositiveNumber);
+}
+
+// The tracer: its time and depth limits, threads and BVH, the gas integrator, line and point
+// widths, the gas colours.
+void add_render_tracing(CLI::App* r, RenderOptions& o, Texts& texts) {
     r->add_option(
          "--timeout", o.timeout,
          "Stop with an error (exit 3) when the command has run this many seconds (default: none)")
@@ -432,6 +449,10 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
         "Gas albedo R,G,B where no hint gives one (default: the Material's diffuseColor)");
     r->add_option("--emission", texts.emission,
                   "Gas emission R,G,B where no hint gives one (default: emissiveColor)");
+}
+
+// Background, sky and area light, depth of field, outlines.
+void add_render_lighting(CLI::App* r, RenderOptions& o, Texts& texts) {
     r->add_option("--background", texts.background,
                   "Background colour R,G,B (0-1), #RRGGBB or a word (white, black, grey, ...); "
                   "overrides the scene's Background");
@@ -463,7 +484,11 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                  "from the traced shapes, depths and normals, antialiased by the sampler")
             ->expected(0, 1)
             ->type_name("[WIDTH][,R,G,B]");
-    add_render_look(r, o, texts);
+}
+
+// The written image's encoding, the seed, --stats and sphere recovery.
+void add_render_output(CLI::App* r, RenderCommand& render, Texts& texts) {
+    RenderOptions& o = render.options;
     r->add_flag("--srgb", o.srgb, "sRGB-encode integer image formats");
     r->add_flag("--alpha", o.alpha,
                 "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
@@ -476,6 +501,19 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
                 "precision (Jmol atoms, bonds) as exact shapes (default in gas mode)");
     r->add_flag("--no-recover-spheres", texts.no_recover,
                 "Keep such meshes as triangles, also in gas mode");
+}
+
+// The render subcommand's options, group by group, in the order --help lists them.
+CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common, Texts& texts) {
+    CLI::App* r = app.add_subcommand("render", "Render a scene to an image");
+    add_render_files(r, render, texts);
+    add_render_camera(r, render.options, texts);
+    add_render_frames(r, render);
+    add_render_sampling(r, render.options, texts);
+    add_render_tracing(r, render.options, texts);
+    add_render_lighting(r, render.options, texts);
+    add_render_look(r, render.options, texts);
+    add_render_output(r, render, texts);
     add_common(r, common, texts);
     return r;
 }

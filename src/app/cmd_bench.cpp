@@ -13,9 +13,9 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "flatten/flatten.h"
-#include "image/compare.h"
 #include "image/image.h"
-#include "image/plot.h"
+#include "qa/compare.h"
+#include "qa/plot.h"
 #include "render/render.h"
 
 namespace vr {
@@ -154,36 +154,21 @@ bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
 
 }  // namespace
 
-int run_bench(const BenchCommand& cmd) {
-    LoadedScene loaded;
-    if (!load_and_report(cmd.scene, cmd.common, loaded, true, cmd.options.threads) ||
-        !evaluate_time(loaded, 0.0, cmd.common))
-        return kExitBadInput;
-    FlatScene flat;
-    FlattenStats fs;
-    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common, flat, fs))
-        return kExitBadInput;
-    if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
-    const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(),
-                                 [](const Sphere& s) { return s.gas; });
+namespace {
 
-    const bool soft_light = cmd.options.sky.has_value() ||
-                            std::any_of(flat.lights.begin(), flat.lights.end(), [](const Light& l) {
-                                return l.source_radius > 0.0 || l.angular_radius > 0.0;
-                            });
-    const std::vector<Setting> ladder =
-        default_ladder(cmd.samplers, gas, soft_light, cmd.options.tolerance);
-    const std::string stem = stem_of(cmd.scene);
-    const std::string csv_path = cmd.csv.empty() ? stem + "-bench.csv" : cmd.csv;
-    const std::string plot_path = cmd.plot.empty() ? stem + "-bench.png" : cmd.plot;
+// References: given (--reference, then used for every series), or rendered and cached under a
+// name that holds the settings they depend on: a fine grid (and for gas tolerance 1e-8) for the
+// sampler series; for the tolerance series the same centre sampling at a much tighter tolerance
+// (gas 1e-8, light kLightReferenceTolerance), so that a series shows its integrator's error alone,
+// not the missing anti-aliasing.
+struct References {
+    const BenchCommand& cmd;
+    const FlatScene& flat;
+    const std::string& stem;
+    bool gas = false;
 
-    // References: given (--reference, then used for every series), or rendered and cached under a
-    // name that holds the settings they depend on: a fine grid (and for gas tolerance 1e-8) for the
-    // sampler series; for the tolerance series the same centre sampling at a much tighter
-    // tolerance (gas 1e-8, light kLightReferenceTolerance), so that a series shows its
-    // integrator's error alone, not the missing anti-aliasing.
-    std::string error;
-    auto reference_path = [&](const Setting& s, Setting& ref) {
+    // The cached reference's path for setting `s`, and in `ref` the setting that renders it.
+    std::string path_for(const Setting& s, Setting& ref) const {
         std::string name = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
                            std::to_string(cmd.options.height);
         if (s.series == "light tolerance") {
@@ -197,10 +182,18 @@ int run_bench(const BenchCommand& cmd) {
         return name +
                (gas_series ? std::string("-center") : "-grid" + std::to_string(cmd.reference_spp)) +
                (gas ? "-tol1e-8" : "") + ".exr";
-    };
-    auto reference_for = [&](const Setting& s, Image& image, std::string& path) -> int {
+    }
+
+    // The path of the reference setting `s` is measured against.
+    std::string wanted(const Setting& s) const {
+        Setting unused;
+        return cmd.reference.empty() ? path_for(s, unused) : cmd.reference;
+    }
+
+    // Reads setting `s`'s reference into `image`, rendering and caching it first when missing.
+    int load(const Setting& s, Image& image, std::string& path, std::string& error) const {
         Setting ref;
-        path = cmd.reference.empty() ? reference_path(s, ref) : cmd.reference;
+        path = cmd.reference.empty() ? path_for(s, ref) : cmd.reference;
         if (cmd.reference.empty() && !std::filesystem::exists(path)) {
             if (!cmd.common.quiet)
                 std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", "
@@ -224,62 +217,49 @@ int run_bench(const BenchCommand& cmd) {
             return kExitBadInput;
         }
         return kExitOk;
-    };
-    Image reference;
-    std::string ref_path, used_refs;
-    std::vector<Row> rows;
+    }
+};
+
+// Renders setting `s` cmd.runs times into `image`: the median seconds, the rays of the last run.
+bool time_setting(const BenchCommand& cmd, const FlatScene& flat, const Setting& s, Image& image,
+                  Row& row, std::string& error) {
     const double pixels = double(cmd.options.width) * cmd.options.height;
+    std::vector<double> seconds;
+    row.setting = s;
+    for (int run = 0; run < std::max(1, cmd.runs); ++run) {
+        RenderStats stats;
+        if (!render_once(flat, cmd.options, s, image, stats, error)) return false;
+        seconds.push_back(stats.render_seconds);
+        row.rays_per_second = stats.rays_per_second();
+        row.rays_per_pixel = double(stats.primary_rays) / pixels;
+    }
+    std::sort(seconds.begin(), seconds.end());
+    row.seconds = seconds[seconds.size() / 2];  // median
+    return true;
+}
+
+void print_header() {
     std::printf("%-13s %-11s %5s %9s %5s %9s %9s %8s %9s %10s %8s %10s %8s\n", "series", "sampler",
                 "spp", "threshold", "depth", "tolerance", "seconds", "rays/px", "Mrays/s", "RMSE",
                 "PSNR dB", "max err", "SSIM");
-    for (const Setting& s : ladder) {
-        std::vector<double> seconds;
-        Row row;
-        row.setting = s;
-        Image image;
-        for (int run = 0; run < std::max(1, cmd.runs); ++run) {
-            RenderStats stats;
-            if (!render_once(flat, cmd.options, s, image, stats, error)) {
-                std::cerr << "vrmlray: error: " << error << "\n";
-                return kExitUsage;
-            }
-            seconds.push_back(stats.render_seconds);
-            row.rays_per_second = stats.rays_per_second();
-            row.rays_per_pixel = double(stats.primary_rays) / pixels;
-        }
-        std::sort(seconds.begin(), seconds.end());
-        row.seconds = seconds[seconds.size() / 2];  // median
-        Setting unused;
-        const std::string wanted =
-            cmd.reference.empty() ? reference_path(s, unused) : cmd.reference;
-        if (reference.width == 0 || wanted != ref_path) {
-            std::string path;
-            if (int code = reference_for(s, reference, path); code != kExitOk) return code;
-            ref_path = path;
-            if (used_refs.find(path) == std::string::npos)
-                used_refs += (used_refs.empty() ? "" : ", ") + path;
-        }
-        if (!compare_images(image, reference, 1.0 / 255.0, row.metrics, error)) {
-            std::cerr << "vrmlray: error: " << error << " (reference " << ref_path << ")\n";
-            return kExitBadInput;
-        }
-        const bool adaptive = s.sampler == "adaptive";
-        std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n",
-                    s.series.c_str(), s.sampler.c_str(), s.spp, s.threshold,
-                    adaptive ? std::to_string(s.depth).c_str() : "-",
-                    s.light_tolerance > 0.0 ? s.light_tolerance : s.tolerance, row.seconds,
-                    row.rays_per_pixel, row.rays_per_second * 1e-6, row.metrics.rmse,
-                    row.metrics.psnr, row.metrics.max_abs, row.metrics.ssim);
-        std::fflush(stdout);
-        rows.push_back(row);
-    }
+}
 
-    print_fastest(rows, cmd.reference.empty());
-    if (!write_csv(csv_path, rows)) {
-        std::cerr << "vrmlray: error: cannot write " << csv_path << "\n";
-        return kExitOutput;
-    }
-    std::vector<PlotSeries> series;  // in ladder order, so the legend lists them as the table does
+void print_row(const Row& row) {
+    const Setting& s = row.setting;
+    const bool adaptive = s.sampler == "adaptive";
+    std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n",
+                s.series.c_str(), s.sampler.c_str(), s.spp, s.threshold,
+                adaptive ? std::to_string(s.depth).c_str() : "-",
+                s.light_tolerance > 0.0 ? s.light_tolerance : s.tolerance, row.seconds,
+                row.rays_per_pixel, row.rays_per_second * 1e-6, row.metrics.rmse, row.metrics.psnr,
+                row.metrics.max_abs, row.metrics.ssim);
+    std::fflush(stdout);
+}
+
+// Error against time, a line per series, in ladder order, so the legend lists them as the table
+// does.
+std::vector<PlotSeries> plot_lines(const std::vector<Row>& rows) {
+    std::vector<PlotSeries> series;
     for (const Row& r : rows) {
         auto line = std::find_if(series.begin(), series.end(),
                                  [&](const PlotSeries& p) { return p.label == r.setting.series; });
@@ -293,9 +273,81 @@ int run_bench(const BenchCommand& cmd) {
             line->y.push_back(r.metrics.rmse);
         }
     }
+    return series;
+}
+
+// Renders and measures every setting of the ladder, printing each row as it is measured.
+int measure_ladder(const BenchCommand& cmd, const FlatScene& flat, const References& references,
+                   const std::vector<Setting>& ladder, std::vector<Row>& rows,
+                   std::string& used_refs) {
+    std::string error;
+    Image reference;
+    std::string ref_path;
+    print_header();
+    for (const Setting& s : ladder) {
+        Row row;
+        Image image;
+        if (!time_setting(cmd, flat, s, image, row, error)) {
+            std::cerr << "vrmlray: error: " << error << "\n";
+            return kExitUsage;
+        }
+        if (reference.width == 0 || references.wanted(s) != ref_path) {
+            std::string path;
+            if (int code = references.load(s, reference, path, error); code != kExitOk) return code;
+            ref_path = path;
+            if (used_refs.find(path) == std::string::npos)
+                used_refs += (used_refs.empty() ? "" : ", ") + path;
+        }
+        if (!compare_images(image, reference, 1.0 / 255.0, row.metrics, error)) {
+            std::cerr << "vrmlray: error: " << error << " (reference " << ref_path << ")\n";
+            return kExitBadInput;
+        }
+        print_row(row);
+        rows.push_back(row);
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+int run_bench(const BenchCommand& cmd) {
+    LoadedScene loaded;
+    if (!load_and_report(cmd.scene, cmd.common, loaded, true, cmd.options.threads) ||
+        !evaluate_time(loaded, 0.0, cmd.common))
+        return kExitBadInput;
+    FlatScene flat;
+    FlattenStats fs;
+    if (!build_and_flatten(loaded, cmd.options, std::nullopt, cmd.common, flat, fs))
+        return kExitBadInput;
+    if (!check_render_memory(cmd.scene, flat, cmd.options, cmd.common)) return kExitBadInput;
+    const bool gas = std::any_of(flat.spheres.begin(), flat.spheres.end(),
+                                 [](const Sphere& s) { return s.gas; });
+
+    const bool soft_light = cmd.options.sky.has_value() ||
+                            std::any_of(flat.lights.begin(), flat.lights.end(), [](const Light& l) {
+                                return l.source_radius > 0.0 || l.angular_radius > 0.0;
+                            });
+    const std::vector<Setting> ladder =
+        default_ladder(cmd.samplers, gas, soft_light, cmd.options.tolerance);
+    const std::string stem = stem_of(cmd.scene);
+    const std::string csv_path = cmd.csv.empty() ? stem + "-bench.csv" : cmd.csv;
+    const std::string plot_path = cmd.plot.empty() ? stem + "-bench.png" : cmd.plot;
+
+    const References references{cmd, flat, stem, gas};
+    std::vector<Row> rows;
+    std::string used_refs;
+    if (int code = measure_ladder(cmd, flat, references, ladder, rows, used_refs); code != kExitOk)
+        return code;
+
+    print_fastest(rows, cmd.reference.empty());
+    if (!write_csv(csv_path, rows)) {
+        std::cerr << "vrmlray: error: cannot write " << csv_path << "\n";
+        return kExitOutput;
+    }
     PlotOptions po;
     po.title = "RMSE vs time: " + stem;
-    if (!write_image(plot_path, plot_series(series, po), false, error)) {
+    std::string error;
+    if (!write_image(plot_path, plot_series(plot_lines(rows), po), false, error)) {
         std::cerr << "vrmlray: error: " << error << "\n";
         return kExitOutput;
     }

@@ -9,10 +9,10 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "image/compare.h"
 #include "image/image.h"
-#include "image/suite.h"
-#include "image/suite_report.h"
+#include "qa/compare.h"
+#include "qa/suite.h"
+#include "qa/suite_report.h"
 
 namespace vr {
 namespace {

@@ -49,17 +49,8 @@ void print_exporter_view(const ReadStats& s) {
     std::printf("\n");
 }
 
-}  // namespace
-
-int run_info(const std::string& path, const CommonOptions& common) {
-    LoadedScene loaded;
-    bool ok = load_and_report(path, common, loaded);
-    std::printf("file        %s\n", path.c_str());
-    std::printf("encoding    %s\n", std::string(encoding_name(loaded.encoding)).c_str());
-    if (!ok) return kExitBadInput;
-    const NodeTree& tree = loaded.tree;
-    const ReadStats& s = loaded.stats;
-
+// The node tree's counts: nodes by type, DEF/USE, PROTO and Inline.
+void print_node_counts(const NodeTree& tree, const ReadStats& s) {
     std::map<std::string_view, size_t> by_type;
     for (const Node& n : tree.nodes) ++by_type[name_text(tree.kinds[n.kind].type)];
     std::printf("nodes       %zu read (PROTO bodies expanded), %zu top-level\n", tree.nodes.size(),
@@ -74,6 +65,50 @@ int run_info(const std::string& path, const CommonOptions& common) {
     std::printf("PROTO       %zu declared, %zu EXTERNPROTO, %zu instances\n", s.proto_declarations,
                 s.externproto_declarations, s.proto_instances);
     std::printf("Inline      %zu files loaded\n", s.inline_files);
+}
+
+// The lights and viewpoints of the flattened scene.
+void print_lights_and_viewpoints(const FlatScene& flat) {
+    std::printf("lights      %zu, headlight %s\n", flat.lights.size(),
+                flat.headlight ? "on" : "off");
+    static const char* kKinds[] = {"DirectionalLight", "PointLight", "SpotLight"};
+    for (const Light& l : flat.lights) {
+        std::printf("  %-16s colour (%g %g %g) intensity %g ambient %g",
+                    kKinds[static_cast<int>(l.kind)], l.color.x, l.color.y, l.color.z, l.intensity,
+                    l.ambient_intensity);
+        if (l.kind == LightKind::Directional)
+            std::printf(" direction (%g %g %g)", l.direction.x, l.direction.y, l.direction.z);
+        else
+            std::printf(" at (%g %g %g) radius %g", l.position.x, l.position.y, l.position.z,
+                        l.radius);
+        // Area lights (docs/rendering.md, Soft light with error bounds): only when a hint made one,
+        // so other files' output is unchanged.
+        if (l.source_radius > 0.0) std::printf(" sourceRadius %g", l.source_radius);
+        if (l.angular_radius > 0.0) std::printf(" angularRadius %g", l.angular_radius);
+        std::printf("\n");
+    }
+    std::printf("viewpoints  %zu\n", flat.viewpoints.size());
+    for (const Viewpoint& v : flat.viewpoints) {
+        std::printf("  %s%s%s%s position (%g %g %g) fieldOfView %g%s\n",
+                    v.def_name.empty() ? "" : "DEF ", v.def_name.c_str(),
+                    v.description.empty() ? "" : " \"",
+                    (v.description + (v.description.empty() ? "" : "\"")).c_str(), v.position.x,
+                    v.position.y, v.position.z, v.field_of_view, v.ortho ? " (ortho)" : "");
+    }
+}
+
+}  // namespace
+
+int run_info(const std::string& path, const CommonOptions& common) {
+    LoadedScene loaded;
+    bool ok = load_and_report(path, common, loaded);
+    std::printf("file        %s\n", path.c_str());
+    std::printf("encoding    %s\n", std::string(encoding_name(loaded.encoding)).c_str());
+    if (!ok) return kExitBadInput;
+    const NodeTree& tree = loaded.tree;
+    const ReadStats& s = loaded.stats;
+
+    print_node_counts(tree, s);
     // What follows (bounds, lights, camera) is the world at time 0, as `render` draws it.
     size_t routes_used = 0;
     bool animated = false;
@@ -144,32 +179,7 @@ int run_info(const std::string& path, const CommonOptions& common) {
         std::printf("bounds      (%g %g %g) .. (%g %g %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
                     b.hi.y, b.hi.z);
     }
-    std::printf("lights      %zu, headlight %s\n", flat.lights.size(),
-                flat.headlight ? "on" : "off");
-    static const char* kKinds[] = {"DirectionalLight", "PointLight", "SpotLight"};
-    for (const Light& l : flat.lights) {
-        std::printf("  %-16s colour (%g %g %g) intensity %g ambient %g",
-                    kKinds[static_cast<int>(l.kind)], l.color.x, l.color.y, l.color.z, l.intensity,
-                    l.ambient_intensity);
-        if (l.kind == LightKind::Directional)
-            std::printf(" direction (%g %g %g)", l.direction.x, l.direction.y, l.direction.z);
-        else
-            std::printf(" at (%g %g %g) radius %g", l.position.x, l.position.y, l.position.z,
-                        l.radius);
-        // Area lights (docs/rendering.md, Soft light with error bounds): only when a hint made one,
-        // so other files' output is unchanged.
-        if (l.source_radius > 0.0) std::printf(" sourceRadius %g", l.source_radius);
-        if (l.angular_radius > 0.0) std::printf(" angularRadius %g", l.angular_radius);
-        std::printf("\n");
-    }
-    std::printf("viewpoints  %zu\n", flat.viewpoints.size());
-    for (const Viewpoint& v : flat.viewpoints) {
-        std::printf("  %s%s%s%s position (%g %g %g) fieldOfView %g%s\n",
-                    v.def_name.empty() ? "" : "DEF ", v.def_name.c_str(),
-                    v.description.empty() ? "" : " \"",
-                    (v.description + (v.description.empty() ? "" : "\"")).c_str(), v.position.x,
-                    v.position.y, v.position.z, v.field_of_view, v.ortho ? " (ortho)" : "");
-    }
+    print_lights_and_viewpoints(flat);
     std::printf("camera      %s\n", camera_text.c_str());
     std::printf("warnings    %zu\n", warnings_reported());
     return diagnostics.has_errors() ? kExitBadInput : kExitOk;

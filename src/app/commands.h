@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "app/limits.h"
-#include "image/compare.h"
+#include "qa/compare.h"
 #include "render/options.h"
 
 namespace vr {

@@ -1,5 +1,6 @@
 // render --stats: the JSON a render writes about itself (docs/manual.md, README "Statistics").
 #pragma once
+#include <chrono>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -8,6 +9,14 @@
 #include "render/render.h"
 
 namespace vr {
+
+class World;
+struct FramePlan;
+struct FrameRecord;
+
+double seconds_since(std::chrono::steady_clock::time_point t);
+// The process's peak resident memory so far, MB.
+double peak_memory_mb();
 
 struct RenderTimings {
     double parse = 0.0, scene = 0.0, write = 0.0, total = 0.0;  // seconds
@@ -32,5 +41,14 @@ std::vector<double> process_share(size_t tiles, const RenderStats& own,
 // --stats "processes": [{rank, tiles, rays, seconds{mpi_init parse scene build render gather}},
 // ...] from every process's process_share, one after the other in rank order.
 nlohmann::ordered_json process_shares_json(const std::vector<double>& shares);
+
+// Writes `j` to --stats FILE (or cmd.stats_text in a batch); kExitOutput when it cannot.
+int write_stats(const RenderCommand& cmd, const nlohmann::ordered_json& j);
+
+// The --stats file of a sequence, by rank 0: its last frame's figures, which frame that is, how
+// many frames it rendered at once, and under MPI which frames each process rendered.
+int write_sequence_stats(const RenderCommand& cmd, const World& world, const FramePlan& plan,
+                         const std::vector<FrameRecord>& records, double parse_seconds,
+                         size_t builds);
 
 }  // namespace vr

@@ -118,30 +118,25 @@ bool varies(const std::vector<T>& values) {
     return false;
 }
 
-}  // namespace
-
-sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeReport& report) {
-    sg::IndexedFaceSet faces;
-    faces.ccw = e.ccw;
-    faces.solid = e.solid;
-    faces.convex = e.convex;
-    faces.crease_angle = e.crease_angle;
+// False (with a warning) when the extrusion has nothing to render; a warning too when scale or
+// orientation has a count that is repeated to fit.
+bool usable(const sg::Extrusion& e, NodeReport& report) {
     const size_t n = e.spine.size(), m = e.cross_section.size();
     if (n < 2 || m < 2) {
         report.warn("empty",
                     "needs at least 2 spine points and 2 crossSection points; nothing to render");
-        return faces;
+        return false;
     }
     for (const Vec3& p : e.spine)
         if (!finite(p)) {
             report.warn("non-finite", "has a NaN or infinite spine point; nothing to render");
-            return faces;
+            return false;
         }
     for (const Vec2& p : e.cross_section)
         if (!finite(p)) {
             report.warn("non-finite",
                         "has a NaN or infinite crossSection point; nothing to render");
-            return faces;
+            return false;
         }
     if ((e.scale.size() > 1 && e.scale.size() != n) ||
         (e.orientation.size() > 1 && e.orientation.size() != n))
@@ -149,48 +144,61 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
             "count",
             "scale or orientation has neither 1 nor one value a spine point; the last value "
             "is repeated");
+    return true;
+}
 
-    // Spine without consecutive repeats; `unique_of[i]` is spine point i's place in it.
+// The spine without consecutive repeats.
+struct Spine {
+    double tolerance = 0.0;         // "the same point" up to rounding
+    std::vector<Vec3> unique;       // the points without consecutive repeats
+    std::vector<size_t> unique_of;  // spine point i's place in `unique`
+    bool point_spine = false;       // all spine points the same
+    bool closed = false;            // first point equals last
+};
+
+Spine spine_of(const std::vector<Vec3>& points) {
+    Spine spine;
     Vec3 lo(kInf), hi(-kInf);
-    for (const Vec3& p : e.spine) {
+    for (const Vec3& p : points) {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
     }
-    const double tolerance = 1e-10 * glm::length(hi - lo);  // "the same point" up to rounding
-    std::vector<Vec3> unique;
-    std::vector<size_t> unique_of(n);
-    for (size_t i = 0; i < n; ++i) {
-        if (unique.empty() || glm::length(e.spine[i] - unique.back()) > tolerance)
-            unique.push_back(e.spine[i]);
-        unique_of[i] = unique.size() - 1;
+    spine.tolerance = 1e-10 * glm::length(hi - lo);
+    spine.unique_of.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        if (spine.unique.empty() || glm::length(points[i] - spine.unique.back()) > spine.tolerance)
+            spine.unique.push_back(points[i]);
+        spine.unique_of[i] = spine.unique.size() - 1;
     }
-    // All spine points the same: the SCP is the identity (no direction to align to), and the
-    // shape, if any, comes from orientation and scale alone (cobweb's HalfSpheres turn one
-    // cross-section about the point).
-    const bool point_spine = unique.size() < 2;
-    if (point_spine && !varies(e.scale) && !varies(e.orientation)) {
-        report.warn("zero-size",
-                    "all spine points coincide and scale and orientation do not change; nothing "
-                    "to render");
-        return faces;
-    }
-    const bool closed_spine =
-        unique.size() > 2 && glm::length(unique.front() - unique.back()) <= tolerance;
-    const std::vector<Mat3> planes =
-        point_spine ? std::vector<Mat3>{Mat3(1.0)} : spine_planes(unique, closed_spine);
+    spine.point_spine = spine.unique.size() < 2;
+    spine.closed = spine.unique.size() > 2 &&
+                   glm::length(spine.unique.front() - spine.unique.back()) <= spine.tolerance;
+    return spine;
+}
 
-    Vec2 cs_lo(kInf), cs_hi(-kInf);
-    for (const Vec2& p : e.cross_section) {
-        cs_lo = glm::min(cs_lo, p);
-        cs_hi = glm::max(cs_hi, p);
-    }
-    const double cs_tolerance = 1e-10 * glm::length(cs_hi - cs_lo);
-    const bool closed_section =
-        m > 2 && glm::length(e.cross_section.front() - e.cross_section.back()) <= cs_tolerance;
+// The cross-section's bounding box, and whether it is closed (first point equals last).
+struct Section {
+    Vec2 lo{kInf}, hi{-kInf};
+    double tolerance = 0.0;
+    bool closed = false;
+};
 
-    // All n x m points; closing rows/columns then reuse the first row/column's index where they
-    // coincide.
-    std::vector<Vec3>& coords = faces.data.coords;
+Section section_of(const std::vector<Vec2>& points) {
+    Section section;
+    for (const Vec2& p : points) {
+        section.lo = glm::min(section.lo, p);
+        section.hi = glm::max(section.hi, p);
+    }
+    section.tolerance = 1e-10 * glm::length(section.hi - section.lo);
+    section.closed =
+        points.size() > 2 && glm::length(points.front() - points.back()) <= section.tolerance;
+    return section;
+}
+
+// All n x m points: cross-section j scaled, oriented and placed in spine point i's SCP.
+void place_points(const sg::Extrusion& e, const Spine& spine, const std::vector<Mat3>& planes,
+                  std::vector<Vec3>& coords) {
+    const size_t n = e.spine.size(), m = e.cross_section.size();
     coords.resize(n * m);
     for (size_t i = 0; i < n; ++i) {
         const Vec2 s = e.scale.empty() ? Vec2(1.0) : e.scale[std::min(i, e.scale.size() - 1)];
@@ -198,43 +206,56 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
             e.orientation.empty()
                 ? Mat3(1.0)
                 : rotation_matrix(e.orientation[std::min(i, e.orientation.size() - 1)]);
-        const Mat3 place = planes[unique_of[i]] * orient;
+        const Mat3 place = planes[spine.unique_of[i]] * orient;
         for (size_t j = 0; j < m; ++j) {
             const Vec2& c = e.cross_section[j];
             coords[i * m + j] = e.spine[i] + place * Vec3(c.x * s.x, 0.0, c.y * s.y);
         }
     }
+}
+
+// Each point's index: its own, except that closing rows/columns reuse the first row/column's
+// index where they coincide.
+std::vector<int32_t> point_index(const std::vector<Vec3>& coords, size_t n, size_t m,
+                                 const Spine& spine, const Section& section) {
     std::vector<int32_t> index(n * m);
     for (size_t t = 0; t < n * m; ++t) index[t] = static_cast<int32_t>(t);
     auto same = [&](size_t a, size_t b) {
-        return glm::length(coords[a] - coords[b]) <= tolerance + cs_tolerance;
+        return glm::length(coords[a] - coords[b]) <= spine.tolerance + section.tolerance;
     };
-    if (closed_section)
+    if (section.closed)
         for (size_t i = 0; i < n; ++i)
             if (same(i * m + m - 1, i * m)) index[i * m + m - 1] = index[i * m];
-    if (closed_spine)
+    if (spine.closed)
         for (size_t j = 0; j < m; ++j)
             if (same((n - 1) * m + j, j)) index[(n - 1) * m + j] = index[j];
+    return index;
+}
 
-    // Texture coordinates: the side grid first, then the cap coordinates.
+// Texture coordinates: the side grid first, then the cap coordinates.
+void add_texcoords(const sg::Extrusion& e, const Section& section, std::vector<Vec2>& texcoords) {
+    const size_t n = e.spine.size(), m = e.cross_section.size();
     std::vector<double> s_of(m, 0.0), t_of(n, 0.0);
-    if (want_uvs) {
-        for (size_t j = 1; j < m; ++j)
-            s_of[j] = s_of[j - 1] + glm::length(e.cross_section[j] - e.cross_section[j - 1]);
-        for (size_t i = 1; i < n; ++i)
-            t_of[i] = t_of[i - 1] + glm::length(e.spine[i] - e.spine[i - 1]);
-        for (double& s : s_of) s = s_of.back() > 0.0 ? s / s_of.back() : 0.0;
-        // A spine of one point: t by the spine point's number instead of its length.
-        for (size_t i = 0; i < n; ++i)
-            t_of[i] = t_of.back() > 0.0 ? t_of[i] / t_of.back() : double(i) / double(n - 1);
-        faces.data.texcoords.reserve(n * m + m);
-        for (size_t i = 0; i < n; ++i)
-            for (size_t j = 0; j < m; ++j) faces.data.texcoords.push_back(Vec2(s_of[j], t_of[i]));
-        const double size = std::max(cs_hi.x - cs_lo.x, cs_hi.y - cs_lo.y);
-        for (size_t j = 0; j < m; ++j)
-            faces.data.texcoords.push_back(size > 0.0 ? (e.cross_section[j] - cs_lo) / size
-                                                      : Vec2(0.0));
-    }
+    for (size_t j = 1; j < m; ++j)
+        s_of[j] = s_of[j - 1] + glm::length(e.cross_section[j] - e.cross_section[j - 1]);
+    for (size_t i = 1; i < n; ++i) t_of[i] = t_of[i - 1] + glm::length(e.spine[i] - e.spine[i - 1]);
+    for (double& s : s_of) s = s_of.back() > 0.0 ? s / s_of.back() : 0.0;
+    // A spine of one point: t by the spine point's number instead of its length.
+    for (size_t i = 0; i < n; ++i)
+        t_of[i] = t_of.back() > 0.0 ? t_of[i] / t_of.back() : double(i) / double(n - 1);
+    texcoords.reserve(n * m + m);
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = 0; j < m; ++j) texcoords.push_back(Vec2(s_of[j], t_of[i]));
+    const double size = std::max(section.hi.x - section.lo.x, section.hi.y - section.lo.y);
+    for (size_t j = 0; j < m; ++j)
+        texcoords.push_back(size > 0.0 ? (e.cross_section[j] - section.lo) / size : Vec2(0.0));
+}
+
+// The side quads (those with area) and the caps, as faces of `index`.
+void add_faces(const sg::Extrusion& e, const std::vector<int32_t>& index, bool closed_spine,
+               bool closed_section, bool want_uvs, sg::IndexedFaceSet& faces) {
+    const size_t n = e.spine.size(), m = e.cross_section.size();
+    const std::vector<Vec3>& coords = faces.data.coords;
     auto add_corner = [&](size_t point, int32_t uv) {
         faces.coord_index.push_back(index[point]);
         if (want_uvs) faces.texcoord_index.push_back(uv);
@@ -276,6 +297,35 @@ sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeRe
             end_face();
         }
     }
+}
+
+}  // namespace
+
+sg::IndexedFaceSet extrusion_faces(const sg::Extrusion& e, bool want_uvs, NodeReport& report) {
+    sg::IndexedFaceSet faces;
+    faces.ccw = e.ccw;
+    faces.solid = e.solid;
+    faces.convex = e.convex;
+    faces.crease_angle = e.crease_angle;
+    if (!usable(e, report)) return faces;
+    const Spine spine = spine_of(e.spine);
+    // All spine points the same: the SCP is the identity (no direction to align to), and the
+    // shape, if any, comes from orientation and scale alone (cobweb's HalfSpheres turn one
+    // cross-section about the point).
+    if (spine.point_spine && !varies(e.scale) && !varies(e.orientation)) {
+        report.warn("zero-size",
+                    "all spine points coincide and scale and orientation do not change; nothing "
+                    "to render");
+        return faces;
+    }
+    const std::vector<Mat3> planes =
+        spine.point_spine ? std::vector<Mat3>{Mat3(1.0)} : spine_planes(spine.unique, spine.closed);
+    const Section section = section_of(e.cross_section);
+    place_points(e, spine, planes, faces.data.coords);
+    const std::vector<int32_t> index =
+        point_index(faces.data.coords, e.spine.size(), e.cross_section.size(), spine, section);
+    if (want_uvs) add_texcoords(e, section, faces.data.texcoords);
+    add_faces(e, index, spine.closed, section.closed, want_uvs, faces);
     return faces;
 }
 

@@ -26,36 +26,12 @@ Vec3 any_perpendicular(const Vec3& n) {
     return glm::normalize(glm::cross(n, a));
 }
 
-}  // namespace
-
-bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& out) {
+// The polygon in the plane basis (u, v) about its first point, with repeated vertices left out
+// (consecutive ones, and a last one that closes the outline); `index`: the original index of each
+// kept vertex.
+void project_outline(std::span<const Vec3> points, const Vec3& u, const Vec3& v, double eps_length,
+                     std::vector<Vec2>& q, std::vector<uint32_t>& index) {
     const size_t n = points.size();
-    if (n < 3) return false;
-    Vec3 lo(kInf), hi(-kInf);
-    for (const Vec3& p : points) {
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    const double extent2 = glm::dot(hi - lo, hi - lo);
-    Vec3 normal = newell_normal(points);
-    const double twice_area = glm::length(normal);
-    // Relative to the polygon's own size: a sliver whose area is 1e-12 of its bounding box is no
-    // area.
-    if (!(twice_area > 1e-12 * extent2)) return false;
-    normal /= twice_area;
-    if (n == 3) {
-        out.insert(out.end(), {0u, 1u, 2u});
-        return true;
-    }
-
-    // Project onto the best-fit plane, in a basis that keeps the polygon counter-clockwise.
-    const Vec3 u = any_perpendicular(normal);
-    const Vec3 v = glm::cross(normal, u);
-    const double eps_length = 1e-12 * std::sqrt(extent2);
-    const double eps_area = 1e-12 * extent2;
-    std::vector<Vec2> q;
-    std::vector<uint32_t> index;  // original index of each kept vertex
     q.reserve(n);
     index.reserve(n);
     for (size_t i = 0; i < n; ++i) {
@@ -69,23 +45,17 @@ bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& ou
         q.pop_back();
         index.pop_back();
     }
-    const size_t m = q.size();
-    if (m < 3) return false;
+}
 
+// Ear clipping of the outline q (at least 3 vertices, not convex) over a circular doubly linked
+// list; the triangles, as indices of `index`, go to `out`.
+void clip_ears(const std::vector<Vec2>& q, const std::vector<uint32_t>& index, double eps_area,
+               std::vector<uint32_t>& out) {
+    const size_t m = q.size();
     auto emit = [&](size_t a, size_t b, size_t c) {
         out.insert(out.end(), {index[a], index[b], index[c]});
     };
 
-    bool convex = true;
-    for (size_t i = 0; i < m && convex; ++i)
-        if (orient(q[(i + m - 1) % m], q[i], q[(i + 1) % m]) < -eps_area) convex = false;
-    if (convex) {
-        for (size_t i = 1; i + 1 < m; ++i)
-            if (orient(q[0], q[i], q[i + 1]) > eps_area) emit(0, i, i + 1);
-        return true;
-    }
-
-    // Ear clipping over a circular doubly linked list.
     std::vector<uint32_t> prev(m), next(m);
     for (size_t i = 0; i < m; ++i) {
         prev[i] = static_cast<uint32_t>((i + m - 1) % m);
@@ -154,6 +124,56 @@ bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& ou
     }
     const uint32_t a = prev[i], c = next[i];
     if (orient(q[a], q[i], q[c]) > eps_area) emit(a, i, c);
+}
+
+}  // namespace
+
+bool triangulate_polygon(std::span<const Vec3> points, std::vector<uint32_t>& out) {
+    const size_t n = points.size();
+    if (n < 3) return false;
+    Vec3 lo(kInf), hi(-kInf);
+    for (const Vec3& p : points) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const double extent2 = glm::dot(hi - lo, hi - lo);
+    Vec3 normal = newell_normal(points);
+    const double twice_area = glm::length(normal);
+    // Relative to the polygon's own size: a sliver whose area is 1e-12 of its bounding box is no
+    // area.
+    if (!(twice_area > 1e-12 * extent2)) return false;
+    normal /= twice_area;
+    if (n == 3) {
+        out.insert(out.end(), {0u, 1u, 2u});
+        return true;
+    }
+
+    // Project onto the best-fit plane, in a basis that keeps the polygon counter-clockwise.
+    const Vec3 u = any_perpendicular(normal);
+    const Vec3 v = glm::cross(normal, u);
+    const double eps_length = 1e-12 * std::sqrt(extent2);
+    const double eps_area = 1e-12 * extent2;
+    std::vector<Vec2> q;
+    std::vector<uint32_t> index;  // original index of each kept vertex
+    project_outline(points, u, v, eps_length, q, index);
+    const size_t m = q.size();
+    if (m < 3) return false;
+
+    auto emit = [&](size_t a, size_t b, size_t c) {
+        out.insert(out.end(), {index[a], index[b], index[c]});
+    };
+
+    bool convex = true;
+    for (size_t i = 0; i < m && convex; ++i)
+        if (orient(q[(i + m - 1) % m], q[i], q[(i + 1) % m]) < -eps_area) convex = false;
+    if (convex) {
+        for (size_t i = 1; i + 1 < m; ++i)
+            if (orient(q[0], q[i], q[i + 1]) > eps_area) emit(0, i, i + 1);
+        return true;
+    }
+
+    clip_ears(q, index, eps_area, out);
     return true;
 }
 

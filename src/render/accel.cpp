@@ -140,48 +140,71 @@ BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t light
     return rays < 4.0 * primitives ? BvhBuild::Morton : BvhBuild::Sah;
 }
 
-// Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of triangle_refs,
-// then mesh instances.
-void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) {
-    scene_ = &scene;
-    threads = std::max(threads, 1);
-    culls_back_faces_ = std::any_of(scene.shadings.begin(), scene.shadings.end(),
-                                    [](const Shading& s) { return s.cull_back_faces; });
-    const uint32_t n_spheres = uint32_t(scene.spheres.size());
-    const uint32_t n_quadrics = uint32_t(scene.quadrics.size());
-    const uint32_t first_triangle = n_spheres + n_quadrics;
-    build_prototypes(scene, threads);
-
-    std::vector<std::pair<uint32_t, uint32_t>> triangle_refs;  // (mesh, triangle)
+Accel::BuildIds::BuildIds(const FlatScene& scene)
+    : first_quadric(uint32_t(scene.spheres.size())),
+      first_triangle(first_quadric + uint32_t(scene.quadrics.size())) {
     reserve_huge(triangle_refs, scene.triangle_count());
     for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
         const Mesh& m = scene.meshes[mi];
         const size_t nt = m.triangle_count();
         for (uint32_t t = 0; t < nt; ++t) triangle_refs.emplace_back(mi, t);
     }
+    first_instance = first_triangle + uint32_t(triangle_refs.size());
+}
 
-    // One box per candidate, made in parallel; the skipped ones are removed afterwards.
-    const uint32_t first_instance = first_triangle + uint32_t(triangle_refs.size());
+void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) {
+    scene_ = &scene;
+    threads = std::max(threads, 1);
+    culls_back_faces_ = std::any_of(scene.shadings.begin(), scene.shadings.end(),
+                                    [](const Shading& s) { return s.cull_back_faces; });
+    build_prototypes(scene, threads);
+    const BuildIds ids(scene);
+    BuildBoxes boxes = candidate_boxes(scene, threads, ids);
+
+    BvhBuildOptions options;
+    options.threads = threads;
+    // An interior node of the collapsed tree tests four (or eight) boxes in one step, so leaves may
+    // be fuller than a binary tree's cost would make them: on 1M random spheres this halved the
+    // 4-wide nodes (285k -> 159k, 36 -> 20 bytes a sphere) and shortened the build by a fifth,
+    // render time unchanged. For the 8-wide tree a cost of 8 measured the same as 4 (bench/README).
+    options.traversal_cost = 4.0;
+    built_by_ = choice.kind != BvhBuild::Auto
+                    ? choice.kind
+                    : choose_bvh_build(double(boxes.size()), choice.camera_samples, choice.lights,
+                                       choice.soft_light);
+    options.morton = built_by_ == BvhBuild::Morton;
+    const Bvh binary = build_bvh(std::move(boxes), options);
+    bvh_ = collapse_bvh(binary);
+    copy_in_leaf_order(scene, threads, ids, binary.order);
+    build_clip_scopes();
+}
+
+// One box per candidate, made in parallel; the skipped ones (nothing to hit) are removed after.
+BuildBoxes Accel::candidate_boxes(const FlatScene& scene, int threads, const BuildIds& ids) const {
     BuildBoxes boxes;
-    resize_huge(boxes, size_t(first_instance) + scene.instances.size());
+    resize_huge(boxes, size_t(ids.first_instance) + scene.instances.size());
     // The box of candidate i, or false when it has nothing to hit.
     auto make_box = [&](size_t i, BuildBox& box) {
         const uint32_t id = uint32_t(i);
-        if (i < n_spheres) {
-            const Sphere& s = scene.spheres[i];
-            // Gas spheres are volumes for render/gas.h, not surfaces.
-            if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center))
-                return false;
-            box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
-            return true;
+        switch (ids.kind_of(id)) {
+            case PrimKind::Sphere: {
+                const Sphere& s = scene.spheres[i];
+                // Gas spheres are volumes for render/gas.h, not surfaces.
+                if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center))
+                    return false;
+                box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
+                return true;
+            }
+            case PrimKind::Quadric:
+                if (!quadric_box(scene.quadrics[i - ids.first_quadric], id, box)) return false;
+                box.cost = kQuadricCost;
+                return true;
+            case PrimKind::Instance:
+                return instance_box(scene.instances[i - ids.first_instance], id, box);
+            case PrimKind::Triangle:
+                break;
         }
-        if (i < first_triangle) {
-            if (!quadric_box(scene.quadrics[i - n_spheres], id, box)) return false;
-            box.cost = kQuadricCost;
-            return true;
-        }
-        if (i >= first_instance) return instance_box(scene.instances[i - first_instance], id, box);
-        const auto [mi, t] = triangle_refs[i - first_triangle];
+        const auto [mi, t] = ids.triangle_refs[i - ids.first_triangle];
         return triangle_box(scene.meshes[mi], t, id, box);
     };
     const int box_chunks = chunks_for(boxes.size(), threads);
@@ -198,34 +221,19 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
         boxes.erase(std::remove_if(boxes.begin(), boxes.end(),
                                    [](const BuildBox& b) { return b.cost == kSkipped; }),
                     boxes.end());
+    return boxes;
+}
 
-    BvhBuildOptions options;
-    options.threads = threads;
-    // An interior node of the collapsed tree tests four (or eight) boxes in one step, so leaves may
-    // be fuller than a binary tree's cost would make them: on 1M random spheres this halved the
-    // 4-wide nodes (285k -> 159k, 36 -> 20 bytes a sphere) and shortened the build by a fifth,
-    // render time unchanged. For the 8-wide tree a cost of 8 measured the same as 4 (bench/README).
-    options.traversal_cost = 4.0;
-    built_by_ = choice.kind != BvhBuild::Auto
-                    ? choice.kind
-                    : choose_bvh_build(double(boxes.size()), choice.camera_samples, choice.lights,
-                                       choice.soft_light);
-    options.morton = built_by_ == BvhBuild::Morton;
-    const Bvh binary = build_bvh(std::move(boxes), options);
-    bvh_ = collapse_bvh(binary);
-    const std::vector<uint32_t>& order = binary.order;
+// Compact copies in leaf order. Each chunk first counts its kinds, so that every primitive's place
+// in its kind's array is known before the parallel fill.
+void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildIds& ids,
+                               const std::vector<uint32_t>& order) {
     const size_t n = order.size();
-
-    // Compact copies in leaf order. Each chunk first counts its kinds, so that every primitive's
-    // place in its kind's array is known before the parallel fill.
     const int chunks = chunks_for(n, threads);
     std::vector<std::array<uint32_t, 4>> chunk_start(size_t(chunks) + 1, {0, 0, 0, 0});
-    auto kind_of = [&](uint32_t id) {
-        return id < n_spheres ? 0 : id < first_triangle ? 1 : id < first_instance ? 2 : 3;
-    };
     parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
         std::array<uint32_t, 4> count = {0, 0, 0, 0};
-        for (size_t i = begin; i < end; ++i) ++count[size_t(kind_of(order[i]))];
+        for (size_t i = begin; i < end; ++i) ++count[size_t(ids.kind_of(order[i]))];
         chunk_start[size_t(c) + 1] = count;
     });
     for (size_t c = 1; c <= size_t(chunks); ++c)
@@ -245,61 +253,10 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
     parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
         std::array<uint32_t, 4> next = chunk_start[size_t(c)];
         for (size_t i = begin; i < end; ++i) {
-            const uint32_t id = order[i];
             // Leaf order is a random walk through the scene's arrays: fetch ahead.
-            if (i + 8 < end && order[i + 8] < n_spheres)
+            if (i + 8 < end && ids.kind_of(order[i + 8]) == PrimKind::Sphere)
                 __builtin_prefetch(&scene.spheres[order[i + 8]]);
-            uint32_t shading = 0;
-            if (id < n_spheres) {
-                const Sphere& sp = scene.spheres[id];
-                const uint32_t k = next[0]++;
-                prims_[i] = pack_prim(PrimKind::Sphere, k);
-                spheres_[k] = {sp.center, sp.radius};
-                sphere_shading_[k] = sp.shading;
-                shading = sp.shading;
-            } else if (id < first_triangle) {
-                const Quadric& q = scene.quadrics[id - n_spheres];
-                const uint32_t k = next[1]++;
-                prims_[i] = pack_prim(PrimKind::Quadric, k);
-                quadrics_[k] = make_quadric_geom(q);
-                quadric_source_[k] = id - n_spheres;
-                shading = q.shading;
-            } else if (id >= first_instance) {
-                const MeshInstance& in = scene.instances[id - first_instance];
-                const uint32_t k = next[3]++;
-                prims_[i] = pack_prim(PrimKind::Instance, k);
-                InstanceGeom& g = instances_[k];
-                for (int r = 0; r < 3; ++r)
-                    for (int col = 0; col < 4; ++col)
-                        g.object_from_world[r][col] = in.object_from_world[col][r];
-                g.prototype = in.prototype;
-                g.source = id - first_instance;
-                shading = in.shading;
-            } else {
-                const auto [mi, t] = triangle_refs[id - first_triangle];
-                const Mesh& m = scene.meshes[mi];
-                const uint32_t* corner = &m.triangles[3 * t];
-                const uint32_t k = next[2]++;
-                prims_[i] = pack_prim(PrimKind::Triangle, k);
-                triangles_[k] = {m.positions[corner[0]], m.positions[corner[1]],
-                                 m.positions[corner[2]]};
-                triangle_mesh_[k] = mi;
-                triangle_index_[k] = t;
-                shading = m.shading;
-            }
-            prim_transparency_[i] = float(material_transparency(scene, shading));
-            if (id >= first_triangle && id < first_instance) {
-                // ColorRGBA: shadow rays see the triangle's mean transparency (exact for a
-                // triangle of one alpha; its corners' alphas are not interpolated there).
-                const auto [mi, t] = triangle_refs[id - first_triangle];
-                const Mesh& m = scene.meshes[mi];
-                if (m.alphas.size() >= 3 * t + 3)
-                    prim_transparency_[i] = float(
-                        1.0 -
-                        std::clamp(
-                            (m.alphas[3 * t] + m.alphas[3 * t + 1] + m.alphas[3 * t + 2]) / 3.0,
-                            0.0, 1.0));
-            }
+            copy_primitive(scene, ids, order[i], i, next);
         }
     });
     // Then leaf order is sphere order, and traversal skips the references (one cache miss a leaf
@@ -309,7 +266,69 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
                                    [](float t) { return t > 0.0f; });
     // Held for the whole render: keep only what traversal reads.
     if (!any_transparent_) prim_transparency_ = {};
-    build_clip_scopes();
+}
+
+// Primitive `id` as entry i of leaf order, at next[kind] of its kind's compact array (which it
+// advances), with its transparency for shadow rays.
+void Accel::copy_primitive(const FlatScene& scene, const BuildIds& ids, uint32_t id, size_t i,
+                           std::array<uint32_t, 4>& next) {
+    uint32_t shading = 0;
+    switch (ids.kind_of(id)) {
+        case PrimKind::Sphere: {
+            const Sphere& sp = scene.spheres[id];
+            const uint32_t k = next[0]++;
+            prims_[i] = pack_prim(PrimKind::Sphere, k);
+            spheres_[k] = {sp.center, sp.radius};
+            sphere_shading_[k] = sp.shading;
+            shading = sp.shading;
+            break;
+        }
+        case PrimKind::Quadric: {
+            const Quadric& q = scene.quadrics[id - ids.first_quadric];
+            const uint32_t k = next[1]++;
+            prims_[i] = pack_prim(PrimKind::Quadric, k);
+            quadrics_[k] = make_quadric_geom(q);
+            quadric_source_[k] = id - ids.first_quadric;
+            shading = q.shading;
+            break;
+        }
+        case PrimKind::Instance: {
+            const MeshInstance& in = scene.instances[id - ids.first_instance];
+            const uint32_t k = next[3]++;
+            prims_[i] = pack_prim(PrimKind::Instance, k);
+            InstanceGeom& g = instances_[k];
+            for (int r = 0; r < 3; ++r)
+                for (int col = 0; col < 4; ++col)
+                    g.object_from_world[r][col] = in.object_from_world[col][r];
+            g.prototype = in.prototype;
+            g.source = id - ids.first_instance;
+            shading = in.shading;
+            break;
+        }
+        case PrimKind::Triangle: {
+            const auto [mi, t] = ids.triangle_refs[id - ids.first_triangle];
+            const Mesh& m = scene.meshes[mi];
+            const uint32_t* corner = &m.triangles[3 * t];
+            const uint32_t k = next[2]++;
+            prims_[i] = pack_prim(PrimKind::Triangle, k);
+            triangles_[k] = {m.positions[corner[0]], m.positions[corner[1]],
+                             m.positions[corner[2]]};
+            triangle_mesh_[k] = mi;
+            triangle_index_[k] = t;
+            shading = m.shading;
+            // ColorRGBA: shadow rays see the triangle's mean transparency (exact for a triangle of
+            // one alpha; its corners' alphas are not interpolated there).
+            if (m.alphas.size() >= 3 * t + 3) {
+                prim_transparency_[i] = float(
+                    1.0 -
+                    std::clamp((m.alphas[3 * t] + m.alphas[3 * t + 1] + m.alphas[3 * t + 2]) / 3.0,
+                               0.0, 1.0));
+                return;
+            }
+            break;
+        }
+    }
+    prim_transparency_[i] = float(material_transparency(scene, shading));
 }
 
 size_t Accel::held_bytes() const {

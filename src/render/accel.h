@@ -3,7 +3,9 @@
 // the two queries the integrator asks: closest hit, and how much light passes along a shadow
 // segment. Gas spheres (Sphere::gas) are not in it: they are volumes, integrated by render/gas.h.
 #pragma once
+#include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/ray.h"
@@ -91,6 +93,24 @@ class Accel {
     bool intersect_brute_force(const Ray& ray, Hit& hit) const;
 
   private:
+    // Build ids: [0, spheres) spheres, then quadrics, then triangles in the order of
+    // triangle_refs, then mesh instances.
+    struct BuildIds {
+        explicit BuildIds(const FlatScene& scene);
+        uint32_t first_quadric = 0, first_triangle = 0, first_instance = 0;
+        std::vector<std::pair<uint32_t, uint32_t>> triangle_refs;  // (mesh, triangle)
+        PrimKind kind_of(uint32_t id) const {
+            return id < first_quadric    ? PrimKind::Sphere
+                   : id < first_triangle ? PrimKind::Quadric
+                   : id < first_instance ? PrimKind::Triangle
+                                         : PrimKind::Instance;
+        }
+    };
+    BuildBoxes candidate_boxes(const FlatScene& scene, int threads, const BuildIds& ids) const;
+    void copy_in_leaf_order(const FlatScene& scene, int threads, const BuildIds& ids,
+                            const std::vector<uint32_t>& order);
+    void copy_primitive(const FlatScene& scene, const BuildIds& ids, uint32_t id, size_t i,
+                        std::array<uint32_t, 4>& next);
     void build_prototypes(const FlatScene& scene, int threads);
     bool instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) const;
     bool test_primitive(uint32_t ref, const Ray& ray, double inv_a, const TriangleRay& tri_ray,

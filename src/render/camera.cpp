@@ -175,29 +175,12 @@ Ray Camera::ray(double x, double y, int width, int height) const {
     return CameraRays(*this, width, height)(x, y);
 }
 
-bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera,
-                 std::string& error) {
-    if (options.width < 1 || options.height < 1) {
-        error = "image size must be at least 1x1 (got " + std::to_string(options.width) + "x" +
-                std::to_string(options.height) + ")";
-        return false;
-    }
-    if (!make_sampler(options, camera.sampler, error)) return false;
-    if (options.aperture > 0.0 && camera.sampler.kind == SamplerKind::Center) {
-        error =
-            "--aperture needs several samples per pixel spread over the lens: pick a sampler "
-            "(e.g. --sampler jitter --spp 64, or --sampler statistical)";
-        return false;
-    }
-    if (!(options.aperture >= 0.0) || !std::isfinite(options.aperture) || !(options.focus >= 0.0) ||
-        !std::isfinite(options.focus)) {
-        error = "--aperture and --focus must be finite and not negative";
-        return false;
-    }
-    camera.lens_radius = options.aperture;
-    camera.lens_seed = options.seed;
+namespace {
 
-    Viewpoint vp;  // the VRML default
+// The viewpoint the camera starts from: --viewpoint's (false, with `error`, when the scene has
+// none of that name), else the scene's first, else the VRML default, which the camera then frames.
+bool choose_viewpoint(const FlatScene& scene, const RenderOptions& options, Camera& camera,
+                      Viewpoint& vp, std::string& error) {
     bool found = false;
     if (!options.viewpoint.empty()) {
         for (const Viewpoint& v : scene.viewpoints) {
@@ -225,6 +208,65 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.framed_default = true;
     }
 
+    return true;
+}
+
+// --fit, or a default view: the camera moved back along its view (an orthographic one's window
+// widened) until the scene's bounds are in the picture.
+void frame_bounds(const Bounds3& bounds, const Vec3& centre, const RenderOptions& options,
+                  Camera& camera) {
+    const double smaller = std::min(options.width, options.height);
+    const Vec3 fwd = camera.forward();
+    const double radius = 0.5 * glm::length(bounds.hi - bounds.lo);
+    if (camera.ortho) {
+        const Vec3 right = camera.world_from_camera[0], up = camera.world_from_camera[1];
+        double max_x = 0.0, max_y = 0.0;
+        for (int i = 0; i < 8; ++i) {
+            Vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x, (i & 2) ? bounds.hi.y : bounds.lo.y,
+                        (i & 4) ? bounds.hi.z : bounds.lo.z);
+            max_x = std::max(max_x, std::fabs(glm::dot(corner - centre, right)));
+            max_y = std::max(max_y, std::fabs(glm::dot(corner - centre, up)));
+        }
+        double pixel = std::max(2.0 * max_x / options.width, 2.0 * max_y / options.height);
+        if (pixel > 0.0) camera.ortho_size = pixel * smaller;
+        camera.ortho_center = Vec2(0.0);
+        // Start the rays outside the scene.
+        camera.position = centre - fwd * (2.0 * radius);
+    } else {
+        const double t = std::tan(0.5 * camera.field_of_view);
+        const double tan_x = t * options.width / smaller, tan_y = t * options.height / smaller;
+        double d = fit_distance(bounds, camera, tan_x, tan_y);
+        if (d > 0.0) camera.position = centre - fwd * d;
+    }
+}
+
+}  // namespace
+
+bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& camera,
+                 std::string& error) {
+    if (options.width < 1 || options.height < 1) {
+        error = "image size must be at least 1x1 (got " + std::to_string(options.width) + "x" +
+                std::to_string(options.height) + ")";
+        return false;
+    }
+    if (!make_sampler(options, camera.sampler, error)) return false;
+    if (options.aperture > 0.0 && camera.sampler.kind == SamplerKind::Center) {
+        error =
+            "--aperture needs several samples per pixel spread over the lens: pick a sampler "
+            "(e.g. --sampler jitter --spp 64, or --sampler statistical)";
+        return false;
+    }
+    if (!(options.aperture >= 0.0) || !std::isfinite(options.aperture) || !(options.focus >= 0.0) ||
+        !std::isfinite(options.focus)) {
+        error = "--aperture and --focus must be finite and not negative";
+        return false;
+    }
+    camera.lens_radius = options.aperture;
+    camera.lens_seed = options.seed;
+
+    Viewpoint vp;  // the VRML default
+    if (!choose_viewpoint(scene, options, camera, vp, error)) return false;
+
     if (!finite3(vp.position)) {
         error = "viewpoint position is not finite";
         return false;
@@ -232,7 +274,6 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
     camera.position = vp.position;
     camera.world_from_camera = orthonormal(vp.world_from_camera);
     camera.ortho = vp.ortho;
-    const double smaller = std::min(options.width, options.height);
     if (vp.ortho) {
         const double* e = vp.ortho_extent;
         double w = e[2] - e[0], h = e[3] - e[1];
@@ -273,31 +314,8 @@ bool make_camera(const FlatScene& scene, const RenderOptions& options, Camera& c
         camera.field_of_view = 2.0 * std::atan(0.5 * camera.ortho_size / centre_depth);
     }
 
-    if ((options.fit || camera.framed_default) && have_bounds) {
-        const Vec3 fwd = camera.forward();
-        const double radius = 0.5 * glm::length(bounds.hi - bounds.lo);
-        if (camera.ortho) {
-            const Vec3 right = camera.world_from_camera[0], up = camera.world_from_camera[1];
-            double max_x = 0.0, max_y = 0.0;
-            for (int i = 0; i < 8; ++i) {
-                Vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x,
-                            (i & 2) ? bounds.hi.y : bounds.lo.y,
-                            (i & 4) ? bounds.hi.z : bounds.lo.z);
-                max_x = std::max(max_x, std::fabs(glm::dot(corner - centre, right)));
-                max_y = std::max(max_y, std::fabs(glm::dot(corner - centre, up)));
-            }
-            double pixel = std::max(2.0 * max_x / options.width, 2.0 * max_y / options.height);
-            if (pixel > 0.0) camera.ortho_size = pixel * smaller;
-            camera.ortho_center = Vec2(0.0);
-            // Start the rays outside the scene.
-            camera.position = centre - fwd * (2.0 * radius);
-        } else {
-            const double t = std::tan(0.5 * camera.field_of_view);
-            const double tan_x = t * options.width / smaller, tan_y = t * options.height / smaller;
-            double d = fit_distance(bounds, camera, tan_x, tan_y);
-            if (d > 0.0) camera.position = centre - fwd * d;
-        }
-    }
+    if ((options.fit || camera.framed_default) && have_bounds)
+        frame_bounds(bounds, centre, options, camera);
     if (options.orbit_angle) orbit_camera(centre, *options.orbit_angle, camera);
     // Without --focus the lens focuses on the scene's centre, where the camera now stands.
     const double focus =

@@ -51,137 +51,157 @@ QuadricGeom make_quadric_geom(const Quadric& q) {
     return g;
 }
 
+namespace {
+
+// The roots of a quadric as quadric_roots gives them: those in (0, tm) of the object-space ray,
+// moved by dt into the world ray's t, with the part each lies on.
+struct QuadricRoots {
+    double* t;
+    uint8_t* part;
+    double tm, dt;
+    int n = 0;
+    void push(double tt, uint8_t p) {
+        if (tt > 0.0 && tt < tm) {
+            t[n] = tt + dt;
+            part[n] = p;
+            ++n;
+        }
+    }
+};
+
+void box_roots(const Vec3& h, const Vec3& o, const Vec3& d, uint8_t parts, QuadricRoots& out) {
+    double t_near = -kInf, t_far = kInf;
+    uint8_t f_near = 0, f_far = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] == 0.0) {
+            if (o[k] < -h[k] || o[k] > h[k]) return;
+            continue;
+        }
+        // (face - o) is exact in sign, so an origin just outside a face stays outside.
+        double inv = 1.0 / d[k];
+        double t_lo = (-h[k] - o[k]) * inv, t_hi = (h[k] - o[k]) * inv;
+        uint8_t f_lo = uint8_t(2 * k + 1), f_hi = uint8_t(2 * k);
+        // A flat box (size 0 on axis k) has t_lo == t_hi: the face the ray meets is the
+        // one it comes from, +k when it travels towards -k.
+        if (t_lo > t_hi || (t_lo == t_hi && d[k] < 0.0)) {
+            std::swap(t_lo, t_hi);
+            std::swap(f_lo, f_hi);
+        }
+        if (t_lo > t_near) {
+            t_near = t_lo;
+            f_near = f_lo;
+        }
+        if (t_hi < t_far) {
+            t_far = t_hi;
+            f_far = f_hi;
+        }
+    }
+    if (t_near > t_far) return;
+    out.push(t_near, f_near);
+    out.push(t_far, f_far);
+}
+
+void cylinder_roots(const Vec3& h, const Vec3& o, const Vec3& d, uint8_t parts, QuadricRoots& out) {
+    const double radius = h.x, half_height = h.y;
+    if (parts & kPartSide) {
+        const double a = d.x * d.x + d.z * d.z;
+        const double b = o.x * d.x + o.z * d.z;
+        const double c0 = std::fma(-radius, radius, o.x * o.x + o.z * o.z);
+        const bool outside = c0 > 0.0;
+        if (a > 0.0 && !(outside && b >= 0.0)) {
+            const double tca = -b / a;
+            const double lx = o.x + tca * d.x, lz = o.z + tca * d.z;
+            const double disc = std::fma(radius, radius, -(lx * lx + lz * lz));
+            if (disc >= 0.0) {
+                const double thc = std::sqrt(disc / a);
+                if (outside) {
+                    double t0 = tca - thc;
+                    if (std::fabs(o.y + t0 * d.y) <= half_height) out.push(t0, kSide);
+                }
+                double t1 = tca + thc;
+                if (std::fabs(o.y + t1 * d.y) <= half_height) out.push(t1, kSide);
+            }
+        }
+    }
+    if (d.y != 0.0) {
+        const double r2 = radius * radius;
+        if (parts & kPartTop) {
+            double tt = (half_height - o.y) / d.y;
+            double x = o.x + tt * d.x, z = o.z + tt * d.z;
+            if (x * x + z * z <= r2) out.push(tt, kTop);
+        }
+        if (parts & kPartBottom) {
+            double tt = (-half_height - o.y) / d.y;
+            double x = o.x + tt * d.x, z = o.z + tt * d.z;
+            if (x * x + z * z <= r2) out.push(tt, kBottom);
+        }
+    }
+}
+
+void cone_roots(const Vec3& h, const Vec3& o, const Vec3& d, uint8_t parts, QuadricRoots& out) {
+    // Apex at y = +H, base circle of radius R at y = -H: x^2 + z^2 = k^2 (H - y)^2, k = R /
+    // 2H.
+    const double radius = h.x, half_height = h.y;
+    if ((parts & kPartSide) && half_height > 0.0) {
+        const double k = radius / (2.0 * half_height), k2 = k * k;
+        const double w = half_height - o.y;  // height below the apex
+        const double a = d.x * d.x + d.z * d.z - k2 * d.y * d.y;
+        const double b = o.x * d.x + o.z * d.z + k2 * w * d.y;
+        const double rho = std::sqrt(o.x * o.x + o.z * o.z), kw = k * std::fabs(w);
+        const double c0 = (rho - kw) * (rho + kw);  // sign: outside (> 0) or inside the cone
+        double roots[2];
+        int m = 0;
+        if (a == 0.0) {
+            if (b != 0.0) roots[m++] = -c0 / (2.0 * b);
+        } else {
+            const double disc = b * b - a * c0;
+            if (disc >= 0.0) {
+                // Stable pair: q/a and c/q never subtract nearly equal numbers.
+                const double qq = -(b + std::copysign(std::sqrt(disc), b));
+                roots[m++] = qq / a;
+                if (qq != 0.0) roots[m++] = c0 / qq;
+            }
+        }
+        for (int i = 0; i < m; ++i)
+            if (std::fabs(o.y + roots[i] * d.y) <= half_height) out.push(roots[i], kSide);
+    }
+    if ((parts & kPartBottom) && d.y != 0.0) {
+        double tt = (-half_height - o.y) / d.y;
+        double x = o.x + tt * d.x, z = o.z + tt * d.z;
+        if (x * x + z * z <= radius * radius) out.push(tt, kBottom);
+    }
+}
+
+}  // namespace
+
 int quadric_roots(const QuadricGeom& q, const Ray& ray, double t_max, double* t, uint8_t* part) {
     if (outside_axis_bound(q, ray)) return 0;
     const ObjectRay r = to_object_space(q, ray);
     const Vec3& o = r.o;
     const Vec3& d = r.d;
-    const double tm = t_max - r.dt;
-    int n = 0;
-    auto push = [&](double tt, uint8_t p) {
-        if (tt > 0.0 && tt < tm) {
-            t[n] = tt + r.dt;
-            part[n] = p;
-            ++n;
-        }
-    };
+    QuadricRoots roots{t, part, t_max - r.dt, r.dt};
     const Vec3& h = q.half;
     switch (q.kind) {
-        case QuadricKind::Box: {
-            double t_near = -kInf, t_far = kInf;
-            uint8_t f_near = 0, f_far = 0;
-            for (int k = 0; k < 3; ++k) {
-                if (d[k] == 0.0) {
-                    if (o[k] < -h[k] || o[k] > h[k]) return 0;
-                    continue;
-                }
-                // (face - o) is exact in sign, so an origin just outside a face stays outside.
-                double inv = 1.0 / d[k];
-                double t_lo = (-h[k] - o[k]) * inv, t_hi = (h[k] - o[k]) * inv;
-                uint8_t f_lo = uint8_t(2 * k + 1), f_hi = uint8_t(2 * k);
-                // A flat box (size 0 on axis k) has t_lo == t_hi: the face the ray meets is the
-                // one it comes from, +k when it travels towards -k.
-                if (t_lo > t_hi || (t_lo == t_hi && d[k] < 0.0)) {
-                    std::swap(t_lo, t_hi);
-                    std::swap(f_lo, f_hi);
-                }
-                if (t_lo > t_near) {
-                    t_near = t_lo;
-                    f_near = f_lo;
-                }
-                if (t_hi < t_far) {
-                    t_far = t_hi;
-                    f_far = f_hi;
-                }
-            }
-            if (t_near > t_far) return 0;
-            push(t_near, f_near);
-            push(t_far, f_far);
-            return n;
-        }
-        case QuadricKind::Cylinder: {
-            const double radius = h.x, half_height = h.y;
-            if (q.parts & kPartSide) {
-                const double a = d.x * d.x + d.z * d.z;
-                const double b = o.x * d.x + o.z * d.z;
-                const double c0 = std::fma(-radius, radius, o.x * o.x + o.z * o.z);
-                const bool outside = c0 > 0.0;
-                if (a > 0.0 && !(outside && b >= 0.0)) {
-                    const double tca = -b / a;
-                    const double lx = o.x + tca * d.x, lz = o.z + tca * d.z;
-                    const double disc = std::fma(radius, radius, -(lx * lx + lz * lz));
-                    if (disc >= 0.0) {
-                        const double thc = std::sqrt(disc / a);
-                        if (outside) {
-                            double t0 = tca - thc;
-                            if (std::fabs(o.y + t0 * d.y) <= half_height) push(t0, kSide);
-                        }
-                        double t1 = tca + thc;
-                        if (std::fabs(o.y + t1 * d.y) <= half_height) push(t1, kSide);
-                    }
-                }
-            }
-            if (d.y != 0.0) {
-                const double r2 = radius * radius;
-                if (q.parts & kPartTop) {
-                    double tt = (half_height - o.y) / d.y;
-                    double x = o.x + tt * d.x, z = o.z + tt * d.z;
-                    if (x * x + z * z <= r2) push(tt, kTop);
-                }
-                if (q.parts & kPartBottom) {
-                    double tt = (-half_height - o.y) / d.y;
-                    double x = o.x + tt * d.x, z = o.z + tt * d.z;
-                    if (x * x + z * z <= r2) push(tt, kBottom);
-                }
-            }
-            return n;
-        }
-        case QuadricKind::Cone: {
-            // Apex at y = +H, base circle of radius R at y = -H: x^2 + z^2 = k^2 (H - y)^2, k = R /
-            // 2H.
-            const double radius = h.x, half_height = h.y;
-            if ((q.parts & kPartSide) && half_height > 0.0) {
-                const double k = radius / (2.0 * half_height), k2 = k * k;
-                const double w = half_height - o.y;  // height below the apex
-                const double a = d.x * d.x + d.z * d.z - k2 * d.y * d.y;
-                const double b = o.x * d.x + o.z * d.z + k2 * w * d.y;
-                const double rho = std::sqrt(o.x * o.x + o.z * o.z), kw = k * std::fabs(w);
-                const double c0 =
-                    (rho - kw) * (rho + kw);  // sign: outside (> 0) or inside the cone
-                double roots[2];
-                int m = 0;
-                if (a == 0.0) {
-                    if (b != 0.0) roots[m++] = -c0 / (2.0 * b);
-                } else {
-                    const double disc = b * b - a * c0;
-                    if (disc >= 0.0) {
-                        // Stable pair: q/a and c/q never subtract nearly equal numbers.
-                        const double qq = -(b + std::copysign(std::sqrt(disc), b));
-                        roots[m++] = qq / a;
-                        if (qq != 0.0) roots[m++] = c0 / qq;
-                    }
-                }
-                for (int i = 0; i < m; ++i)
-                    if (std::fabs(o.y + roots[i] * d.y) <= half_height) push(roots[i], kSide);
-            }
-            if ((q.parts & kPartBottom) && d.y != 0.0) {
-                double tt = (-half_height - o.y) / d.y;
-                double x = o.x + tt * d.x, z = o.z + tt * d.z;
-                if (x * x + z * z <= radius * radius) push(tt, kBottom);
-            }
-            return n;
-        }
+        case QuadricKind::Box:
+            box_roots(h, o, d, q.parts, roots);
+            break;
+        case QuadricKind::Cylinder:
+            cylinder_roots(h, o, d, q.parts, roots);
+            break;
+        case QuadricKind::Cone:
+            cone_roots(h, o, d, q.parts, roots);
+            break;
         case QuadricKind::Ellipsoid: {
             // Scaled to the unit sphere; t is unchanged by the scaling.
             if (!(h.x > 0.0 && h.y > 0.0 && h.z > 0.0)) return 0;
             const Vec3 os = o / h, ds = d / h;
-            double roots[2];
-            int m = sphere_roots(os, ds, 1.0 / glm::dot(ds, ds), Vec3(0.0), 1.0, tm, roots);
-            for (int i = 0; i < m; ++i) push(roots[i], kSide);
-            return n;
+            double ell[2];
+            int m = sphere_roots(os, ds, 1.0 / glm::dot(ds, ds), Vec3(0.0), 1.0, roots.tm, ell);
+            for (int i = 0; i < m; ++i) roots.push(ell[i], kSide);
+            return roots.n;
         }
     }
-    return n;
+    return roots.n;
 }
 
 SurfaceHit sphere_surface(const Sphere& s, const Ray& ray, double t, bool want_uv) {

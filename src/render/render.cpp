@@ -162,18 +162,126 @@ double RenderStats::rays_per_second() const {
     return render_seconds > 0.0 ? rays / render_seconds : 0.0;
 }
 
-void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& given,
-                  const ProgressFn& progress, RenderStats& stats, const TileSink& sink,
-                  std::vector<Sphere>* spheres_to_free) {
-    stats = RenderStats();
+namespace {
+
+// What every tile of a render is traced with.
+struct TileTracing {
+    const Camera& camera;
+    const CameraRays& camera_rays;
+    const Integrator& integrator;
+    const Accel& accel;
+    const Outline& outline;
+    const EmptyTiles& empty_tiles;
+    LayerStack* layers;             // X3D layers, or null
+    const std::vector<int>& tiles;  // in trace order
+    int width, height;
+    const TileSink& sink;
+};
+
+// Traces every tile of t.tiles on `threads` threads into t.sink, the calling thread reporting
+// progress when `progress` is given; once `deadline` has passed (when `has_deadline`) the remaining
+// tiles are zeros and `timed_out` is set. Each tile's rays go to tile_rays; the sum of every
+// thread's counters is returned.
+RayCounters trace_all_tiles(const TileTracing& t, int threads, bool has_deadline,
+                            Clock::time_point deadline, TileWorkEstimate& work,
+                            const ProgressFn& progress, std::vector<uint64_t>& tile_rays,
+                            bool& timed_out) {
+    const int tile_count = int(t.tiles.size());
+    std::atomic<int> next_tile{0};
+    std::atomic<int> tiles_done{0};
+    std::atomic<uint64_t> rays_done{0};
+    std::atomic<bool> stop{false};  // --timeout passed: remaining tiles are skipped
+    // One cache line per thread: the counters change on every ray.
+    struct alignas(64) PerThread {
+        RayCounters rays;
+        SamplerScratch scratch;
+        std::vector<float> tile;  // kTileSize^2 RGBA pixels, row by row
+    };
+    std::vector<PerThread> per_thread(static_cast<size_t>(threads));
+    std::mutex mutex;
+    std::condition_variable finished;
+
+    auto worker = [&](int id) {
+        PerThread& mine = per_thread[size_t(id)];
+        RayCounters& c = mine.rays;
+        for (;;) {
+            const int index = next_tile.fetch_add(1, std::memory_order_relaxed);
+            if (index >= tile_count) break;
+            // Rays of every kind: the sky and area lights' own count too.
+            const uint64_t before = c.total() + c.soft.rays;
+            if (has_deadline && !stop.load(std::memory_order_relaxed) && Clock::now() > deadline)
+                stop.store(true, std::memory_order_relaxed);
+            const TileRect r = tile_rect(t.tiles[size_t(index)], t.width, t.height);
+            const int x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
+            std::vector<float>& pixels = mine.tile;
+            pixels.resize(size_t(x1 - x0) * size_t(y1 - y0) * 4);
+            if (stop.load(std::memory_order_relaxed)) {
+                std::fill(pixels.begin(), pixels.end(),
+                          0.0f);  // skipped: the sink still gets every tile
+            } else if (t.layers) {
+                t.layers->trace_tile(r, mine.scratch, c, pixels);
+            } else {
+                trace_tile(t.camera, t.camera_rays, t.integrator, t.accel, t.outline, t.empty_tiles,
+                           r, mine.scratch, c, pixels);
+            }
+            t.sink(x0, y0, x1, y1, pixels.data());
+            const uint64_t rays = c.total() + c.soft.rays - before;
+            work.record(t.tiles[size_t(index)], rays);
+            tile_rays[size_t(t.tiles[size_t(index)])] = rays;  // one writer a tile
+            rays_done.fetch_add(rays, std::memory_order_relaxed);
+            if (tiles_done.fetch_add(1, std::memory_order_acq_rel) + 1 == tile_count) {
+                std::lock_guard<std::mutex> lock(mutex);
+                finished.notify_all();
+            }
+        }
+    };
+
+    std::vector<std::thread> pool;
+    if (progress) {
+        // Every thread renders; this one reports progress until the last tile is done.
+        for (int i = 0; i < threads; ++i) pool.emplace_back(worker, i);
+        std::unique_lock<std::mutex> lock(mutex);
+        while (tiles_done.load(std::memory_order_acquire) < tile_count) {
+            finished.wait_for(lock, std::chrono::milliseconds(100));
+            int done = tiles_done.load(std::memory_order_acquire);
+            if (done < tile_count) {
+                lock.unlock();
+                progress(work.fraction_done(), rays_done.load(std::memory_order_relaxed));
+                lock.lock();
+            }
+        }
+    } else {
+        for (int i = 1; i < threads; ++i) pool.emplace_back(worker, i);
+        worker(0);
+    }
+    for (std::thread& th : pool) th.join();
+
+    RayCounters total;
+    for (const PerThread& p : per_thread) total.add(p.rays);
+    timed_out = stop.load();
+    return total;
+}
+
+// The options as traced: the presets' sky light reach, the same share of any scene
+// (docs/manual.md, --preset).
+RenderOptions options_for_scene(const FlatScene& scene, const RenderOptions& given) {
     RenderOptions options = given;
     if (options.ao_distance_of_scene > 0.0) {
-        // The presets' sky light reach, the same share of any scene (docs/manual.md, --preset).
         const Bounds3 b = scene.bounds(options.threads);
         const double diagonal = b.empty() ? 0.0 : glm::length(b.hi - b.lo);
         if (diagonal > 0.0 && std::isfinite(diagonal))
             options.ao_distance = options.ao_distance_of_scene * diagonal;
     }
+    return options;
+}
+
+}  // namespace
+
+void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOptions& given,
+                  const ProgressFn& progress, RenderStats& stats, const TileSink& sink,
+                  std::vector<Sphere>* spheres_to_free) {
+    stats = RenderStats();
+    const RenderOptions options = options_for_scene(scene, given);
     const auto start = Clock::now();
     const int width = std::max(options.width, 0), height = std::max(options.height, 0);
     int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
@@ -224,81 +332,15 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     }
     threads = std::min(threads, tile_count);
 
-    std::atomic<int> next_tile{0};
-    std::atomic<int> tiles_done{0};
-    std::atomic<uint64_t> rays_done{0};
-    std::atomic<bool> stop{false};  // --timeout passed: remaining tiles are skipped
     const bool has_deadline = options.timeout > 0.0;
     const auto deadline =
         start + std::chrono::duration_cast<Clock::duration>(
                     std::chrono::duration<double>(has_deadline ? options.timeout : 0.0));
-    // One cache line per thread: the counters change on every ray.
-    struct alignas(64) PerThread {
-        RayCounters rays;
-        SamplerScratch scratch;
-        std::vector<float> tile;  // kTileSize^2 RGBA pixels, row by row
-    };
-    std::vector<PerThread> per_thread(static_cast<size_t>(threads));
-    std::mutex mutex;
-    std::condition_variable finished;
-
-    auto worker = [&](int id) {
-        PerThread& mine = per_thread[size_t(id)];
-        RayCounters& c = mine.rays;
-        for (;;) {
-            const int index = next_tile.fetch_add(1, std::memory_order_relaxed);
-            if (index >= tile_count) break;
-            // Rays of every kind: the sky and area lights' own count too.
-            const uint64_t before = c.total() + c.soft.rays;
-            if (has_deadline && !stop.load(std::memory_order_relaxed) && Clock::now() > deadline)
-                stop.store(true, std::memory_order_relaxed);
-            const TileRect r = tile_rect(tiles[size_t(index)], width, height);
-            const int x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
-            std::vector<float>& pixels = mine.tile;
-            pixels.resize(size_t(x1 - x0) * size_t(y1 - y0) * 4);
-            if (stop.load(std::memory_order_relaxed)) {
-                std::fill(pixels.begin(), pixels.end(),
-                          0.0f);  // skipped: the sink still gets every tile
-            } else if (layers) {
-                layers->trace_tile(r, mine.scratch, c, pixels);
-            } else {
-                trace_tile(camera, camera_rays, integrator, accel, outline, empty_tiles, r,
-                           mine.scratch, c, pixels);
-            }
-            sink(x0, y0, x1, y1, pixels.data());
-            const uint64_t tile_rays = c.total() + c.soft.rays - before;
-            work.record(tiles[size_t(index)], tile_rays);
-            stats.tile_rays[size_t(tiles[size_t(index)])] = tile_rays;  // one writer a tile
-            rays_done.fetch_add(tile_rays, std::memory_order_relaxed);
-            if (tiles_done.fetch_add(1, std::memory_order_acq_rel) + 1 == tile_count) {
-                std::lock_guard<std::mutex> lock(mutex);
-                finished.notify_all();
-            }
-        }
-    };
-
-    std::vector<std::thread> pool;
-    if (progress) {
-        // Every thread renders; this one reports progress until the last tile is done.
-        for (int i = 0; i < threads; ++i) pool.emplace_back(worker, i);
-        std::unique_lock<std::mutex> lock(mutex);
-        while (tiles_done.load(std::memory_order_acquire) < tile_count) {
-            finished.wait_for(lock, std::chrono::milliseconds(100));
-            int done = tiles_done.load(std::memory_order_acquire);
-            if (done < tile_count) {
-                lock.unlock();
-                progress(work.fraction_done(), rays_done.load(std::memory_order_relaxed));
-                lock.lock();
-            }
-        }
-    } else {
-        for (int i = 1; i < threads; ++i) pool.emplace_back(worker, i);
-        worker(0);
-    }
-    for (std::thread& t : pool) t.join();
-
-    RayCounters total;
-    for (const PerThread& p : per_thread) total.add(p.rays);
+    const TileTracing tracing{camera,       camera_rays, integrator, accel,  outline, empty_tiles,
+                              layers.get(), tiles,       width,      height, sink};
+    bool timed_out = false;
+    RayCounters total = trace_all_tiles(tracing, threads, has_deadline, deadline, work, progress,
+                                        stats.tile_rays, timed_out);
     stats.nonfinite = total.nonfinite;
     stats.soft = total.soft;
     total.shadow += total.soft.rays;  // the sampling path's shadow rays are shadow rays
@@ -306,7 +348,7 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     stats.shadow_rays = total.shadow;
     stats.secondary_rays = total.secondary;
     stats.render_seconds = seconds_since(render_start);
-    stats.timed_out = stop.load();
+    stats.timed_out = timed_out;
     if (progress) progress(1.0, total.total());
 }
 

@@ -128,135 +128,157 @@ sg::Geometry Builder::make_geometry(NodeId id) {
     return g;
 }
 
+void Builder::make_sphere(NodeId id, sg::Geometry& g) {
+    sg::Sphere s;
+    s.radius = number(id, "radius"_n);
+    g.hints = hints(id);
+    if (in_range(id, "radius"_n, {s.radius}))
+        g.shape = s;
+    else
+        warn(id, "zero-size", "radius must be positive and finite; not rendered");
+}
+
+void Builder::make_box(NodeId id, sg::Geometry& g) {
+    sg::Box b;
+    b.size = vec3(id, "size"_n);
+    // A size of 0 in one axis (the other two in range) is a flat rectangle, as
+    // view3dscene and X_ITE draw it: files use it for cards and floors.
+    const int zeros = int(b.size.x == 0.0) + int(b.size.y == 0.0) + int(b.size.z == 0.0);
+    Vec3 in_range_size = b.size;  // the zero axis, if only one, checked as 1
+    for (int k = 0; k < 3 && zeros == 1; ++k)
+        if (in_range_size[k] == 0.0) in_range_size[k] = 1.0;
+    if (zeros <= 1 && in_range(id, "size"_n, {in_range_size.x, in_range_size.y, in_range_size.z}))
+        g.shape = b;
+    else
+        warn(id, "zero-size",
+             "size must be positive and finite in x, y and z (0 in one axis at most); not "
+             "rendered");
+}
+
+void Builder::make_cylinder(NodeId id, sg::Geometry& g) {
+    sg::Cylinder c;
+    c.radius = number(id, "radius"_n);
+    c.height = number(id, "height"_n);
+    c.side = boolean(id, "side"_n);
+    c.top = boolean(id, "top"_n);
+    c.bottom = boolean(id, "bottom"_n);
+    if (in_range(id, "radius"_n, {c.radius}) && in_range(id, "height"_n, {c.height}))
+        g.shape = c;
+    else
+        warn(id, "zero-size", "radius and height must be positive and finite; not rendered");
+}
+
+void Builder::make_cone(NodeId id, sg::Geometry& g) {
+    sg::Cone c;
+    c.bottom_radius = number(id, "bottomRadius"_n);
+    c.height = number(id, "height"_n);
+    c.side = boolean(id, "side"_n);
+    c.bottom = boolean(id, "bottom"_n);
+    if (in_range(id, "bottomRadius"_n, {c.bottom_radius}) && in_range(id, "height"_n, {c.height}))
+        g.shape = c;
+    else
+        warn(id, "zero-size", "bottomRadius and height must be positive and finite; not rendered");
+}
+
+std::unique_ptr<sg::IndexedFaceSet> Builder::read_indexed_face_set(NodeId id,
+                                                                   const sg::Origin& origin) {
+    sg::IndexedFaceSet f;
+    read_vertex_data(id, f.data, true, origin);
+    f.coord_index = integers(id, "coordIndex"_n);
+    f.normal_index = integers(id, "normalIndex"_n);
+    f.color_index = integers(id, "colorIndex"_n);
+    f.texcoord_index = integers(id, "texCoordIndex"_n);
+    f.ccw = boolean(id, "ccw"_n);
+    f.solid = boolean(id, "solid"_n);
+    f.convex = boolean(id, "convex"_n);
+    f.color_per_vertex = boolean(id, "colorPerVertex"_n);
+    f.normal_per_vertex = boolean(id, "normalPerVertex"_n);
+    f.crease_angle = number(id, "creaseAngle"_n);
+    return std::make_unique<sg::IndexedFaceSet>(std::move(f));
+}
+
+std::unique_ptr<sg::ElevationGrid> Builder::read_elevation_grid(NodeId id,
+                                                                const sg::Origin& origin) {
+    sg::ElevationGrid e;
+    read_vertex_data(id, e.data, false, origin);
+    e.x_dimension = integer(id, "xDimension"_n);
+    e.z_dimension = integer(id, "zDimension"_n);
+    e.x_spacing = number(id, "xSpacing"_n);
+    e.z_spacing = number(id, "zSpacing"_n);
+    e.height = numbers(id, "height"_n);
+    e.ccw = boolean(id, "ccw"_n);
+    e.solid = boolean(id, "solid"_n);
+    e.color_per_vertex = boolean(id, "colorPerVertex"_n);
+    e.normal_per_vertex = boolean(id, "normalPerVertex"_n);
+    e.crease_angle = number(id, "creaseAngle"_n);
+    return std::make_unique<sg::ElevationGrid>(std::move(e));
+}
+
+std::unique_ptr<sg::Extrusion> Builder::read_extrusion(NodeId id) {
+    sg::Extrusion e;
+    e.cross_section = vec2s(id, "crossSection"_n);
+    e.spine = vec3s(id, "spine"_n);
+    e.scale = vec2s(id, "scale"_n);
+    const FieldView orientation = tree_.get(id, "orientation"_n);
+    for (size_t i = 0; i + 3 < orientation.numbers.size(); i += 4)
+        e.orientation.emplace_back(orientation.numbers[i], orientation.numbers[i + 1],
+                                   orientation.numbers[i + 2], orientation.numbers[i + 3]);
+    e.begin_cap = boolean(id, "beginCap"_n);
+    e.end_cap = boolean(id, "endCap"_n);
+    e.ccw = boolean(id, "ccw"_n);
+    e.solid = boolean(id, "solid"_n);
+    e.convex = boolean(id, "convex"_n);
+    e.crease_angle = number(id, "creaseAngle"_n);
+    return std::make_unique<sg::Extrusion>(std::move(e));
+}
+
+std::unique_ptr<sg::ComposedSet> Builder::read_composed_set(NodeId id, sg::ComposedKind kind,
+                                                            const sg::Origin& origin) {
+    sg::ComposedSet c;
+    c.kind = kind;
+    read_vertex_data(id, c.data, true, origin);
+    using C = sg::ComposedKind;
+    if (c.kind == C::IndexedTriangleSet || c.kind == C::IndexedTriangleFanSet ||
+        c.kind == C::IndexedTriangleStripSet || c.kind == C::IndexedQuadSet)
+        c.index = integers(id, "index"_n);  // the others have no index field
+    if (c.kind == sg::ComposedKind::TriangleFanSet) c.counts = integers(id, "fanCount"_n);
+    if (c.kind == sg::ComposedKind::TriangleStripSet) c.counts = integers(id, "stripCount"_n);
+    c.ccw = boolean(id, "ccw"_n);
+    c.solid = boolean(id, "solid"_n);
+    c.color_per_vertex = boolean(id, "colorPerVertex"_n);
+    c.normal_per_vertex = boolean(id, "normalPerVertex"_n);
+    return std::make_unique<sg::ComposedSet>(std::move(c));
+}
+
 sg::Geometry Builder::make_geometry_shape(NodeId id) {
     sg::Geometry g;
     g.origin = origin(id);
     const GeometryType gt = geometry_type(tree_.decl(id));
     switch (gt.kind) {
-        case GeometryKind::Sphere: {
-            sg::Sphere s;
-            s.radius = number(id, "radius"_n);
-            g.hints = hints(id);
-            if (in_range(id, "radius"_n, {s.radius}))
-                g.shape = s;
-            else
-                warn(id, "zero-size", "radius must be positive and finite; not rendered");
+        case GeometryKind::Sphere:
+            make_sphere(id, g);
             break;
-        }
-        case GeometryKind::Box: {
-            sg::Box b;
-            b.size = vec3(id, "size"_n);
-            // A size of 0 in one axis (the other two in range) is a flat rectangle, as
-            // view3dscene and X_ITE draw it: files use it for cards and floors.
-            const int zeros = int(b.size.x == 0.0) + int(b.size.y == 0.0) + int(b.size.z == 0.0);
-            Vec3 in_range_size = b.size;  // the zero axis, if only one, checked as 1
-            for (int k = 0; k < 3 && zeros == 1; ++k)
-                if (in_range_size[k] == 0.0) in_range_size[k] = 1.0;
-            if (zeros <= 1 &&
-                in_range(id, "size"_n, {in_range_size.x, in_range_size.y, in_range_size.z}))
-                g.shape = b;
-            else
-                warn(id, "zero-size",
-                     "size must be positive and finite in x, y and z (0 in one axis at most); not "
-                     "rendered");
+        case GeometryKind::Box:
+            make_box(id, g);
             break;
-        }
-        case GeometryKind::Cylinder: {
-            sg::Cylinder c;
-            c.radius = number(id, "radius"_n);
-            c.height = number(id, "height"_n);
-            c.side = boolean(id, "side"_n);
-            c.top = boolean(id, "top"_n);
-            c.bottom = boolean(id, "bottom"_n);
-            if (in_range(id, "radius"_n, {c.radius}) && in_range(id, "height"_n, {c.height}))
-                g.shape = c;
-            else
-                warn(id, "zero-size",
-                     "radius and height must be positive and finite; not rendered");
+        case GeometryKind::Cylinder:
+            make_cylinder(id, g);
             break;
-        }
-        case GeometryKind::Cone: {
-            sg::Cone c;
-            c.bottom_radius = number(id, "bottomRadius"_n);
-            c.height = number(id, "height"_n);
-            c.side = boolean(id, "side"_n);
-            c.bottom = boolean(id, "bottom"_n);
-            if (in_range(id, "bottomRadius"_n, {c.bottom_radius}) &&
-                in_range(id, "height"_n, {c.height}))
-                g.shape = c;
-            else
-                warn(id, "zero-size",
-                     "bottomRadius and height must be positive and finite; not rendered");
+        case GeometryKind::Cone:
+            make_cone(id, g);
             break;
-        }
-        case GeometryKind::IndexedFaceSet: {
-            sg::IndexedFaceSet f;
-            read_vertex_data(id, f.data, true, g.origin);
-            f.coord_index = integers(id, "coordIndex"_n);
-            f.normal_index = integers(id, "normalIndex"_n);
-            f.color_index = integers(id, "colorIndex"_n);
-            f.texcoord_index = integers(id, "texCoordIndex"_n);
-            f.ccw = boolean(id, "ccw"_n);
-            f.solid = boolean(id, "solid"_n);
-            f.convex = boolean(id, "convex"_n);
-            f.color_per_vertex = boolean(id, "colorPerVertex"_n);
-            f.normal_per_vertex = boolean(id, "normalPerVertex"_n);
-            f.crease_angle = number(id, "creaseAngle"_n);
-            g.shape = std::make_unique<sg::IndexedFaceSet>(std::move(f));
+        case GeometryKind::IndexedFaceSet:
+            g.shape = read_indexed_face_set(id, g.origin);
             break;
-        }
-        case GeometryKind::ElevationGrid: {
-            sg::ElevationGrid e;
-            read_vertex_data(id, e.data, false, g.origin);
-            e.x_dimension = integer(id, "xDimension"_n);
-            e.z_dimension = integer(id, "zDimension"_n);
-            e.x_spacing = number(id, "xSpacing"_n);
-            e.z_spacing = number(id, "zSpacing"_n);
-            e.height = numbers(id, "height"_n);
-            e.ccw = boolean(id, "ccw"_n);
-            e.solid = boolean(id, "solid"_n);
-            e.color_per_vertex = boolean(id, "colorPerVertex"_n);
-            e.normal_per_vertex = boolean(id, "normalPerVertex"_n);
-            e.crease_angle = number(id, "creaseAngle"_n);
-            g.shape = std::make_unique<sg::ElevationGrid>(std::move(e));
+        case GeometryKind::ElevationGrid:
+            g.shape = read_elevation_grid(id, g.origin);
             break;
-        }
-        case GeometryKind::Extrusion: {
-            sg::Extrusion e;
-            e.cross_section = vec2s(id, "crossSection"_n);
-            e.spine = vec3s(id, "spine"_n);
-            e.scale = vec2s(id, "scale"_n);
-            const FieldView orientation = tree_.get(id, "orientation"_n);
-            for (size_t i = 0; i + 3 < orientation.numbers.size(); i += 4)
-                e.orientation.emplace_back(orientation.numbers[i], orientation.numbers[i + 1],
-                                           orientation.numbers[i + 2], orientation.numbers[i + 3]);
-            e.begin_cap = boolean(id, "beginCap"_n);
-            e.end_cap = boolean(id, "endCap"_n);
-            e.ccw = boolean(id, "ccw"_n);
-            e.solid = boolean(id, "solid"_n);
-            e.convex = boolean(id, "convex"_n);
-            e.crease_angle = number(id, "creaseAngle"_n);
-            g.shape = std::make_unique<sg::Extrusion>(std::move(e));
+        case GeometryKind::Extrusion:
+            g.shape = read_extrusion(id);
             break;
-        }
-        case GeometryKind::Composed: {
-            sg::ComposedSet c;
-            c.kind = gt.composed;
-            read_vertex_data(id, c.data, true, g.origin);
-            using C = sg::ComposedKind;
-            if (c.kind == C::IndexedTriangleSet || c.kind == C::IndexedTriangleFanSet ||
-                c.kind == C::IndexedTriangleStripSet || c.kind == C::IndexedQuadSet)
-                c.index = integers(id, "index"_n);  // the others have no index field
-            if (c.kind == sg::ComposedKind::TriangleFanSet) c.counts = integers(id, "fanCount"_n);
-            if (c.kind == sg::ComposedKind::TriangleStripSet)
-                c.counts = integers(id, "stripCount"_n);
-            c.ccw = boolean(id, "ccw"_n);
-            c.solid = boolean(id, "solid"_n);
-            c.color_per_vertex = boolean(id, "colorPerVertex"_n);
-            c.normal_per_vertex = boolean(id, "normalPerVertex"_n);
-            g.shape = std::make_unique<sg::ComposedSet>(std::move(c));
+        case GeometryKind::Composed:
+            g.shape = read_composed_set(id, gt.composed, g.origin);
             break;
-        }
         case GeometryKind::Text:
             g.shape = std::make_unique<sg::Text>(make_text(id));
             break;

@@ -181,6 +181,18 @@ class Builder {
     // build_geometry.cpp
     sg::Geometry make_geometry(NodeId node);
     sg::Geometry make_geometry_shape(NodeId node);  // make_geometry without cull_back_faces
+    // make_geometry_shape's steps: a sphere, box, cylinder or cone into g.shape (left empty after a
+    // warning when out of range); the mesh nodes' fields as they are.
+    void make_sphere(NodeId node, sg::Geometry& g);
+    void make_box(NodeId node, sg::Geometry& g);
+    void make_cylinder(NodeId node, sg::Geometry& g);
+    void make_cone(NodeId node, sg::Geometry& g);
+    std::unique_ptr<sg::IndexedFaceSet> read_indexed_face_set(NodeId node,
+                                                              const sg::Origin& origin);
+    std::unique_ptr<sg::ElevationGrid> read_elevation_grid(NodeId node, const sg::Origin& origin);
+    std::unique_ptr<sg::Extrusion> read_extrusion(NodeId node);
+    std::unique_ptr<sg::ComposedSet> read_composed_set(NodeId node, sg::ComposedKind kind,
+                                                       const sg::Origin& origin);
     sg::Text make_text(NodeId node);
     sg::LineSet make_lines(NodeId node);
     // build_geometry2d.cpp: Arc2D ... TriangleSet2D into g.shape (left empty after a warning)

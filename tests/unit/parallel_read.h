@@ -6,7 +6,7 @@
 #include <string>
 
 #include "parser/load.h"
-#include "parser/tree_compare.h"
+#include "support/tree_compare.h"
 
 namespace vr::test {
 

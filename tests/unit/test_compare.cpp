@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "image/compare.h"
+#include "qa/compare.h"
 
 namespace vr {
 namespace {

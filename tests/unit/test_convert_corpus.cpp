@@ -7,8 +7,8 @@
 
 #include "corpus.h"
 #include "parser/load.h"
-#include "parser/tree_compare.h"
 #include "parser/writer.h"
+#include "support/tree_compare.h"
 
 namespace vr {
 namespace {

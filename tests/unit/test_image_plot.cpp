@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "image/plot.h"
+#include "qa/plot.h"
 
 namespace vr {
 namespace {

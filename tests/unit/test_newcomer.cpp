@@ -1,6 +1,6 @@
-// What a new user trips on at the command line (app/cli.cpp, app/cmd_render.cpp,
-// app/cmd_batch.cpp): each test is a slip a first-time user made, and what the program now says
-// or does about it.
+// What a new user trips on at the command line (app/cli.cpp, app/frame_plan.cpp,
+// app/frame_render.cpp, app/cmd_batch.cpp): each test is a slip a first-time user made, and what
+// the program now says or does about it.
 #include <gtest/gtest.h>
 
 #include <filesystem>

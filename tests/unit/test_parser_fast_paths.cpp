@@ -15,7 +15,7 @@
 #include "parser/lexer.h"
 #include "parser/load.h"
 #include "parser/pool.h"
-#include "parser/tree_compare.h"
+#include "support/tree_compare.h"
 #include "temp_path.h"
 
 namespace vr {

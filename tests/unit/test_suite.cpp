@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "image/suite.h"
-#include "image/suite_report.h"
+#include "qa/suite.h"
+#include "qa/suite_report.h"
 #include "temp_path.h"
 
 namespace vr {

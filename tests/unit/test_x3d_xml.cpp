@@ -8,7 +8,7 @@
 
 #include "corpus.h"
 #include "parser/load.h"
-#include "parser/tree_compare.h"
+#include "support/tree_compare.h"
 #include "temp_path.h"
 
 namespace vr {

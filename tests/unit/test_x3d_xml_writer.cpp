@@ -8,8 +8,8 @@
 
 #include "corpus.h"
 #include "parser/load.h"
-#include "parser/tree_compare.h"
 #include "parser/xml_writer.h"
+#include "support/tree_compare.h"
 #include "temp_path.h"
 
 namespace vr {

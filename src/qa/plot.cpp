@@ -1,6 +1,6 @@
 // Line plots into an Image (see plot.h): axis ranges and ticks, coverage-based anti-aliased
 // drawing, and a 5x7 bitmap font.
-#include "image/plot.h"
+#include "qa/plot.h"
 
 #include <algorithm>
 #include <climits>
@@ -177,6 +177,10 @@ struct Axis {
     bool valid(double v) const { return std::isfinite(v) && (!log || v > 0); }
     double to_plot(double v) const { return log ? std::log10(v) : v; }
     double to_pixel(double v) const { return p_lo + (to_plot(v) - lo) / (hi - lo) * (p_hi - p_lo); }
+    // The pixel of a plot-space value (a tick's).
+    double plot_to_pixel(double plot_v) const {
+        return p_lo + (plot_v - lo) / (hi - lo) * (p_hi - p_lo);
+    }
 };
 
 // Where a legend of w x h pixels goes: the corner of the plot area (`margin` in from its edges)
@@ -320,18 +324,19 @@ int draw_text(Image& image, int x, int y, const std::string& text, int scale, co
     return text_width(text, scale);
 }
 
-Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& options) {
-    const int w = std::max(64, options.width), h = std::max(64, options.height);
-    Image im(w, h);
-    for (size_t p = 0; p < size_t(w) * size_t(h); ++p)
-        for (int c = 0; c < 4; ++c) im.rgba[p * 4 + c] = 1.0f;
+namespace {
 
-    const int s = std::max(1, int(std::lround(std::min(w, h) / 400.0)));  // text scale
-    const int line_h = kCellH * s;
-
+// A plot being drawn: the image, its axes, the plot area and the text scale.
+struct Canvas {
+    Image& im;
     Axis ax, ay;
-    ax.log = options.log_x;
-    ay.log = options.log_y;
+    Rect area{};
+    int s = 1;       // text scale
+    int line_h = 0;  // a line of text's height
+};
+
+// Sets the axes' plot-space ranges around the series' valid points.
+void fit_axes(const std::vector<PlotSeries>& series, Axis& ax, Axis& ay) {
     std::vector<double> xs, ys;
     for (const PlotSeries& ser : series) {
         const size_t n = std::min(ser.x.size(), ser.y.size());
@@ -341,38 +346,26 @@ Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& opti
     }
     fit_axis(ax, xs);
     fit_axis(ay, ys);
-    const std::vector<Tick> xticks = axis_ticks(ax), yticks = axis_ticks(ay);
+}
 
-    // Layout: room for the title above, tick labels and the axis label below and on the left.
-    int ylabel_w = 0;
-    for (const Tick& t : yticks)
-        if (t.major) ylabel_w = std::max(ylabel_w, text_width(tick_label(ay, t.value), s));
-    const Rect area{(options.y_label.empty() ? 0 : line_h + 4 * s) + ylabel_w + 10 * s,
-                    options.title.empty() ? 8 * s : 2 * line_h + 4 * s, w - 12 * s,
-                    h - (options.x_label.empty() ? 1 : 2) * line_h - 10 * s};
-    if (area.x1 - area.x0 < 16 || area.y1 - area.y0 < 16) return im;
-    ax.p_lo = area.x0, ax.p_hi = area.x1;
-    ay.p_lo = area.y1, ay.p_hi = area.y0;  // up is smaller y
-    auto px = [&](double plot_x) {
-        return ax.p_lo + (plot_x - ax.lo) / (ax.hi - ax.lo) * (ax.p_hi - ax.p_lo);
-    };
-    auto py = [&](double plot_y) {
-        return ay.p_lo + (plot_y - ay.lo) / (ay.hi - ay.lo) * (ay.p_hi - ay.p_lo);
-    };
-
-    // Grid, minor first.
+void draw_grid(Canvas& c, const std::vector<Tick>& xticks, const std::vector<Tick>& yticks) {
+    // Minor first.
     for (int pass = 0; pass < 2; ++pass) {
         const bool major = pass == 1;
         const Rgb& color = major ? kMajorGrid : kMinorGrid;
         for (const Tick& t : xticks)
             if (t.major == major)
-                draw_segment(im, px(t.value), area.y0, px(t.value), area.y1, 1, color, area);
+                draw_segment(c.im, c.ax.plot_to_pixel(t.value), c.area.y0,
+                             c.ax.plot_to_pixel(t.value), c.area.y1, 1, color, c.area);
         for (const Tick& t : yticks)
             if (t.major == major)
-                draw_segment(im, area.x0, py(t.value), area.x1, py(t.value), 1, color, area);
+                draw_segment(c.im, c.area.x0, c.ay.plot_to_pixel(t.value), c.area.x1,
+                             c.ay.plot_to_pixel(t.value), 1, color, c.area);
     }
+}
 
-    // Series: lines, then markers on top.
+// Each series' colour: its own, or the palette's next.
+std::vector<Rgb> series_colors(const std::vector<PlotSeries>& series) {
     std::vector<Rgb> colors;
     size_t next_palette = 0;
     for (const PlotSeries& ser : series) {
@@ -381,7 +374,14 @@ Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& opti
         else
             colors.push_back(kPalette[next_palette++ % std::size(kPalette)]);
     }
-    const Rect inside{area.x0 + 1, area.y0, area.x1, area.y1 - 1};
+    return colors;
+}
+
+// Lines, then markers on top.
+void draw_series(Canvas& c, const std::vector<PlotSeries>& series, const std::vector<Rgb>& colors) {
+    const Axis &ax = c.ax, &ay = c.ay;
+    const int s = c.s;
+    const Rect inside{c.area.x0 + 1, c.area.y0, c.area.x1, c.area.y1 - 1};
     for (size_t k = 0; k < series.size(); ++k) {
         const PlotSeries& ser = series[k];
         const size_t n = std::min(ser.x.size(), ser.y.size());
@@ -389,79 +389,127 @@ Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& opti
             if (!ax.valid(ser.x[i]) || !ay.valid(ser.y[i]) || !ax.valid(ser.x[i + 1]) ||
                 !ay.valid(ser.y[i + 1]))
                 continue;
-            draw_segment(im, ax.to_pixel(ser.x[i]), ay.to_pixel(ser.y[i]),
+            draw_segment(c.im, ax.to_pixel(ser.x[i]), ay.to_pixel(ser.y[i]),
                          ax.to_pixel(ser.x[i + 1]), ay.to_pixel(ser.y[i + 1]), 1.5 * s, colors[k],
                          inside);
         }
         for (size_t i = 0; i < n; ++i)
             if (ax.valid(ser.x[i]) && ay.valid(ser.y[i]))
-                draw_disc(im, ax.to_pixel(ser.x[i]), ay.to_pixel(ser.y[i]), 3.0 * s, colors[k],
+                draw_disc(c.im, ax.to_pixel(ser.x[i]), ay.to_pixel(ser.y[i]), 3.0 * s, colors[k],
                           inside);
     }
+}
 
-    // Frame, ticks and their labels.
-    const Rect all{0, 0, w, h};
+// Frame, ticks and their labels.
+void draw_frame(Canvas& c, const std::vector<Tick>& xticks, const std::vector<Tick>& yticks) {
+    Image& im = c.im;
+    const Rect& area = c.area;
+    const int s = c.s;
+    const Rect all{0, 0, im.width, im.height};
     draw_segment(im, area.x0, area.y0, area.x1, area.y0, s, kBlack, all);
     draw_segment(im, area.x0, area.y1, area.x1, area.y1, s, kBlack, all);
     draw_segment(im, area.x0, area.y0, area.x0, area.y1, s, kBlack, all);
     draw_segment(im, area.x1, area.y0, area.x1, area.y1, s, kBlack, all);
     for (const Tick& t : xticks) {
-        const double x = px(t.value);
+        const double x = c.ax.plot_to_pixel(t.value);
         const int len = (t.major ? 6 : 3) * s;
         draw_segment(im, x, area.y1, x, area.y1 - len, s, kBlack, all);
         if (t.major) {
-            const std::string label = tick_label(ax, t.value);
+            const std::string label = tick_label(c.ax, t.value);
             draw_text(im, int(std::lround(x)) - text_width(label, s) / 2, area.y1 + 4 * s, label, s,
                       kBlack);
         }
     }
     for (const Tick& t : yticks) {
-        const double y = py(t.value);
+        const double y = c.ay.plot_to_pixel(t.value);
         const int len = (t.major ? 6 : 3) * s;
         draw_segment(im, area.x0, y, area.x0 + len, y, s, kBlack, all);
         if (t.major) {
-            const std::string label = tick_label(ay, t.value);
+            const std::string label = tick_label(c.ay, t.value);
             draw_text(im, area.x0 - 5 * s - text_width(label, s), int(std::lround(y)) - 7 * s / 2,
                       label, s, kBlack);
         }
     }
+}
 
-    // Axis labels and title, centred on the plot area.
+// Axis labels and title, centred on the plot area.
+void draw_titles(Canvas& c, const PlotOptions& options) {
+    const Rect& area = c.area;
+    const int s = c.s;
     if (!options.x_label.empty())
-        draw_text(im, (area.x0 + area.x1 - text_width(options.x_label, s)) / 2,
-                  area.y1 + 4 * s + line_h + 2 * s, options.x_label, s, kBlack);
+        draw_text(c.im, (area.x0 + area.x1 - text_width(options.x_label, s)) / 2,
+                  area.y1 + 4 * s + c.line_h + 2 * s, options.x_label, s, kBlack);
     if (!options.y_label.empty())
-        draw_text_up(im, 4 * s, (area.y0 + area.y1 + text_width(options.y_label, s)) / 2,
+        draw_text_up(c.im, 4 * s, (area.y0 + area.y1 + text_width(options.y_label, s)) / 2,
                      options.y_label, s, kBlack);
     if (!options.title.empty())
-        draw_text(im, (area.x0 + area.x1 - text_width(options.title, s)) / 2, 6 * s, options.title,
-                  s, kBlack);
+        draw_text(c.im, (area.x0 + area.x1 - text_width(options.title, s)) / 2, 6 * s,
+                  options.title, s, kBlack);
+}
 
-    // The legend, in the corner where it hides the least of the series.
+// The legend, in the corner where it hides the least of the series.
+void draw_legend(Canvas& c, const std::vector<PlotSeries>& series, const std::vector<Rgb>& colors) {
+    Image& im = c.im;
+    const int s = c.s;
+    const Rect all{0, 0, im.width, im.height};
     int legend_w = 0, entries = 0;
     for (const PlotSeries& ser : series)
         if (!ser.label.empty()) legend_w = std::max(legend_w, text_width(ser.label, s)), ++entries;
-    if (entries > 0) {
-        const int sample_w = 20 * s, pad = 4 * s, row_h = line_h + 3 * s;
-        const int box_w = legend_w + sample_w + 3 * pad, box_h = entries * row_h + 2 * pad - 3 * s;
-        const Rect box = legend_box(series, ax, ay, area, box_w, box_h, 6 * s);
-        fill_rect(im, box, kWhite);
-        draw_segment(im, box.x0, box.y0, box.x1, box.y0, 1, kMajorGrid, all);
-        draw_segment(im, box.x0, box.y1, box.x1, box.y1, 1, kMajorGrid, all);
-        draw_segment(im, box.x0, box.y0, box.x0, box.y1, 1, kMajorGrid, all);
-        draw_segment(im, box.x1, box.y0, box.x1, box.y1, 1, kMajorGrid, all);
-        int row = 0;
-        for (size_t k = 0; k < series.size(); ++k) {
-            if (series[k].label.empty()) continue;
-            const int top = box.y0 + pad + row * row_h;
-            const double mid = top + 3.5 * s;
-            draw_segment(im, box.x0 + pad, mid, box.x0 + pad + sample_w, mid, 1.5 * s, colors[k],
-                         all);
-            draw_disc(im, box.x0 + pad + sample_w / 2.0, mid, 3.0 * s, colors[k], all);
-            draw_text(im, box.x0 + 2 * pad + sample_w, top, series[k].label, s, kBlack);
-            ++row;
-        }
+    if (entries == 0) return;
+    const int sample_w = 20 * s, pad = 4 * s, row_h = c.line_h + 3 * s;
+    const int box_w = legend_w + sample_w + 3 * pad, box_h = entries * row_h + 2 * pad - 3 * s;
+    const Rect box = legend_box(series, c.ax, c.ay, c.area, box_w, box_h, 6 * s);
+    fill_rect(im, box, kWhite);
+    draw_segment(im, box.x0, box.y0, box.x1, box.y0, 1, kMajorGrid, all);
+    draw_segment(im, box.x0, box.y1, box.x1, box.y1, 1, kMajorGrid, all);
+    draw_segment(im, box.x0, box.y0, box.x0, box.y1, 1, kMajorGrid, all);
+    draw_segment(im, box.x1, box.y0, box.x1, box.y1, 1, kMajorGrid, all);
+    int row = 0;
+    for (size_t k = 0; k < series.size(); ++k) {
+        if (series[k].label.empty()) continue;
+        const int top = box.y0 + pad + row * row_h;
+        const double mid = top + 3.5 * s;
+        draw_segment(im, box.x0 + pad, mid, box.x0 + pad + sample_w, mid, 1.5 * s, colors[k], all);
+        draw_disc(im, box.x0 + pad + sample_w / 2.0, mid, 3.0 * s, colors[k], all);
+        draw_text(im, box.x0 + 2 * pad + sample_w, top, series[k].label, s, kBlack);
+        ++row;
     }
+}
+
+}  // namespace
+
+Image plot_series(const std::vector<PlotSeries>& series, const PlotOptions& options) {
+    const int w = std::max(64, options.width), h = std::max(64, options.height);
+    Image im(w, h);
+    for (size_t p = 0; p < size_t(w) * size_t(h); ++p)
+        for (int c = 0; c < 4; ++c) im.rgba[p * 4 + c] = 1.0f;
+
+    Canvas c{im, Axis{}, Axis{}};
+    c.s = std::max(1, int(std::lround(std::min(w, h) / 400.0)));
+    c.line_h = kCellH * c.s;
+    const int s = c.s, line_h = c.line_h;
+    c.ax.log = options.log_x;
+    c.ay.log = options.log_y;
+    fit_axes(series, c.ax, c.ay);
+    const std::vector<Tick> xticks = axis_ticks(c.ax), yticks = axis_ticks(c.ay);
+
+    // Layout: room for the title above, tick labels and the axis label below and on the left.
+    int ylabel_w = 0;
+    for (const Tick& t : yticks)
+        if (t.major) ylabel_w = std::max(ylabel_w, text_width(tick_label(c.ay, t.value), s));
+    c.area = Rect{(options.y_label.empty() ? 0 : line_h + 4 * s) + ylabel_w + 10 * s,
+                  options.title.empty() ? 8 * s : 2 * line_h + 4 * s, w - 12 * s,
+                  h - (options.x_label.empty() ? 1 : 2) * line_h - 10 * s};
+    if (c.area.x1 - c.area.x0 < 16 || c.area.y1 - c.area.y0 < 16) return im;
+    c.ax.p_lo = c.area.x0, c.ax.p_hi = c.area.x1;
+    c.ay.p_lo = c.area.y1, c.ay.p_hi = c.area.y0;  // up is smaller y
+
+    draw_grid(c, xticks, yticks);
+    const std::vector<Rgb> colors = series_colors(series);
+    draw_series(c, series, colors);
+    draw_frame(c, xticks, yticks);
+    draw_titles(c, options);
+    draw_legend(c, series, colors);
     return im;
 }
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "image/suite.h"
+#include "qa/suite.h"
 
 namespace vr {
 

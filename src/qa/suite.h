@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "image/compare.h"
 #include "image/image.h"
+#include "qa/compare.h"
 
 namespace vr {
 

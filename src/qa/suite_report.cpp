@@ -1,43 +1,19 @@
 // JUnit XML and the offline HTML report of a folder comparison.
-#include "image/suite_report.h"
+#include "qa/suite_report.h"
 
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 
+#include "core/xml_escape.h"
+
 namespace vr {
 namespace fs = std::filesystem;
 namespace {
 
-// Escaped for XML and HTML text and attribute values. XML 1.0 allows no control characters but
-// tab, newline and carriage return, not even as references, so the others become '?'.
-std::string escape(const std::string& s) {
-    std::string out;
-    out.reserve(s.size());
-    for (unsigned char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&#39;";
-                break;
-            default:
-                out += (c < 0x20 && c != '\t' && c != '\n' && c != '\r') ? '?' : char(c);
-        }
-    }
-    return out;
-}
+// Escaped for XML and HTML text and attribute values (core/xml_escape.h).
+std::string escape(const std::string& s) { return xml_escaped(s, XmlEscape::kTextOrAttribute); }
 
 // A relative path as a URL path: bytes other than unreserved ones and '/' percent-encoded, so that
 // '#', '?', '%' and spaces in file names still find the file.

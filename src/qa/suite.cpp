@@ -1,5 +1,5 @@
 // Folder comparison: pairing by relative path, a work queue over the pairs, the summary table.
-#include "image/suite.h"
+#include "qa/suite.h"
 
 #include <fnmatch.h>
 

@@ -1,4 +1,4 @@
-#include "parser/tree_compare.h"
+#include "support/tree_compare.h"
 
 #include <algorithm>
 #include <cmath>

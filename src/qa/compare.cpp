@@ -1,5 +1,5 @@
 // Golden-image metrics. See compare.h for the definitions; this file holds the arithmetic.
-#include "image/compare.h"
+#include "qa/compare.h"
 
 #include <algorithm>
 #include <array>
