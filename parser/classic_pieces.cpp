@@ -141,12 +141,18 @@ NodeId append_tree(NodeTree& tree, NodeTree&& piece, std::span<const NodeId> out
         n.first_field += field_base;
         tree.add_node(n, piece.field_count(id));
     }
-    tree.fields.reserve(tree.fields.size() + piece.fields.size());
-    for (FieldEntry e : piece.fields) {
+    auto rebased = [&](FieldEntry e) {
         e.begin += e.type.kind == ValueKind::Node     ? ref_base
                    : e.type.kind == ValueKind::String ? string_base
                                                       : number_base;
-        tree.fields.push_back(e);
+        return e;
+    };
+    tree.fields.reserve(tree.fields.size() + piece.fields.size());
+    for (const FieldEntry& e : piece.fields) tree.fields.push_back(rebased(e));
+    // A Script's own fields and events (src/script/ runs them) hold values in the same pools.
+    for (auto& [id, script] : piece.scripts) {
+        for (ScriptField& f : script.fields) f.value = rebased(f.value);
+        tree.scripts[id + node_base] = std::move(script);
     }
     tree.numbers.insert(tree.numbers.end(), piece.numbers.begin(), piece.numbers.end());
     for (std::string& s : piece.strings) tree.strings.push_back(std::move(s));

@@ -162,6 +162,17 @@ duk_ret_t now(duk_context* ctx) {
     return 1;
 }
 
+// SplitMix64 (Steele, Lea and Flood 2014): one 64-bit state, full period, 53 random bits a call.
+duk_ret_t random_double(duk_context* ctx) {
+    uint64_t& state = runtime(ctx).random_state;
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    duk_push_number(ctx, double(z >> 11) * 0x1.0p-53);
+    return 1;
+}
+
 duk_ret_t version(duk_context* ctx) {
     duk_push_string(ctx, "0.1");
     return 1;
@@ -203,6 +214,12 @@ void install_natives(duk_context* ctx, ScriptRuntime& rt) {
         duk_push_c_function(ctx, n.f, n.nargs);
         duk_put_global_string(ctx, n.name);
     }
+    // Duktape seeds its own Math.random from the clock: two renders of one file would differ.
+    rt.random_state = 0x243F6A8885A308D3ull ^ (uint64_t(rt.node) * 0x9E3779B97F4A7C15ull);
+    duk_get_global_string(ctx, "Math");
+    duk_push_c_function(ctx, random_double, 0);
+    duk_put_prop_string(ctx, -2, "random");
+    duk_pop(ctx);
 }
 
 void push_flat(duk_context* ctx, const ScriptValue& value) {

@@ -1,6 +1,7 @@
 // What the tests of reading in pieces (test_parallel_read.cpp: classic; test_parallel_read_xml.cpp:
 // X3D XML) compare: a file read by one thread and read in pieces of a forced size.
 #pragma once
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -21,6 +22,33 @@ inline LoadedScene load_with_pieces(const std::filesystem::path& file, size_t pi
     LoadedScene scene = load_scene(file, options);
     unsetenv("VRMLRAY_PIECE_BYTES");
     return scene;
+}
+
+// "" when the Script nodes' own interfaces (what src/script/ runs) agree: the same Script nodes,
+// with the same fields, events, values and text (node ids are equal once the trees are).
+inline std::string script_difference(const NodeTree& one, const NodeTree& many) {
+    if (one.scripts.size() != many.scripts.size())
+        return "Script interfaces: " + std::to_string(one.scripts.size()) + " vs " +
+               std::to_string(many.scripts.size());
+    for (const auto& [id, a] : one.scripts) {
+        const auto it = many.scripts.find(id);
+        const std::string which = "Script node " + std::to_string(id);
+        if (it == many.scripts.end()) return which + " has no interface in pieces";
+        const ScriptInterface& b = it->second;
+        if (a.source != b.source || a.fields.size() != b.fields.size()) return which + " differs";
+        for (size_t i = 0; i < a.fields.size(); ++i) {
+            const ScriptField &fa = a.fields[i], &fb = b.fields[i];
+            const FieldView u = one.view(fa.value), v = many.view(fb.value);
+            if (fa.name != fb.name || !(fa.type == fb.type) || fa.access != fb.access ||
+                !std::equal(u.numbers.begin(), u.numbers.end(), v.numbers.begin(),
+                            v.numbers.end()) ||
+                !std::equal(u.strings.begin(), u.strings.end(), v.strings.begin(),
+                            v.strings.end()) ||
+                !std::equal(u.nodes.begin(), u.nodes.end(), v.nodes.begin(), v.nodes.end()))
+                return which + " field " + std::string(name_text(fa.name)) + " differs";
+        }
+    }
+    return {};
 }
 
 // "" when the two reads agree in everything a user sees of them.
@@ -49,6 +77,7 @@ inline std::string difference(const LoadedScene& one, const LoadedScene& many) {
             a.to_event != b.to_event)
             return "ROUTE " + std::to_string(i) + " differs";
     }
+    if (std::string d = script_difference(one.tree, many.tree); !d.empty()) return d;
     const std::string m1 = one.diagnostics.format(one.sources);
     const std::string m2 = many.diagnostics.format(many.sources);
     if (m1 != m2) return "messages differ:\n" + m1 + "---\n" + m2;
