@@ -85,7 +85,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
         j["soft_light"] = {{"bounded_points", s.exact_points},
                            {"sampled_points", s.sampled_points},
                            {"unconverged_points", s.unconverged},
-                           {"sampled_rays", s.rays}};
+                           {"sampled_rays", s.rays},
+                           {"shared_points", s.shared_points}};
     }
     j["tracer_bytes"] = stats.tracer_bytes;
     j["peak_memory_mb"] = peak_memory_mb();
@@ -198,6 +199,7 @@ double combine(const World& world, const RenderOptions& options, RenderStats& st
     stats.soft.sampled_points = world.sum(stats.soft.sampled_points);
     stats.soft.unconverged = world.sum(stats.soft.unconverged);
     stats.soft.rays = world.sum(stats.soft.rays);
+    stats.soft.shared_points = world.sum(stats.soft.shared_points);
     stats.nonfinite.shading = world.sum(stats.nonfinite.shading);
     stats.nonfinite.gas = world.sum(stats.nonfinite.gas);
     stats.nonfinite.light = world.sum(stats.nonfinite.light);
