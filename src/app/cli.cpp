@@ -446,7 +446,7 @@ CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common
     r->add_option("--sky-share", o.sky_share,
                   "Sky light: estimated at image points N pixels apart and interpolated between "
                   "them where the surface and the estimates allow, within --light-tolerance "
-                  "(default 4; 1: every sample on its own)")
+                  "(default 3; 1: every sample on its own)")
         ->check(CLI::Range(1, 64));
     r->add_option("--aperture", o.aperture,
                   "Depth of field: thin lens radius in scene units (needs a sampler with several "

@@ -125,10 +125,10 @@ struct RestingSphere {
 
 TEST(SkyShare, SharedPixelsKeepTheBoundAgainstTheClosedFormOnAContactShadow) {
     for (double e : {3e-2, 1e-2}) {
-        RestingSphere shared(e, 4), alone(e, 1);
+        RestingSphere shared(e, RenderOptions().sky_share), alone(e, 1);  // the default
         RenderStats s_shared, s_alone;
-        const Image image = render_image(shared.scene, shared.camera, shared.options, nullptr,
-                                         s_shared);
+        const Image image =
+            render_image(shared.scene, shared.camera, shared.options, nullptr, s_shared);
         render_image(alone.scene, alone.camera, alone.options, nullptr, s_alone);
         int plane_pixels = 0, within = 0;
         double worst = 0.0;
