@@ -1,10 +1,11 @@
 // Sky light shared between neighbouring pixels (docs/rendering.md, "Sharing the sky light between
 // pixels"): A(p) is estimated at the camera hits of a lattice of image points, `spacing` pixels
-// apart, to half the tolerance; a sample inside a lattice square takes the bilinear mean of its
-// four corners' estimates when the corners and the sample lie on one smooth surface and the
-// corners' estimates differ by at most the tolerance (a square that holds a shadow's edge of its
-// own shows it as a spread). Otherwise the sample is estimated on its own, as without sharing. Every corner is computed once, by the first tile that needs it,
-// from its own image point alone: the image is the same for every thread count and tile order.
+// apart, to kSharedNodeShare (3/4) of the tolerance; a sample inside a lattice square takes the
+// bilinear mean of its four corners' estimates when the corners and the sample lie on one smooth
+// surface and the corners' estimates differ by at most the tolerance (a square that holds a
+// shadow's edge of its own shows it as a spread). Otherwise the sample is estimated on its own, as
+// without sharing. Every corner is computed once, by the first tile that needs it, from its own
+// image point alone: the image is the same for every thread count and tile order.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -41,12 +42,12 @@ struct SkyShareTile {
     std::vector<SkyShareNode> nodes;
 };
 
-// A sample at image point (x, y) (pixels, y down) on `surface` at p with shading normal ns: its A as
-// the bilinear mean of the four lattice corners around it, when every corner is a valid hit on the
-// same surface, their shading normals and the sample's agree within kSkyShareMinCos, the sample
+// A sample at image point (x, y) (pixels, y down) on `surface` at p with shading normal ns: its A
+// as the bilinear mean of the four lattice corners around it, when every corner is a valid hit on
+// the same surface, their shading normals and the sample's agree within kSkyShareMinCos, the sample
 // lies near each corner's tangent plane (kSkyShareMaxSlope), and the corners' estimates differ by
 // at most `spread`. False: estimate the sample on its own.
-inline constexpr double kSkyShareMinCos = 0.5;  // 60 degrees between normals at most
+inline constexpr double kSkyShareMinCos = 0.5;    // 60 degrees between normals at most
 inline constexpr double kSkyShareMaxSlope = 0.3;  // height over a corner's plane / distance
 bool sky_share_interpolate(const SkyShareTile& tile, double x, double y, uint64_t surface,
                            const Vec3& p, const Vec3& ns, double spread, double& a);
@@ -75,8 +76,7 @@ class SkyShareGrid {
     // image point (x, y) without its A, `estimate(node)` its A, asked only for the corners of
     // squares that may share.
     template <class Hit, class Estimate>
-    void gather(int x0, int y0, int x1, int y1, SkyShareTile& tile, Hit&& hit,
-                Estimate&& estimate);
+    void gather(int x0, int y0, int x1, int y1, SkyShareTile& tile, Hit&& hit, Estimate&& estimate);
 
   private:
     enum : uint8_t { kEmpty = 0, kClaimed = 1, kReady = 2 };
