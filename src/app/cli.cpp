@@ -468,6 +468,11 @@ void add_render_lighting(CLI::App* r, RenderOptions& o, Texts& texts) {
                   "Absolute error bound of the sky light and of each area light's visibility, "
                   "per pixel over its samples (default 2e-2)")
         ->check(CLI::Range(1e-7, 0.5));
+    r->add_option("--sky-share", o.sky_share,
+                  "Sky light: estimated at image points N pixels apart and interpolated between "
+                  "them where the surface and the estimates allow, within --light-tolerance "
+                  "(default 3; 1: every sample on its own)")
+        ->check(CLI::Range(1, 64));
     r->add_option("--aperture", o.aperture,
                   "Depth of field: thin lens radius in scene units (needs a sampler with several "
                   "samples)")

@@ -45,6 +45,7 @@ double combine(const World& world, const RenderOptions& options, RenderStats& st
     stats.soft.sampled_points = world.sum(stats.soft.sampled_points);
     stats.soft.unconverged = world.sum(stats.soft.unconverged);
     stats.soft.rays = world.sum(stats.soft.rays);
+    stats.soft.shared_points = world.sum(stats.soft.shared_points);
     stats.nonfinite.shading = world.sum(stats.nonfinite.shading);
     stats.nonfinite.gas = world.sum(stats.nonfinite.gas);
     stats.nonfinite.light = world.sum(stats.nonfinite.light);

@@ -60,7 +60,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
         j["soft_light"] = {{"bounded_points", s.exact_points},
                            {"sampled_points", s.sampled_points},
                            {"unconverged_points", s.unconverged},
-                           {"sampled_rays", s.rays}};
+                           {"sampled_rays", s.rays},
+                           {"shared_points", s.shared_points}};
     }
     j["tracer_bytes"] = stats.tracer_bytes;
     j["peak_memory_mb"] = peak_memory_mb();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "render/lights.h"
 #include "render/look.h"
@@ -125,7 +126,8 @@ void Integrator::setup_look(const Camera& camera) {
 }
 
 Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng,
-                             const Vec3& ns, const Vec3& to_viewer, RayCounters& counters) const {
+                             const Vec3& ns, const Vec3& to_viewer, RayCounters& counters,
+                             const SkyShareSample* share) const {
     if (!look.lit) return look.diffuse;
     Vec3 color = look.emissive;
     const double exponent = look.shininess * 128.0;
@@ -133,7 +135,12 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
         if (soft_->sky_map()) {
             color += soft_->sky_radiance(hit.p, hit.p_error, ng, ns, counters.soft) * look.diffuse;
         } else {
-            const double a = soft_->sky_visibility(hit.p, hit.p_error, ng, ns, counters.soft);
+            double a = 0.0;
+            if (share && sky_share_interpolate(*share->tile, share->x, share->y, share->surface,
+                                               hit.p, ns, soft_->tolerance(), a))
+                ++counters.soft.shared_points;
+            else
+                a = soft_->sky_visibility(hit.p, hit.p_error, ng, ns, counters.soft);
             color += a * sky_ * look.diffuse;
         }
     }
@@ -191,6 +198,29 @@ Vec3 Integrator::shade_local(const SurfaceHit& hit, const SurfaceLook& look, con
     }
     if (has_headlight_) add_light(headlight_);
     return color;
+}
+
+SkyShareNode Integrator::sky_share_node(const Ray& ray, RayCounters& counters) const {
+    SkyShareNode node;
+    Hit hit;
+    ++counters.soft.rays;  // the lattice point's camera ray: the sky light's work
+    if (!accel_.intersect(ray, hit)) return node;
+    const uint32_t shading = accel_.shading_of(hit);
+    const SurfaceHit s = accel_.surface(ray, hit, false);
+    if (!look_up_surface(scene_, looks_, s).lit) return node;
+    // Normals face the camera, as trace_surfaces turns them.
+    const bool front = glm::dot(s.ng, ray.d) < 0.0;
+    node.valid = true;
+    node.surface = sky_share_surface(hit.prim, hit.part, shading);
+    node.p = s.p;
+    node.p_error = s.p_error;
+    node.ng = front ? s.ng : -s.ng;
+    node.ns = front ? s.ns : -s.ns;
+    return node;
+}
+
+double Integrator::sky_share_estimate(const SkyShareNode& node, RayCounters& counters) const {
+    return soft_->shared_sky_visibility(node.p, node.p_error, node.ng, node.ns, counters.soft);
 }
 
 SampleValue Integrator::alpha_rule(SampleValue v, const Ray& ray) const {
@@ -347,9 +377,14 @@ SampleValue Integrator::trace_surfaces(const Ray& ray, int depth, double weight,
 
     const double kt = look.transparency, kr = look.reflectivity;
     const double local_weight = std::max(0.0, 1.0 - kr - kt);
+    // The camera ray's claim on the sky light's lattice holds for its first surface only: taken
+    // off before any other ray is traced.
+    SkyShareSample share = std::exchange(counters.sky_share, SkyShareSample{});
+    if (share.tile) share.surface = sky_share_surface(hit.prim, hit.part, shading);
     Vec3 color(0.0);
     if (local_weight > 0.0)
-        color += local_weight * shade_local(s, look, ng, ns, to_viewer, counters);
+        color += local_weight *
+                 shade_local(s, look, ng, ns, to_viewer, counters, share.tile ? &share : nullptr);
 
     double alpha =
         1.0;  // an opaque hit, unless the transmitted ray below brings background through

@@ -17,6 +17,7 @@
 #include "render/options.h"
 #include "render/sampling.h"
 #include "render/shading.h"
+#include "render/sky_share.h"
 #include "render/soft_lighting.h"
 
 namespace vr {
@@ -43,6 +44,9 @@ struct RayCounters {
     // Not a count: this thread's last shadow-ray blocker, the hint of Accel::transmittance (any
     // value is correct; the thread's next shadow ray tries it first).
     uint32_t shadow_blocker = UINT32_MAX;
+    // Not a count: set by the tile loop for one camera ray, whose first surface may take its sky
+    // light from the lattice around its image point (render/sky_share.h); empty otherwise.
+    SkyShareSample sky_share;
     void add(const RayCounters& o) {
         primary += o.primary;
         shadow += o.shadow;
@@ -97,8 +101,16 @@ class Integrator {
     // The local VRML97 colour at a hit: emissive + sum over lights of on * att * spot * colour *
     // (ambient + visibility * (diffuse + specular)). `ng`/`ns` face the viewer, `to_viewer` is
     // unit.
+    // `share`: the camera ray's claim on the sky light's lattice (null: estimate A here).
     Vec3 shade_local(const SurfaceHit& hit, const SurfaceLook& look, const Vec3& ng, const Vec3& ns,
-                     const Vec3& to_viewer, RayCounters& counters) const;
+                     const Vec3& to_viewer, RayCounters& counters,
+                     const SkyShareSample* share = nullptr) const;
+
+    // Whether the sky light may be shared between pixels (render/sky_share.h).
+    bool shares_sky() const { return soft_ && soft_->shares_sky(); }
+    // The sky light's lattice point whose camera ray is `ray`, without its A; then its A.
+    SkyShareNode sky_share_node(const Ray& ray, RayCounters& counters) const;
+    double sky_share_estimate(const SkyShareNode& node, RayCounters& counters) const;
 
   private:
     // A camera ray past any line or point mark: trace() with the --alpha rule applied.

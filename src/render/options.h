@@ -86,6 +86,10 @@ struct RenderOptions {
     // --ao-distance given as a fraction of the scene's bounding-box diagonal (the presets'): 0:
     // unset; else it replaces ao_distance once the scene is known.
     double ao_distance_of_scene = 0.0;
+    // --sky-share N (docs/rendering.md, "Sharing the sky light between pixels"): the sky light
+    // estimated at image points N pixels apart and interpolated between them where the estimates
+    // and the surface allow; 1: every sample on its own.
+    int sky_share = 3;
     // Which tiles this process traces (many processes, docs/mpi.md): those whose row-major
     // index i has i % tile_stride == tile_offset; the others reach no sink. Interleaved, so that
     // every process gets tiles from all over the image (an off-centre molecule leaves empty tiles

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "render/intersect.h"
 #include "render/layers.h"
 #include "render/outline.h"
+#include "render/sky_share.h"
 #include "render/work_estimate.h"
 
 namespace vr {
@@ -44,8 +46,8 @@ struct EmptyTiles {
 // Traces tile r into `pixels` (RGBA rows of the tile).
 void trace_tile(const Camera& camera, const CameraRays& camera_rays, const Integrator& integrator,
                 const Accel& accel, const Outline& outline, const EmptyTiles& skip,
-                const TileRect& r, SamplerScratch& scratch, RayCounters& c,
-                std::vector<float>& pixels) {
+                const TileRect& r, SamplerScratch& scratch, RayCounters& c, SkyShareGrid* sky_share,
+                SkyShareTile& share_tile, std::vector<float>& pixels) {
     const int x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
     uint64_t& bad = c.nonfinite.shading;
     // A tile whose rays the BVH's boxes show to meet nothing sees the background: most of the
@@ -75,13 +77,23 @@ void trace_tile(const Camera& camera, const CameraRays& camera_rays, const Integ
         for (size_t k = 1; k < count; ++k) std::copy_n(&pixels[0], 4, &pixels[4 * k]);
         return;
     }
+    // The sky light's lattice points around the tile (render/sky_share.h), before its samples.
+    if (sky_share && !empty)
+        sky_share->gather(
+            x0, y0, x1, y1, share_tile,
+            [&](double x, double y) { return integrator.sky_share_node(camera_rays(x, y), c); },
+            [&](const SkyShareNode& node) { return integrator.sky_share_estimate(node, c); });
     sample_tile(
         camera.sampler, x0, y0, x1, y1, scratch,
         [&](double px, double py) {
             const Ray ray = camera_rays(px, py);
             if (empty) return integrator.trace_camera_miss(ray, c);
             if (outline.enabled() && outline.on_edge(px, py, c)) return outline.edge_value();
-            return integrator.trace_camera_ray(ray, c);
+            if (!sky_share) return integrator.trace_camera_ray(ray, c);
+            c.sky_share = SkyShareSample{&share_tile, px, py, 0};
+            const SampleValue v = integrator.trace_camera_ray(ray, c);
+            c.sky_share = SkyShareSample{};
+            return v;
         },
         store);
 }
@@ -173,6 +185,7 @@ struct TileTracing {
     const Outline& outline;
     const EmptyTiles& empty_tiles;
     LayerStack* layers;             // X3D layers, or null
+    SkyShareGrid* sky_share;        // the sky light shared between pixels, or null
     const std::vector<int>& tiles;  // in trace order
     int width, height;
     const TileSink& sink;
@@ -195,6 +208,7 @@ RayCounters trace_all_tiles(const TileTracing& t, int threads, bool has_deadline
     struct alignas(64) PerThread {
         RayCounters rays;
         SamplerScratch scratch;
+        SkyShareTile share_tile;
         std::vector<float> tile;  // kTileSize^2 RGBA pixels, row by row
     };
     std::vector<PerThread> per_thread(static_cast<size_t>(threads));
@@ -222,7 +236,7 @@ RayCounters trace_all_tiles(const TileTracing& t, int threads, bool has_deadline
                 t.layers->trace_tile(r, mine.scratch, c, pixels);
             } else {
                 trace_tile(t.camera, t.camera_rays, t.integrator, t.accel, t.outline, t.empty_tiles,
-                           r, mine.scratch, c, pixels);
+                           r, mine.scratch, c, t.sky_share, mine.share_tile, pixels);
             }
             t.sink(x0, y0, x1, y1, pixels.data());
             const uint64_t rays = c.total() + c.soft.rays - before;
@@ -315,6 +329,11 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     if (spheres_to_free != nullptr) std::vector<Sphere>().swap(*spheres_to_free);
     const CameraRays camera_rays(camera, width, height);
     const Outline outline(accel, camera_rays, options);
+    // Sky light shared between neighbouring pixels (docs/rendering.md, "Sharing the sky light
+    // between pixels"): pinhole cameras only (a lens moves each sample's ray off the lattice's).
+    std::unique_ptr<SkyShareGrid> sky_share;
+    if (options.sky_share > 1 && integrator.shares_sky() && !layers && !(camera.lens_radius > 0.0))
+        sky_share = std::make_unique<SkyShareGrid>(width, height, options.sky_share);
     const EmptyTiles empty_tiles = {
         integrator.camera_misses_see_background(),
         camera.sampler.kind == SamplerKind::Center && integrator.uniform_background()};
@@ -336,8 +355,9 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const auto deadline =
         start + std::chrono::duration_cast<Clock::duration>(
                     std::chrono::duration<double>(has_deadline ? options.timeout : 0.0));
-    const TileTracing tracing{camera,       camera_rays, integrator, accel,  outline, empty_tiles,
-                              layers.get(), tiles,       width,      height, sink};
+    const TileTracing tracing{camera,       camera_rays,     integrator, accel, outline,
+                              empty_tiles,  layers.get(),    sky_share.get(), tiles, width,
+                              height,       sink};
     bool timed_out = false;
     RayCounters total = trace_all_tiles(tracing, threads, has_deadline, deadline, work, progress,
                                         stats.tile_rays, timed_out);

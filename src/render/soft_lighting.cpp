@@ -379,18 +379,19 @@ Value stratified_mean(const Vec3& axis, double theta_max, CapMeasure measure, ui
 double SoftLighting::sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng,
                                    const Vec3& axis, double theta_max, CapMeasure measure,
                                    double reach, const Vec3& target, double target_radius,
-                                   uint64_t key, SoftLightCounts& counts) const {
+                                   uint64_t key, double interval, double min_rays,
+                                   SoftLightCounts& counts) const {
     ++counts.sampled_points;
     bool done = true;
     // Neighbouring directions are mostly blocked by the same primitive (a hint only).
     uint32_t blocker = UINT32_MAX;
     const double mean = stratified_mean<double>(
-        axis, theta_max, measure, key, min_rays_,
+        axis, theta_max, measure, key, min_rays,
         [&](const Vec3& w) {
             return shadow_visibility(p, p_error, ng, w, reach, target, target_radius, counts,
                                      blocker);
         },
-        [&](double v, double t99) { return t99 * std::sqrt(v) <= point_interval_; }, done);
+        [&](double v, double t99) { return t99 * std::sqrt(v) <= interval; }, done);
     if (!done) ++counts.unconverged;
     return mean;
 }
@@ -432,7 +433,14 @@ double SoftLighting::sky_visibility(const Vec3& p, const Vec3& p_error, const Ve
         exact_share(p, n, 0.5 * kPi, CapMeasure::Cosine, ao_distance_, -1.0, true, share, counts))
         return share;
     return sampled_share(p, p_error, ng, n, 0.5 * kPi, CapMeasure::Cosine, ao_distance_, Vec3(0.0),
-                         0.0, point_key(seed_, p, n), counts);
+                         0.0, point_key(seed_, p, n), point_interval_, min_rays_, counts);
+}
+
+double SoftLighting::shared_sky_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng,
+                                           const Vec3& n, SoftLightCounts& counts) const {
+    const double node = kSharedNodeShare * tolerance_;
+    return sampled_share(p, p_error, ng, n, 0.5 * kPi, CapMeasure::Cosine, ao_distance_, Vec3(0.0),
+                         0.0, point_key(seed_, p, n), node, min_samples_to_see(node), counts);
 }
 
 double SoftLighting::light_visibility(const Light& light, const Vec3& p, const Vec3& p_error,
@@ -461,7 +469,7 @@ double SoftLighting::light_visibility(const Light& light, const Vec3& p, const V
     const Vec3 n = glm::dot(ng, ng) > 0.0 ? ng : axis;
     return sampled_share(p, p_error, n, axis, theta_max, CapMeasure::SolidAngle, reach,
                          light.position, radius, point_key(seed_ ^ 0x5eed, p, light.position),
-                         counts);
+                         point_interval_, min_rays_, counts);
 }
 
 }  // namespace vr

@@ -34,6 +34,10 @@
 
 namespace vr {
 
+// The share of --light-tolerance a lattice point of the sky light's sharing is estimated to
+// (render/sky_share.h): its cost grows as the inverse square, and the rest is the interpolation's.
+inline constexpr double kSharedNodeShare = 0.75;
+
 // The sampling path's rays at a point, at most: 8 blocks of 128 x 128 directions.
 inline constexpr uint64_t kSoftLightMaxRays = 8 * 128 * 128;
 
@@ -42,7 +46,9 @@ struct SoftLightCounts {
     uint64_t sampled_points = 0;  // sampling path
     uint64_t unconverged = 0;     // sampling path stopped at its cap above the tolerance
     uint64_t rays = 0;            // sampling path shadow rays
+    uint64_t shared_points = 0;   // sky light interpolated between lattice points (sky_share.h)
     void add(const SoftLightCounts& o) {
+        shared_points += o.shared_points;
         exact_points += o.exact_points;
         sampled_points += o.sampled_points;
         unconverged += o.unconverged;
@@ -132,6 +138,14 @@ class SoftLighting {
     // n, both facing the viewer.
     double sky_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& n,
                           SoftLightCounts& counts) const;
+    // Whether the sky light may be shared between neighbouring pixels (render/sky_share.h): a
+    // constant sky on the sampling path (the cap path keeps its hard bound at every point).
+    bool shares_sky() const { return sky_ && !sky_map_ && !spheres_only_ && gas_ == nullptr; }
+    // A(p) at a lattice point of the sharing: to kSharedNodeShare of the tolerance on its own (no
+    // pixel's other samples share its budget); the interpolation keeps the rest.
+    double shared_sky_visibility(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& n,
+                                 SoftLightCounts& counts) const;
+    double tolerance() const { return tolerance_; }
     // With a sky map: (1/pi) * integral over the hemisphere about n of V(p, w) L(w) max(n.w, 0) dw
     // per channel, to the absolute error tolerance * (the channel's largest texel): the part up to
     // the smallest texel as A(p) (hard bound where the caps apply), the rest sampled (99%).
@@ -151,9 +165,12 @@ class SoftLighting {
                              SoftLightCounts& counts, uint32_t& blocker) const;
     // The open share of the cone by shadow rays (the sampling path). `target_radius` > 0: the rays
     // end on the sphere light of that radius at `target`; else they run `reach` far.
+    // `interval`: the 99% interval's half-width at which it stops; `min_rays`: the rays it traces
+    // at least.
     double sampled_share(const Vec3& p, const Vec3& p_error, const Vec3& ng, const Vec3& axis,
                          double theta_max, CapMeasure measure, double reach, const Vec3& target,
-                         double target_radius, uint64_t key, SoftLightCounts& counts) const;
+                         double target_radius, uint64_t key, double interval, double min_rays,
+                         SoftLightCounts& counts) const;
     // The fast path; false when it does not apply here (an occluder straddles the light).
     bool exact_share(const Vec3& p, const Vec3& axis, double theta_max, CapMeasure measure,
                      double reach, double light_near, bool skip_own, double& share,
