@@ -355,9 +355,9 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     const auto deadline =
         start + std::chrono::duration_cast<Clock::duration>(
                     std::chrono::duration<double>(has_deadline ? options.timeout : 0.0));
-    const TileTracing tracing{camera,       camera_rays,     integrator, accel, outline,
-                              empty_tiles,  layers.get(),    sky_share.get(), tiles, width,
-                              height,       sink};
+    const TileTracing tracing{camera,  camera_rays, integrator,   accel,
+                              outline, empty_tiles, layers.get(), sky_share.get(),
+                              tiles,   width,       height,       sink};
     bool timed_out = false;
     RayCounters total = trace_all_tiles(tracing, threads, has_deadline, deadline, work, progress,
                                         stats.tile_rays, timed_out);
