@@ -33,12 +33,16 @@ void report_warning(const std::string& file, const std::string& message, bool qu
     if (!quiet) std::fprintf(stderr, "%s: warning: %s\n", file.c_str(), message.c_str());
 }
 
-void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet) {
-    for (const Diagnostic& d : diagnostics.all()) {
+size_t print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet,
+                         size_t from) {
+    const std::vector<Diagnostic>& all = diagnostics.all();
+    for (size_t i = from; i < all.size(); ++i) {
+        const Diagnostic& d = all[i];
         if (d.severity == Severity::Warning) ++g_warnings;
         if (quiet && d.severity == Severity::Warning) continue;
         std::cerr << Diagnostics::format_one(d, sources);
     }
+    return all.size();
 }
 
 LoadOptions load_options(const CommonOptions& common) {
@@ -65,9 +69,10 @@ bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common
     Diagnostics diagnostics;
     const ScriptSettings scripts = script_settings(loaded, common);
     Animator animator(loaded.tree, diagnostics, &scripts);
-    print_diagnostics(diagnostics, loaded.sources, common.quiet);
+    const size_t printed = print_diagnostics(diagnostics, loaded.sources, common.quiet);
     if (diagnostics.has_errors()) return false;
     animator.evaluate(time);
+    print_diagnostics(diagnostics, loaded.sources, common.quiet, printed);  // the Scripts' events
     if (routes_used) *routes_used = animator.routes().size();
     if (animated) *animated = animator.animated();
     return true;

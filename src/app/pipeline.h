@@ -11,8 +11,11 @@
 
 namespace vr {
 
-// Prints diagnostics to stderr (warnings only when not quiet).
-void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet);
+// Prints diagnostics to stderr (warnings only when not quiet), from the `from`th on; returns the
+// number there are, the `from` of the next call. (An evaluation at a later time adds warnings, and
+// a warning of a cause already printed only counts up, so it is not printed again.)
+size_t print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet,
+                         size_t from = 0);
 // Prints "FILE: warning: MESSAGE" for a warning with no source position, and counts it.
 void report_warning(const std::string& file, const std::string& message, bool quiet);
 // The reader's settings from the command line's --sandbox, --allow-path and --limit.

@@ -326,6 +326,28 @@ Object.defineProperty(Browser, 'version', { get: function () { return Browser.ge
 Object.defineProperty(Browser, 'currentTime', { get: function () { return __now(); } });
 Object.defineProperty(Browser, 'currentSpeed', { get: function () { return 0; } });
 Object.defineProperty(Browser, 'currentFrameRate', { get: function () { return 0; } });
+// X3D's scene API (ISO/IEC 19777-1 7.3), of which vrmlray has createNode; a call of another member is
+// one warning naming it (and what it returns is undefined, so the script's next use of it throws).
+var scene = {
+    createNode: function (type) {
+        var ids = __createNodes(String(type) + ' {}', true);
+        return ids.length ? node(ids[0]) : null;
+    }
+};
+['createProto', 'getNamedNode', 'updateNamedNode', 'removeNamedNode', 'getImportedNode',
+ 'updateImportedNode', 'removeImportedNode', 'addRootNode', 'removeRootNode', 'getExportedNode',
+ 'addRoute', 'deleteRoute', 'getMetaData', 'setMetaData'].forEach(function (name) {
+    scene[name] = function () {
+        __warn('Browser.currentScene.' + name + ' is not supported by vrmlray (of the X3D scene API it has createNode)');
+    };
+});
+['rootNodes', 'protos', 'externprotos', 'routes'].forEach(function (name) {
+    Object.defineProperty(scene, name, { get: function () {
+        __warn('Browser.currentScene.' + name + ' is not supported by vrmlray (of the X3D scene API it has createNode)');
+        return undefined;
+    } });
+});
+Object.defineProperty(Browser, 'currentScene', { get: function () { return scene; } });
 g.Browser = Browser;
 g.print = Browser.print;
 g.println = Browser.println;

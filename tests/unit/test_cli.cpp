@@ -476,5 +476,34 @@ TEST(CliRenderScripts, NoScriptsAndQuiet) {
     EXPECT_EQ(render(scene, {"-q"}).err, "");
 }
 
+// A Script that throws in an event the --time cascade sends it (not in initialize()) is a warning
+// too, printed once however many frames send the event, and --strict fails on it (it was collected
+// but never printed, so the render looked clean).
+TEST(CliRenderScripts, ErrorInAnEventOfTheCascadeIsAWarning) {
+    TempDir d("script_event");
+    const std::string scene = d.write(
+        "s.wrl",
+        "#VRML V2.0 utf8\nDEF T TimeSensor { loop TRUE }\n"
+        "DEF S Script { eventIn SFTime set_time url \"javascript: function set_time(v, t) { "
+        "Browser.noSuchObject.call(); }\" }\n"
+        "Shape { geometry Box {} }\nROUTE T.time TO S.set_time\n");
+    const Rendered run = render(scene, {"--time", "0.5"});
+    ASSERT_EQ(run.code, kExitOk) << run.err;
+    EXPECT_NE(run.err.find("warning: Script 'S': event function set_time()"), std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find("TypeError"), std::string::npos) << run.err;
+    EXPECT_EQ(render(scene, {"--time", "0.5", "--strict"}).code, kExitBadInput);
+    const CommandLine frames = parse({"render", scene, "-W", "8", "-H", "8", "-o",
+                                      (d.path / "f_%d.png").string(), "--frames", "3"});
+    ::testing::internal::CaptureStderr();
+    EXPECT_EQ(run_command_line(frames), kExitOk);
+    const std::string err = ::testing::internal::GetCapturedStderr();
+    size_t count = 0;
+    for (size_t at = err.find("TypeError"); at != std::string::npos;
+         at = err.find("TypeError", at + 1))
+        ++count;
+    EXPECT_EQ(count, 1u) << err;
+}
+
 }  // namespace
 }  // namespace vr

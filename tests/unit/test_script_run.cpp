@@ -264,6 +264,39 @@ TEST(ScriptRun, ThrownExceptionIsAWarningWithTheScriptLine) {
     EXPECT_EQ(numbers(bad.scene.tree, "T", "translation"), (std::vector<double>{0, 1, 0}));
 }
 
+// X3D's scene API: createNode makes a node of the type with its defaults; a member vrmlray lacks
+// (createProto, used by Titania's tests) is one warning that names it, not a bare TypeError.
+TEST(ScriptRun, CurrentSceneCreatesNodesAndNamesWhatItLacks) {
+    LoadedScene scene = load_scene_text(
+        "#X3D V3.0 utf8\n"
+        "DEF G Group {}\n"
+        "DEF S Script {\n"
+        "  outputOnly MFNode made\n"
+        "  url \"ecmascript:\n"
+        "    function initialize() {\n"
+        "      var shape = Browser.currentScene.createNode('Shape');\n"
+        "      shape.geometry = Browser.currentScene.createNode('Sphere');\n"
+        "      shape.geometry.radius = 2;\n"
+        "      made = new MFNode(shape);\n"
+        "      Browser.currentScene.createProto('Cube');\n"
+        "    }\"\n"
+        "}\n"
+        "ROUTE S.made TO G.addChildren\n",
+        "scene_api.x3dv");
+    ASSERT_TRUE(scene.ok());
+    Diagnostics d;
+    Animator animator(scene.tree, d);
+    const FieldView children = scene.tree.get(def(scene.tree, "G"), "children");
+    ASSERT_EQ(children.nodes.size(), 1u) << messages(d);
+    const NodeId sphere = scene.tree.get_node(children.nodes[0], intern("geometry"));
+    EXPECT_EQ(scene.tree.type_name(sphere), "Sphere");
+    EXPECT_EQ(scene.tree.get(sphere, "radius").numbers[0], 2.0);
+    EXPECT_EQ(d.warning_count(), 1u) << messages(d);
+    EXPECT_NE(messages(d).find("Browser.currentScene.createProto is not supported"),
+              std::string::npos)
+        << messages(d);
+}
+
 TEST(ScriptRun, NoScriptsLeavesFileValues) {
     LoadedScene scene = load_scene_text(kMover, "mover.wrl");
     Diagnostics d;
