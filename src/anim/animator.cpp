@@ -368,29 +368,10 @@ bool Animator::evaluate(double now) {
         tree_.strings.resize(pool_marks_[1]);
         tree_.node_refs.resize(pool_marks_[2]);
     }
-    fired_.assign(routes_.size(), 0);
-    queue_.clear();
-    static const Name fraction = intern("fraction_changed"), active = intern("isActive"),
-                      time = intern("time"), cycle_time = intern("cycleTime"),
-                      elapsed = intern("elapsedTime");
-    const FieldType sf_float{ValueKind::Float, false}, sf_bool{ValueKind::Bool, false},
-        sf_time{ValueKind::Time, false};
-    for (NodeId s : sensors_) {
-        TimeSensorFields f;
-        f.cycle_interval = tree_.get_number(s, intern("cycleInterval"));
-        f.enabled = tree_.get_bool(s, intern("enabled"));
-        f.loop = tree_.get_bool(s, intern("loop"));
-        f.start_time = tree_.get_number(s, intern("startTime"));
-        f.stop_time = tree_.get_number(s, intern("stopTime"));
-        const TimeSensorState st = time_sensor_at(f, now);
-        if (!st.sent) continue;
-        send(s, active, sf_bool, {st.active ? 1.0 : 0.0}, {}, {});
-        send(s, cycle_time, sf_time, {st.cycle_time}, {}, {});
-        send(s, fraction, sf_float, {st.fraction}, {}, {});
-        send(s, time, sf_time, {st.time}, {}, {});
-        send(s, elapsed, sf_time, {st.time - f.start_time}, {}, {});
-    }
-    run_cascade();
+    // A browser has drawn the load's frame before any later one: a Script that keeps state has
+    // seen its events (the first cycleTime, isActive TRUE) by the time of the first render.
+    if (scripted && !evaluated_ && now > 0.0) send_sensor_events(0.0, true);
+    send_sensor_events(now, scripted);
     // What the fields hold now, against the last call.
     bool changed = false;
     last_numbers_.resize(originals_.size());
@@ -413,6 +394,46 @@ bool Animator::evaluate(double now) {
     }
     evaluated_ = true;
     return changed;
+}
+
+// The TimeSensors' events at `now`, through the cascade. Without Scripts the world is rebuilt from
+// the file's values at each time, so every event a sensor has sent by now goes out again. With
+// Scripts (`as_browser`) the world goes on, and the events go out as a browser sends them (VRML97
+// 6.50): cycleTime when a cycle begins, isActive when it changes, fraction_changed, time and
+// elapsedTime while active and once more at the stop. A Script counting its events then sees the
+// same counts from a frame sequence as from one render.
+void Animator::send_sensor_events(double now, bool as_browser) {
+    fired_.assign(routes_.size(), 0);
+    queue_.clear();
+    static const Name fraction = intern("fraction_changed"), active = intern("isActive"),
+                      time = intern("time"), cycle_time = intern("cycleTime"),
+                      elapsed = intern("elapsedTime");
+    const FieldType sf_float{ValueKind::Float, false}, sf_bool{ValueKind::Bool, false},
+        sf_time{ValueKind::Time, false};
+    sent_.resize(sensors_.size());
+    for (size_t i = 0; i < sensors_.size(); ++i) {
+        const NodeId s = sensors_[i];
+        TimeSensorFields f;
+        f.cycle_interval = tree_.get_number(s, intern("cycleInterval"));
+        f.enabled = tree_.get_bool(s, intern("enabled"));
+        f.loop = tree_.get_bool(s, intern("loop"));
+        f.start_time = tree_.get_number(s, intern("startTime"));
+        f.stop_time = tree_.get_number(s, intern("stopTime"));
+        const TimeSensorState st = time_sensor_at(f, now);
+        if (!st.sent) continue;
+        const std::optional<TimeSensorState> last = as_browser ? sent_[i] : std::nullopt;
+        sent_[i] = st;
+        const bool changed_activity = !last || last->active != st.active;
+        if (changed_activity) send(s, active, sf_bool, {st.active ? 1.0 : 0.0}, {}, {});
+        if (!last || (st.active && last->cycle_time != st.cycle_time))
+            send(s, cycle_time, sf_time, {st.cycle_time}, {}, {});
+        if (!last || st.active || changed_activity) {
+            send(s, fraction, sf_float, {st.fraction}, {}, {});
+            send(s, time, sf_time, {st.time}, {}, {});
+            send(s, elapsed, sf_time, {st.time - f.start_time}, {}, {});
+        }
+    }
+    run_cascade();
 }
 
 // Breadth first: the events of one stage go out in ROUTE order before those they cause.

@@ -8,11 +8,13 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
+#include "anim/time_sensor.h"
 #include "parser/diagnostics.h"
 #include "parser/node_tree.h"
 #include "script/script_host.h"
@@ -89,6 +91,7 @@ class Animator : private ScriptWorld {
                  const std::vector<std::string>& strings, const std::vector<NodeId>& nodes);
     void interpolate_at(NodeId node, double fraction);
     void warn_once(NodeId node, const std::string& message, const std::string& cause);
+    void send_sensor_events(double now, bool as_browser);
 
     NodeTree& tree_;
     Diagnostics& diagnostics_;
@@ -96,6 +99,7 @@ class Animator : private ScriptWorld {
     std::unordered_map<uint64_t, std::vector<uint32_t>> routes_from_;  // (node, field) -> routes
     std::unordered_map<uint64_t, std::vector<uint32_t>> is_index_;     // (instance, field) -> links
     std::vector<NodeId> sensors_;                                      // TimeSensors, in file order
+    std::vector<std::optional<TimeSensorState>> sent_;  // per sensor, its last events (Scripts)
     // Entries (into tree.fields) that ROUTEs write, with the value each had in the file.
     std::unordered_map<uint64_t, uint32_t> entries_;
     std::vector<std::pair<uint64_t, FieldEntry>> originals_;  // (node, field) -> file value

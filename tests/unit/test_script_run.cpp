@@ -134,6 +134,45 @@ TEST(ScriptRun, StateIsKeptFromFrameToFrame) {
     EXPECT_EQ(numbers(scene.tree, "SI", "key"), (std::vector<double>{3, 2}));
 }
 
+// Xj3D's groups/switch-dynamic.wrl: a Script toggles a Switch on each cycleTime. A browser sends
+// cycleTime when a cycle begins (VRML97 6.50), isActive when it changes, and has drawn the load's
+// frame (t = 0) before any later one: at 1.5 s it has toggled twice (at 0 and at 1), as X_ITE
+// shows. Frames at 0.25 s steps send cycleTime at 0 and 1 only, so the sequence agrees with the
+// single render. (Not at 1 s itself: there vrmlray's sensor reads the end of the first cycle,
+// fraction 1.)
+const char* const kToggle =
+    "#VRML V2.0 utf8\n"
+    "DEF TS TimeSensor { cycleInterval 1 loop TRUE }\n"
+    "DEF C ScalarInterpolator {}\n"
+    "DEF A ScalarInterpolator {}\n"
+    "DEF S Script { eventIn SFTime cycleTime eventIn SFBool active\n"
+    "  eventOut MFFloat cycles_out eventOut MFFloat changes_out\n"
+    "  field SFInt32 cycles 0 field SFInt32 changes 0\n"
+    "  url \"javascript: function cycleTime(v) { cycles = cycles + 1; cycles_out = new "
+    "MFFloat(cycles); }\n"
+    "    function active(v) { changes = changes + 1; changes_out = new MFFloat(changes); }\" }\n"
+    "ROUTE TS.cycleTime TO S.cycleTime\n"
+    "ROUTE TS.isActive TO S.active\n"
+    "ROUTE S.cycles_out TO C.set_key\n"
+    "ROUTE S.changes_out TO A.set_key\n";
+
+TEST(ScriptRun, CycleTimeAtEachCycleAndTheLoadFrameFirst) {
+    LoadedScene single = load_scene_text(kToggle, "toggle.wrl");
+    Diagnostics d1;
+    Animator once(single.tree, d1);
+    once.evaluate(1.5);
+    // cycleTime at 0 and 1; isActive once (TRUE at 0, no change after).
+    EXPECT_EQ(numbers(single.tree, "C", "key"), (std::vector<double>{2})) << messages(d1);
+    EXPECT_EQ(numbers(single.tree, "A", "key"), (std::vector<double>{1})) << messages(d1);
+
+    LoadedScene frames = load_scene_text(kToggle, "toggle.wrl");
+    Diagnostics d2;
+    Animator sequence(frames.tree, d2);
+    for (double t : {0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5}) sequence.evaluate(t);
+    EXPECT_EQ(numbers(frames.tree, "C", "key"), (std::vector<double>{2})) << messages(d2);
+    EXPECT_EQ(numbers(frames.tree, "A", "key"), (std::vector<double>{1})) << messages(d2);
+}
+
 TEST(ScriptRun, DirectOutputSetsFieldsOfHeldNodes) {
     // Assigned whole (translation, rotation), or changed in place through the field object the
     // node gave (scale.y): both reach the node when the call ends.
