@@ -3,7 +3,11 @@
 // PNG. Driven by tools/conformance.py --browsers, which frames every scene first (a Viewpoint and a
 // Background put in a copy), so X_ITE gets the same camera and background as view3dscene and vrmlray.
 //
-//   node tools/xite_screens.mjs NODE_MODULES ROOT LIST OUT_DIR WIDTH HEIGHT TIMEOUT_S
+//   node tools/xite_screens.mjs NODE_MODULES ROOT LIST OUT_DIR WIDTH HEIGHT TIMEOUT_S [TIMES]
+// TIMES (e.g. "0,1.5"): X_ITE's clock is virtual, so that its pictures are of the world at given seconds
+// after the load, as vrmlray's --time counts them (docs/animation.md): the scene is loaded at 0 and shown at
+// each time in turn, each picture going to OUT_DIR/<path with / as __>@<time>.png. Without TIMES, X_ITE
+// keeps the wall clock (its TimeSensors then run at whatever phase the date gives them).
 // NODE_MODULES holds the npm packages x_ite and puppeteer-core (`npm install x_ite puppeteer-core` with
 // PUPPETEER_SKIP_DOWNLOAD=1: Chromium is Debian's). LIST has one path a line, relative to ROOT; each scene's
 // picture goes to OUT_DIR/<path with / as __>.png. Prints one line a scene: "PATH<TAB>ok" or
@@ -14,7 +18,8 @@ import http from "node:http";
 import path from "node:path";
 import { createRequire } from "node:module";
 
-const [modules, root, listFile, outDir, width, height, timeoutS] = process.argv.slice(2);
+const [modules, root, listFile, outDir, width, height, timeoutS, timesArg] = process.argv.slice(2);
+const TIMES = timesArg ? timesArg.split(",").map(Number) : null;
 const W = Number(width), H = Number(height), TIMEOUT = Number(timeoutS) * 1000;
 const puppeteer = createRequire(path.join(path.resolve(modules), "x.js"))("puppeteer-core");
 const xiteDir = path.join(path.resolve(modules), "x_ite", "dist");
@@ -45,11 +50,37 @@ function withTimeout(promise, ms, what) {
     })]).finally(() => clearTimeout(timer));
 }
 
+// X_ITE reads its clock from Date.now() (X3DTimeContext.advanceTime). The virtual clock starts at 0 with the
+// page and holds each chosen second, creeping on by a microsecond per real millisecond: X_ITE only advances
+// its events when the clock has moved, and the creep stays far below any cycleInterval a scene uses. It never
+// goes back (X_ITE would stop advancing), so each scene gets a page of its own.
+function virtualClock() {
+    window.__vclock = { base: 0, start: performance.now() };
+    Date.now = () => window.__vclock.base + (performance.now() - window.__vclock.start) * 1e-3;
+}
+
+async function setClock(page, seconds) {
+    await page.evaluate((ms) => {
+        window.__vclock.base = ms;
+        window.__vclock.start = performance.now();
+    }, seconds * 1000);
+}
+
+// Each frame must count as a new time however little the virtual clock moved: X_ITE skips a frame that
+// comes sooner than 1 / MaximumFrameRate after the last, and a new world resets the option.
+function everyFrameAdvances() {
+    const browser = document.querySelector("x3d-canvas").browser;
+    const option = browser.getBrowserOption.bind(browser);
+    browser.getBrowserOption = (name) => name === "MaximumFrameRate" ? 1e9 : option(name);
+}
+
 async function openPage(browser, base) {
     const page = await browser.newPage();
+    if (TIMES) await page.evaluateOnNewDocument(virtualClock);
     await page.setViewport({ width: W, height: H, deviceScaleFactor: 1 });
     await page.goto(`${base}/page.html`, { waitUntil: "load" });
     await page.waitForFunction(() => document.querySelector("x3d-canvas")?.browser !== undefined);
+    if (TIMES) await page.evaluate(everyFrameAdvances);
     return page;
 }
 
@@ -63,6 +94,28 @@ async function show(page, url) {
     }, url);
 }
 
+async function frames(page) {
+    await page.evaluate(async () => {
+        await new Promise((r) => setTimeout(r, 100));
+        for (let i = 0; i < 3; ++i) await new Promise((r) => requestAnimationFrame(r));
+    });
+}
+
+// The scene's pictures: one at the wall clock, or one at each of TIMES.
+async function pictures(page, url, stem) {
+    if (!TIMES) {
+        await withTimeout(show(page, url), TIMEOUT, "X_ITE");
+        await page.screenshot({ path: `${stem}.png`, clip: { x: 0, y: 0, width: W, height: H } });
+        return;
+    }
+    await withTimeout(show(page, url), TIMEOUT, "X_ITE");
+    for (const t of TIMES) {
+        await setClock(page, t);
+        await withTimeout(frames(page), TIMEOUT, "X_ITE");
+        await page.screenshot({ path: `${stem}@${t}.png`, clip: { x: 0, y: 0, width: W, height: H } });
+    }
+}
+
 const server = http.createServer(serve);
 await new Promise((r) => server.listen(0, "127.0.0.1", r));
 const base = `http://127.0.0.1:${server.address().port}`;
@@ -72,12 +125,14 @@ const browser = await puppeteer.launch({
 });
 let page = await openPage(browser, base);
 for (const rel of fs.readFileSync(listFile, "utf8").split("\n").filter((l) => l.trim())) {
-    const out = path.join(outDir, rel.replaceAll("/", "__") + ".png");
+    const stem = path.join(outDir, rel.replaceAll("/", "__"));
     try {
-        await withTimeout(show(page, `${base}/${rel.split("/").map(encodeURIComponent).join("/")}`),
-                          TIMEOUT, "X_ITE");
-        await page.screenshot({ path: out, clip: { x: 0, y: 0, width: W, height: H } });
+        await pictures(page, `${base}/${rel.split("/").map(encodeURIComponent).join("/")}`, stem);
         console.log(`${rel}\tok`);
+        if (TIMES) {  // the next scene's clock starts at 0 again
+            await page.close().catch(() => {});
+            page = await openPage(browser, base);
+        }
     } catch (e) {
         console.log(`${rel}\terror: ${String(e.message || e).split("\n")[0].slice(0, 200)}`);
         // A scene that hangs or breaks the page must not spoil the next one: a fresh page.
