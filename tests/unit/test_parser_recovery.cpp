@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "parser/load.h"
 #include "parser/registry.h"
@@ -292,6 +293,33 @@ TEST(ParserRecovery, XmlUnknownAttributeAndUseOfAnUnknownName) {
     EXPECT_EQ(s.tree.get(s.tree.roots[0], "skyColor").numbers[2], 1.0);
     EXPECT_EQ(s.tree.get_node(s.tree.roots[1], intern("appearance")), kNullNode);
     EXPECT_EQ(s.tree.type_name(s.tree.get_node(s.tree.roots[1], intern("geometry"))), "Box");
+}
+
+// An attribute's value ends at its closing quote, so one that does not parse leaves a point to
+// resume: the field keeps its default (as X_ITE reads xj3d's shape.xml) and the rest is read.
+TEST(ParserRecovery, XmlAttributeValueThatDoesNotParseKeepsTheDefault) {
+    LoadedScene s = read(xml("<Shape><Appearance><Material diffuseColor='(0.5 0.5 0.5)' "
+                             "transparency='0.25'/></Appearance><Cone/></Shape>"),
+                         "r.x3d");
+    ASSERT_TRUE(s.ok()) << messages(s);
+    EXPECT_EQ(only_warning(s),
+              "4:44: attribute 'diffuseColor' of Material: expected a number, found '(0.5'; the "
+              "field keeps its default")
+        << messages(s);
+    const NodeId shape = s.tree.roots[0];
+    const NodeId material =
+        s.tree.get_node(s.tree.get_node(shape, intern("appearance")), intern("material"));
+    const FieldView colour = s.tree.get(material, "diffuseColor");
+    EXPECT_EQ(std::vector<double>(colour.numbers.begin(), colour.numbers.end()),
+              (std::vector<double>{0.8, 0.8, 0.8}));
+    EXPECT_EQ(s.tree.get(material, "transparency").numbers[0], 0.25);
+    EXPECT_EQ(s.tree.type_name(s.tree.get_node(shape, intern("geometry"))), "Cone");
+    // A value too many, and text where nodes belong: the same recovery.
+    LoadedScene more = read(xml("<Sphere radius='1 2'/><Shape geometry='Box'/>"), "r.x3d");
+    ASSERT_TRUE(more.ok()) << messages(more);
+    EXPECT_EQ(more.diagnostics.warning_count(), 2u) << messages(more);
+    EXPECT_EQ(more.tree.get(more.tree.roots[0], "radius").numbers[0], 1.0);
+    EXPECT_EQ(more.tree.roots.size(), 2u);
 }
 
 // X3D 3.0's XML encoding spelt IMPORT's importedDEF as exportedDEF: read as it, with a warning.
