@@ -389,6 +389,26 @@ class Reader {
 
     // ---- nodes --------------------------------------------------------------------------------
 
+    static bool is_statement_word(std::string_view w) {
+        return w == "ROUTE" || w == "PROTO" || w == "EXTERNPROTO" || w == "IMPORT" ||
+               w == "EXPORT" || w == "UNIT" || w == "COMPONENT" || w == "META" || w == "PROFILE";
+    }
+
+    // A word that is no node type with no '{' after it, before what can only start the next node
+    // or end the list or node it is in (a "*/" closing a C comment on a line of its own, a
+    // leftover name): browsers read on, so the word is skipped with a warning. True when it was.
+    bool stray_word(Frame& f, const Token& type_token, std::string_view type) {
+        const TokenKind next = f.lexer.peek().kind;
+        if (next != TokenKind::Word && next != TokenKind::RBracket && next != TokenKind::RBrace &&
+            next != TokenKind::End)
+            return false;
+        warn(f, type_token.offset,
+             "'" + std::string(type) +
+                 "' is no node type and no '{' follows it; the word is skipped",
+             "stray-word:" + std::string(type));
+        return true;
+    }
+
     // A node of a type neither built in nor a PROTO: warned (with the nearest known name) and its
     // body skipped.
     void skip_unknown_node(Frame& f, const Token& type_token, std::string_view type) {
@@ -402,6 +422,20 @@ class Reader {
              "unknown-node:" + std::string(type));
         ++scene_.stats.skipped_nodes[std::string(type)];
         skip(f, skip_group);
+    }
+
+    // A type neither built in nor a PROTO: a stray word, whose next node takes its place (a list
+    // or the top level reads a statement such as ROUTE itself; depth + 1: a run of stray words is
+    // bounded by the nesting limit), or an unknown node, skipped.
+    NodeId unknown_node(Frame& f, const Token& type_token, std::string_view type, size_t depth) {
+        if (stray_word(f, type_token, type)) {
+            const Token next = f.lexer.peek();
+            return next.kind == TokenKind::Word && !is_statement_word(f.lexer.text(next))
+                       ? node_statement(f, depth + 1)
+                       : kNullNode;
+        }
+        skip_unknown_node(f, type_token, type);
+        return kNullNode;
     }
 
     NodeId node(Frame& f, const Token& type_token, size_t depth) {
@@ -420,10 +454,7 @@ class Reader {
         if (const ProtoDecl* proto = f.protos->find(type_name))
             return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
-        if (!decl) {
-            skip_unknown_node(f, type_token, type);
-            return kNullNode;
-        }
+        if (!decl) return unknown_node(f, type_token, type, depth);
         const bool dynamic = has_dynamic_interface(type);
         Token open = f.lexer.next();
         if (open.kind != TokenKind::LBrace)

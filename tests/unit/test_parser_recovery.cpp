@@ -119,6 +119,32 @@ TEST(ParserRecovery, SyntaxErrorsThatLeaveNoPointToResumeStayErrors) {
     EXPECT_FALSE(read("#VRML V2.0 utf8\nSphere { \"radius\" 1 }\n").ok());
 }
 
+// A word where a node belongs that is no node type and has no '{' after it (xj3d's
+// conglomeration.x3dv closes a C-style comment, "*/", on a line of its own; '*' and '/' are legal
+// in VRML names): the word is skipped and the node after it read in its place.
+TEST(ParserRecovery, StrayWordWhereANodeBelongsIsSkipped) {
+    LoadedScene s = read(
+        "#VRML V2.0 utf8\nGroup { children [\n  Shape { geometry Box {} }\n  */\n"
+        "  DEF C Shape { geometry Cone {} }\n] }\n"
+        "Shape { geometry stray Sphere {} }\n"
+        "Shape { geometry ending }\n");
+    ASSERT_TRUE(s.ok()) << messages(s);
+    const std::string m = messages(s);
+    EXPECT_NE(m.find("r.wrl:4:3: warning: '*/' is no node type and no '{' follows it; the word "
+                     "is skipped"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("r.wrl:7:18: warning: 'stray' is no node type"), std::string::npos) << m;
+    ASSERT_EQ(s.tree.roots.size(), 3u);
+    const FieldView children = s.tree.get(s.tree.roots[0], "children");
+    ASSERT_EQ(children.nodes.size(), 2u);
+    EXPECT_EQ(s.tree.def_name(children.nodes[1]), "C");
+    EXPECT_EQ(s.tree.type_name(s.tree.get_node(s.tree.roots[1], intern("geometry"))), "Sphere");
+    EXPECT_EQ(s.tree.get_node(s.tree.roots[2], intern("geometry")), kNullNode);
+    // Nothing to resume at: a number after the word is still an error.
+    EXPECT_FALSE(read("#VRML V2.0 utf8\nGroup { children [ Foo 1 ] }\n").ok());
+}
+
 // ---- USE of a name no DEF gave ------------------------------------------------------------------
 
 TEST(ParserRecovery, UseOfAnUnknownNameLeavesTheNodeOut) {
