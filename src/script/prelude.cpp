@@ -326,6 +326,19 @@ Object.defineProperty(Browser, 'version', { get: function () { return Browser.ge
 Object.defineProperty(Browser, 'currentTime', { get: function () { return __now(); } });
 Object.defineProperty(Browser, 'currentSpeed', { get: function () { return 0; } });
 Object.defineProperty(Browser, 'currentFrameRate', { get: function () { return 0; } });
+// X3D's scene (19777-1 7.4): what a script reads of it; it adds or removes nothing.
+var currentScene = {
+    getNamedNode: function (n) {
+        var id = __namedNode(String(n));
+        if (id < 0) throw new Error('no node named ' + n);
+        return node(id);
+    },
+    toVRMLString: function () { return __sceneText(false); },
+    toXMLString: function () { return __sceneText(true); }
+};
+Object.defineProperty(currentScene, 'rootNodes', { get: function () { return MFNode.apply(null, __rootNodes().map(node)); } });
+Object.defineProperty(currentScene, 'worldURL', { get: function () { return __worldUrl(); } });
+Object.defineProperty(Browser, 'currentScene', { get: function () { return currentScene; } });
 g.Browser = Browser;
 g.print = Browser.print;
 g.println = Browser.println;
