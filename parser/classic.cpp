@@ -405,7 +405,7 @@ class Reader {
         warn(f, type_token.offset,
              "'" + std::string(type) +
                  "' is no node type and no '{' follows it; the word is skipped",
-             "stray-word:" + std::string(type));
+             "stray-word");  // once a file, with a count: a comment's words are many
         return true;
     }
 
@@ -424,18 +424,28 @@ class Reader {
         skip(f, skip_group);
     }
 
-    // A type neither built in nor a PROTO: a stray word, whose next node takes its place (a list
-    // or the top level reads a statement such as ROUTE itself; depth + 1: a run of stray words is
-    // bounded by the nesting limit), or an unknown node, skipped.
-    NodeId unknown_node(Frame& f, const Token& type_token, std::string_view type, size_t depth) {
-        if (stray_word(f, type_token, type)) {
+    // A type neither built in nor a PROTO: an unknown node, skipped, or a run of stray words (the
+    // lines of a C comment), each skipped, the node after them taking their place (a list or the
+    // top level reads a statement such as ROUTE itself). A loop, not recursion: a long comment
+    // costs no stack.
+    NodeId unknown_node(Frame& f, Token word, size_t depth) {
+        for (;;) {
+            if (!stray_word(f, word, f.lexer.text(word))) {
+                skip_unknown_node(f, word, f.lexer.text(word));
+                return kNullNode;
+            }
             const Token next = f.lexer.peek();
-            return next.kind == TokenKind::Word && !is_statement_word(f.lexer.text(next))
-                       ? node_statement(f, depth + 1)
-                       : kNullNode;
+            if (next.kind != TokenKind::Word) return kNullNode;
+            const std::string_view w = f.lexer.text(next);
+            if (is_statement_word(w)) return kNullNode;
+            const char c0 = w.front();
+            if (w == "DEF" || w == "USE" || std::isdigit(static_cast<unsigned char>(c0)) ||
+                c0 == '+' || c0 == '-' || c0 == '.')
+                return node_statement(f, depth);  // a node, or the error a number is here
+            word = f.lexer.next();
+            if (f.protos->find(intern(w)) || registry_.lookup(spec_, intern(w)))
+                return node(f, word, depth);
         }
-        skip_unknown_node(f, type_token, type);
-        return kNullNode;
     }
 
     NodeId node(Frame& f, const Token& type_token, size_t depth) {
@@ -454,7 +464,7 @@ class Reader {
         if (const ProtoDecl* proto = f.protos->find(type_name))
             return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
-        if (!decl) return unknown_node(f, type_token, type, depth);
+        if (!decl) return unknown_node(f, type_token, depth);
         const bool dynamic = has_dynamic_interface(type);
         Token open = f.lexer.next();
         if (open.kind != TokenKind::LBrace)
