@@ -104,7 +104,8 @@ class FrameScenes {
         peak_mb = first_peak_mb_;
         if (failed_) return nullptr;
         if (last_ && !animator_.animated()) return last_;
-        const bool changed = animator_.evaluate(time);
+        const bool changed =
+            evaluate_and_report(animator_, time, loaded_.sources, cmd_.common.quiet);
         if (last_ && !changed) return last_;
         last_.reset();  // gone before the next is built, unless a frame still traces it
         const auto start = std::chrono::steady_clock::now();

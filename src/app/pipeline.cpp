@@ -34,11 +34,28 @@ void report_warning(const std::string& file, const std::string& message, bool qu
 }
 
 void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet) {
-    for (const Diagnostic& d : diagnostics.all()) {
+    print_diagnostics_from(diagnostics, 0, sources, quiet);
+}
+
+void print_diagnostics_from(const Diagnostics& diagnostics, size_t first,
+                            const SourceManager& sources, bool quiet) {
+    const std::vector<Diagnostic>& all = diagnostics.all();
+    for (size_t i = first; i < all.size(); ++i) {
+        const Diagnostic& d = all[i];
         if (d.severity == Severity::Warning) ++g_warnings;
         if (quiet && d.severity == Severity::Warning) continue;
         std::cerr << Diagnostics::format_one(d, sources);
     }
+}
+
+// A warning of a cause met before only counts up its first item, so each frame's repeats of one
+// Script error print nothing new.
+bool evaluate_and_report(Animator& animator, double time, const SourceManager& sources,
+                         bool quiet) {
+    const size_t before = animator.diagnostics().all().size();
+    const bool changed = animator.evaluate(time);
+    print_diagnostics_from(animator.diagnostics(), before, sources, quiet);
+    return changed;
 }
 
 LoadOptions load_options(const CommonOptions& common) {
@@ -67,7 +84,7 @@ bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common
     Animator animator(loaded.tree, diagnostics, &scripts);
     print_diagnostics(diagnostics, loaded.sources, common.quiet);
     if (diagnostics.has_errors()) return false;
-    animator.evaluate(time);
+    evaluate_and_report(animator, time, loaded.sources, common.quiet);
     if (routes_used) *routes_used = animator.routes().size();
     if (animated) *animated = animator.animated();
     return true;
