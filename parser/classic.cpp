@@ -389,6 +389,26 @@ class Reader {
 
     // ---- nodes --------------------------------------------------------------------------------
 
+    static bool is_statement_word(std::string_view w) {
+        return w == "ROUTE" || w == "PROTO" || w == "EXTERNPROTO" || w == "IMPORT" ||
+               w == "EXPORT" || w == "UNIT" || w == "COMPONENT" || w == "META" || w == "PROFILE";
+    }
+
+    // A word that is no node type with no '{' after it, before what can only start the next node
+    // or end the list or node it is in (a "*/" closing a C comment on a line of its own, a
+    // leftover name): browsers read on, so the word is skipped with a warning. True when it was.
+    bool stray_word(Frame& f, const Token& type_token, std::string_view type) {
+        const TokenKind next = f.lexer.peek().kind;
+        if (next != TokenKind::Word && next != TokenKind::RBracket && next != TokenKind::RBrace &&
+            next != TokenKind::End)
+            return false;
+        warn(f, type_token.offset,
+             "'" + std::string(type) +
+                 "' is no node type and no '{' follows it; the word is skipped",
+             "stray-word");  // once a file, with a count: a comment's words are many
+        return true;
+    }
+
     // A node of a type neither built in nor a PROTO: warned (with the nearest known name) and its
     // body skipped.
     void skip_unknown_node(Frame& f, const Token& type_token, std::string_view type) {
@@ -402,6 +422,30 @@ class Reader {
              "unknown-node:" + std::string(type));
         ++scene_.stats.skipped_nodes[std::string(type)];
         skip(f, skip_group);
+    }
+
+    // A type neither built in nor a PROTO: an unknown node, skipped, or a run of stray words (the
+    // lines of a C comment), each skipped, the node after them taking their place (a list or the
+    // top level reads a statement such as ROUTE itself). A loop, not recursion: a long comment
+    // costs no stack.
+    NodeId unknown_node(Frame& f, Token word, size_t depth) {
+        for (;;) {
+            if (!stray_word(f, word, f.lexer.text(word))) {
+                skip_unknown_node(f, word, f.lexer.text(word));
+                return kNullNode;
+            }
+            const Token next = f.lexer.peek();
+            if (next.kind != TokenKind::Word) return kNullNode;
+            const std::string_view w = f.lexer.text(next);
+            if (is_statement_word(w)) return kNullNode;
+            const char c0 = w.front();
+            if (w == "DEF" || w == "USE" || std::isdigit(static_cast<unsigned char>(c0)) ||
+                c0 == '+' || c0 == '-' || c0 == '.')
+                return node_statement(f, depth);  // a node, or the error a number is here
+            word = f.lexer.next();
+            if (f.protos->find(intern(w)) || registry_.lookup(spec_, intern(w)))
+                return node(f, word, depth);
+        }
     }
 
     NodeId node(Frame& f, const Token& type_token, size_t depth) {
@@ -420,10 +464,7 @@ class Reader {
         if (const ProtoDecl* proto = f.protos->find(type_name))
             return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
-        if (!decl) {
-            skip_unknown_node(f, type_token, type);
-            return kNullNode;
-        }
+        if (!decl) return unknown_node(f, type_token, depth);
         const bool dynamic = has_dynamic_interface(type);
         Token open = f.lexer.next();
         if (open.kind != TokenKind::LBrace)

@@ -529,6 +529,20 @@ void XmlReader::lex_value(const XmlElement& e, const XmlAttr& a, FieldType type,
                 warn(e.file, a.begin, d.message, "xml-value:" + d.message);
 }
 
+// An attribute's value ends at its closing quote, so unlike a classic-encoding value one that does
+// not parse leaves a point to resume: browsers (X_ITE) keep the field's default and read the rest.
+bool XmlReader::read_value_or_warn(const XmlElement& e, const XmlAttr& a, FieldType type,
+                                   FieldEntry& entry, const What& what) {
+    try {
+        read_value(e, a, type, entry, what);
+        return true;
+    } catch (const XmlFailure& f) {
+        warn(f.file, f.offset, f.message + "; the field keeps its default",
+             "xml-bad-value:" + what.text());
+        return false;
+    }
+}
+
 // The initial value of a field type, for an X3D interface field declared without a value.
 void XmlReader::type_default(FieldType type, FieldEntry& entry) {
     entry.type = type;

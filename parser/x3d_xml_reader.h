@@ -378,6 +378,9 @@ class XmlReader {
                     const What& what);
     void lex_value(const XmlElement& e, const XmlAttr& a, FieldType type, FieldEntry& entry,
                    const What& what);
+    // read_value, but a value that does not parse is a warning and false (the field unset).
+    bool read_value_or_warn(const XmlElement& e, const XmlAttr& a, FieldType type,
+                            FieldEntry& entry, const What& what);
     Name default_container(Name type);
     void type_default(FieldType type, FieldEntry& entry);
     void node_entry(FieldType type, size_t mark, FieldEntry& entry, uint32_t file, uint32_t offset,

@@ -286,8 +286,8 @@ void XmlReader::node_start(const XmlElement& e, const NodeTypeDecl* decl) {
         }
         FieldEntry entry;
         entry.name = field->name;
-        read_value(e, a, field->type, entry, What{"attribute", a.name, e.tag});
-        push_field(o.field_mark, entry);
+        if (read_value_or_warn(e, a, field->type, entry, What{"attribute", a.name, e.tag}))
+            push_field(o.field_mark, entry);
     }
     push(std::move(o));
 }
@@ -552,8 +552,8 @@ void XmlReader::field_value_start(const XmlElement& e) {
     if (const XmlAttr* value = e.find(n_.value)) {
         FieldEntry entry;
         entry.name = pf->name;
-        read_value(e, *value, pf->type, entry, What{"fieldValue", name});
-        inst.values[pf->name] = entry;
+        if (read_value_or_warn(e, *value, pf->type, entry, What{"fieldValue", name}))
+            inst.values[pf->name] = entry;
         return push(make_open(Role::Skip, e));
     }
     if (pf->type.kind != ValueKind::Node)

@@ -55,11 +55,14 @@ def with_viewpoint(text, pos, background):
     """The scene text with a bound-first Viewpoint at `pos` (and the comparison's Background when
     `background`); None when there is nowhere to put them."""
     p = " ".join(f"{v:.6g}" for v in pos)
+    # In the file's angle unit, as the position is in its length unit: X3D 19775-1 4.3.6 applies
+    # UNIT angle to fieldOfView (view3dscene does not, X_ITE and vrmlray do).
+    fov = f"{FOV / angle_unit(text):.6g}"
     if text.lstrip().startswith("<"):
         m = re.search(r"<Scene\b[^>]*?>", text)
         if not m or m.group(0).endswith("/>"):
             return None
-        vp = f"<Viewpoint position='{p}' orientation='0 0 1 0' fieldOfView='{FOV}'/>"
+        vp = f"<Viewpoint position='{p}' orientation='0 0 1 0' fieldOfView='{fov}'/>"
         if background:
             vp += f"<Background skyColor='{BACKGROUND}'/>"
         return text[:m.end()] + vp + text[m.end():]
@@ -70,7 +73,7 @@ def with_viewpoint(text, pos, background):
     while k < len(lines) and (not lines[k].strip() or lines[k].lstrip().startswith("#") or
                               lines[k].split()[0] in ("PROFILE", "COMPONENT", "META", "UNIT")):
         k += 1
-    lines.insert(k, f"Viewpoint {{ position {p} orientation 0 0 1 0 fieldOfView {FOV} }}" +
+    lines.insert(k, f"Viewpoint {{ position {p} orientation 0 0 1 0 fieldOfView {fov} }}" +
                  (f" Background {{ skyColor {BACKGROUND} }}" if background else ""))
     return "\n".join(lines)
 
@@ -95,6 +98,17 @@ def length_unit(text):
     """Metres per the file's length unit: its UNIT length statement (classic or XML), else 1."""
     m = re.search(r"^\s*UNIT\s+length\s+\S+\s+(\S+)", text, re.M) or re.search(
         r"<unit\b(?=[^>]*category=['\"]length['\"])[^>]*conversionFactor=['\"]([^'\"]+)", text)
+    try:
+        f = float(m.group(1)) if m else 1.0
+    except ValueError:
+        f = 1.0
+    return f if f > 0 else 1.0
+
+
+def angle_unit(text):
+    """Radians per the file's angle unit: its UNIT angle statement (classic or XML), else 1."""
+    m = re.search(r"^\s*UNIT\s+angle\s+\S+\s+(\S+)", text, re.M) or re.search(
+        r"<unit\b(?=[^>]*category=['\"]angle['\"])[^>]*conversionFactor=['\"]([^'\"]+)", text)
     try:
         f = float(m.group(1)) if m else 1.0
     except ValueError:

@@ -48,10 +48,9 @@ class Animator : private ScriptWorld {
 
     // True when some TimeSensor reaches a field through ROUTEs: the scene changes with time.
     bool animated() const { return animated_; }
-    // What the ROUTE check, initialize() and the evaluations so far said (a Script's error in an
-    // event is a warning there).
-    const Diagnostics& diagnostics() const { return diagnostics_; }
     const std::vector<ResolvedRoute>& routes() const { return routes_; }
+    // Where the checks, and the Scripts' errors of every evaluate(), are collected.
+    const Diagnostics& diagnostics() const { return diagnostics_; }
 
     // Gives every field ROUTEs reach its file value back, then runs the event cascade of time `now`
     // (seconds on the world's clock; the tree must still be there when animated() is true): each

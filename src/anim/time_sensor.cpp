@@ -35,6 +35,9 @@ TimeSensorState time_sensor_at(const TimeSensorFields& s, double now) {
     double stop = INFINITY;
     if (!s.loop) stop = s.start_time + s.cycle_interval;
     if (s.stop_time > s.start_time) stop = std::fmin(stop, s.stop_time);
+    // A run over before the world began (its clock starts at 0) was never active in it: a
+    // browser sends no event for it, so the fields it drives keep their file values.
+    if (stop <= kWorldLoadTime) return none;
     if (now < stop) {
         TimeSensorState state = running(s, now);
         state.active = true;

@@ -5,6 +5,9 @@
 
 namespace vr {
 
+// The world's clock at the moment the file is loaded.
+inline constexpr double kWorldLoadTime = 0.0;
+
 struct TimeSensorFields {
     double cycle_interval = 1.0;  // > 0, else the sensor never runs
     bool enabled = true;
@@ -25,7 +28,7 @@ struct TimeSensorState {
 // f / cycleInterval with f = fmod(now - startTime, cycleInterval), except that f = 0 after the
 // start reads 1 (the end of a cycle, not the start of the next). A sensor that has stopped (at
 // startTime + cycleInterval without loop, or at a stopTime > startTime) keeps the events of the
-// moment it stopped.
+// moment it stopped; one that stopped before the world was loaded has sent nothing.
 TimeSensorState time_sensor_at(const TimeSensorFields& fields, double now);
 
 }  // namespace vr

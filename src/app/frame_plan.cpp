@@ -93,11 +93,7 @@ class FrameScenes {
   public:
     // `uses`: the calls of at() to come; the last one lets the node tree go.
     FrameScenes(LoadedScene& loaded, Animator& animator, const RenderCommand& cmd, size_t uses)
-        : loaded_(loaded),
-          animator_(animator),
-          cmd_(cmd),
-          uses_(uses),
-          printed_(animator.diagnostics().all().size()) {}
+        : loaded_(loaded), animator_(animator), cmd_(cmd), uses_(uses) {}
 
     // The scene at `time`; null when its build failed (the diagnostics are printed). `seconds`:
     // what building it took (0: an earlier frame's); `peak_mb`: the peak memory after the first.
@@ -108,9 +104,8 @@ class FrameScenes {
         peak_mb = first_peak_mb_;
         if (failed_) return nullptr;
         if (last_ && !animator_.animated()) return last_;
-        const bool changed = animator_.evaluate(time);
-        printed_ = print_diagnostics(animator_.diagnostics(), loaded_.sources, cmd_.common.quiet,
-                                     printed_);
+        const bool changed =
+            evaluate_and_report(animator_, time, loaded_.sources, cmd_.common.quiet);
         if (last_ && !changed) return last_;
         last_.reset();  // gone before the next is built, unless a frame still traces it
         const auto start = std::chrono::steady_clock::now();
@@ -139,7 +134,6 @@ class FrameScenes {
     const size_t uses_;
     std::mutex mutex_;
     size_t used_ = 0, builds_ = 0;
-    size_t printed_;  // the animator's diagnostics printed so far (the first by cmd_render)
     bool failed_ = false;
     double first_peak_mb_ = 0.0;
     std::shared_ptr<BuiltScene> last_;

@@ -33,16 +33,29 @@ void report_warning(const std::string& file, const std::string& message, bool qu
     if (!quiet) std::fprintf(stderr, "%s: warning: %s\n", file.c_str(), message.c_str());
 }
 
-size_t print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet,
-                         size_t from) {
+void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet) {
+    print_diagnostics_from(diagnostics, 0, sources, quiet);
+}
+
+void print_diagnostics_from(const Diagnostics& diagnostics, size_t first,
+                            const SourceManager& sources, bool quiet) {
     const std::vector<Diagnostic>& all = diagnostics.all();
-    for (size_t i = from; i < all.size(); ++i) {
+    for (size_t i = first; i < all.size(); ++i) {
         const Diagnostic& d = all[i];
         if (d.severity == Severity::Warning) ++g_warnings;
         if (quiet && d.severity == Severity::Warning) continue;
         std::cerr << Diagnostics::format_one(d, sources);
     }
-    return all.size();
+}
+
+// A warning of a cause met before only counts up its first item, so each frame's repeats of one
+// Script error print nothing new.
+bool evaluate_and_report(Animator& animator, double time, const SourceManager& sources,
+                         bool quiet) {
+    const size_t before = animator.diagnostics().all().size();
+    const bool changed = animator.evaluate(time);
+    print_diagnostics_from(animator.diagnostics(), before, sources, quiet);
+    return changed;
 }
 
 LoadOptions load_options(const CommonOptions& common) {
@@ -69,10 +82,9 @@ bool evaluate_time(LoadedScene& loaded, double time, const CommonOptions& common
     Diagnostics diagnostics;
     const ScriptSettings scripts = script_settings(loaded, common);
     Animator animator(loaded.tree, diagnostics, &scripts);
-    const size_t printed = print_diagnostics(diagnostics, loaded.sources, common.quiet);
+    print_diagnostics(diagnostics, loaded.sources, common.quiet);
     if (diagnostics.has_errors()) return false;
-    animator.evaluate(time);
-    print_diagnostics(diagnostics, loaded.sources, common.quiet, printed);  // the Scripts' events
+    evaluate_and_report(animator, time, loaded.sources, common.quiet);
     if (routes_used) *routes_used = animator.routes().size();
     if (animated) *animated = animator.animated();
     return true;

@@ -2,6 +2,7 @@
 #pragma once
 #include <string>
 
+#include "anim/animator.h"
 #include "app/commands.h"
 #include "flatten/flatten.h"
 #include "parser/load.h"
@@ -11,11 +12,13 @@
 
 namespace vr {
 
-// Prints diagnostics to stderr (warnings only when not quiet), from the `from`th on; returns the
-// number there are, the `from` of the next call. (An evaluation at a later time adds warnings, and
-// a warning of a cause already printed only counts up, so it is not printed again.)
-size_t print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet,
-                         size_t from = 0);
+// Prints diagnostics to stderr (warnings only when not quiet).
+void print_diagnostics(const Diagnostics& diagnostics, const SourceManager& sources, bool quiet);
+// The same from item `first` on: what a later step (a Script's event) added to the same list.
+void print_diagnostics_from(const Diagnostics& diagnostics, size_t first,
+                            const SourceManager& sources, bool quiet);
+// Runs `animator` at `time` and prints the warnings it added (a Script's error in an event).
+bool evaluate_and_report(Animator& animator, double time, const SourceManager& sources, bool quiet);
 // Prints "FILE: warning: MESSAGE" for a warning with no source position, and counts it.
 void report_warning(const std::string& file, const std::string& message, bool quiet);
 // The reader's settings from the command line's --sandbox, --allow-path and --limit.

@@ -5,6 +5,8 @@
 
 #include "duktape.h"
 #include "parser/registry.h"
+#include "parser/writer.h"
+#include "parser/xml_writer.h"
 #include "script/node_merge.h"
 
 namespace vr {
@@ -188,6 +190,39 @@ duk_ret_t world_url(duk_context* ctx) {
     return 1;
 }
 
+// Browser.currentScene (X3D 19777-1 7.4, X3DScene): the world as it is now, written by `vrmlray
+// convert`'s writers (classic X3D, or XML when the argument is true).
+duk_ret_t scene_text(duk_context* ctx) {
+    const NodeTree& tree = runtime(ctx).host->tree();
+    const std::string text =
+        duk_to_boolean(ctx, 0) ? write_x3d_xml(tree) : write_classic(tree, Encoding::X3dClassic);
+    duk_push_lstring(ctx, text.data(), text.size());
+    return 1;
+}
+
+duk_ret_t root_nodes(duk_context* ctx) {
+    const NodeTree& tree = runtime(ctx).host->tree();
+    duk_push_array(ctx);
+    for (size_t i = 0; i < tree.roots.size(); ++i) {
+        duk_push_number(ctx, tree.roots[i]);
+        duk_put_prop_index(ctx, -2, duk_uarridx_t(i));
+    }
+    return 1;
+}
+
+// The node the main file's first DEF of that name gives; -1 when none.
+duk_ret_t named_node(duk_context* ctx) {
+    const NodeTree& tree = runtime(ctx).host->tree();
+    const Name name = intern(duk_safe_to_string(ctx, 0));
+    for (NodeId i = 0; i < tree.nodes.size(); ++i)
+        if (tree.nodes[i].def_name == name) {
+            duk_push_number(ctx, i);
+            return 1;
+        }
+    duk_push_number(ctx, -1);
+    return 1;
+}
+
 }  // namespace
 
 void install_natives(duk_context* ctx, ScriptRuntime& rt) {
@@ -209,7 +244,10 @@ void install_natives(duk_context* ctx, ScriptRuntime& rt) {
                    {"__warn", warn, 1},
                    {"__now", now, 0},
                    {"__version", version, 0},
-                   {"__worldUrl", world_url, 0}};
+                   {"__worldUrl", world_url, 0},
+                   {"__sceneText", scene_text, 1},
+                   {"__rootNodes", root_nodes, 0},
+                   {"__namedNode", named_node, 1}};
     for (const auto& n : natives) {
         duk_push_c_function(ctx, n.f, n.nargs);
         duk_put_global_string(ctx, n.name);

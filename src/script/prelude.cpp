@@ -326,28 +326,38 @@ Object.defineProperty(Browser, 'version', { get: function () { return Browser.ge
 Object.defineProperty(Browser, 'currentTime', { get: function () { return __now(); } });
 Object.defineProperty(Browser, 'currentSpeed', { get: function () { return 0; } });
 Object.defineProperty(Browser, 'currentFrameRate', { get: function () { return 0; } });
-// X3D's scene API (ISO/IEC 19777-1 7.3), of which vrmlray has createNode; a call of another member is
-// one warning naming it (and what it returns is undefined, so the script's next use of it throws).
-var scene = {
+// X3D's scene (19777-1 7.4): what a script reads of it, and createNode; it adds or removes no root
+// node. A call of a member vrmlray lacks is one warning naming it (and it gives undefined, so the
+// script's next use of it throws).
+var currentScene = {
+    getNamedNode: function (n) {
+        var id = __namedNode(String(n));
+        if (id < 0) throw new Error('no node named ' + n);
+        return node(id);
+    },
     createNode: function (type) {
         var ids = __createNodes(String(type) + ' {}', true);
         return ids.length ? node(ids[0]) : null;
-    }
+    },
+    toVRMLString: function () { return __sceneText(false); },
+    toXMLString: function () { return __sceneText(true); }
 };
-['createProto', 'getNamedNode', 'updateNamedNode', 'removeNamedNode', 'getImportedNode',
- 'updateImportedNode', 'removeImportedNode', 'addRootNode', 'removeRootNode', 'getExportedNode',
- 'addRoute', 'deleteRoute', 'getMetaData', 'setMetaData'].forEach(function (name) {
-    scene[name] = function () {
-        __warn('Browser.currentScene.' + name + ' is not supported by vrmlray (of the X3D scene API it has createNode)');
+['createProto', 'updateNamedNode', 'removeNamedNode', 'getImportedNode', 'updateImportedNode',
+ 'removeImportedNode', 'addRootNode', 'removeRootNode', 'getExportedNode', 'addRoute', 'deleteRoute',
+ 'getMetaData', 'setMetaData'].forEach(function (name) {
+    currentScene[name] = function () {
+        __warn('Browser.currentScene.' + name + ' is not supported by vrmlray');
     };
 });
-['rootNodes', 'protos', 'externprotos', 'routes'].forEach(function (name) {
-    Object.defineProperty(scene, name, { get: function () {
-        __warn('Browser.currentScene.' + name + ' is not supported by vrmlray (of the X3D scene API it has createNode)');
+['protos', 'externprotos', 'routes'].forEach(function (name) {
+    Object.defineProperty(currentScene, name, { get: function () {
+        __warn('Browser.currentScene.' + name + ' is not supported by vrmlray');
         return undefined;
     } });
 });
-Object.defineProperty(Browser, 'currentScene', { get: function () { return scene; } });
+Object.defineProperty(currentScene, 'rootNodes', { get: function () { return MFNode.apply(null, __rootNodes().map(node)); } });
+Object.defineProperty(currentScene, 'worldURL', { get: function () { return __worldUrl(); } });
+Object.defineProperty(Browser, 'currentScene', { get: function () { return currentScene; } });
 g.Browser = Browser;
 g.print = Browser.print;
 g.println = Browser.println;

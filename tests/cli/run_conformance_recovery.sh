@@ -39,6 +39,9 @@ check "$titania/Errors/Parser.wrl" 0 3 "warning: USE of '[A-Za-z0-9_]+', which n
 check "$xj3d/vrml97/field2.wrl" 0 3 "warning: USE of '[A-Za-z0-9_]+', which no DEF before it names; the node is left out"
 # IS between mismatched types: the link dropped.
 check "$xj3d/proto/is_type_mismatch.x3dv" 0 3 "warning: IS connects a [A-Za-z0-9]+ field to PROTO field '[A-Za-z]+' of type [A-Za-z0-9]+; the link is dropped"
+# A stray word where a node belongs (a C comment's "*/"), an XML attribute value that does not parse.
+check "$xj3d/filter/FlattenTransform/conglomeration.x3dv" 0 3 "conglomeration.x3dv:51:3: warning: '\\*/' is no node type and no '\\{' follows it; the word is skipped"
+check "$xj3d/shape.xml" 0 3 "shape.xml:8:35: warning: attribute 'diffuseColor' of Material: expected a number, found '\\(0.5'; the field keeps its default"
 # Legal white space in statements and headers, byte-order marks, UTF-16: read with no message at all.
 for f in "$titania/Basic/Components.wrl" "$xj3d/filter/TriangulationFilter/ElevationGrid_Simple.wrl" \
     "$xj3d/geometry/text/english-nobom.wrl" "$xj3d/geometry/text/chinese1-bom.wrl" \

@@ -147,6 +147,21 @@ TEST(TimeSensor, StopTimeBeforeStartIsIgnoredAfterItStops) {
     EXPECT_EQ(s.time, 3.0);
 }
 
+TEST(TimeSensor, ARunThatEndedBeforeTheWorldLoadedSendsNothing) {
+    // The world begins at 0: a sensor whose run ended by then was never active in it (X3D 8.2.4),
+    // so it has sent no event, not the fraction 1 of an end it never reached in this world.
+    EXPECT_FALSE(sensor(1, false, -9, -10, 0).sent);  // one cycle, -9 .. -8
+    EXPECT_FALSE(sensor(1, false, -9, -10, 5).sent);
+    EXPECT_FALSE(sensor(1, false, -1, 0, 0).sent);   // ends at the very moment of loading
+    EXPECT_FALSE(sensor(1, true, -10, -5, 3).sent);  // a loop stopped at -5
+    EXPECT_FALSE(sensor(4, true, -1, 0, 2).sent);    // a loop stopped as the world loads
+    // Still running when the world loads: the events of now, as always.
+    TimeSensorState s = sensor(2, false, -1, -1, 0.5);
+    EXPECT_TRUE(s.sent && s.active);
+    EXPECT_EQ(s.fraction, 0.75);
+    EXPECT_TRUE(sensor(1, true, -9, -10, 0).active);  // stopTime <= startTime: loops on
+}
+
 TEST(TimeSensor, DisabledOrZeroCycleSendsNothing) {
     EXPECT_FALSE(sensor(2, true, 0, 0, 1, false).sent);
     EXPECT_FALSE(sensor(0, true, 0, 0, 1).sent);

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "parser/load.h"
 #include "parser/registry.h"
@@ -116,6 +117,43 @@ TEST(ParserRecovery, SyntaxErrorsThatLeaveNoPointToResumeStayErrors) {
         << messages(open);
     // A string in place of a field name.
     EXPECT_FALSE(read("#VRML V2.0 utf8\nSphere { \"radius\" 1 }\n").ok());
+}
+
+// A word where a node belongs that is no node type and has no '{' after it (xj3d's
+// conglomeration.x3dv closes a C-style comment, "*/", on a line of its own; '*' and '/' are legal
+// in VRML names): the word is skipped and the node after it read in its place.
+TEST(ParserRecovery, StrayWordWhereANodeBelongsIsSkipped) {
+    LoadedScene s = read(
+        "#VRML V2.0 utf8\nGroup { children [\n  Shape { geometry Box {} }\n  */\n"
+        "  DEF C Shape { geometry Cone {} }\n] }\n"
+        "Shape { geometry stray words Sphere {} }\n"
+        "Shape { geometry ending }\n");
+    ASSERT_TRUE(s.ok()) << messages(s);
+    const std::string m = messages(s);
+    EXPECT_NE(m.find("r.wrl:4:3: warning: '*/' is no node type and no '{' follows it; the word "
+                     "is skipped"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("skipped (4 times)"), std::string::npos) << m;  // one warning a file
+    ASSERT_EQ(s.tree.roots.size(), 3u);
+    const FieldView children = s.tree.get(s.tree.roots[0], "children");
+    ASSERT_EQ(children.nodes.size(), 2u);
+    EXPECT_EQ(s.tree.def_name(children.nodes[1]), "C");
+    EXPECT_EQ(s.tree.type_name(s.tree.get_node(s.tree.roots[1], intern("geometry"))), "Sphere");
+    EXPECT_EQ(s.tree.get_node(s.tree.roots[2], intern("geometry")), kNullNode);
+    // An unknown node after stray words is skipped as always; USE and ROUTE after them are read.
+    LoadedScene more = read(
+        "#VRML V2.0 utf8\nDEF B Box {}\n*/ Bogus { a 1 }\nShape { geometry "
+        "end of USE B }\n*/\nDEF T Transform {}\n*/ ROUTE T.translation "
+        "TO T.set_translation\n");
+    ASSERT_TRUE(more.ok()) << messages(more);
+    ASSERT_EQ(more.tree.roots.size(), 3u);
+    EXPECT_EQ(more.tree.type_name(more.tree.get_node(more.tree.roots[1], intern("geometry"))),
+              "Box");
+    EXPECT_NE(messages(more).find("unknown node type 'Bogus' skipped"), std::string::npos);
+    // Nothing to resume at: a number or string after the word is still an error.
+    EXPECT_FALSE(read("#VRML V2.0 utf8\nGroup { children [ Foo 1 ] }\n").ok());
+    EXPECT_FALSE(read("#VRML V2.0 utf8\nGroup { children [ Foo bar \"x\" ] }\n").ok());
 }
 
 // ---- USE of a name no DEF gave ------------------------------------------------------------------
@@ -292,6 +330,33 @@ TEST(ParserRecovery, XmlUnknownAttributeAndUseOfAnUnknownName) {
     EXPECT_EQ(s.tree.get(s.tree.roots[0], "skyColor").numbers[2], 1.0);
     EXPECT_EQ(s.tree.get_node(s.tree.roots[1], intern("appearance")), kNullNode);
     EXPECT_EQ(s.tree.type_name(s.tree.get_node(s.tree.roots[1], intern("geometry"))), "Box");
+}
+
+// An attribute's value ends at its closing quote, so one that does not parse leaves a point to
+// resume: the field keeps its default (as X_ITE reads xj3d's shape.xml) and the rest is read.
+TEST(ParserRecovery, XmlAttributeValueThatDoesNotParseKeepsTheDefault) {
+    LoadedScene s = read(xml("<Shape><Appearance><Material diffuseColor='(0.5 0.5 0.5)' "
+                             "transparency='0.25'/></Appearance><Cone/></Shape>"),
+                         "r.x3d");
+    ASSERT_TRUE(s.ok()) << messages(s);
+    EXPECT_EQ(only_warning(s),
+              "4:44: attribute 'diffuseColor' of Material: expected a number, found '(0.5'; the "
+              "field keeps its default")
+        << messages(s);
+    const NodeId shape = s.tree.roots[0];
+    const NodeId material =
+        s.tree.get_node(s.tree.get_node(shape, intern("appearance")), intern("material"));
+    const FieldView colour = s.tree.get(material, "diffuseColor");
+    EXPECT_EQ(std::vector<double>(colour.numbers.begin(), colour.numbers.end()),
+              (std::vector<double>{0.8, 0.8, 0.8}));
+    EXPECT_EQ(s.tree.get(material, "transparency").numbers[0], 0.25);
+    EXPECT_EQ(s.tree.type_name(s.tree.get_node(shape, intern("geometry"))), "Cone");
+    // A value too many, and text where nodes belong: the same recovery.
+    LoadedScene more = read(xml("<Sphere radius='1 2'/><Shape geometry='Box'/>"), "r.x3d");
+    ASSERT_TRUE(more.ok()) << messages(more);
+    EXPECT_EQ(more.diagnostics.warning_count(), 2u) << messages(more);
+    EXPECT_EQ(more.tree.get(more.tree.roots[0], "radius").numbers[0], 1.0);
+    EXPECT_EQ(more.tree.roots.size(), 2u);
 }
 
 // X3D 3.0's XML encoding spelt IMPORT's importedDEF as exportedDEF: read as it, with a warning.

@@ -117,5 +117,18 @@ TEST(ScriptFields, NodeFieldsAndBrowser) {
               (std::vector<double>{1, 2, 3, 1, 1, 1, 6}));
 }
 
+TEST(ScriptFields, CurrentSceneReadsTheWorld) {
+    // Titania's units.x3dv prints Browser.currentScene.toXMLString(): the scene's root nodes, a
+    // node by its DEF name, and the world written out as `vrmlray convert` writes it.
+    EXPECT_EQ(
+        numbers_of("var s = Browser.currentScene, r = s.rootNodes;"
+                   "var x = s.toXMLString(), v = s.toVRMLString();"
+                   "out = new MFFloat(r.length, r[0].getTypeName() == 'ScalarInterpolator',"
+                   " s.getNamedNode('SI').getTypeName() == 'ScalarInterpolator',"
+                   " x.indexOf('<ScalarInterpolator DEF=') > 0, v.indexOf('DEF S Script') > 0,"
+                   " s.worldURL == Browser.getWorldURL());"),
+        (std::vector<double>{2, 1, 1, 1, 1, 1}));
+}
+
 }  // namespace
 }  // namespace vr
