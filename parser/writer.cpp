@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "parser/def_names.h"
+#include "parser/proto_kinds.h"
 #include "parser/registry.h"
 
 namespace vr {
@@ -29,7 +30,9 @@ namespace {
 class Writer {
   public:
     Writer(const NodeTree& tree, Encoding target, bool compact)
-        : tree_(tree), target_(target), compact_(compact), names_(tree) {}
+        : tree_(tree), target_(target), compact_(compact), names_(tree) {
+        if (compact_) kinds_ = find_proto_kinds(tree_, names_);
+    }
 
     std::string run() {
         out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n"
@@ -39,6 +42,7 @@ class Writer {
         const double length = tree_.root_length_scale;
         const bool scaled = length != 1.0 && target_ != Encoding::X3dClassic;
         if (length != 1.0 && !scaled) out_ += "UNIT length unit " + format_number(length) + "\n\n";
+        write_proto_kinds();
         if (scaled) {
             const std::string s = format_number(length);
             out_ += "Transform {\n  scale " + s + " " + s + " " + s + "\n  children [\n";
@@ -54,6 +58,34 @@ class Writer {
     }
 
   private:
+    // Each kind's declaration (proto_kinds.h), before any statement, at the top level where both
+    // grammars allow a PROTO: its body is a copy of one Transform of the kind, with the
+    // translation an instance gives (default 0 0 0: an instance without one leaves it unset).
+    // The body is a scope of its own: its nodes are written out, with no DEF or USE.
+    void write_proto_kinds() {
+        const char* access = target_ == Encoding::X3dClassic ? "initializeOnly" : "field";
+        for (size_t k = 0; k < kinds_.bodies.size(); ++k) {
+            out_ += "PROTO " + kinds_.names[k] + "[" + access + " SFVec3f t 0 0 0]{";
+            body_ = kinds_.bodies[k];
+            write_node(body_, 0);
+            body_ = kNullNode;
+            out_ += "}\n";
+        }
+        if (!kinds_.bodies.empty()) out_ += "\n";
+    }
+
+    // An instance of the Transform's kind: its translation alone.
+    void write_instance(NodeId id, uint32_t kind) {
+        written_.insert(id);
+        out_ += kinds_.names[kind] + "{";
+        for (const FieldEntry& e : tree_.set_fields(id))
+            if (name_text(e.name) == "translation") {
+                out_ += "t ";
+                write_value(e, 0);
+            }
+        out_ += "}";
+    }
+
     // The ROUTEs between written nodes (those into or out of an Inline's file or an IMPORT stay
     // with that file), after the nodes they name.
     void write_routes() {
@@ -89,13 +121,18 @@ class Writer {
             out_ += "NULL";
             return;
         }
-        if (written_.count(id)) {
-            out_ += "USE " + names_.name(id);
-            return;
+        const bool in_body = body_ != kNullNode;
+        if (!in_body) {
+            if (auto kind = kinds_.kind_of.find(id); kind != kinds_.kind_of.end())
+                return write_instance(id, kind->second);
+            if (written_.count(id)) {
+                out_ += "USE " + names_.name(id);
+                return;
+            }
+            written_.insert(id);
+            std::string def = names_.name(id);
+            if (!def.empty()) out_ += "DEF " + def + " ";
         }
-        written_.insert(id);
-        std::string def = names_.name(id);
-        if (!def.empty()) out_ += "DEF " + def + " ";
         out_ += tree_.type_name(id);
         auto fields = tree_.set_fields(id);
         if (fields.empty()) {
@@ -103,7 +140,9 @@ class Writer {
             return;
         }
         out_ += compact_ ? " { " : " {\n";
+        if (id == body_) out_ += "translation IS t ";  // compact only: no indentation
         for (const FieldEntry& e : fields) {
+            if (id == body_ && name_text(e.name) == "translation") continue;
             indent(depth + 1);
             out_ += field_name(id, e.name);
             out_ += " ";
@@ -202,6 +241,8 @@ class Writer {
     std::string out_;
     DefNames names_;
     std::unordered_set<NodeId> written_;
+    ProtoKinds kinds_;
+    NodeId body_ = kNullNode;  // the Transform whose copy is the PROTO body being written
 };
 
 }  // namespace
