@@ -22,8 +22,8 @@ std::unordered_set<NodeId> named_by_events(const NodeTree& tree) {
 // nodes of the same sort below it.
 bool copyable(const NodeTree& tree, NodeId id, const std::unordered_set<NodeId>& fixed) {
     if (id == kNullNode) return true;
-    static const std::string_view kTypes[] = {"Shape",    "Appearance", "Material", "TwoSidedMaterial",
-                                              "Sphere",   "Cylinder",   "Cone",     "Box"};
+    static const std::string_view kTypes[] = {
+        "Shape", "Appearance", "Material", "TwoSidedMaterial", "Sphere", "Cylinder", "Cone", "Box"};
     const std::string_view type = tree.type_name(id);
     if (std::find(std::begin(kTypes), std::end(kTypes), type) == std::end(kTypes)) return false;
     if (fixed.count(id)) return false;
@@ -74,14 +74,13 @@ std::string kind_key(const NodeTree& tree, NodeId id, const DefNames& names,
     return key;
 }
 
-// A, B, ... Z, then A1, B1, ...: never a node type of either standard (those are longer words).
-std::string kind_name(size_t k) {
+}  // namespace
+
+std::string proto_kind_name(size_t k) {
     std::string name(1, char('A' + k % 26));
     if (k >= 26) name += std::to_string(k / 26);
     return name;
 }
-
-}  // namespace
 
 ProtoKinds find_proto_kinds(const NodeTree& tree, const DefNames& names) {
     const std::unordered_set<NodeId> fixed = named_by_events(tree);
@@ -112,7 +111,7 @@ ProtoKinds find_proto_kinds(const NodeTree& tree, const DefNames& names) {
     for (const std::vector<NodeId>* members : in_order) {
         if (members->size() < 2) continue;  // a declaration costs more than one Transform
         const uint32_t k = uint32_t(kinds.bodies.size());
-        kinds.names.push_back(kind_name(k));
+        kinds.names.push_back(proto_kind_name(k));
         kinds.bodies.push_back(members->front());
         for (NodeId id : *members) kinds.kind_of[id] = k;
     }

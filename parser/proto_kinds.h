@@ -30,4 +30,8 @@ struct ProtoKinds {
 // a URL). Nodes that a ROUTE, a PROTO interface, an EXPORT or an IMPORT names are left alone.
 ProtoKinds find_proto_kinds(const NodeTree& tree, const DefNames& names);
 
+// The k-th kind's PROTO name: A, B, ... Z, then A1, B1, ... (never a node type of either standard,
+// whose names are longer words).
+std::string proto_kind_name(size_t k);
+
 }  // namespace vr

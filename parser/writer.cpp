@@ -31,7 +31,10 @@ class Writer {
   public:
     Writer(const NodeTree& tree, Encoding target, bool compact)
         : tree_(tree), target_(target), compact_(compact), names_(tree) {
-        if (compact_) kinds_ = find_proto_kinds(tree_, names_);
+        if (compact_) {
+            kinds_ = find_proto_kinds(tree_, names_);
+            keep_kinds_that_pay();
+        }
     }
 
     std::string run() {
@@ -66,12 +69,58 @@ class Writer {
         const char* access = target_ == Encoding::X3dClassic ? "initializeOnly" : "field";
         for (size_t k = 0; k < kinds_.bodies.size(); ++k) {
             out_ += "PROTO " + kinds_.names[k] + "[" + access + " SFVec3f t 0 0 0]{";
-            body_ = kinds_.bodies[k];
-            write_node(body_, 0);
-            body_ = kNullNode;
+            out_ += body_text(kinds_.bodies[k], true);
             out_ += "}\n";
         }
         if (!kinds_.bodies.empty()) out_ += "\n";
+    }
+
+    // A kind is declared when that makes the file smaller (PyMOL's sticks and RasMol's bonds
+    // come in kinds of a few, by their rotations). Declared: `PROTO A[field SFVec3f t 0 0 0]{`,
+    // the body (every node written out) and `}` once, then `A{t }` around each translation. Not:
+    // each member's Transform around its translation and `USE name` of the child, which the
+    // first member writes out with `DEF name` instead (its shared nodes USEd: they are written
+    // out once in the file either way).
+    void keep_kinds_that_pay() {
+        ProtoKinds kept;
+        std::vector<size_t> members(kinds_.bodies.size());
+        for (const auto& [id, k] : kinds_.kind_of) ++members[k];
+        const double is_t = double(std::string_view("translation IS t ").size());
+        for (size_t k = 0; k < kinds_.bodies.size(); ++k) {
+            const NodeId body = kinds_.bodies[k];
+            const std::string name = proto_kind_name(kept.bodies.size());
+            const double n = double(members[k]), text = double(body_text(body, true).size());
+            const NodeId child = tree_.get_node(body, intern("children"));
+            const double child_text = double(body_text(child, false).size());
+            estimating_ = child;
+            const double child_plain = double(body_text(child, false).size());
+            estimating_ = kNullNode;
+            const double use = double(4 + names_.name(child).size());  // "USE name" or "DEF name "
+            const double declared =
+                double(24 + 2 * name.size()) + text + n * double(name.size() + 4);
+            const double plain = n * (text - is_t - child_text) + child_plain + n * use;
+            if (declared >= plain) continue;
+            for (const auto& [id, kind] : kinds_.kind_of)
+                if (kind == k) kept.kind_of[id] = uint32_t(kept.bodies.size());
+            kept.names.push_back(name);
+            kept.bodies.push_back(body);
+        }
+        kinds_ = std::move(kept);
+    }
+
+    // The node's text as a PROTO body holds it (no DEF or USE); `is_body`: the node is the
+    // body's Transform, whose translation is the instance's.
+    std::string body_text(NodeId id, bool is_body) {
+        std::string saved = std::move(out_);
+        out_.clear();
+        in_body_ = true;
+        body_ = is_body ? id : kNullNode;
+        write_node(id, 0);
+        in_body_ = false;
+        body_ = kNullNode;
+        std::string text = std::move(out_);
+        out_ = std::move(saved);
+        return text;
     }
 
     // An instance of the Transform's kind: its translation alone.
@@ -121,8 +170,11 @@ class Writer {
             out_ += "NULL";
             return;
         }
-        const bool in_body = body_ != kNullNode;
-        if (!in_body) {
+        if (estimating_ != kNullNode && id != estimating_ && names_.references(id) > 1) {
+            out_ += "USE " + names_.name(id);
+            return;
+        }
+        if (!in_body_) {
             if (auto kind = kinds_.kind_of.find(id); kind != kinds_.kind_of.end())
                 return write_instance(id, kind->second);
             if (written_.count(id)) {
@@ -242,7 +294,9 @@ class Writer {
     DefNames names_;
     std::unordered_set<NodeId> written_;
     ProtoKinds kinds_;
-    NodeId body_ = kNullNode;  // the Transform whose copy is the PROTO body being written
+    bool in_body_ = false;           // writing a PROTO body: a scope of its own, no DEF or USE
+    NodeId estimating_ = kNullNode;  // sizing this node as written outside a body: shared ones USEd
+    NodeId body_ = kNullNode;        // the Transform whose copy is the PROTO body being written
 };
 
 }  // namespace

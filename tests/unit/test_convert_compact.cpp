@@ -303,17 +303,23 @@ TEST(ConvertCompact, ObliqueTubesBecomeCylindersThatRenderAsTheOriginal) {
 }
 
 // Atoms that differ by their translation alone are instances of one PROTO per kind; a Transform
-// that a ROUTE or a DEF name singles out, and one of a kind of its own, stays a Transform.
+// that a ROUTE or a DEF name singles out, one of a kind of its own and the members of a kind
+// whose declaration would cost more than its instances save (two Boxes) stay Transforms.
 TEST(ConvertCompact, AtomKindsAreProtosDeclaredOnce) {
-    const std::string atoms = R"(#VRML V2.0 utf8
+    std::string atoms = R"(#VRML V2.0 utf8
 DEF Clock TimeSensor {}
 Transform { translation 1 2 3 scale 2 2 2 children DEF C Shape { appearance Appearance { material Material { diffuseColor .5 .5 .5 } } geometry Sphere {} } }
 Transform { translation -1.25 0 4 scale 2 2 2 children USE C }
 Transform { scale 2 2 2 children USE C }
 DEF Moved Transform { translation 0 0 1 scale 2 2 2 children USE C }
 Transform { translation 5 5 5 children USE C }
+Transform { translation 1 1 1 children DEF B Shape { geometry Box {} } }
+Transform { translation 2 2 2 children USE B }
 ROUTE Clock.fraction_changed TO Moved.set_scale
 )";
+    for (int i = 0; i < 5; ++i)
+        atoms +=
+            "Transform { translation " + std::to_string(i) + " 7 8 scale 2 2 2 children USE C }\n";
     LoadedScene loaded = load_scene_text(atoms, "atoms.wrl");
     ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.format(loaded.sources);
     for (Encoding target : {Encoding::Vrml97, Encoding::X3dClassic}) {
@@ -327,7 +333,9 @@ ROUTE Clock.fraction_changed TO Moved.set_scale
                   std::string::npos)
             << text;
         EXPECT_NE(text.find("\nA{t 1 2 3}\nA{t -1.25 0 4}\nA{}\n"), std::string::npos) << text;
-        EXPECT_EQ(count_of(text, "Transform {"), 3u) << text;  // the body, Moved, the lone one
+        EXPECT_EQ(count_of(text, "\nA{t "), 7u) << text;
+        // The body, Moved, the lone one and the two Boxes.
+        EXPECT_EQ(count_of(text, "Transform {"), 5u) << text;
         const LoadedScene back =
             load_scene_text(text, target == Encoding::Vrml97 ? "back.wrl" : "back.x3dv");
         ASSERT_TRUE(back.ok()) << back.diagnostics.format(back.sources) << text;
