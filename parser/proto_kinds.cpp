@@ -118,4 +118,22 @@ ProtoKinds find_proto_kinds(const NodeTree& tree, const DefNames& names) {
     return kinds;
 }
 
+void keep_kinds_that_pay(
+    ProtoKinds& kinds,
+    const std::function<KindCost(size_t kind, size_t members, const std::string& name)>& cost) {
+    ProtoKinds kept;
+    std::vector<size_t> members(kinds.bodies.size());
+    for (const auto& [id, k] : kinds.kind_of) ++members[k];
+    for (size_t k = 0; k < kinds.bodies.size(); ++k) {
+        const std::string name = proto_kind_name(kept.bodies.size());
+        const KindCost c = cost(k, members[k], name);
+        if (c.declared >= c.plain) continue;
+        for (const auto& [id, kind] : kinds.kind_of)
+            if (kind == k) kept.kind_of[id] = uint32_t(kept.bodies.size());
+        kept.names.push_back(name);
+        kept.bodies.push_back(kinds.bodies[k]);
+    }
+    kinds = std::move(kept);
+}
+
 }  // namespace vr

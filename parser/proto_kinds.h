@@ -6,6 +6,7 @@
 // classic), so every browser reads the result; expanding the instances gives back the same
 // Transforms with the same field values, so the scene renders the same.
 #pragma once
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -29,6 +30,18 @@ struct ProtoKinds {
 // Sphere, Cylinder, Cone or Box (nothing that a copy per instance would make heavy, nothing with
 // a URL). Nodes that a ROUTE, a PROTO interface, an EXPORT or an IMPORT names are left alone.
 ProtoKinds find_proto_kinds(const NodeTree& tree, const DefNames& names);
+
+// What writing kind k costs in a file's bytes: declared (the declaration and every member as an
+// instance) or not (every member as a Transform).
+struct KindCost {
+    double declared = 0.0, plain = 0.0;
+};
+
+// Keeps the kinds that make the file smaller (`cost(k, members, name)`, name the one the kind
+// gets if kept), renamed A, B, ... in order.
+void keep_kinds_that_pay(
+    ProtoKinds& kinds,
+    const std::function<KindCost(size_t kind, size_t members, const std::string& name)>& cost);
 
 // The k-th kind's PROTO name: A, B, ... Z, then A1, B1, ... (never a node type of either standard,
 // whose names are longer words).

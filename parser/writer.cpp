@@ -82,30 +82,21 @@ class Writer {
     // first member writes out with `DEF name` instead (its shared nodes USEd: they are written
     // out once in the file either way).
     void keep_kinds_that_pay() {
-        ProtoKinds kept;
-        std::vector<size_t> members(kinds_.bodies.size());
-        for (const auto& [id, k] : kinds_.kind_of) ++members[k];
         const double is_t = double(std::string_view("translation IS t ").size());
-        for (size_t k = 0; k < kinds_.bodies.size(); ++k) {
+        vr::keep_kinds_that_pay(kinds_, [&](size_t k, size_t members, const std::string& name) {
             const NodeId body = kinds_.bodies[k];
-            const std::string name = proto_kind_name(kept.bodies.size());
-            const double n = double(members[k]), text = double(body_text(body, true).size());
+            const double n = double(members), text = double(body_text(body, true).size());
             const NodeId child = tree_.get_node(body, intern("children"));
             const double child_text = double(body_text(child, false).size());
             estimating_ = child;
             const double child_plain = double(body_text(child, false).size());
             estimating_ = kNullNode;
             const double use = double(4 + names_.name(child).size());  // "USE name" or "DEF name "
-            const double declared =
-                double(24 + 2 * name.size()) + text + n * double(name.size() + 4);
-            const double plain = n * (text - is_t - child_text) + child_plain + n * use;
-            if (declared >= plain) continue;
-            for (const auto& [id, kind] : kinds_.kind_of)
-                if (kind == k) kept.kind_of[id] = uint32_t(kept.bodies.size());
-            kept.names.push_back(name);
-            kept.bodies.push_back(body);
-        }
-        kinds_ = std::move(kept);
+            KindCost c;
+            c.declared = double(24 + 2 * name.size()) + text + n * double(name.size() + 4);
+            c.plain = n * (text - is_t - child_text) + child_plain + n * use;
+            return c;
+        });
     }
 
     // The node's text as a PROTO body holds it (no DEF or USE); `is_body`: the node is the

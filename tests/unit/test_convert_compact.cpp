@@ -230,9 +230,9 @@ ROUTE Mover.value_changed TO Ball.set_translation
     }
 }
 
-// Every molecular corpus file: the converted file renders bit-identical to the original with
-// recovery on (its atoms are PROTO instances that expand to the same Transforms), and the Jmol
-// files keep no tessellated atom or bond.
+// Every molecular corpus file: the converted file (and for X3D XML files the compact X3D XML one)
+// renders bit-identical to the original with recovery on (its atoms are PROTO instances that
+// expand to the same Transforms), and the Jmol files keep no tessellated atom or bond.
 TEST(ConvertCompact, EveryMolecularCorpusFileRendersAsTheOriginal) {
     VR_CORPUS_FOLDER(folder, "molecular");
     TempDir dir("corpus");
@@ -256,6 +256,16 @@ TEST(ConvertCompact, EveryMolecularCorpusFileRendersAsTheOriginal) {
         const Image b = render(out, (dir.path / (stem + "_b.png")).string(), 64, 48);
         const Difference d = difference(a, b);
         EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
+        // X3D XML files into compact X3D XML too (a VRML97 file would change standard: PyMOL's
+        // barnase_figure.wrl renders differently as X3D, with or without the option).
+        if (file.extension() == ".x3d") {
+            const std::string xml = (dir.path / (stem + ".x3d")).string();
+            ASSERT_EQ(run({"convert", "-q", "--recover-spheres", file.string(), xml}), kExitOk);
+            EXPECT_EQ(run({"info", "-q", "--strict", xml}), kExitOk);
+            const Difference x =
+                difference(a, render(xml, (dir.path / (stem + "_x.png")).string(), 64, 48));
+            EXPECT_EQ(x.pixels, 0u) << "X3D XML: largest difference " << x.largest;
+        }
         std::ifstream in(out);
         std::stringstream text;
         text << in.rdbuf();
@@ -348,19 +358,23 @@ ROUTE Clock.fraction_changed TO Moved.set_scale
 }
 
 // ChimeraX-style spacefill (exporter_layouts.h; 300 atoms of a protein's elements) converts to
-// 9.1x smaller, uncompressed, and the same picture. The 10x is out of reach without
-// changing values: an atom is some 230 bytes of Transform, Shape, Appearance and Material in the
-// input and 25 as an instance (`A{t -12.847 -9.52 -9.617}`, of which the three coordinates,
-// shortest round trip, are 19), plus 900 bytes of header and declarations (docs/manual.md).
+// 9.1x smaller in the classic encodings (2.4x in X3D XML), uncompressed, and the same picture. The
+// issue's 10x is out of reach without changing values: an atom is some 230 bytes of Transform,
+// Shape, Appearance and Material in the input and 25 as an instance (`A{t -12.847 -9.52 -9.617}`,
+// of which the three coordinates, shortest round trip, are 19), plus 900 bytes of header and
+// declarations (docs/manual.md).
 TEST(ConvertCompact, ChimeraxSpacefillConvertsNineTimesSmaller) {
     TempDir dir("chimerax");
     const std::string in = (dir.path / "atoms.x3d").string();
     std::ofstream(in) << test::chimerax_spacefill_x3d(test::protein_atoms(300, 43));
-    for (const std::string ext : {".wrl", ".x3dv"}) {
+    for (const std::string ext : {".wrl", ".x3dv", ".x3d"}) {
         SCOPED_TRACE(ext);
         const std::string out = (dir.path / ("out" + ext)).string();
         ASSERT_EQ(run({"convert", "-q", "--recover-spheres", in, out}), kExitOk);
-        EXPECT_GE(fs::file_size(in), 9 * fs::file_size(out))
+        // X3D XML keeps a Transform an atom (parser/xml_writer.h): some 70 bytes around the
+        // coordinates where the classic encoding's instance takes 6; 2.4x.
+        const size_t ratio = ext == ".x3d" ? 2 : 9;
+        EXPECT_GE(fs::file_size(in), ratio * fs::file_size(out))
             << fs::file_size(in) << " -> " << fs::file_size(out);
         EXPECT_EQ(run({"info", "-q", "--strict", out}), kExitOk);
         const Image a = render(in, (dir.path / "a.png").string(), 64, 48);

@@ -150,7 +150,8 @@ TEST(CylinderFit, RandomOrientationsGiveTheCylinderTheyWereMadeFrom) {
         const Mesh m = cylinder_mesh(s, decimals);
         SCOPED_TRACE("trial " + std::to_string(trial));
         FitFailure why = FitFailure::OffSurface;
-        const std::optional<CylinderFit> fit = fit_tessellated_cylinder(m.points, m.triangles, &why);
+        const std::optional<CylinderFit> fit =
+            fit_tessellated_cylinder(m.points, m.triangles, &why);
         EXPECT_TRUE(fit.has_value()) << fit_failure_label(why);
         if (!fit) continue;
         EXPECT_EQ(fit->axis, -1);  // a random direction is never one of the mesh's axes
