@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "parser/def_names.h"
+#include "parser/proto_kinds.h"
 #include "parser/registry.h"
 
 namespace vr {
@@ -29,7 +30,12 @@ namespace {
 class Writer {
   public:
     Writer(const NodeTree& tree, Encoding target, bool compact)
-        : tree_(tree), target_(target), compact_(compact), names_(tree) {}
+        : tree_(tree), target_(target), compact_(compact), names_(tree) {
+        if (compact_) {
+            kinds_ = find_proto_kinds(tree_, names_);
+            keep_kinds_that_pay();
+        }
+    }
 
     std::string run() {
         out_ += target_ == Encoding::X3dClassic ? "#X3D V3.3 utf8\nPROFILE Full\n\n"
@@ -39,6 +45,7 @@ class Writer {
         const double length = tree_.root_length_scale;
         const bool scaled = length != 1.0 && target_ != Encoding::X3dClassic;
         if (length != 1.0 && !scaled) out_ += "UNIT length unit " + format_number(length) + "\n\n";
+        write_proto_kinds();
         if (scaled) {
             const std::string s = format_number(length);
             out_ += "Transform {\n  scale " + s + " " + s + " " + s + "\n  children [\n";
@@ -54,6 +61,71 @@ class Writer {
     }
 
   private:
+    // Each kind's declaration (proto_kinds.h), before any statement, at the top level where both
+    // grammars allow a PROTO: its body is a copy of one Transform of the kind, with the
+    // translation an instance gives (default 0 0 0: an instance without one leaves it unset).
+    // The body is a scope of its own: its nodes are written out, with no DEF or USE.
+    void write_proto_kinds() {
+        const char* access = target_ == Encoding::X3dClassic ? "initializeOnly" : "field";
+        for (size_t k = 0; k < kinds_.bodies.size(); ++k) {
+            out_ += "PROTO " + kinds_.names[k] + "[" + access + " SFVec3f t 0 0 0]{";
+            out_ += body_text(kinds_.bodies[k], true);
+            out_ += "}\n";
+        }
+        if (!kinds_.bodies.empty()) out_ += "\n";
+    }
+
+    // A kind is declared when that makes the file smaller (PyMOL's sticks and RasMol's bonds
+    // come in kinds of a few, by their rotations). Declared: `PROTO A[field SFVec3f t 0 0 0]{`,
+    // the body (every node written out) and `}` once, then `A{t }` around each translation. Not:
+    // each member's Transform around its translation and `USE name` of the child, which the
+    // first member writes out with `DEF name` instead (its shared nodes USEd: they are written
+    // out once in the file either way).
+    void keep_kinds_that_pay() {
+        const double is_t = double(std::string_view("translation IS t ").size());
+        vr::keep_kinds_that_pay(kinds_, [&](size_t k, size_t members, const std::string& name) {
+            const NodeId body = kinds_.bodies[k];
+            const double n = double(members), text = double(body_text(body, true).size());
+            const NodeId child = tree_.get_node(body, intern("children"));
+            const double child_text = double(body_text(child, false).size());
+            estimating_ = child;
+            const double child_plain = double(body_text(child, false).size());
+            estimating_ = kNullNode;
+            const double use = double(4 + names_.name(child).size());  // "USE name" or "DEF name "
+            KindCost c;
+            c.declared = double(24 + 2 * name.size()) + text + n * double(name.size() + 4);
+            c.plain = n * (text - is_t - child_text) + child_plain + n * use;
+            return c;
+        });
+    }
+
+    // The node's text as a PROTO body holds it (no DEF or USE); `is_body`: the node is the
+    // body's Transform, whose translation is the instance's.
+    std::string body_text(NodeId id, bool is_body) {
+        std::string saved = std::move(out_);
+        out_.clear();
+        in_body_ = true;
+        body_ = is_body ? id : kNullNode;
+        write_node(id, 0);
+        in_body_ = false;
+        body_ = kNullNode;
+        std::string text = std::move(out_);
+        out_ = std::move(saved);
+        return text;
+    }
+
+    // An instance of the Transform's kind: its translation alone.
+    void write_instance(NodeId id, uint32_t kind) {
+        written_.insert(id);
+        out_ += kinds_.names[kind] + "{";
+        for (const FieldEntry& e : tree_.set_fields(id))
+            if (name_text(e.name) == "translation") {
+                out_ += "t ";
+                write_value(e, 0);
+            }
+        out_ += "}";
+    }
+
     // The ROUTEs between written nodes (those into or out of an Inline's file or an IMPORT stay
     // with that file), after the nodes they name.
     void write_routes() {
@@ -89,13 +161,21 @@ class Writer {
             out_ += "NULL";
             return;
         }
-        if (written_.count(id)) {
+        if (estimating_ != kNullNode && id != estimating_ && names_.references(id) > 1) {
             out_ += "USE " + names_.name(id);
             return;
         }
-        written_.insert(id);
-        std::string def = names_.name(id);
-        if (!def.empty()) out_ += "DEF " + def + " ";
+        if (!in_body_) {
+            if (auto kind = kinds_.kind_of.find(id); kind != kinds_.kind_of.end())
+                return write_instance(id, kind->second);
+            if (written_.count(id)) {
+                out_ += "USE " + names_.name(id);
+                return;
+            }
+            written_.insert(id);
+            std::string def = names_.name(id);
+            if (!def.empty()) out_ += "DEF " + def + " ";
+        }
         out_ += tree_.type_name(id);
         auto fields = tree_.set_fields(id);
         if (fields.empty()) {
@@ -103,7 +183,9 @@ class Writer {
             return;
         }
         out_ += compact_ ? " { " : " {\n";
+        if (id == body_) out_ += "translation IS t ";  // compact only: no indentation
         for (const FieldEntry& e : fields) {
+            if (id == body_ && name_text(e.name) == "translation") continue;
             indent(depth + 1);
             out_ += field_name(id, e.name);
             out_ += " ";
@@ -202,6 +284,10 @@ class Writer {
     std::string out_;
     DefNames names_;
     std::unordered_set<NodeId> written_;
+    ProtoKinds kinds_;
+    bool in_body_ = false;           // writing a PROTO body: a scope of its own, no DEF or USE
+    NodeId estimating_ = kNullNode;  // sizing this node as written outside a body: shared ones USEd
+    NodeId body_ = kNullNode;        // the Transform whose copy is the PROTO body being written
 };
 
 }  // namespace

@@ -75,7 +75,7 @@ void append_attr_text(std::string& out, std::string_view s) {
 
 class XmlWriter {
   public:
-    explicit XmlWriter(const NodeTree& tree) : tree_(tree), names_(tree) {}
+    XmlWriter(const NodeTree& tree, bool compact) : tree_(tree), names_(tree), compact_(compact) {}
 
     std::string run() {
         const char* version = needs_x3d_4(tree_) ? "4.0" : "3.3";
@@ -100,7 +100,9 @@ class XmlWriter {
     }
 
   private:
-    void indent(int depth) { out_.append(static_cast<size_t>(depth) * 2, ' '); }
+    void indent(int depth) {
+        if (!compact_) out_.append(static_cast<size_t>(depth) * 2, ' ');
+    }
 
     // The ROUTEs between written nodes, as the classic writer writes them (parser/writer.cpp).
     void write_routes() {
@@ -235,12 +237,14 @@ class XmlWriter {
             if (t.kind == ValueKind::Bool)
                 out_ += v.numbers[i] != 0.0 ? "true" : "false";
             else
-                out_ += format_number(v.numbers[i]);
+                out_ +=
+                    compact_ ? format_number_compact(v.numbers[i]) : format_number(v.numbers[i]);
         }
     }
 
     const NodeTree& tree_;
     DefNames names_;
+    bool compact_ = false;
     std::string out_;
     std::unordered_set<NodeId> written_;
 };
@@ -265,6 +269,8 @@ bool needs_x3d_4(const NodeTree& tree) {
     return false;
 }
 
-std::string write_x3d_xml(const NodeTree& tree) { return XmlWriter(tree).run(); }
+std::string write_x3d_xml(const NodeTree& tree, bool compact) {
+    return XmlWriter(tree, compact).run();
+}
 
 }  // namespace vr

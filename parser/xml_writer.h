@@ -9,8 +9,10 @@
 namespace vr {
 
 // A well-formed, indented X3D document: version 3.3, or 4.0 when a node or field only X3D 4.0 has
-// is used.
-std::string write_x3d_xml(const NodeTree& tree);
+// is used. compact (`convert --recover-spheres`): no indentation, no zero before a decimal point.
+// Atoms stay Transforms: a ProtoInstance (`<ProtoInstance name='A'><fieldValue name='t'
+// value='...'/></ProtoInstance>`) takes as many bytes as a Transform whose Shape is a USE.
+std::string write_x3d_xml(const NodeTree& tree, bool compact = false);
 
 // Whether the tree uses a node type or field that X3D 3.3 does not have (e.g. PhysicalMaterial).
 bool needs_x3d_4(const NodeTree& tree);

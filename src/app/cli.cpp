@@ -762,7 +762,8 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
     c->add_option("out", cmd.out, "Output scene")->required();
     c->add_flag("--recover-spheres", cmd.convert.recover,
                 "Write tessellated spheres and cylinders (Jmol's, ChimeraX's atoms and bonds) as "
-                "Sphere and Cylinder nodes, share identical nodes by DEF/USE, and write compactly");
+                "Sphere and Cylinder nodes, share identical nodes by DEF/USE, and write compactly "
+                "(classic encodings: each atom kind a PROTO, each atom a line `A{t x y z}`)");
     add_common(c, cmd.common, texts);
     CLI::App* cmp = add_compare(app, cmd.compare);
     CLI::App* b = add_bench(app, cmd.bench, cmd.common, texts);

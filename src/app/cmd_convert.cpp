@@ -83,7 +83,7 @@ int run_convert(const std::string& in, const std::string& out, const CommonOptio
         share_identical_nodes(scene.tree, compact);
     }
     std::string text = target.encoding == Encoding::X3dXml
-                           ? write_x3d_xml(scene.tree)
+                           ? write_x3d_xml(scene.tree, options.recover)
                            : write_classic(scene.tree, target.encoding, options.recover);
     if (!write_output(out, text, target.gzip)) {
         std::cerr << out << ": error: cannot write the output file\n";

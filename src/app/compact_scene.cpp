@@ -199,6 +199,10 @@ ExactNode exact_node(NodeTree& tree, NodeId mesh, const Recognised& r) {
         // recovery turns it: flatten/shapes.cpp, add_recovered_cylinder).
         if (c.axis == 0) out.rotation = {0.0, 0.0, 1.0, -kPi / 2.0};
         if (c.axis == 2) out.rotation = {1.0, 0.0, 0.0, kPi / 2.0};
+        if (c.axis < 0) {
+            const Vec4 turn = rotation_onto_direction(c);
+            out.rotation = {turn.x, turn.y, turn.z, turn.w};
+        }
     }
     out.placed = out.translation != Vec3(0.0) || out.rotation[3] != 0.0;
     return out;

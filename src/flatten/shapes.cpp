@@ -188,13 +188,21 @@ bool Flattener::recover_exact(sg::Index geometry, const TriMesh& mesh, const Mat
 
 void Flattener::add_recovered_cylinder(const CylinderFit& c, const Mat4& m, uint32_t shading) {
     // The Cylinder quadric runs along object y: turn y onto the fitted axis (+y to +axis, so
-    // that `top` stays the +axis end) and move it to the fitted centre.
+    // that `top` stays the +axis end) and move it to the fitted centre. An oblique one is turned
+    // by the axis and angle `convert` writes (compact_scene.cpp), through the Transform's own
+    // arithmetic, so that the converted file places the same matrix.
     Mat4 local(1.0);
     if (c.axis == 0)
         local = Mat4(Vec4(0, -1, 0, 0), Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, 0, 0, 1));
     if (c.axis == 2)
         local = Mat4(Vec4(1, 0, 0, 0), Vec4(0, 0, 1, 0), Vec4(0, -1, 0, 0), Vec4(0, 0, 0, 1));
     local[3] = Vec4(c.center, 1.0);
+    if (c.axis < 0) {
+        TransformFields placed;
+        placed.translation = c.center;
+        placed.rotation = rotation_onto_direction(c);
+        local = transform_matrix(placed);
+    }
     Quadric& q = add_quadric(QuadricKind::Cylinder, m * local,
                              Vec3(2.0 * c.radius, c.height, 2.0 * c.radius), shading);
     q.top = c.top, q.bottom = c.bottom;

@@ -1,7 +1,17 @@
 // Recognising a tessellated cylinder: Jmol writes every bond (half) as a USE of one IndexedFaceSet
 // approximating a unit cylinder along y, placed by a rotated, non-uniformly scaled Transform. When
 // every vertex lies on one axis-aligned cylinder to the precision the file wrote it with
-// (sphere_fit.h says what agreeing means), the exact cylinder can stand in for the mesh.
+// (sphere_fit.h says what agreeing means), the exact cylinder can stand in for the mesh, with the
+// roundest values the vertices agree with (Jmol's radius 1, height 1).
+//
+// Other exporters write cylinders along any direction, rotated or baked into world coordinates.
+// Failing the three axes, the axis is found (candidates from the triangles' normals and the
+// vertices' spread, refined through the centres of the two end rings) and every vertex must lie
+// within twice its own possible error of the side or an end disc: the error being half a unit of
+// the last written decimal plus four single-precision roundings (a float32 exporter's 4x4
+// transform of the vertex) on each coordinate, which moves a vertex by up to that times |n|_1
+// along the surface normal n. Once for the vertex, once for the fitted cylinder, which is fitted
+// from such vertices.
 //
 // Open and closed ends follow the mesh: an end whose plane holds triangles covering the disc is a
 // cap, an end with no triangles in its plane is open (a tube), anything between is refused. An open
@@ -16,12 +26,13 @@
 namespace vr {
 
 struct CylinderFit {
-    int axis = 1;         // the object axis it runs along: 0 x, 1 y, 2 z
-    Vec3 center{0.0};     // the middle of its axis, object space
-    double radius = 0.0;  //
-    double height = 0.0;  // along `axis`
-    bool top = true;      // a disc closes the +axis end
-    bool bottom = true;   // a disc closes the -axis end
+    int axis = 1;             // the object axis it runs along: 0 x, 1 y, 2 z; -1 another one
+    Vec3 direction{0, 1, 0};  // the unit direction it runs along, from bottom to top
+    Vec3 center{0.0};         // the middle of its axis, object space
+    double radius = 0.0;      //
+    double height = 0.0;      // along `direction`
+    bool top = true;          // a disc closes the +direction end
+    bool bottom = true;       // a disc closes the -direction end
 };
 
 // The cylinder the mesh lies on, or nothing with the reason in `why` (when not null). Needs at
@@ -32,5 +43,10 @@ struct CylinderFit {
 std::optional<CylinderFit> fit_tessellated_cylinder(const std::vector<Vec3>& points,
                                                     const std::vector<uint32_t>& triangles,
                                                     FitFailure* why = nullptr);
+
+// The rotation (unit axis, angle in radians) that turns +y, where a Cylinder node runs, onto the
+// fit's direction: the one value both the renderer's recovery and `convert` place it with, so
+// that the two compose the same matrix (scene/transform.h, transform_matrix).
+Vec4 rotation_onto_direction(const CylinderFit& fit);
 
 }  // namespace vr

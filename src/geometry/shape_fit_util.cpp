@@ -54,4 +54,28 @@ bool least_squares_sphere(const std::vector<double>& coords, int dims, double* c
     return true;
 }
 
+Mat3 symmetric_eigenvectors(const Mat3& symmetric) {
+    Mat3 a = symmetric, v(1.0);
+    // Each sweep zeroes the three off-diagonal pairs in turn; a 3x3 converges to double
+    // precision in well under 12 sweeps.
+    for (int sweep = 0; sweep < 12; ++sweep) {
+        const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (!(off > 1e-32 * diag)) break;
+        for (int p = 0; p < 2; ++p)
+            for (int q = p + 1; q < 3; ++q) {
+                if (a[p][q] == 0.0) continue;
+                const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                const double t = (theta >= 0.0 ? 1.0 : -1.0) /
+                                 (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+                const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+                Mat3 j(1.0);  // the rotation in the (p, q) plane: a' = j^T a j
+                j[p][p] = c, j[q][q] = c, j[q][p] = s, j[p][q] = -s;
+                a = glm::transpose(j) * a * j;
+                v = v * j;
+            }
+    }
+    return v;
+}
+
 }  // namespace vr

@@ -43,4 +43,8 @@ inline Vec3 round_to(const Vec3& v, int decimals) {
 bool least_squares_sphere(const std::vector<double>& coords, int dims, double* center,
                           double& radius);
 
+// The unit eigenvectors of a symmetric 3x3 matrix (cyclic Jacobi rotations), as the columns of
+// the result; their order is unspecified.
+Mat3 symmetric_eigenvectors(const Mat3& symmetric);
+
 }  // namespace vr

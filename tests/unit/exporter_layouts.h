@@ -16,6 +16,7 @@
 //   axis' y component about (axis x y); the whole scene in one Group. The gradient Background
 //   (skyColor and skyAngle) stands for VMD's gradient background mode.
 #pragma once
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -150,6 +151,124 @@ inline std::string chimerax_x3d(const std::vector<LayoutAtom>& atoms) {
 </X3D>
 )";
     return x;
+}
+
+// Atoms as a PDB file places them (3 decimals, inside a 40 angstrom box) with the elements of a
+// protein in its proportions (C, N, O, S: 63, 17, 19, 1 per 100) and their van der Waals radii
+// and ChimeraX's element colours: a spacefill picture.
+inline std::vector<LayoutAtom> protein_atoms(int count, unsigned seed) {
+    std::vector<LayoutAtom> atoms;
+    unsigned state = seed;
+    auto next = [&state] {  // a small LCG: the same atoms on every platform
+        state = state * 1664525u + 1013904223u;
+        return double(state >> 8) / double(1u << 24);
+    };
+    for (int i = 0; i < count; ++i) {
+        const double pick = next();
+        LayoutAtom a{};
+        a.x = std::round(40000.0 * next()) / 1000.0 - 20.0;
+        a.y = std::round(40000.0 * next()) / 1000.0 - 20.0;
+        a.z = std::round(40000.0 * next()) / 1000.0 - 20.0;
+        if (pick < 0.63)
+            a = {a.x, a.y, a.z, 1.7, 0.565, 0.565, 0.565};
+        else if (pick < 0.80)
+            a = {a.x, a.y, a.z, 1.55, 0.188, 0.314, 0.973};
+        else if (pick < 0.99)
+            a = {a.x, a.y, a.z, 1.52, 1.0, 0.051, 0.051};
+        else
+            a = {a.x, a.y, a.z, 1.8, 1.0, 1.0, 0.188};
+        atoms.push_back(a);
+    }
+    return atoms;
+}
+
+// ChimeraX-style X3D of atoms alone (a spacefill picture): as chimerax_x3d, without the bonds, the
+// squashed atom and the surface patch.
+inline std::string chimerax_spacefill_x3d(const std::vector<LayoutAtom>& atoms) {
+    std::string sphere_index, sphere_points;
+    unit_sphere(10, 20, sphere_index, sphere_points);
+    std::string x = R"x3d(<?xml version="1.0" encoding="UTF-8"?>
+<!DOCTYPE X3D PUBLIC "ISO//Web3D//DTD X3D 3.3//EN" "http://www.web3d.org/specifications/x3d-3.3.dtd">
+<X3D profile="Interchange" version="3.3" xmlns:xsd="http://www.w3.org/2001/XMLSchema-instance">
+<head>
+<meta name="generator" content="UCSF ChimeraX (layout)"/>
+<unit category="length" name="angstrom" conversionFactor="1e-10"/>
+</head>
+<Scene>
+<NavigationInfo headlight="true" type='"EXAMINE" "ANY"'/>
+<Background skyColor="1 1 1"/>
+<OrthoViewpoint position="0 0 80" fieldOfView="-25 -20 25 20" centerOfRotation="0 0 0"/>
+)x3d";
+    for (size_t i = 0; i < atoms.size(); ++i) {
+        const LayoutAtom& a = atoms[i];
+        const std::string r = fixed6(a.radius);
+        x += "<Transform translation=\"" + fixed6(a.x) + " " + fixed6(a.y) + " " + fixed6(a.z) +
+             "\" scale=\"" + r + " " + r + " " + r +
+             "\"><Shape><Appearance><Material diffuseColor=\"" + fixed6(a.r) + " " + fixed6(a.g) +
+             " " + fixed6(a.b) + "\"/></Appearance>";
+        x += i == 0 ? "<IndexedTriangleSet DEF=\"sphere\" solid=\"false\" index=\"" + sphere_index +
+                          "\"><Coordinate point=\"" + sphere_points + "\"/></IndexedTriangleSet>"
+                    : "<IndexedTriangleSet USE=\"sphere\"/>";
+        x += "</Shape></Transform>\n";
+    }
+    return x + "</Scene>\n</X3D>\n";
+}
+
+// Bonds as tube meshes baked into world coordinates: each bond an IndexedFaceSet of two rings of
+// `segments` vertices about the line between its atoms (radius 0.2, uncapped; every third bond
+// capped at both ends by a polygon), computed in single precision and printed with 6 decimals,
+// as an exporter that bakes a bond's placement into its vertices writes them. The atoms are
+// Sphere nodes; the chain is lifted out of its plane (z = 0.4 i) so that no bond runs along an
+// axis.
+inline std::string world_tubes_wrl(const std::vector<LayoutAtom>& atoms, int segments) {
+    std::string w = "#VRML V2.0 utf8\nViewpoint { position 0 0 30 fieldOfView 0.4 }\n";
+    auto lifted = [&](size_t i) {
+        return std::array<double, 3>{atoms[i].x, atoms[i].y, 0.4 * double(i)};
+    };
+    for (size_t i = 0; i < atoms.size(); ++i) {
+        const auto p = lifted(i);
+        w += "Transform { translation " + fixed6(p[0]) + " " + fixed6(p[1]) + " " + fixed6(p[2]) +
+             " children Shape { appearance Appearance { material Material { diffuseColor " +
+             fixed6(atoms[i].r) + " " + fixed6(atoms[i].g) + " " + fixed6(atoms[i].b) +
+             " } } geometry Sphere { radius " + fixed6(0.5 * atoms[i].radius) + " } } }\n";
+    }
+    for (size_t i = 0; i + 1 < atoms.size(); ++i) {
+        const auto a = lifted(i), b = lifted(i + 1);
+        float d[3] = {float(b[0] - a[0]), float(b[1] - a[1]), float(b[2] - a[2])};
+        const float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (float& c : d) c /= len;
+        // u across d (d x z, normalised), v = d x u.
+        float u[3] = {d[1], -d[0], 0.0f};
+        const float ulen = std::sqrt(u[0] * u[0] + u[1] * u[1]);
+        for (float& c : u) c /= ulen;
+        const float v[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2],
+                            d[0] * u[1] - d[1] * u[0]};
+        std::string points, faces;
+        for (int end = 0; end < 2; ++end)
+            for (int j = 0; j < segments; ++j) {
+                const float phi = float(2.0 * M_PI * j / segments);
+                const float cr = 0.2f * std::cos(phi), sr = 0.2f * std::sin(phi);
+                for (int k = 0; k < 3; ++k)
+                    points +=
+                        fixed6(double(float(end ? b[k] : a[k]) + cr * u[k] + sr * v[k])) + " ";
+                points += ", ";
+            }
+        for (int j = 0; j < segments; ++j) {
+            const int p = j, q = (j + 1) % segments;
+            faces += std::to_string(p) + " " + std::to_string(q) + " " +
+                     std::to_string(segments + q) + " " + std::to_string(segments + p) + " -1 ";
+        }
+        if (i % 3 == 2)
+            for (int end = 0; end < 2; ++end) {
+                for (int j = 0; j < segments; ++j)
+                    faces += std::to_string(end ? segments + j : segments - 1 - j) + " ";
+                faces += "-1 ";
+            }
+        w += "Shape { appearance Appearance { material Material { diffuseColor 0.7 0.7 0.7 } } "
+             "geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " +
+             points + "] } coordIndex [ " + faces + "] } }\n";
+    }
+    return w;
 }
 
 // VMD-style VRML97: its header PROTOs, spheres, open VMDCyl bonds, a gradient Background.
