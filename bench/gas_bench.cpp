@@ -80,7 +80,7 @@ bool read_scene(const char* path, const FlattenOptions& flatten_options, BenchSc
     return true;
 }
 
-bool parse_rgb(const char* s, Vec3& v) {
+bool parse_vec3(const char* s, Vec3& v) {
     return std::sscanf(s, "%lf,%lf,%lf", &v.x, &v.y, &v.z) == 3;
 }
 
@@ -116,10 +116,10 @@ int main(int argc, char** argv) {
             options.density = std::atof(argv[++i]);
         } else if (a == "--albedo" && more) {
             Vec3 v;
-            if (parse_rgb(argv[++i], v)) albedo = v;
+            if (parse_vec3(argv[++i], v)) albedo = v;
         } else if (a == "--emission" && more) {
             Vec3 v;
-            if (parse_rgb(argv[++i], v)) emission = v;
+            if (parse_vec3(argv[++i], v)) emission = v;
         } else if (a == "--tolerance" && more) {
             tolerances.push_back(std::atof(argv[++i]));
         } else if (a == "--reps" && more) {
