@@ -1,7 +1,7 @@
 // Gas integrator alone: times GasVolume::integrate over a camera's pixels and measures its error
-// against the brute-force GasVolume::integrate_reference, without the image library or the rest of
-// the renderer, so that it runs under callgrind (see Build below) and so that two versions of
-// src/render/gas.cpp can be compared on the same rays.
+// against the brute-force oracle of tests/support/gas_reference.h, without the image library or the
+// rest of the renderer, so that it runs under callgrind (see Build below) and so that two versions
+// of src/render/gas.cpp can be compared on the same rays.
 //
 //   gas_bench SCENE.wrl [--size W H] [--density D] [--albedo R,G,B] [--emission R,G,B]
 //             [--tolerance T]... [--reps N] [--check N] [--steps S] [--reference FILE]
@@ -15,8 +15,8 @@
 // For each tolerance: the median over --reps of the seconds to integrate every pixel (one thread),
 // the integrator's counters, and with --check N the error on N pixels spread over the image whose
 // ray meets the gas: the largest and the median relative error of the scattered (lit) radiance,
-// channel by channel, against integrate_reference with --steps steps per piece. The references are
-// written to / read from --reference so that they are computed once. Build it with
+// channel by channel, against integrate_gas_reference with --steps steps per piece. The references
+// are written to / read from --reference so that they are computed once. Build it with
 // -DVRMLRAY_BENCH=ON (for callgrind, which knows no AVX-512, also -DVRMLRAY_NATIVE=OFF) and `cmake
 // --build BUILD
 // --target gas_bench`,
@@ -41,6 +41,7 @@
 #include "parser/load.h"
 #include "render/gas.h"
 #include "scene/build.h"
+#include "support/gas_reference.h"
 
 namespace {
 
@@ -79,7 +80,7 @@ bool read_scene(const char* path, const FlattenOptions& flatten_options, BenchSc
     return true;
 }
 
-bool parse_rgb(const char* s, Vec3& v) {
+bool parse_vec3(const char* s, Vec3& v) {
     return std::sscanf(s, "%lf,%lf,%lf", &v.x, &v.y, &v.z) == 3;
 }
 
@@ -115,10 +116,10 @@ int main(int argc, char** argv) {
             options.density = std::atof(argv[++i]);
         } else if (a == "--albedo" && more) {
             Vec3 v;
-            if (parse_rgb(argv[++i], v)) albedo = v;
+            if (parse_vec3(argv[++i], v)) albedo = v;
         } else if (a == "--emission" && more) {
             Vec3 v;
-            if (parse_rgb(argv[++i], v)) emission = v;
+            if (parse_vec3(argv[++i], v)) emission = v;
         } else if (a == "--tolerance" && more) {
             tolerances.push_back(std::atof(argv[++i]));
         } else if (a == "--reps" && more) {
@@ -195,9 +196,9 @@ int main(int argc, char** argv) {
         if (reference.empty()) {
             const double t0 = now();
             for (int p : checked)
-                reference.push_back(
-                    gas.integrate_reference(pixel_ray(p % width, p / width), kInf, lighting, steps)
-                        .radiance);
+                reference.push_back(integrate_gas_reference(gas, pixel_ray(p % width, p / width),
+                                                            kInf, lighting, steps)
+                                        .radiance);
             std::printf("reference: %zu pixels, %d steps per piece, %.1f s\n", checked.size(),
                         steps, now() - t0);
             if (!reference_file.empty()) {

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <tuple>
 
 #include "app/presets.h"
+#include "app/scene_files.h"
 #include "core/format.h"
 #include "parser/suggest.h"
 #include "render/sampling.h"
@@ -37,19 +39,31 @@ constexpr Label<CameraMode> kCameraLabels[] = {{"perspective", CameraMode::Persp
 constexpr Label<BvhBuild> kBvhLabels[] = {
     {"auto", BvhBuild::Auto}, {"sah", BvhBuild::Sah}, {"morton", BvhBuild::Morton}};
 
-template <class E, size_t N>
-std::vector<std::string> label_names(const Label<E> (&table)[N]) {
+// The --sampler words, in kSamplerNames' order.
+constexpr auto kSamplerLabels = [] {
+    std::array<Label<SamplerKind>, kSamplerNames.size()> labels{};
+    for (size_t k = 0; k < labels.size(); ++k) labels[k] = {kSamplerNames[k], SamplerKind(k)};
+    return labels;
+}();
+
+template <class Table>
+std::vector<std::string> label_names(const Table& table) {
     std::vector<std::string> names;
-    for (const Label<E>& l : table) names.push_back(l.name);
+    for (const auto& l : table) names.push_back(l.name);
     return names;
 }
 
-// CLI11's IsMember has checked `text`; the last entry is the default.
-template <class E, size_t N>
-E label_value(const Label<E> (&table)[N], const std::string& text) {
-    for (const Label<E>& l : table)
-        if (text == l.name) return l.value;
-    return table[N - 1].value;
+// An option whose word names a setting of `table`, written straight into `target` (CLI11's
+// IsMember checks the word first); not given, `target` keeps its default.
+template <class E, class Table>
+CLI::Option* add_label_option(CLI::App* app, const std::string& name, E& target, const Table& table,
+                              const std::string& help) {
+    auto set = [&target, &table](const std::string& text) {
+        for (const auto& l : table)
+            if (text == l.name) target = l.value;
+    };
+    return app->add_option_function<std::string>(name, set, help)
+        ->check(CLI::IsMember(label_names(table)));
 }
 
 std::vector<std::string> sampler_name_list() {
@@ -96,8 +110,9 @@ bool looks_like_scene(const std::string& word) {
     if (std::filesystem::exists(word, error)) return true;
     std::string lower = word;
     for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-    for (const char* ext : {".wrl", ".wrz", ".gz", ".x3d", ".x3dv", ".x3dz", ".x3dvz"})
-        if (lower.size() > std::strlen(ext) && lower.ends_with(ext)) return true;
+    if (lower.size() > 3 && lower.ends_with(".gz")) return true;
+    for (const SceneExtension& e : kSceneExtensions)
+        if (lower.size() > std::strlen(e.name) && lower.ends_with(e.name)) return true;
     return false;
 }
 
@@ -210,15 +225,16 @@ int usage_error(CLI::App& app, const CLI::ParseError& e, int argc, const char* c
     return kExitUsage;
 }
 
-// What CLI11 collects as text and map_render / finish_common turn into settings.
+// What CLI11 collects as text and map_render / finish_common turn into settings: the values with
+// no type of their own (colours, positions, limits) and the flags that only count when given. Enum
+// options are not here: CLI11 writes them into the options themselves (add_label_option).
 struct Texts {
     std::vector<std::string> limits;
     std::vector<CLI::Option*> sandbox_options;
-    std::string spheres = "hints", camera = "viewpoint", bvh = "auto", background, albedo, emission,
-                sky;
+    std::string background, albedo, emission, sky;
     std::string position, look_at, up;  // camera overrides, X,Y,Z
     bool recover = false, no_recover = false;
-    std::string bench_spheres = "hints", bench_sky;
+    std::string bench_sky;
     // --outline [WIDTH][,R,G,B]: given at all (with or without a value), and its value.
     CLI::Option* outline = nullptr;
     std::string outline_text;
@@ -340,10 +356,12 @@ bool map_render_look(const Texts& texts, const CLI::App& r, RenderOptions& o) {
 }
 
 // The scene (or scenes, or a --list), where the image goes, its size and how spheres render.
-void add_render_files(CLI::App* r, RenderCommand& render, Texts& texts) {
+void add_render_files(CLI::App* r, RenderCommand& render) {
     RenderOptions& o = render.options;
     r->add_option("scene", render.scenes,
-                  "Scene file (.wrl .wrl.gz .wrz .x3d .x3dz .x3dv); several render into OUT/");
+                  "Scene file (" + scene_extension_names(false, " ") + " " +
+                      scene_extension_names(true, " ") +
+                      ", each also + .gz); several render into OUT/");
     r->add_option("-o,--output", render.output,
                   "Output image; the format follows the extension (default: SCENE's stem + .png); "
                   "ending in / or a folder: a batch into it")
@@ -356,9 +374,8 @@ void add_render_files(CLI::App* r, RenderCommand& render, Texts& texts) {
         ->type_name("EXT");
     r->add_option("-W,--width", o.width, "Image width in pixels")->check(CLI::Range(1, 65536));
     r->add_option("-H,--height", o.height, "Image height in pixels")->check(CLI::Range(1, 65536));
-    r->add_option("--spheres", texts.spheres,
-                  "How spheres render: opaque, gas, or hints (per-node hints, else opaque)")
-        ->check(CLI::IsMember(label_names(kSpheresLabels)));
+    add_label_option(r, "--spheres", o.spheres, kSpheresLabels,
+                     "How spheres render: opaque, gas, or hints (per-node hints, else opaque)");
 }
 
 // Where the camera is and where it looks.
@@ -398,26 +415,30 @@ void add_render_frames(CLI::App* r, RenderCommand& render) {
 }
 
 // The projection, then the anti-aliasing samplers and their settings.
-void add_render_sampling(CLI::App* r, RenderOptions& o, Texts& texts) {
-    r->add_option("--camera", texts.camera,
-                  "perspective, ortho, or viewpoint (as the viewpoint says)")
-        ->check(CLI::IsMember(label_names(kCameraLabels)));
+void add_render_sampling(CLI::App* r, RenderOptions& o) {
+    add_label_option(r, "--camera", o.camera, kCameraLabels,
+                     "perspective, ortho, or viewpoint (as the viewpoint says)");
     r->add_option("--spp", o.spp,
                   "Samples per pixel (grid, jitter: n^2; rgss: 4 m^2; rooks8: 8 m^2; statistical: "
-                  "the cap, default 256)")
+                  "the cap, default " +
+                      std::to_string(kDefaultStatisticalCap) + ")")
         ->check(CLI::Range(1, 65536));
-    r->add_option("--sampler", o.sampler,
-                  "Anti-aliasing: " + sampler_names() + " (default: center, grid when --spp > 1)")
-        ->check(CLI::IsMember(sampler_name_list()));
+    const RenderOptions defaults;
+    add_label_option(r, "--sampler", o.sampler, kSamplerLabels,
+                     "Anti-aliasing: " + sampler_names() +
+                         " (default: " + sampler_name(defaults.sampler) + ", grid when --spp > 1)");
     r->add_option("--adaptive-threshold", o.adaptive_threshold,
-                  "adaptive: subdivide where a corner and the centre differ by more (default 0.05)")
+                  "adaptive: subdivide where a corner and the centre differ by more (default " +
+                      format_g(defaults.adaptive_threshold) + ")")
         ->check(CLI::NonNegativeNumber);
-    r->add_option("--adaptive-depth", o.adaptive_depth,
-                  "adaptive: subdivisions at most (default 3)")
+    r->add_option(
+         "--adaptive-depth", o.adaptive_depth,
+         "adaptive: subdivisions at most (default " + std::to_string(defaults.adaptive_depth) + ")")
         ->check(CLI::Range(0, 6));
     r->add_option("--noise-threshold", o.noise_threshold,
                   "statistical: add samples until the standard error of the pixel mean is below "
-                  "this (default 0.005)")
+                  "this (default " +
+                      format_g(defaults.noise_threshold) + ")")
         ->check(CLI::PositiveNumber);
 }
 
@@ -431,18 +452,20 @@ void add_render_tracing(CLI::App* r, RenderOptions& o, Texts& texts) {
     r->add_option("--max-depth", o.max_depth, "Maximum reflection/refraction depth")
         ->check(CLI::Range(0, 1000));
     r->add_option("--threads", o.threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
-    r->add_option("--bvh", texts.bvh,
-                  "BVH build: sah (best tree), morton (5x quicker build), or auto (morton when "
-                  "the rays are fewer than 4 a primitive; default)")
-        ->check(CLI::IsMember(label_names(kBvhLabels)));
+    add_label_option(r, "--bvh", o.bvh, kBvhLabels,
+                     "BVH build: sah (best tree), morton (5x quicker build), or auto (morton when "
+                     "the rays are fewer than 4 a primitive; default)");
     r->add_option("--tolerance", o.tolerance, "Relative tolerance of the gas integrator")
         ->check(CLI::Range(1e-12, 1.0));
     r->add_option("--density", o.density, "Gas extinction per scene unit")
         ->check(CLI::NonNegativeNumber);
     r->add_option("--line-width", o.line_width,
-                  "Width in pixels of IndexedLineSet and LineSet lines (default 1)")
+                  "Width in pixels of IndexedLineSet and LineSet lines (default " +
+                      format_g(RenderOptions{}.line_width) + ")")
         ->check(CLI::Range(1e-3, 1e4));
-    r->add_option("--point-size", o.point_size, "Diameter in pixels of PointSet points (default 1)")
+    r->add_option("--point-size", o.point_size,
+                  "Diameter in pixels of PointSet points (default " +
+                      format_g(RenderOptions{}.point_size) + ")")
         ->check(CLI::Range(1e-3, 1e4));
     r->add_option(
         "--albedo", texts.albedo,
@@ -466,12 +489,14 @@ void add_render_lighting(CLI::App* r, RenderOptions& o, Texts& texts) {
         ->check(CLI::PositiveNumber);
     r->add_option("--light-tolerance", o.light_tolerance,
                   "Absolute error bound of the sky light and of each area light's visibility, "
-                  "per pixel over its samples (default 2e-2)")
+                  "per pixel over its samples (default " +
+                      format_g(RenderOptions{}.light_tolerance) + ")")
         ->check(CLI::Range(1e-7, 0.5));
     r->add_option("--sky-share", o.sky_share,
                   "Sky light: estimated at image points N pixels apart and interpolated between "
                   "them where the surface and the estimates allow, within --light-tolerance "
-                  "(default 3; 1: every sample on its own)")
+                  "(default " +
+                      std::to_string(RenderOptions{}.sky_share) + "; 1: every sample on its own)")
         ->check(CLI::Range(1, 64));
     r->add_option("--aperture", o.aperture,
                   "Depth of field: thin lens radius in scene units (needs a sampler with several "
@@ -498,7 +523,9 @@ void add_render_output(CLI::App* r, RenderCommand& render, Texts& texts) {
     r->add_flag("--alpha", o.alpha,
                 "Add an alpha channel (png, tif: straight; exr: premultiplied); the colour then "
                 "leaves the background out");
-    r->add_option("--seed", o.seed, "Seed of the jitter and statistical samplers (default 0)");
+    r->add_option("--seed", o.seed,
+                  "Seed of the jitter and statistical samplers (default " +
+                      std::to_string(RenderOptions{}.seed) + ")");
     r->add_option("--stats", render.stats_path, "Write timings and counts as JSON to this file")
         ->type_name("FILE");
     r->add_flag("--recover-spheres", texts.recover,
@@ -511,10 +538,10 @@ void add_render_output(CLI::App* r, RenderCommand& render, Texts& texts) {
 // The render subcommand's options, group by group, in the order --help lists them.
 CLI::App* add_render(CLI::App& app, RenderCommand& render, CommonOptions& common, Texts& texts) {
     CLI::App* r = app.add_subcommand("render", "Render a scene to an image");
-    add_render_files(r, render, texts);
+    add_render_files(r, render);
     add_render_camera(r, render.options, texts);
     add_render_frames(r, render);
-    add_render_sampling(r, render.options, texts);
+    add_render_sampling(r, render.options);
     add_render_tracing(r, render.options, texts);
     add_render_lighting(r, render.options, texts);
     add_render_look(r, render.options, texts);
@@ -593,9 +620,11 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
         "seconds, log-log,\n"
         "  one line per sampler; the README shows one).");
     b->add_option("scene", bench.scene, "Scene file")->required();
-    b->add_option("-W,--width", bench.options.width, "Image width (default 320)")
+    b->add_option("-W,--width", bench.options.width,
+                  "Image width (default " + std::to_string(bench.options.width) + ")")
         ->check(CLI::Range(1, 16384));
-    b->add_option("-H,--height", bench.options.height, "Image height (default 240)")
+    b->add_option("-H,--height", bench.options.height,
+                  "Image height (default " + std::to_string(bench.options.height) + ")")
         ->check(CLI::Range(1, 16384));
     b->add_option(
          "--reference", bench.reference,
@@ -623,8 +652,8 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
         ->type_name("FILE");
     b->add_option("--runs", bench.runs, "Renders per setting; the median time is reported")
         ->check(CLI::Range(1, 100));
-    b->add_option("--spheres", texts.bench_spheres, "opaque, gas, or hints")
-        ->check(CLI::IsMember(label_names(kSpheresLabels)));
+    add_label_option(b, "--spheres", bench.options.spheres, kSpheresLabels,
+                     "opaque, gas, or hints");
     b->add_option("--viewpoint", bench.options.viewpoint,
                   "Viewpoint to use: DEF name or description");
     b->add_option("--density", bench.options.density, "Gas extinction per scene unit")
@@ -637,7 +666,8 @@ CLI::App* add_bench(CLI::App& app, BenchCommand& bench, CommonOptions& common, T
                   "Sky light: occluders farther than this do not count (default: unlimited)")
         ->check(CLI::PositiveNumber);
     b->add_option("--light-tolerance", bench.options.light_tolerance,
-                  "Light tolerance of the sampler series (default 2e-2)")
+                  "Light tolerance of the sampler series (default " +
+                      format_g(RenderOptions{}.light_tolerance) + ")")
         ->check(CLI::Range(1e-7, 0.5));
     add_common(b, common, texts);
     return b;
@@ -667,9 +697,6 @@ bool map_render(const Texts& texts, RenderCommand& render) {
     }
     if (texts.recover) render.recover_spheres = true;
     if (texts.no_recover) render.recover_spheres = false;
-    render.options.spheres = label_value(kSpheresLabels, texts.spheres);
-    render.options.camera = label_value(kCameraLabels, texts.camera);
-    render.options.bvh = label_value(kBvhLabels, texts.bvh);
     if (texts.outline != nullptr && texts.outline->count() > 0) {
         std::string text = texts.outline_text;
         // "--outline scene.wrl": the scene, taken for the option's optional value, is given back.
@@ -757,7 +784,8 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
     add_common(i, cmd.common, texts);
     CLI::App* c = app.add_subcommand("convert",
                                      "Rewrite a scene as VRML97 (.wrl), X3D classic (.x3dv) or X3D "
-                                     "XML (.x3d); gzip by .gz/.wrz/.x3dvz/.x3dz");
+                                     "XML (.x3d); gzip by .gz/" +
+                                         scene_extension_names(true, "/"));
     c->add_option("in", cmd.in, "Input scene")->required();
     c->add_option("out", cmd.out, "Output scene")->required();
     c->add_flag("--recover-spheres", cmd.convert.recover,
@@ -794,7 +822,6 @@ int parse_impl(int argc, const char* const* argv, CommandLine& cmd, bool last_wi
     if (cmd.command == Subcommand::Compare) cmd.compare.args = words_after(argc, argv, "compare");
     if (cmd.command == Subcommand::Bench) {
         cmd.bench.common = cmd.common;
-        cmd.bench.options.spheres = label_value(kSpheresLabels, texts.bench_spheres);
         if (!texts.bench_sky.empty() && !(cmd.bench.options.sky = parse_colour(texts.bench_sky))) {
             std::cerr << "vrmlray: error: --sky wants R,G,B (three numbers separated by commas)\n";
             return kExitUsage;

@@ -13,6 +13,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/scene_files.h"
 
 namespace vr {
 namespace fs = std::filesystem;
@@ -28,7 +29,6 @@ struct BatchJob {
 
 // "a/b.wrl.gz" -> "a/b": only scene extensions go, so "1.5_mol.wrl" keeps its first dot.
 fs::path strip_scene_extension(fs::path p) {
-    static const char* const kScene[] = {".wrl", ".wrz", ".x3d", ".x3dv", ".x3dz", ".x3dvz"};
     auto lower_ext = [&] {
         std::string e = p.extension().string();
         std::transform(e.begin(), e.end(), e.begin(),
@@ -37,8 +37,8 @@ fs::path strip_scene_extension(fs::path p) {
     };
     if (lower_ext() == ".gz") p.replace_extension();
     const std::string ext = lower_ext();
-    if (std::find(std::begin(kScene), std::end(kScene), ext) != std::end(kScene))
-        p.replace_extension();
+    for (const SceneExtension& e : kSceneExtensions)
+        if (ext == e.name) return p.replace_extension();
     return p;
 }
 

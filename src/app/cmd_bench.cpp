@@ -24,13 +24,13 @@ namespace {
 struct Setting {
     std::string
         series;  // the plot line it belongs to: the sampler, "gas tolerance" or "light tolerance"
-    std::string sampler;
+    SamplerKind sampler = SamplerKind::Center;
     int spp = 1;
     double threshold =
         0.0;  // adaptive: --adaptive-threshold; statistical: --noise-threshold; else unused
     double tolerance = 1e-4;
-    int depth = 3;                 // adaptive: --adaptive-depth
-    double light_tolerance = 0.0;  // --light-tolerance; 0: the command line's
+    int depth = kDefaultAdaptiveDepth;  // adaptive: --adaptive-depth
+    double light_tolerance = 0.0;       // --light-tolerance; 0: the command line's
 };
 
 // The light tolerance series' reference is this much tighter than its tightest setting.
@@ -49,11 +49,11 @@ bool render_once(const FlatScene& flat, const RenderOptions& base, const Setting
     o.spp = s.spp;
     o.tolerance = s.tolerance;
     if (s.light_tolerance > 0.0) o.light_tolerance = s.light_tolerance;
-    if (s.sampler == "adaptive") {
+    if (s.sampler == SamplerKind::Adaptive) {
         o.adaptive_threshold = s.threshold;
         o.adaptive_depth = s.depth;
     }
-    if (s.sampler == "statistical") o.noise_threshold = s.threshold;
+    if (s.sampler == SamplerKind::Statistical) o.noise_threshold = s.threshold;
     Camera camera;
     if (!make_camera(flat, o, camera, error)) return false;
     image = render_image(flat, camera, o, {}, stats);
@@ -77,30 +77,35 @@ std::vector<Setting> default_ladder(const std::vector<std::string>& samplers, bo
         return samplers.empty() ||
                std::find(samplers.begin(), samplers.end(), name) != samplers.end();
     };
-    if (wanted("center")) ladder.push_back({"center", "center", 1, 0.0, tolerance});
+    if (wanted("center")) ladder.push_back({"center", SamplerKind::Center, 1, 0.0, tolerance});
     if (wanted("grid"))
-        for (int spp : {4, 9, 16, 36}) ladder.push_back({"grid", "grid", spp, 0.0, tolerance});
+        for (int spp : {4, 9, 16, 36})
+            ladder.push_back({"grid", SamplerKind::Grid, spp, 0.0, tolerance});
     if (wanted("rgss"))
-        for (int spp : {4, 16, 36}) ladder.push_back({"rgss", "rgss", spp, 0.0, tolerance});
+        for (int spp : {4, 16, 36})
+            ladder.push_back({"rgss", SamplerKind::Rgss, spp, 0.0, tolerance});
     if (wanted("rooks8"))
-        for (int spp : {8, 32, 72}) ladder.push_back({"rooks8", "rooks8", spp, 0.0, tolerance});
-    if (wanted("quincunx")) ladder.push_back({"quincunx", "quincunx", 1, 0.0, tolerance});
+        for (int spp : {8, 32, 72})
+            ladder.push_back({"rooks8", SamplerKind::Rooks8, spp, 0.0, tolerance});
+    if (wanted("quincunx"))
+        ladder.push_back({"quincunx", SamplerKind::Quincunx, 1, 0.0, tolerance});
     if (wanted("jitter"))
-        for (int spp : {4, 16, 64}) ladder.push_back({"jitter", "jitter", spp, 0.0, tolerance});
+        for (int spp : {4, 16, 64})
+            ladder.push_back({"jitter", SamplerKind::Jitter, spp, 0.0, tolerance});
     if (wanted("adaptive"))
         for (auto [t, depth] : {std::pair{0.2, 2}, {0.1, 3}, {0.05, 3}, {0.02, 4}, {0.01, 5}})
-            ladder.push_back({"adaptive", "adaptive", 1, t, tolerance, depth});
+            ladder.push_back({"adaptive", SamplerKind::Adaptive, 1, t, tolerance, depth});
     if (wanted("statistical"))
         for (auto [t, cap] : {std::pair{0.05, 64}, {0.02, 256}, {0.01, 1024}, {0.005, 4096}})
-            ladder.push_back({"statistical", "statistical", cap, t, tolerance});
+            ladder.push_back({"statistical", SamplerKind::Statistical, cap, t, tolerance});
     if (gas && (samplers.empty() || wanted("tolerance")))
         for (double tol : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6})
-            ladder.push_back({"gas tolerance", "center", 1, 0.0, tol});
+            ladder.push_back({"gas tolerance", SamplerKind::Center, 1, 0.0, tol});
     if (soft_light && (samplers.empty() || wanted("light-tolerance")))
         // 3e-1: the cheapest setting (8 blocks of 2 directions), often enough to match a peer's
         // noise.
         for (double tol : {3e-1, 1e-1, 3e-2, 1e-2, 3e-3, 1e-3})
-            ladder.push_back({"light tolerance", "center", 1, 0.0, tolerance, 3, tol});
+            ladder.push_back({"light tolerance", SamplerKind::Center, 1, 0.0, tolerance, 3, tol});
     return ladder;
 }
 
@@ -118,7 +123,7 @@ void print_fastest(const std::vector<Row>& rows, bool own_references) {
         std::map<std::string, double> best;
         for (const Row& r : rows) {
             if (r.metrics.rmse > target) continue;
-            if (own_references && r.setting.series != r.setting.sampler) continue;
+            if (own_references && r.setting.series != sampler_name(r.setting.sampler)) continue;
             auto [it, fresh] = best.emplace(r.setting.series, r.seconds);
             if (!fresh) it->second = std::min(it->second, r.seconds);
         }
@@ -140,10 +145,10 @@ bool write_csv(const std::string& csv_path, const std::vector<Row>& rows) {
     csv << "series,sampler,spp,threshold,adaptive_depth,tolerance,seconds,rays_per_pixel,rays_per_"
            "second,rmse,psnr,max_abs,ssim,light_tolerance\n";
     for (const Row& r : rows) {
-        csv << r.setting.series << ',' << r.setting.sampler << ',' << r.setting.spp << ','
-            << r.setting.threshold << ','
-            << (r.setting.sampler == "adaptive" ? std::to_string(r.setting.depth) : "") << ','
-            << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ','
+        csv << r.setting.series << ',' << sampler_name(r.setting.sampler) << ',' << r.setting.spp
+            << ',' << r.setting.threshold << ','
+            << (r.setting.sampler == SamplerKind::Adaptive ? std::to_string(r.setting.depth) : "")
+            << ',' << r.setting.tolerance << ',' << r.seconds << ',' << r.rays_per_pixel << ','
             << r.rays_per_second << ',' << r.metrics.rmse << ',' << r.metrics.psnr << ','
             << r.metrics.max_abs << ',' << r.metrics.ssim << ','
             << (r.setting.light_tolerance > 0.0 ? std::to_string(r.setting.light_tolerance) : "")
@@ -172,13 +177,13 @@ struct References {
         std::string name = stem + "-reference-" + std::to_string(cmd.options.width) + "x" +
                            std::to_string(cmd.options.height);
         if (s.series == "light tolerance") {
-            ref = Setting{
-                "reference", "center", 1, 0.0, cmd.options.tolerance, 3, kLightReferenceTolerance};
+            ref = Setting{"reference", SamplerKind::Center,     1, 0.0, cmd.options.tolerance,
+                          3,           kLightReferenceTolerance};
             return name + "-center-light1e-4.exr";
         }
         const bool gas_series = s.series == "gas tolerance";
-        ref = gas_series ? Setting{"reference", "center", 1, 0.0, 1e-8}
-                         : Setting{"reference", "grid", cmd.reference_spp, 0.0, 1e-8};
+        ref = gas_series ? Setting{"reference", SamplerKind::Center, 1, 0.0, 1e-8}
+                         : Setting{"reference", SamplerKind::Grid, cmd.reference_spp, 0.0, 1e-8};
         return name +
                (gas_series ? std::string("-center") : "-grid" + std::to_string(cmd.reference_spp)) +
                (gas ? "-tol1e-8" : "") + ".exr";
@@ -196,8 +201,9 @@ struct References {
         path = cmd.reference.empty() ? path_for(s, ref) : cmd.reference;
         if (cmd.reference.empty() && !std::filesystem::exists(path)) {
             if (!cmd.common.quiet)
-                std::cerr << "rendering the reference " << path << " (" << ref.sampler << ", "
-                          << ref.spp << " samples per pixel" << (gas ? ", tolerance 1e-8" : "")
+                std::cerr << "rendering the reference " << path << " (" << sampler_name(ref.sampler)
+                          << ", " << ref.spp << " samples per pixel"
+                          << (gas ? ", tolerance 1e-8" : "")
                           << (ref.light_tolerance > 0.0 ? ", light tolerance 1e-4" : "")
                           << ") ...\n";
             RenderStats stats;
@@ -246,9 +252,9 @@ void print_header() {
 
 void print_row(const Row& row) {
     const Setting& s = row.setting;
-    const bool adaptive = s.sampler == "adaptive";
+    const bool adaptive = s.sampler == SamplerKind::Adaptive;
     std::printf("%-13s %-11s %5d %9.3g %5s %9.0e %9.4f %8.2f %9.3f %10.3e %8.2f %10.3e %8.5f\n",
-                s.series.c_str(), s.sampler.c_str(), s.spp, s.threshold,
+                s.series.c_str(), sampler_name(s.sampler), s.spp, s.threshold,
                 adaptive ? std::to_string(s.depth).c_str() : "-",
                 s.light_tolerance > 0.0 ? s.light_tolerance : s.tolerance, row.seconds,
                 row.rays_per_pixel, row.rays_per_second * 1e-6, row.metrics.rmse, row.metrics.psnr,

@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "app/compact_scene.h"
 #include "app/pipeline.h"
+#include "app/scene_files.h"
 #include "parser/writer.h"
 #include "parser/xml_writer.h"
 
@@ -30,12 +31,10 @@ Target target_for(std::string name) {
         t.gzip = true;
         name.resize(name.size() - 3);
     }
-    if (ends_with(name, ".wrz")) return {Encoding::Vrml97, true};
-    if (ends_with(name, ".x3dvz")) return {Encoding::X3dClassic, true};
-    if (ends_with(name, ".x3dz")) return {Encoding::X3dXml, true};
-    if (ends_with(name, ".wrl")) t.encoding = Encoding::Vrml97;
-    if (ends_with(name, ".x3dv")) t.encoding = Encoding::X3dClassic;
-    if (ends_with(name, ".x3d")) t.encoding = Encoding::X3dXml;
+    if (const SceneExtension* e = scene_extension_of(name)) {
+        t.encoding = e->encoding;
+        t.gzip = t.gzip || e->gzip;
+    }
     return t;
 }
 
@@ -71,8 +70,11 @@ int run_convert(const std::string& in, const std::string& out, const CommonOptio
                 const ConvertOptions& options) {
     Target target = target_for(out);
     if (target.encoding == Encoding::Unknown) {
-        std::cerr << "vrmlray: error: cannot tell the output encoding from '" << out
-                  << "': use .wrl, .x3dv or .x3d (optionally .gz, or .wrz/.x3dvz/.x3dz)\n";
+        std::string plain_names = scene_extension_names(false, ", ");  // ".wrl, .x3dv or .x3d"
+        plain_names.replace(plain_names.rfind(", "), 2, " or ");
+        std::cerr << "vrmlray: error: cannot tell the output encoding from '" << out << "': use "
+                  << plain_names << " (optionally .gz, or " << scene_extension_names(true, "/")
+                  << ")\n";
         return kExitUsage;
     }
     LoadedScene scene;

@@ -9,7 +9,7 @@
 #include "anim/animator.h"
 #include "app/commands.h"
 #include "app/frame_plan.h"
-#include "app/mpi_world.h"
+#include "app/mpi_processes.h"
 #include "app/pipeline.h"
 #include "app/render_mpi.h"
 #include "app/render_stats.h"
@@ -28,7 +28,7 @@ std::string output_path(const RenderCommand& cmd) {
 
 // Checks the frame pattern and the output, loads the scene and checks its ROUTEs; the exit code
 // all processes agree on.
-int prepare(const RenderCommand& cmd, const World& world, const FramePlan& plan,
+int prepare(const RenderCommand& cmd, const MpiProcesses& world, const FramePlan& plan,
             const std::string& output, LoadedScene& loaded, double& parse_seconds) {
     bool has_pattern = false;
     std::string error;
@@ -92,7 +92,7 @@ void take_exporter_view(const ExporterView& view, RenderCommand& cmd) {
 
 int run_render(const RenderCommand& command) {
     auto t0 = std::chrono::steady_clock::now();
-    const World& world = World::get();
+    const MpiProcesses& world = MpiProcesses::get();
     RenderCommand cmd = command;
     cmd.common.quiet = cmd.common.quiet || !world.root();  // warnings once, from rank 0
     const std::string output = output_path(cmd);

@@ -68,7 +68,7 @@ int thread_count(const RenderOptions& options) {
 // inside a frame). Within a process, a frame a thread when there are at least as many frames as
 // threads: no thread then waits at a frame's end for the last tile, and the BVH builds, the
 // encoding and the writing, which run on fewer threads than the tracing, overlap.
-FramePlan plan_frames(const RenderCommand& cmd, const World& world) {
+FramePlan plan_frames(const RenderCommand& cmd, const MpiProcesses& world) {
     FramePlan plan;
     if (cmd.only_frame) {  // one image: its tiles are shared out, as for any single frame
         plan.frames = {*cmd.only_frame};
@@ -154,12 +154,13 @@ int frames_that_fit(const RenderCommand& cmd, const BuiltScene& first, int at_on
 // Renders this process's frames, plan.at_once of them at a time, each of them on its share of
 // the threads; after an error no further frame is begun. The largest exit code of its frames;
 // `builds`: how many scenes were built.
-int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, FramePlan& plan,
-                  const std::string& output, LoadedScene& loaded, Animator& animator,
-                  const RenderTimings& timings, std::chrono::steady_clock::time_point t0,
-                  std::vector<FrameRecord>& records, size_t& builds) {
+int render_frames(const RenderCommand& cmd, bool own_quiet, const MpiProcesses& world,
+                  FramePlan& plan, const std::string& output, LoadedScene& loaded,
+                  Animator& animator, const RenderTimings& timings,
+                  std::chrono::steady_clock::time_point t0, std::vector<FrameRecord>& records,
+                  size_t& builds) {
     // Dealt whole frames, a process renders them alone, and says what it did itself.
-    const World& frame_world = plan.by_rank ? World::alone() : world;
+    const MpiProcesses& frame_world = plan.by_rank ? MpiProcesses::alone() : world;
     if (cmd.orbit_degrees && !one_image(cmd) && world.root() && !own_quiet)
         std::fprintf(
             stderr,

@@ -8,7 +8,7 @@
 #include "anim/animator.h"
 #include "app/commands.h"
 #include "app/frame_render.h"
-#include "app/mpi_world.h"
+#include "app/mpi_processes.h"
 #include "app/pipeline.h"
 #include "app/render_stats.h"
 
@@ -31,7 +31,7 @@ int thread_count(const RenderOptions& options);
 // inside a frame). Within a process, a frame a thread when there are at least as many frames as
 // threads: no thread then waits at a frame's end for the last tile, and the BVH builds, the
 // encoding and the writing, which run on fewer threads than the tracing, overlap.
-FramePlan plan_frames(const RenderCommand& cmd, const World& world);
+FramePlan plan_frames(const RenderCommand& cmd, const MpiProcesses& world);
 
 // The path of frame k: OUT with its printf pattern (%d, %04d, ...) filled in; OUT as it is when it
 // has none. `pattern_error` says what is wrong with a pattern ("" when it is fine).
@@ -41,9 +41,10 @@ std::string frame_path(const std::string& out, int k, bool& has_pattern,
 // Renders this process's frames, plan.at_once of them at a time, each of them on its share of
 // the threads; after an error no further frame is begun. The largest exit code of its frames;
 // `builds`: how many scenes were built.
-int render_frames(const RenderCommand& cmd, bool own_quiet, const World& world, FramePlan& plan,
-                  const std::string& output, LoadedScene& loaded, Animator& animator,
-                  const RenderTimings& timings, std::chrono::steady_clock::time_point t0,
-                  std::vector<FrameRecord>& records, size_t& builds);
+int render_frames(const RenderCommand& cmd, bool own_quiet, const MpiProcesses& world,
+                  FramePlan& plan, const std::string& output, LoadedScene& loaded,
+                  Animator& animator, const RenderTimings& timings,
+                  std::chrono::steady_clock::time_point t0, std::vector<FrameRecord>& records,
+                  size_t& builds);
 
 }  // namespace vr

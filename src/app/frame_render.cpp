@@ -109,7 +109,7 @@ bool soft_light_on_placed_meshes(const FlatScene& flat, const RenderOptions& opt
 
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
 // when job.write_stats). The exit code all processes of `world` agree on.
-int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene& loaded,
+int render_frame(const RenderCommand& cmd, const MpiProcesses& world, const LoadedScene& loaded,
                  const FrameJob& job, std::chrono::steady_clock::time_point t0,
                  FrameRecord& record) {
     const FlatScene& flat = job.scene->flat;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/mpi_world.h"
+#include "app/mpi_processes.h"
 #include "app/pipeline.h"
 #include "app/render_stats.h"
 #include "flatten/flatten.h"
@@ -57,7 +57,7 @@ struct FrameRecord {
 
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
 // when job.write_stats). The exit code all processes of `world` agree on.
-int render_frame(const RenderCommand& cmd, const World& world, const LoadedScene& loaded,
+int render_frame(const RenderCommand& cmd, const MpiProcesses& world, const LoadedScene& loaded,
                  const FrameJob& job, std::chrono::steady_clock::time_point t0,
                  FrameRecord& record);
 

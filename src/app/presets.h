@@ -15,7 +15,7 @@ namespace vr {
 struct Preset {
     const char* name;
     int width, height;       // when neither -W nor -H is given
-    const char* sampler;     // --sampler
+    SamplerKind sampler;     // --sampler
     int spp;                 // --spp
     double sky;              // --sky: a grey of this value
     double light_tolerance;  // --light-tolerance of the sky light
@@ -26,9 +26,9 @@ struct Preset {
 // everything measured in pixels (lines, points) grows with the image height so that the poster
 // looks like the publication image, larger.
 inline constexpr Preset kPresets[] = {
-    {"preview", 960, 540, "quincunx", 1, 0.6, 3e-2, 0.15},
-    {"publication", 1920, 1080, "rgss", 1, 0.6, 3e-2, 0.15},
-    {"poster", 3840, 2160, "rgss", 1, 0.6, 3e-2, 0.15},
+    {"preview", 960, 540, SamplerKind::Quincunx, 1, 0.6, 3e-2, 0.15},
+    {"publication", 1920, 1080, SamplerKind::Rgss, 1, 0.6, 3e-2, 0.15},
+    {"poster", 3840, 2160, SamplerKind::Rgss, 1, 0.6, 3e-2, 0.15},
 };
 // Image rows per pixel of --line-width and --point-size under a preset: 1 pixel at 1080 rows.
 inline constexpr double kPresetRowsPerPixel = 1080.0;

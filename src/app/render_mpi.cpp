@@ -17,7 +17,7 @@ namespace vr {
 
 // The exit code all processes agree on (the largest); rank 0 says so when another process failed
 // where it did not, since the failing process's own message may be far up the log.
-int agreed(const World& world, int code, const char* step) {
+int agreed(const MpiProcesses& world, int code, const char* step) {
     const int all = world.agree(code);
     if (world.parallel() && world.root() && code == kExitOk && all != kExitOk)
         std::fprintf(stderr, "vrmlray: error: another process failed while %s (exit %d)\n", step,
@@ -28,7 +28,8 @@ int agreed(const World& world, int code, const char* step) {
 // Many processes: rank 0 gets every tile, and every process the totals of the rays, of the
 // covered pixels, of the soft-light counts and of the non-finite values, the longest render and
 // whether any timed out. Returns the seconds the gather took here.
-double combine(const World& world, const RenderOptions& options, RenderStats& stats, Pixels& px) {
+double combine(const MpiProcesses& world, const RenderOptions& options, RenderStats& stats,
+               Pixels& px) {
     if (!world.parallel()) return 0.0;
     const auto start = std::chrono::steady_clock::now();
     if (px.image8.channels > 0)
@@ -75,8 +76,9 @@ std::vector<uint8_t> file_bytes(const std::string& path) {
 
 // Rank 0 writes the frames the others rendered, in frame order, as each sends its own in that
 // order; their temporary files go whatever happened. `code`: what all agreed on after rendering.
-int write_sent_frames(const RenderCommand& cmd, const World& world, const std::string& output,
-                      const std::vector<FrameRecord>& records, int code) {
+int write_sent_frames(const RenderCommand& cmd, const MpiProcesses& world,
+                      const std::string& output, const std::vector<FrameRecord>& records,
+                      int code) {
     size_t mine = 0;
     for (int k = 0; code == kExitOk && k < cmd.frames; ++k) {
         const int owner = k % world.size();

@@ -161,7 +161,7 @@ nlohmann::ordered_json frame_shares_json(const std::vector<double>& shares, size
 
 // The --stats file of a sequence, by rank 0: its last frame's figures, which frame that is, how
 // many frames it rendered at once, and under MPI which frames each process rendered.
-int write_sequence_stats(const RenderCommand& cmd, const World& world, const FramePlan& plan,
+int write_sequence_stats(const RenderCommand& cmd, const MpiProcesses& world, const FramePlan& plan,
                          const std::vector<FrameRecord>& records, double parse_seconds,
                          size_t builds) {
     std::vector<double> shares;

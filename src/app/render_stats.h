@@ -10,7 +10,7 @@
 
 namespace vr {
 
-class World;
+class MpiProcesses;
 struct FramePlan;
 struct FrameRecord;
 
@@ -33,8 +33,8 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
                                          const RenderTimings& timings);
 
 // One process's share of a render with many processes (docs/mpi.md), as the doubles that
-// World::gather carries: tiles, rays (all kinds), then seconds of MPI's start-up, parse, scene,
-// build, render and gather (which includes waiting for the slowest process).
+// MpiProcesses::gather carries: tiles, rays (all kinds), then seconds of MPI's start-up, parse,
+// scene, build, render and gather (which includes waiting for the slowest process).
 std::vector<double> process_share(size_t tiles, const RenderStats& own,
                                   const RenderTimings& timings, double init_seconds,
                                   double gather_seconds);
@@ -47,7 +47,7 @@ int write_stats(const RenderCommand& cmd, const nlohmann::ordered_json& j);
 
 // The --stats file of a sequence, by rank 0: its last frame's figures, which frame that is, how
 // many frames it rendered at once, and under MPI which frames each process rendered.
-int write_sequence_stats(const RenderCommand& cmd, const World& world, const FramePlan& plan,
+int write_sequence_stats(const RenderCommand& cmd, const MpiProcesses& world, const FramePlan& plan,
                          const std::vector<FrameRecord>& records, double parse_seconds,
                          size_t builds);
 

@@ -1,7 +1,7 @@
 // The interface of vrmlray_mpi.so, the MPI module (src/mpi/vrmlray_mpi.cpp), which
-// src/app/mpi_world.cpp loads only when a launcher started vrmlray with peers: linked, Open MPI's
-// libraries would slow every start (bench/README.md, "Figures behind the comments"). Plain C types
-// only; the version changes with any signature.
+// src/app/mpi_processes.cpp loads only when a launcher started vrmlray with peers: linked, Open
+// MPI's libraries would slow every start (bench/README.md, "Figures behind the comments"). Plain C
+// types only; the version changes with any signature.
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -89,7 +89,7 @@ class Accel {
     size_t held_bytes() const;
     const WideBvh& bvh() const { return bvh_; }
 
-    // Brute force over every primitive, for tests.
+    // Brute force over every primitive: the tests' oracle, kept here (accel.cpp says why).
     bool intersect_brute_force(const Ray& ray, Hit& hit) const;
 
   private:

@@ -378,32 +378,6 @@ void GasVolume::collect_events(const Ray& ray, double t_end, std::vector<Event>&
     });
 }
 
-double GasVolume::light_weight(const Light& light, const Vec3& p, bool ambient,
-                               const Lighting& lighting, GasStats& stats) const {
-    const LightIncidence inc = light_incidence(light, p);
-    if (!(inc.factor > 0.0)) return 0.0;
-    const SurfaceTransmittance& surfaces = lighting.surfaces;
-    double visibility = 1.0;
-    if (lighting.is_area(light)) {
-        ++stats.visibility_rays;
-        visibility = lighting.area_visibility(light, p);
-    } else if (!light.headlight) {
-        ++stats.visibility_rays;
-        Ray shadow;
-        shadow.o = p;
-        if (light.kind == LightKind::Directional) {
-            shadow.d = inc.to_light;
-            shadow.t_max = kInf;
-        } else {
-            shadow.d = light.position - p;  // t = 1 at the light
-            shadow.t_max = 1.0;
-        }
-        if (surfaces) visibility = surfaces(shadow);
-        if (visibility > 0.0) visibility *= std::exp(-optical_depth(shadow));
-    }
-    return inc.factor * ((ambient ? light.ambient_intensity : 0.0) + light.intensity * visibility);
-}
-
 template <class Visit>
 void GasVolume::spheres_in_fan(const Light& light, const Vec3& A, const Vec3& B,
                                Visit&& visit) const {
@@ -842,62 +816,6 @@ GasVolume::Result GasVolume::integrate(const Ray& ray, double t_end, const Light
                        coef,  stats, scratch};
         pass.integrate(tolerance, result.radiance);
     }
-    return result;
-}
-
-GasVolume::Result GasVolume::integrate_reference(const Ray& ray, double t_end,
-                                                 const Lighting& lighting, int steps) const {
-    Result result;
-    if (spheres_.empty()) return result;
-    std::vector<Event> events;
-    collect_events(ray, t_end, events);
-    std::vector<uint32_t> active;
-    GasStats stats;
-    double T = 1.0, tau = 0.0;
-    Vec3 L(0.0);
-    double prev = 0.0;
-    for (const Event& e : events) {
-        if (!active.empty() && e.t > prev) {
-            const double a = prev, b = e.t, h = (b - a) / steps;
-            double sigma = 0.0;
-            Vec3 sigma_e(0.0);
-            for (uint32_t id : active) {
-                sigma += spheres_[id].sigma;
-                sigma_e += spheres_[id].sigma_e;
-            }
-            L += T * (b - a) * one_minus_exp_over_x(sigma * (b - a)) * sigma_e;
-            for (int k = 0; k < steps; ++k) {
-                const double t = a + (k + 0.5) * h;
-                const double w = h * std::exp(-sigma * (t - a));
-                const Vec3 p = ray.at(t);
-                for (uint32_t id : active) {
-                    const GasSphere& g = spheres_[id];
-                    if (lighting.headlight) {
-                        const Light& hl = *lighting.headlight;
-                        L += T * w * (hl.ambient_intensity + hl.intensity) * g.sigma_rho * hl.color;
-                    }
-                    if (!lighting.lights) continue;
-                    for (uint32_t l : (*lighting.light_sets)[g.light_set]) {
-                        const Light& light = (*lighting.lights)[l];
-                        L += T * w * light_weight(light, p, true, lighting, stats) * g.sigma_rho *
-                             light.color;
-                    }
-                }
-            }
-            T *= std::exp(-sigma * (b - a));
-            tau += sigma * (b - a);
-        }
-        if (e.enter) {
-            active.push_back(e.sphere);
-        } else {
-            auto it = std::find(active.begin(), active.end(), e.sphere);
-            if (it != active.end()) active.erase(it);
-        }
-        prev = std::max(prev, e.t);
-    }
-    result.radiance = L;
-    result.transmittance = T;
-    result.optical_depth = tau;
     return result;
 }
 

@@ -106,14 +106,9 @@ class GasVolume {
     };
 
     // Integrates along `ray` (unit direction) from 0 to t_end (kInf: no opaque hit) to the relative
-    // tolerance `tolerance`.
+    // tolerance `tolerance`. Its brute-force oracle is tests/support/gas_reference.h.
     Result integrate(const Ray& ray, double t_end, const Lighting& lighting, double tolerance,
                      GasStats& stats) const;
-
-    // The same integral by brute force: the midpoint rule with `steps` steps per piece and exact
-    // visibility at every step. For tests of the adaptive integrator.
-    Result integrate_reference(const Ray& ray, double t_end, const Lighting& lighting,
-                               int steps) const;
 
   private:
     struct Event {
@@ -129,10 +124,6 @@ class GasVolume {
     struct LightPass;
     Result march_pieces(const Ray& ray, double t_end, const Lighting& lighting, GasStats& stats,
                         std::vector<Piece>& pieces, std::vector<Vec3>& coef) const;
-    // att * spot * (ambient + intensity * V) at p, V by a shadow ray through the BVH (with ambient
-    // = false: att * spot * intensity * V). For the brute-force reference.
-    double light_weight(const Light& light, const Vec3& p, bool ambient, const Lighting& lighting,
-                        GasStats& stats) const;
     // Calls visit(sphere index) for every gas sphere that meets the light fan of the segment [A,
     // B]: the spheres that can lie on the path from a point of the segment to the light (a
     // superset).

@@ -1,5 +1,6 @@
 // Everything a render can be told from the command line, with its default (docs/manual.md).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -16,6 +17,29 @@ enum class SpheresOption : uint8_t { FromHints, Opaque, Gas };
 // How the opaque tracer's BVH is built (--bvh): by the surface area heuristic, by Morton code
 // splits (render/bvh.h), or by choose_bvh_build's rule (render/accel.h).
 enum class BvhBuild : uint8_t { Auto, Sah, Morton };
+
+// The anti-aliasing samplers (docs/manual.md, Samplers; render/sampling.h).
+enum class SamplerKind : uint8_t {
+    Center,
+    Grid,
+    Rgss,
+    Rooks8,
+    Quincunx,
+    Jitter,
+    Adaptive,
+    Statistical
+};
+// The names --sampler takes, in SamplerKind order: the one table that make_sampler, the command
+// line's check and its --help read, so that they cannot disagree.
+inline constexpr std::array<const char*, 8> kSamplerNames = {
+    "center", "grid", "rgss", "rooks8", "quincunx", "jitter", "adaptive", "statistical"};
+
+// The samplers' settings, named once: RenderOptions and PixelSampler start from them, --help
+// prints them, and a test holds docs/manual.md to them (tests/unit/test_manual_defaults.cpp).
+inline constexpr double kDefaultAdaptiveThreshold = 0.05;  // subdivide where taps differ by more
+inline constexpr int kDefaultAdaptiveDepth = 3;            // subdivisions at most: 1/8 pixel
+inline constexpr double kDefaultNoiseThreshold = 0.005;    // target standard error of a pixel mean
+inline constexpr int kDefaultStatisticalCap = 256;         // statistical: samples a pixel at most
 
 // --outline without a width: the 2-pixel lines PyMOL's ray_trace_mode 1 draws at 1920x1080
 // (PyMOL keeps 2 pixels at every size, so they are half as wide, to the eye, at 4K).
@@ -37,10 +61,10 @@ struct RenderOptions {
     std::optional<double> orbit_angle;
     CameraMode camera = CameraMode::FromViewpoint;
     int spp = 1;
-    std::string sampler = "center";
-    double adaptive_threshold = 0.05;  // adaptive sampler: subdivide where taps differ by more
-    int adaptive_depth = 3;            // adaptive sampler: subdivisions at most
-    double noise_threshold = 0.005;  // statistical sampler: target standard error of the pixel mean
+    SamplerKind sampler = SamplerKind::Center;  // with spp > 1, center is the grid
+    double adaptive_threshold = kDefaultAdaptiveThreshold;
+    int adaptive_depth = kDefaultAdaptiveDepth;
+    double noise_threshold = kDefaultNoiseThreshold;
     double timeout = 0.0;  // seconds; 0: none. The render stops with an error when exceeded
     int max_depth = 8;
     int threads = 0;  // 0: all cores

@@ -95,15 +95,11 @@ std::string sampler_names(const std::string& separator) {
 }
 
 bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::string& error) {
-    const std::string& name = options.sampler;
-    const std::optional<SamplerKind> kind = sampler_kind(name);
+    const SamplerKind kind = options.sampler;
+    const std::string name = sampler_name(options.sampler);
     const int spp = options.spp;
     sampler = PixelSampler();
     sampler.seed = options.seed;
-    if (!kind) {
-        error = "unknown sampler '" + name + "' (known: " + sampler_names() + ")";
-        return false;
-    }
     if (spp < 1) {
         error = "--spp must be at least 1 (got " + std::to_string(spp) + ")";
         return false;
@@ -112,9 +108,8 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         error = "sampler '" + name + "' needs " + what + ", got --spp " + std::to_string(spp);
         return false;
     };
-    if (*kind == SamplerKind::Center || *kind == SamplerKind::Grid ||
-        *kind == SamplerKind::Jitter) {
-        if (*kind == SamplerKind::Center && spp == 1) {
+    if (kind == SamplerKind::Center || kind == SamplerKind::Grid || kind == SamplerKind::Jitter) {
+        if (kind == SamplerKind::Center && spp == 1) {
             sampler.kind = SamplerKind::Center;
             return true;
         }
@@ -122,12 +117,12 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         if (n == 0) return need("a square number of samples per pixel (1, 4, 9, 16, ...)");
         // center with --spp > 1 is the grid: docs/manual.md makes center the default for spp 1
         // only.
-        sampler.kind = *kind == SamplerKind::Jitter ? SamplerKind::Jitter : SamplerKind::Grid;
+        sampler.kind = kind == SamplerKind::Jitter ? SamplerKind::Jitter : SamplerKind::Grid;
         sampler.n = n;
         return true;
     }
-    if (*kind == SamplerKind::Rgss || *kind == SamplerKind::Rooks8) {
-        const int base = *kind == SamplerKind::Rgss ? 4 : 8;
+    if (kind == SamplerKind::Rgss || kind == SamplerKind::Rooks8) {
+        const int base = kind == SamplerKind::Rgss ? 4 : 8;
         // --spp 1 (the default) means the pattern once.
         const int n = spp == 1 ? 1 : tiling(spp, base);
         if (n == 0) {
@@ -135,14 +130,14 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
             return need(b + " m^2 samples per pixel (the pattern tiled m x m: " + b + ", " +
                         std::to_string(4 * base) + ", " + std::to_string(9 * base) + ", ...)");
         }
-        sampler.kind = *kind == SamplerKind::Rgss ? SamplerKind::Rgss : SamplerKind::Rooks8;
+        sampler.kind = kind == SamplerKind::Rgss ? SamplerKind::Rgss : SamplerKind::Rooks8;
         sampler.n = n;
         return true;
     }
-    if (*kind == SamplerKind::Quincunx || *kind == SamplerKind::Adaptive) {
+    if (kind == SamplerKind::Quincunx || kind == SamplerKind::Adaptive) {
         if (spp != 1)
             return need(std::string("no --spp (it ") +
-                        (*kind == SamplerKind::Quincunx
+                        (kind == SamplerKind::Quincunx
                              ? "traces the centre and shares the corners, about 2 rays per pixel"
                              : "spends what --adaptive-threshold asks for") +
                         ")");
@@ -156,12 +151,12 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
             return false;
         }
         sampler.kind =
-            *kind == SamplerKind::Quincunx ? SamplerKind::Quincunx : SamplerKind::Adaptive;
+            kind == SamplerKind::Quincunx ? SamplerKind::Quincunx : SamplerKind::Adaptive;
         sampler.adaptive_threshold = options.adaptive_threshold;
-        sampler.adaptive_depth = *kind == SamplerKind::Quincunx ? 0 : options.adaptive_depth;
+        sampler.adaptive_depth = kind == SamplerKind::Quincunx ? 0 : options.adaptive_depth;
         return true;
     }
-    if (*kind == SamplerKind::Statistical) {
+    if (kind == SamplerKind::Statistical) {
         if (!(options.noise_threshold > 0.0)) {
             error = "--noise-threshold must be greater than 0";
             return false;
@@ -172,7 +167,7 @@ bool make_sampler(const RenderOptions& options, PixelSampler& sampler, std::stri
         if (spp != 1 && spp < sampler.min_samples)
             return need("at least " + std::to_string(sampler.min_samples) +
                         " as its cap (it starts with a jittered 4 x 4 set)");
-        sampler.max_samples = spp == 1 ? 256 : spp;
+        sampler.max_samples = spp == 1 ? kDefaultStatisticalCap : spp;
         return true;
     }
     return false;  // unreachable: every kind is handled above

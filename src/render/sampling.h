@@ -28,35 +28,24 @@ struct SampleValue {
     double alpha = 0.0;
 };
 
-enum class SamplerKind : uint8_t {
-    Center,
-    Grid,
-    Rgss,
-    Rooks8,
-    Quincunx,
-    Jitter,
-    Adaptive,
-    Statistical
-};
-// The names --sampler takes, in SamplerKind order: the one table that make_sampler, the command
-// line's check and its --help read, so that they cannot disagree.
-inline constexpr std::array<const char*, 8> kSamplerNames = {
-    "center", "grid", "rgss", "rooks8", "quincunx", "jitter", "adaptive", "statistical"};
 // The kind named `name`, or nullopt when kSamplerNames lacks it.
 std::optional<SamplerKind> sampler_kind(const std::string& name);
 // kSamplerNames joined by `separator` ("center, grid, ...").
 std::string sampler_names(const std::string& separator = ", ");
+// The name --sampler gives `kind`.
+inline const char* sampler_name(SamplerKind kind) { return kSamplerNames[size_t(kind)]; }
 
 struct PixelSampler {
     SamplerKind kind = SamplerKind::Center;
     int n = 1;          // grid, jitter: n x n cells; rgss, rooks8: the pattern tiled n x n
     uint64_t seed = 0;  // jitter, statistical
-    double adaptive_threshold = 0.05;  // adaptive: subdivide where corner and centre differ by more
-    int adaptive_depth = 3;  // adaptive: at most this many subdivisions (finest square 1/8 pixel)
-    double noise_threshold =
-        0.005;              // statistical: stop when the standard error of the mean is below
-    int min_samples = 16;   // statistical: samples before the first test, stratified 4 x 4
-    int max_samples = 256;  // statistical: the cap
+    // adaptive: subdivide where corner and centre differ by more
+    double adaptive_threshold = kDefaultAdaptiveThreshold;
+    int adaptive_depth = kDefaultAdaptiveDepth;  // adaptive: at most this many subdivisions
+    // statistical: stop when the standard error of the mean is below
+    double noise_threshold = kDefaultNoiseThreshold;
+    int min_samples = 16;  // statistical: samples before the first test, stratified 4 x 4
+    int max_samples = kDefaultStatisticalCap;  // statistical: the cap
 
     // Samples of one pixel for the fixed patterns (center, grid, rgss, rooks8, jitter); 0 for the
     // others, whose count varies (quincunx and adaptive share corners; statistical stops on its

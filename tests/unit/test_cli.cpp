@@ -204,7 +204,7 @@ TEST(Cli, EveryRenderOptionLandsInItsSetting) {
     EXPECT_EQ(*o.background, Vec3(0, 1, 0.5));
     EXPECT_EQ(o.viewpoint, "Side");
     EXPECT_EQ(o.max_depth, 3);
-    EXPECT_EQ(o.sampler, "rgss");
+    EXPECT_EQ(o.sampler, SamplerKind::Rgss);
     EXPECT_EQ(o.spp, 16);
     EXPECT_EQ(o.seed, 42u);
     EXPECT_TRUE(o.alpha);
@@ -241,7 +241,8 @@ TEST(Cli, EnumLabelsMapToTheirValues) {
 
 TEST(Cli, EverySamplerNameIsAcceptedAndUnknownOnesAreUsageErrors) {
     for (const char* name : kSamplerNames)
-        EXPECT_EQ(parse({"render", "s", "--sampler", name}).render.options.sampler, name);
+        EXPECT_STREQ(sampler_name(parse({"render", "s", "--sampler", name}).render.options.sampler),
+                     name);
     parse({"render", "s", "--sampler", "box"}, kExitUsage);
     parse({"render", "s", "--spheres", "foam"}, kExitUsage);
     parse({"render", "s", "--background", "1,2"}, kExitUsage);

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "render/gas.h"
+#include "support/gas_reference.h"
 
 namespace vr {
 namespace {
@@ -146,7 +147,7 @@ void expect_matches_reference(const GasScene& s, const Ray& ray, const char* wha
                               double floor = 2e-7, const SurfaceTransmittance& surfaces = nullptr) {
     GasVolume::Lighting lighting = s.lighting();
     lighting.surfaces = surfaces;
-    const GasVolume::Result ref = s.gas.integrate_reference(ray, kInf, lighting, 40000);
+    const GasVolume::Result ref = integrate_gas_reference(s.gas, ray, kInf, lighting, 40000);
     ASSERT_GT(ref.radiance.x + ref.radiance.y + ref.radiance.z, 0.0) << what;
     for (double tol : tolerances) {
         GasStats stats;
@@ -354,10 +355,10 @@ TEST(Gas, OpaqueShadowEdgeInsideTheGasAtTolerance1e6) {
     lighting.surfaces = [](const Ray& r) { return r.o.x > 0.25 ? 0.0 : 1.0; };
     const Ray ray = ray_from(Vec3(-3.2, 0.3, 5), Vec3(0.6, -0.05, -1));
     const double t_edge = (0.25 - ray.o.x) / ray.d.x;
-    const GasVolume::Result front = s.gas.integrate_reference(ray, t_edge, lighting, 40000);
+    const GasVolume::Result front = integrate_gas_reference(s.gas, ray, t_edge, lighting, 40000);
     Ray behind = ray;
     behind.o = ray.o + t_edge * ray.d;
-    const GasVolume::Result back = s.gas.integrate_reference(behind, kInf, lighting, 40000);
+    const GasVolume::Result back = integrate_gas_reference(s.gas, behind, kInf, lighting, 40000);
     const Vec3 reference = front.radiance + front.transmittance * back.radiance;
     // The edge lies inside the gas: lit gas in front of it, the wall hiding both lights behind it.
     ASSERT_GT(front.radiance.x, 0.0);

@@ -35,7 +35,7 @@ Image render(const FlatScene& scene, double line_width = 1.0, double point_size 
     o.width = o.height = kSize;
     o.line_width = line_width;
     o.point_size = point_size;
-    o.sampler = sampler;
+    o.sampler = *sampler_kind(sampler);
     o.spp = spp;
     Camera camera;
     std::string error;

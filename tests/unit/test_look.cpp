@@ -310,7 +310,7 @@ TEST(Preset, SetsItsLookAndOptionsGivenWin) {
     const RenderOptions p = options_of({"--preset", "publication"});
     EXPECT_EQ(p.width, 1920);
     EXPECT_EQ(p.height, 1080);
-    EXPECT_EQ(p.sampler, "rgss");
+    EXPECT_EQ(p.sampler, SamplerKind::Rgss);
     ASSERT_TRUE(p.sky.has_value());
     EXPECT_TRUE(p.light_scale_auto && p.srgb && p.fit && p.depth_cue && p.tone_hue);
     EXPECT_GT(p.ao_distance_of_scene, 0.0);
@@ -336,7 +336,7 @@ TEST(Preset, SetsItsLookAndOptionsGivenWin) {
                                            "1,2"});
     EXPECT_EQ(mine.width, 320);
     EXPECT_EQ(mine.height, 200);
-    EXPECT_EQ(mine.sampler, "grid");
+    EXPECT_EQ(mine.sampler, SamplerKind::Grid);
     EXPECT_EQ(mine.spp, 4);
     EXPECT_EQ(*mine.sky, Vec3(0.2));
     EXPECT_FALSE(mine.light_scale_auto);

@@ -78,7 +78,7 @@ RenderOptions options(const std::string& sampler, int threads) {
     RenderOptions o;
     o.width = 83;  // not a multiple of the 16-pixel tile: partial tiles too
     o.height = 45;
-    o.sampler = sampler;
+    o.sampler = *sampler_kind(sampler);
     o.spp = sampler == "statistical" ? 16 : 4;  // statistical starts from a 4 x 4 set
     o.seed = 12345;
     o.threads = threads;

@@ -48,7 +48,7 @@ RenderOptions options_for(const FlatScene& scene, Camera& camera, const std::str
     o.width = 37;  // not a multiple of the 16-pixel tiles
     o.height = 23;
     o.threads = threads;
-    o.sampler = sampler;
+    o.sampler = *sampler_kind(sampler);
     std::string error;
     EXPECT_TRUE(make_camera(scene, o, camera, error)) << error;
     return o;

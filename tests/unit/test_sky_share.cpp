@@ -98,7 +98,7 @@ struct RestingSphere {
         options.height = height;
         options.sky = Vec3(1.0);
         options.light_tolerance = tolerance;
-        options.sampler = "rgss";
+        options.sampler = SamplerKind::Rgss;
         options.spp = 4;
         options.threads = 2;
         options.sky_share = share;

@@ -749,7 +749,7 @@ Image render_soft(FlatScene scene, int threads, double aperture = 0.0) {
     o.light_tolerance = 1e-2;
     if (aperture > 0.0) {
         o.aperture = aperture;
-        o.sampler = "jitter";
+        o.sampler = SamplerKind::Jitter;
         o.spp = 4;
     }
     Camera camera;
@@ -810,7 +810,7 @@ TEST(SoftLight, ThinLensRaysMeetAtTheFocusAndSpreadOverTheLens) {
     o.height = 48;
     o.aperture = 0.5;
     o.focus = 7.0;
-    o.sampler = "jitter";
+    o.sampler = SamplerKind::Jitter;
     o.spp = 16;
     Camera camera;
     std::string error;
@@ -833,7 +833,7 @@ TEST(SoftLight, ThinLensRaysMeetAtTheFocusAndSpreadOverTheLens) {
     }
     EXPECT_GT(widest, 0.4);  // samples reach the lens's rim, not only its centre
     // The centre sampler cannot spread over the lens: an error that says what to do.
-    o.sampler = "center";
+    o.sampler = SamplerKind::Center;
     o.spp = 1;
     EXPECT_FALSE(make_camera(scene, o, camera, error));
     EXPECT_NE(error.find("pick a sampler"), std::string::npos) << error;

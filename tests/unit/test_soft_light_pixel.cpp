@@ -47,7 +47,7 @@ RenderOptions sky_options(double tolerance, const char* sampler, int spp) {
     RenderOptions o;
     o.sky = Vec3(1.0);
     o.light_tolerance = tolerance;
-    o.sampler = sampler;
+    o.sampler = *sampler_kind(sampler);
     o.spp = spp;
     return o;
 }

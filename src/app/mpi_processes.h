@@ -1,5 +1,5 @@
 // Many processes rendering one image (docs/mpi.md). Every MPI call of vrmlray is in the MPI
-// module (src/mpi/vrmlray_mpi.cpp), which mpi_world.cpp loads only when a launcher started this
+// module (src/mpi/vrmlray_mpi.cpp), which mpi_processes.cpp loads only when a launcher started this
 // process with peers: a plain run loads no MPI library, and a build without MPI (VRMLRAY_MPI off)
 // has no module, so both see a world of one process.
 #pragma once
@@ -10,14 +10,14 @@
 
 namespace vr {
 
-class World {
+class MpiProcesses {
   public:
     // The processes started together with this one. On the first call MPI is initialised when
     // a launcher (mpirun, srun) started more than one process, and finalised at exit.
-    static World& get();
+    static MpiProcesses& get();
     // A world of this process alone: what a process renders of the frames it was dealt, which no
     // other process shares.
-    static const World& alone();
+    static const MpiProcesses& alone();
 
     int rank() const { return rank_; }
     int size() const { return size_; }
@@ -44,9 +44,9 @@ class World {
     std::vector<uint8_t> receive(int from) const;
 
   private:
-    World();
+    MpiProcesses();
     struct Alone {};
-    explicit World(Alone) {}
+    explicit MpiProcesses(Alone) {}
     int rank_ = 0, size_ = 1;
     double init_seconds_ = 0.0;
 };

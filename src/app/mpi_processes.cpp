@@ -1,4 +1,4 @@
-#include "app/mpi_world.h"
+#include "app/mpi_processes.h"
 
 #include <dlfcn.h>
 
@@ -120,7 +120,7 @@ void finalize() { g_mpi.finalize(); }
 
 }  // namespace
 
-World::World() {
+MpiProcesses::MpiProcesses() {
     if (!launched_with_peers()) return;
     const auto start = std::chrono::steady_clock::now();
     const std::string why = load_module();
@@ -138,20 +138,24 @@ World::World() {
     init_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-int World::agree(int code) const { return parallel() ? g_mpi.max_int(code) : code; }
+int MpiProcesses::agree(int code) const { return parallel() ? g_mpi.max_int(code) : code; }
 
-uint64_t World::sum(uint64_t value) const { return parallel() ? g_mpi.sum_u64(value) : value; }
+uint64_t MpiProcesses::sum(uint64_t value) const {
+    return parallel() ? g_mpi.sum_u64(value) : value;
+}
 
-double World::max(double value) const { return parallel() ? g_mpi.max_double(value) : value; }
+double MpiProcesses::max(double value) const {
+    return parallel() ? g_mpi.max_double(value) : value;
+}
 
-std::vector<double> World::gather(const std::vector<double>& mine) const {
+std::vector<double> MpiProcesses::gather(const std::vector<double>& mine) const {
     if (!parallel()) return mine;
     std::vector<double> all(root() ? mine.size() * size_t(size_) : 0);
     g_mpi.gather_doubles(mine.data(), int(mine.size()), all.data());
     return all;
 }
 
-void World::gather_tiles(uint8_t* pixels, size_t pixel_bytes, int width, int height) const {
+void MpiProcesses::gather_tiles(uint8_t* pixels, size_t pixel_bytes, int width, int height) const {
     if (!parallel()) return;
     std::vector<uint8_t> packed;
     if (!root()) {
@@ -171,14 +175,14 @@ void World::gather_tiles(uint8_t* pixels, size_t pixel_bytes, int width, int hei
     }
 }
 
-void World::send(const std::vector<uint8_t>& data, int to) const {
+void MpiProcesses::send(const std::vector<uint8_t>& data, int to) const {
     if (!parallel()) return;
     const uint64_t bytes = data.size();
     g_mpi.send(&bytes, sizeof bytes, to);
     g_mpi.send(data.data(), data.size(), to);
 }
 
-std::vector<uint8_t> World::receive(int from) const {
+std::vector<uint8_t> MpiProcesses::receive(int from) const {
     if (!parallel()) return {};
     uint64_t bytes = 0;
     g_mpi.recv(&bytes, sizeof bytes, from);
@@ -187,13 +191,13 @@ std::vector<uint8_t> World::receive(int from) const {
     return data;
 }
 
-World& World::get() {
-    static World world;
+MpiProcesses& MpiProcesses::get() {
+    static MpiProcesses world;
     return world;
 }
 
-const World& World::alone() {
-    static const World world{Alone{}};
+const MpiProcesses& MpiProcesses::alone() {
+    static const MpiProcesses world{Alone{}};
     return world;
 }
 
