@@ -13,6 +13,30 @@ uint64_t sky_share_surface(uint32_t prim, uint8_t part, uint32_t shading) {
     return (uint64_t(2) << 62) | (uint64_t(part) << 32) | prim;
 }
 
+namespace {
+
+// Whether corners a and b may share: both met a lit surface, the same one, with shading normals
+// within kSkyShareMinCos.
+bool corners_agree(const SkyShareNode& a, const SkyShareNode& b) {
+    return a.valid && b.valid && a.surface == b.surface && glm::dot(a.ns, b.ns) >= kSkyShareMinCos;
+}
+
+// Whether the corners in `mask` (bit k: corner k) pairwise agree.
+bool mask_agrees(const SkyShareNode* const (&corner)[4], unsigned mask) {
+    for (int k = 0; k < 4; ++k)
+        for (int l = k; l < 4; ++l)
+            if ((mask >> k & 1) && (mask >> l & 1) && !corners_agree(*corner[k], *corner[l]))
+                return false;
+    return true;
+}
+
+void square_corners(const SkyShareTile& tile, int i, int j, const SkyShareNode* (&corner)[4]) {
+    for (int k = 0; k < 4; ++k)
+        corner[k] = &tile.nodes[size_t(j + k / 2) * size_t(tile.cols) + size_t(i + k % 2)];
+}
+
+}  // namespace
+
 bool sky_share_interpolate(const SkyShareTile& tile, double x, double y, uint64_t surface,
                            const Vec3& p, const Vec3& ns, double spread, double& a) {
     if (tile.cols < 2 || tile.rows < 2) return false;
@@ -21,38 +45,65 @@ bool sky_share_interpolate(const SkyShareTile& tile, double x, double y, uint64_
     const int ci = std::min(int(fx), tile.cols - 2), cj = std::min(int(fy), tile.rows - 2);
     const double u = fx - ci, v = fy - cj;
     if (!(u <= 1.0 && v <= 1.0)) return false;
-    if (!sky_share_square_may_share(tile, ci, cj)) return false;
+    const unsigned estimated = sky_share_square_corners(tile, ci, cj);
+    if (estimated == 0) return false;
     const SkyShareNode* corner[4];
-    for (int k = 0; k < 4; ++k)
-        corner[k] = &tile.nodes[size_t(cj + k / 2) * size_t(tile.cols) + size_t(ci + k % 2)];
-    double lo = corner[0]->a, hi = corner[0]->a;
-    for (const SkyShareNode* c : corner) {
-        // (An invalid corner is also one whose square may not share: its A was not estimated.)
-        if (!c->valid || c->surface != surface) return false;
-        if (glm::dot(c->ns, ns) < kSkyShareMinCos) return false;
+    square_corners(tile, ci, cj, corner);
+    const double weight[4] = {(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v};
+    unsigned used = 0;
+    for (int k = 0; k < 4; ++k) {
+        const SkyShareNode* c = corner[k];
+        // (A corner that was not estimated is invalid here: see SkyShareGrid::gather.)
+        if (!(estimated >> k & 1) || !c->valid || c->surface != surface) continue;
+        if (glm::dot(c->ns, ns) < kSkyShareMinCos) continue;
         // The sample on the corner's surface, not across a fold or a gap of it: the chord from the
         // corner keeps near its tangent plane.
         const Vec3 chord = p - c->p;
-        if (std::abs(glm::dot(chord, c->ns)) > kSkyShareMaxSlope * glm::length(chord)) return false;
-        lo = std::min(lo, c->a);
-        hi = std::max(hi, c->a);
+        if (std::abs(glm::dot(chord, c->ns)) > kSkyShareMaxSlope * glm::length(chord)) continue;
+        used |= 1u << k;
     }
+    // Four corners, or three at a silhouette or a crease that crosses the square, where the sample
+    // lies well inside them (kSkyShareMinWeight).
+    if (__builtin_popcount(used) < 3) return false;
+    if (!mask_agrees(corner, used)) {
+        // Four corners across a crease: the three that agree, leaving out the farthest possible.
+        if (used != 15) return false;
+        int best = -1;
+        for (int out = 0; out < 4; ++out)
+            if (mask_agrees(corner, 15u & ~(1u << out)) && (best < 0 || weight[out] < weight[best]))
+                best = out;
+        if (best < 0) return false;
+        used = 15u & ~(1u << best);
+    }
+    double lo = 1.0, hi = 0.0, sum = 0.0, weights = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        if (!(used >> k & 1)) continue;
+        lo = std::min(lo, corner[k]->a);
+        hi = std::max(hi, corner[k]->a);
+        sum += weight[k] * corner[k]->a;
+        weights += weight[k];
+    }
+    if (!(weights >= kSkyShareMinWeight)) return false;
     if (!(hi - lo <= spread)) return false;
-    a = (1.0 - v) * ((1.0 - u) * corner[0]->a + u * corner[1]->a) +
-        v * ((1.0 - u) * corner[2]->a + u * corner[3]->a);
+    a = used == 15 ? sum : sum / weights;  // four corners: the bilinear mean, exactly as before
     return true;
 }
 
-bool sky_share_square_may_share(const SkyShareTile& tile, int i, int j) {
+unsigned sky_share_square_corners(const SkyShareTile& tile, int i, int j) {
     const SkyShareNode* corner[4];
-    for (int k = 0; k < 4; ++k)
-        corner[k] = &tile.nodes[size_t(j + k / 2) * size_t(tile.cols) + size_t(i + k % 2)];
-    for (const SkyShareNode* c : corner) {
-        if (!c->valid || c->surface != corner[0]->surface) return false;
-        for (const SkyShareNode* d : corner)
-            if (glm::dot(c->ns, d->ns) < kSkyShareMinCos) return false;
+    square_corners(tile, i, j, corner);
+    if (mask_agrees(corner, 15)) return 15;
+    // The triples (all corners but one) that agree.
+    unsigned mask = 0;
+    for (int out = 0; out < 4; ++out) {
+        const unsigned triple = 15u & ~(1u << out);
+        if (mask_agrees(corner, triple)) mask |= triple;
     }
-    return true;
+    return mask;
+}
+
+bool sky_share_square_may_share(const SkyShareTile& tile, int i, int j) {
+    return sky_share_square_corners(tile, i, j) == 15;
 }
 
 SkyShareGrid::SkyShareGrid(int width, int height, int spacing)

@@ -43,12 +43,17 @@ struct SkyShareTile {
 };
 
 // A sample at image point (x, y) (pixels, y down) on `surface` at p with shading normal ns: its A
-// as the bilinear mean of the four lattice corners around it, when every corner is a valid hit on
-// the same surface, their shading normals and the sample's agree within kSkyShareMinCos, the sample
-// lies near each corner's tangent plane (kSkyShareMaxSlope), and the corners' estimates differ by
-// at most `spread`. False: estimate the sample on its own.
-inline constexpr double kSkyShareMinCos = 0.5;    // 60 degrees between normals at most
-inline constexpr double kSkyShareMaxSlope = 0.3;  // height over a corner's plane / distance
+// as the bilinear mean of the lattice corners around it that lie on the sample's surface, with
+// shading normals within kSkyShareMinCos of the sample's and of each other, the sample near each
+// one's tangent plane (kSkyShareMaxSlope), and estimates that differ by at most `spread`. All four
+// corners, or three (a silhouette, a ribbon's edge or a crease crossing the square), their
+// bilinear weights then scaled to add up to 1 (so the value lies between their estimates), and
+// only where those weights add up to at least kSkyShareMinWeight: the sample well inside the three
+// (1/2 measured a 13% higher RMSE on 1tii's centre, bench/README.md, "Three corners at
+// silhouettes"). False: estimate the sample on its own.
+inline constexpr double kSkyShareMinCos = 0.5;      // 60 degrees between normals at most
+inline constexpr double kSkyShareMaxSlope = 0.3;    // height over a corner's plane / distance
+inline constexpr double kSkyShareMinWeight = 0.75;  // three corners' share of the weight, least
 bool sky_share_interpolate(const SkyShareTile& tile, double x, double y, uint64_t surface,
                            const Vec3& p, const Vec3& ns, double spread, double& a);
 
@@ -60,9 +65,12 @@ struct SkyShareSample {
     uint64_t surface = 0;
 };
 
-// Whether the lattice square with top-left corner (i, j) of `tile` may share its corners' A: all
-// four valid on one surface with normals within kSkyShareMinCos of each other. Its corners' A is
-// estimated only then.
+// The corners of the lattice square with top-left corner (i, j) of `tile` (bit k: corner k, in
+// the order (i, j), (i+1, j), (i, j+1), (i+1, j+1)) whose A may be shared: all four when they are
+// valid on one surface with normals within kSkyShareMinCos of each other, else those of every
+// three that are; 0 when none are. Only these corners' A is estimated.
+unsigned sky_share_square_corners(const SkyShareTile& tile, int i, int j);
+// Whether all four corners may share (sky_share_square_corners is 15).
 bool sky_share_square_may_share(const SkyShareTile& tile, int i, int j);
 
 // Every lattice point of an image whose A was estimated, each estimated once (lock-free: the first
@@ -102,9 +110,10 @@ void SkyShareGrid::gather(int x0, int y0, int x1, int y1, SkyShareTile& tile, Hi
     wanted.assign(tile.nodes.size(), 0);
     for (int j = 0; j + 1 < tile.rows; ++j)
         for (int i = 0; i + 1 < tile.cols; ++i)
-            if (sky_share_square_may_share(tile, i, j))
+            if (const unsigned corners = sky_share_square_corners(tile, i, j))
                 for (int k = 0; k < 4; ++k)
-                    wanted[size_t(j + k / 2) * size_t(tile.cols) + size_t(i + k % 2)] = 1;
+                    if (corners >> k & 1)
+                        wanted[size_t(j + k / 2) * size_t(tile.cols) + size_t(i + k % 2)] = 1;
     for (int j = 0; j < tile.rows; ++j) {
         for (int i = 0; i < tile.cols; ++i) {
             const size_t local = size_t(j) * size_t(tile.cols) + size_t(i);

@@ -52,26 +52,63 @@ TEST(SkyShare, RefusesWhereTheCornersOrTheSampleDisagree) {
     double a = 0.0;
     // Estimates further apart than the spread allowed.
     EXPECT_FALSE(sky_share_interpolate(square(0.50, 0.60, 0.50, 0.50), 2, 2, 7, p, up, 0.05, a));
-    // Another surface: the sample's, or one corner's.
+    // Another surface than the sample's.
     EXPECT_FALSE(sky_share_interpolate(square(0.5, 0.5, 0.5, 0.5), 2, 2, 8, p, up, 0.05, a));
+    // Two corners off the sample's surface, or two that met nothing lit: a silhouette across the
+    // square's middle leaves too little to interpolate from.
     SkyShareTile t = square(0.5, 0.5, 0.5, 0.5);
-    t.nodes[3].surface = 8;
+    t.nodes[2].surface = t.nodes[3].surface = 8;
     EXPECT_FALSE(sky_share_interpolate(t, 2, 2, 7, p, up, 0.05, a));
-    // A corner that met nothing lit.
     t = square(0.5, 0.5, 0.5, 0.5);
-    t.nodes[1].valid = false;
+    t.nodes[0].valid = t.nodes[3].valid = false;
     EXPECT_FALSE(sky_share_interpolate(t, 2, 2, 7, p, up, 0.05, a));
-    // A crease: the sample's normal 70 degrees off the corners' (cos 0.342 < 0.5), or a corner's.
+    // A crease: the sample's normal 70 degrees off the corners' (cos 0.342 < 0.5).
     const Vec3 tilted(std::sin(70.0 * kPi / 180.0), 0.0, std::cos(70.0 * kPi / 180.0));
     EXPECT_FALSE(sky_share_interpolate(square(0.5, 0.5, 0.5, 0.5), 2, 2, 7, p, tilted, 0.05, a));
-    t = square(0.5, 0.5, 0.5, 0.5);
-    t.nodes[2].ns = tilted;
-    EXPECT_FALSE(sky_share_interpolate(t, 2, 2, 7, p, up, 0.05, a));
     // A fold: the sample 1 above the corners' plane at 2.8 from each (slope 0.35 > 0.3).
     EXPECT_FALSE(
         sky_share_interpolate(square(0.5, 0.5, 0.5, 0.5), 2, 2, 7, Vec3(2, 2, 1), up, 0.05, a));
     // The same sample on the plane is shared.
     EXPECT_TRUE(sky_share_interpolate(square(0.5, 0.5, 0.5, 0.5), 2, 2, 7, p, up, 0.05, a));
+}
+
+// One corner off the sample's surface (a silhouette or a ribbon's edge crossing the square), lit
+// by nothing, or across a crease: the other three corners' bilinear weights, scaled to add up to
+// 1, where they add up to at least 3/4.
+TEST(SkyShare, InterpolatesBetweenThreeCornersWhereTheFourthIsElsewhere) {
+    const Vec3 up(0.0, 0.0, 1.0);
+    const Vec3 tilted(std::sin(70.0 * kPi / 180.0), 0.0, std::cos(70.0 * kPi / 180.0));
+    for (int how = 0; how < 3; ++how) {
+        SkyShareTile t = square(0.50, 0.51, 0.52, 0.90);
+        if (how == 0) t.nodes[3].surface = 8;
+        if (how == 1) t.nodes[3].valid = false;
+        if (how == 2) t.nodes[3].ns = tilted;
+        EXPECT_EQ(sky_share_square_corners(t, 0, 0), 7u) << how;
+        EXPECT_FALSE(sky_share_square_may_share(t, 0, 0)) << how;
+        double a = -1.0;
+        // (1, 1): u = v = 1/4; weights 9/16, 3/16, 3/16 of 15/16.
+        ASSERT_TRUE(sky_share_interpolate(t, 1.0, 1.0, 7, Vec3(1, 1, 0), up, 0.05, a)) << how;
+        EXPECT_NEAR(a, (9.0 * 0.50 + 3.0 * 0.51 + 3.0 * 0.52) / 15.0, 1e-15) << how;
+        // (2, 2): the three corners' weights add up to 3/4 (the least allowed), equal.
+        ASSERT_TRUE(sky_share_interpolate(t, 2.0, 2.0, 7, Vec3(2, 2, 0), up, 0.05, a)) << how;
+        EXPECT_NEAR(a, (0.50 + 0.51 + 0.52) / 3.0, 1e-15) << how;
+        // (3, 3): the corner left out weighs 9/16 > 1/4: not interpolated.
+        EXPECT_FALSE(sky_share_interpolate(t, 3.0, 3.0, 7, Vec3(3, 3, 0), up, 0.05, a)) << how;
+    }
+    // Four corners on one surface but one across a crease from two others: the sample takes the
+    // three that agree with each other and with it.
+    SkyShareTile t = square(0.50, 0.51, 0.52, 0.53);
+    const double s40 = std::sin(40.0 * kPi / 180.0), c40 = std::cos(40.0 * kPi / 180.0);
+    t.nodes[0].ns = Vec3(0.0, -s40, c40);  // 80 degrees from corner 1's: corners 0 and 1 disagree
+    t.nodes[1].ns = Vec3(0.0, s40, c40);
+    EXPECT_EQ(sky_share_square_corners(t, 0, 0), 15u);  // both triples agree
+    double a = -1.0;
+    // (3, 0.3), nearer corner 1 than corner 0: corner 0 is left out. u = 0.75, v = 0.075:
+    // weights 0.69375 (corner 1), 0.01875 (corner 2), 0.05625 (corner 3), 0.76875 in all.
+    ASSERT_TRUE(sky_share_interpolate(t, 3.0, 0.3, 7, Vec3(3.0, 0.3, 0), up, 0.05, a));
+    EXPECT_NEAR(a, (0.69375 * 0.51 + 0.01875 * 0.52 + 0.05625 * 0.53) / 0.76875, 1e-15);
+    // (2.5, 0.3): the three weigh 0.653125 in all, less than 3/4: not interpolated.
+    EXPECT_FALSE(sky_share_interpolate(t, 2.5, 0.3, 7, Vec3(2.5, 0.3, 0), up, 0.05, a));
 }
 
 // A plane of triangles (the sampling path) z = 0 under a sphere of radius r resting on it at
