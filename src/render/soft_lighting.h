@@ -30,7 +30,7 @@
 #include "render/gas.h"
 #include "render/options.h"
 #include "render/sky_map.h"
-#include "render/soft_light.h"
+#include "render/cap_union.h"
 
 namespace vr {
 

@@ -14,7 +14,7 @@
 #include "render/gas.h"
 #include "render/render.h"
 #include "render/sampling.h"
-#include "render/soft_light.h"
+#include "render/cap_union.h"
 #include "render/soft_lighting.h"
 #include "test_render_util.h"
 
