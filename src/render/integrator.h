@@ -18,7 +18,7 @@
 #include "render/sampling.h"
 #include "render/shading.h"
 #include "render/sky_share.h"
-#include "render/soft_lighting.h"
+#include "render/sky_area_light.h"
 
 namespace vr {
 

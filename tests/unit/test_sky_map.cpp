@@ -13,7 +13,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "render/sky_map.h"
-#include "render/soft_lighting.h"
+#include "render/sky_area_light.h"
 #include "test_render_util.h"
 
 namespace vr {

@@ -15,7 +15,7 @@
 #include "render/render.h"
 #include "render/sampling.h"
 #include "render/cap_union.h"
-#include "render/soft_lighting.h"
+#include "render/sky_area_light.h"
 #include "test_render_util.h"
 
 namespace vr {
