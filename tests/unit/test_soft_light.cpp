@@ -11,10 +11,10 @@
 
 #include "render/accel.h"
 #include "render/camera.h"
+#include "render/cap_union.h"
 #include "render/gas.h"
 #include "render/render.h"
 #include "render/sampling.h"
-#include "render/cap_union.h"
 #include "render/sky_area_light.h"
 #include "test_render_util.h"
 
