@@ -8,10 +8,10 @@
 
 namespace vr {
 
-// Calls body(begin, end, chunk) for `chunks` contiguous pieces of [0, n), chunk 0 on the calling
+// Calls body(begin, end, chunk) for `chunks` contiguous ranges of [0, n), chunk 0 on the calling
 // thread. The split depends only on n and chunks, never on timing.
 template <class Body>
-void parallel_chunks(size_t n, int chunks, Body&& body) {
+void parallel_ranges(size_t n, int chunks, Body&& body) {
     chunks = int(std::max<size_t>(1, std::min<size_t>(size_t(std::max(chunks, 1)), n)));
     if (chunks == 1) {
         body(size_t(0), n, 0);

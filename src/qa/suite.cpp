@@ -132,7 +132,7 @@ std::vector<SuitePair> compare_folders(const fs::path& reference_dir, const fs::
     // A queue, not fixed chunks: one large image must not leave the other core idle.
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     std::atomic<size_t> next{0};
-    parallel_chunks(size_t(threads), threads, [&](size_t, size_t, int) {
+    parallel_ranges(size_t(threads), threads, [&](size_t, size_t, int) {
         for (size_t k; (k = next.fetch_add(1)) < pairs.size();) {
             SuitePair& pair = pairs[k];
             const auto t0 = std::chrono::steady_clock::now();

@@ -209,7 +209,7 @@ BuildBoxes Accel::candidate_boxes(const FlatScene& scene, int threads, const Bui
     };
     const int box_chunks = chunks_for(boxes.size(), threads);
     std::vector<size_t> skipped(size_t(box_chunks), 0);
-    parallel_chunks(boxes.size(), box_chunks, [&](size_t begin, size_t end, int c) {
+    parallel_ranges(boxes.size(), box_chunks, [&](size_t begin, size_t end, int c) {
         for (size_t i = begin; i < end; ++i) {
             if (make_box(i, boxes[i])) continue;
             boxes[i].cost = kSkipped;
@@ -231,7 +231,7 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
     const size_t n = order.size();
     const int chunks = chunks_for(n, threads);
     std::vector<std::array<uint32_t, 4>> chunk_start(size_t(chunks) + 1, {0, 0, 0, 0});
-    parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+    parallel_ranges(n, chunks, [&](size_t begin, size_t end, int c) {
         std::array<uint32_t, 4> count = {0, 0, 0, 0};
         for (size_t i = begin; i < end; ++i) ++count[size_t(ids.kind_of(order[i]))];
         chunk_start[size_t(c) + 1] = count;
@@ -250,7 +250,7 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
     resize_huge(triangle_mesh_, totals[2]);
     resize_huge(triangle_index_, totals[2]);
     instances_.resize(totals[3]);
-    parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+    parallel_ranges(n, chunks, [&](size_t begin, size_t end, int c) {
         std::array<uint32_t, 4> next = chunk_start[size_t(c)];
         for (size_t i = begin; i < end; ++i) {
             // Leaf order is a random walk through the scene's arrays: fetch ahead.

@@ -289,7 +289,7 @@ class Builder {
         }
         resize_huge(keys_, n);
         const int chunks = chunks_for(n, threads);
-        parallel_chunks(n, chunks, [&](size_t begin, size_t end, int) {
+        parallel_ranges(n, chunks, [&](size_t begin, size_t end, int) {
             const i4 zero = {0, 0, 0, 0}, last = {1023, 1023, 1023, 1023};
             for (size_t i = begin; i < end; ++i) {
                 i4 q = __builtin_convertvector((centroid2(load(boxes_[i])) - lo) * scale, i4);
@@ -305,7 +305,7 @@ class Builder {
         resize_huge(other, n);
         std::vector<std::array<size_t, 256>> start(static_cast<size_t>(chunks));
         for (int shift = 32; shift < 64; shift += 8) {
-            parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+            parallel_ranges(n, chunks, [&](size_t begin, size_t end, int c) {
                 std::array<size_t, 256>& count = start[size_t(c)];
                 count.fill(0);
                 for (size_t i = begin; i < end; ++i) ++count[(keys_[i] >> shift) & 0xff];
@@ -317,7 +317,7 @@ class Builder {
                     count[size_t(d)] = at;
                     at += c;
                 }
-            parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+            parallel_ranges(n, chunks, [&](size_t begin, size_t end, int c) {
                 std::array<size_t, 256>& next = start[size_t(c)];
                 for (size_t i = begin; i < end; ++i)
                     other[next[(keys_[i] >> shift) & 0xff]++] = keys_[i];
@@ -343,7 +343,7 @@ class Builder {
         const size_t n = boxes_.size();
         const int chunks = chunks_for(n, threads);
         std::vector<Range> parts(size_t(chunks), Range{0, uint32_t(n), Box4(), Box4()});
-        parallel_chunks(n, chunks, [&](size_t begin, size_t end, int c) {
+        parallel_ranges(n, chunks, [&](size_t begin, size_t end, int c) {
             Range& r = parts[size_t(c)];
             for (size_t i = begin; i < end; ++i) {
                 const Box4 x = load(boxes_[i]);
@@ -420,7 +420,7 @@ class Builder {
         };
         reserve_huge(nodes, top.joined);
         nodes.resize(top.joined);
-        parallel_chunks(tasks_.size(), threads, [&](size_t begin, size_t end, int) {
+        parallel_ranges(tasks_.size(), threads, [&](size_t begin, size_t end, int) {
             for (size_t k = begin; k < end; ++k) {
                 const Task& t = tasks_[k];
                 for (uint32_t i = 0; i < t.nodes.size(); ++i)

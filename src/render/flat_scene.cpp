@@ -24,7 +24,7 @@ Bounds3 FlatScene::bounds(int threads) const {
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     const int chunks = chunks_for(spheres.size(), threads);
     std::vector<Bounds3> part(static_cast<size_t>(chunks));
-    parallel_chunks(spheres.size(), chunks, [&](size_t begin, size_t end, int c) {
+    parallel_ranges(spheres.size(), chunks, [&](size_t begin, size_t end, int c) {
         Bounds3& p = part[size_t(c)];
         for (size_t i = begin; i < end; ++i) {
             const Sphere& s = spheres[i];

@@ -17,8 +17,8 @@
 #include "render/options.h"
 #include "render/sampling.h"
 #include "render/shading.h"
+#include "render/sky_area_light.h"
 #include "render/sky_share.h"
-#include "render/soft_lighting.h"
 
 namespace vr {
 

@@ -14,7 +14,7 @@ namespace {
 // A fragment's array without its first `front` elements (its root's group or child block, which
 // the scene has in its own root): taken when `take`, else copied.
 template <class T>
-std::vector<T> without_front(Chunks<T>& chunks, size_t front, bool take) {
+std::vector<T> without_front(ChunkedArray<T>& chunks, size_t front, bool take) {
     std::vector<T> v;
     if (take) {
         v = std::move(chunks).take_all();

@@ -27,7 +27,7 @@
 #include "core/texture_sampling.h"
 #include "parser/node_tree.h"
 #include "parser/source.h"
-#include "scene/chunks.h"
+#include "scene/chunked_array.h"
 
 namespace vr::sg {
 
@@ -430,15 +430,15 @@ namespace vr {
 
 struct Scene {
     static constexpr sg::Index kRoot = 0;
-    // The arrays a node per atom fills are chunks (chunks.h): fragments built while reading are
-    // taken in, not copied.
-    Chunks<sg::Group> groups;         // groups[kRoot]: the main file's top-level nodes
-    Chunks<sg::ChildRef> child_refs;  // every group's children, a block per group
-    Chunks<Vec3> translations;        // GroupTransform::Translation
-    std::vector<Mat4> matrices;       // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
+    // The arrays a node per atom fills are chunks (chunked_array.h): fragments built while reading
+    // are taken in, not copied.
+    ChunkedArray<sg::Group> groups;         // groups[kRoot]: the main file's top-level nodes
+    ChunkedArray<sg::ChildRef> child_refs;  // every group's children, a block per group
+    ChunkedArray<Vec3> translations;        // GroupTransform::Translation
+    std::vector<Mat4> matrices;  // GroupTransform::Matrix: T * C * R * SR * S * SR^-1 * C^-1
     std::vector<Vec3>
         billboard_axes;  // GroupTransform::Billboard: axisOfRotation; (0,0,0): screen-aligned
-    Chunks<sg::Shape> shapes;
+    ChunkedArray<sg::Shape> shapes;
     std::vector<sg::Geometry> geometries;
     std::vector<sg::Appearance> appearances;
     std::vector<sg::Material> materials;

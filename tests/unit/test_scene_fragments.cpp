@@ -571,8 +571,8 @@ TEST(SceneFragments, AnAnimatedFilesSecondBuildStillHasTheFragments) {
     EXPECT_EQ(scene_difference(build_scene(one, d3), second), "");
 }
 
-TEST(Chunks, AdoptedChunksKeepTheirPlacesAndLaterElementsGoToANewChunk) {
-    Chunks<int> c;
+TEST(ChunkedArray, AdoptedChunksKeepTheirPlacesAndLaterElementsGoToANewChunk) {
+    ChunkedArray<int> c;
     c.reserve(4);
     c.push_back(0);
     c.resize(3);  // a block of 2 after element 0

@@ -12,8 +12,8 @@
 #include "render/accel.h"
 #include "render/camera.h"
 #include "render/render.h"
+#include "render/sky_area_light.h"
 #include "render/sky_map.h"
-#include "render/soft_lighting.h"
 #include "test_render_util.h"
 
 namespace vr {

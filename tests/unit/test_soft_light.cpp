@@ -11,11 +11,11 @@
 
 #include "render/accel.h"
 #include "render/camera.h"
+#include "render/cap_union.h"
 #include "render/gas.h"
 #include "render/render.h"
 #include "render/sampling.h"
-#include "render/soft_light.h"
-#include "render/soft_lighting.h"
+#include "render/sky_area_light.h"
 #include "test_render_util.h"
 
 namespace vr {

@@ -9,7 +9,7 @@
 
 #include "render/accel.h"
 #include "render/sampling.h"
-#include "render/soft_lighting.h"
+#include "render/sky_area_light.h"
 #include "test_render_util.h"
 
 namespace vr {

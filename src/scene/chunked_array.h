@@ -20,7 +20,7 @@
 namespace vr {
 
 template <class T>
-class Chunks {
+class ChunkedArray {
   public:
     size_t size() const { return size_; }
     bool empty() const { return size_ == 0; }
@@ -79,7 +79,7 @@ class Chunks {
         if (chunks_.size() == 1) all = std::move(chunks_.back());
         for (size_t c = 0; chunks_.size() > 1 && c < chunks_.size(); ++c)
             all.insert(all.end(), chunks_[c].begin(), chunks_[c].end());
-        *this = Chunks();
+        *this = ChunkedArray();
         return all;
     }
 

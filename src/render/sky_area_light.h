@@ -26,11 +26,11 @@
 
 #include "core/ray.h"
 #include "render/accel.h"
+#include "render/cap_union.h"
 #include "render/flat_scene.h"
 #include "render/gas.h"
 #include "render/options.h"
 #include "render/sky_map.h"
-#include "render/soft_light.h"
 
 namespace vr {
 

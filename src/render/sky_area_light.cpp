@@ -1,4 +1,4 @@
-#include "render/soft_lighting.h"
+#include "render/sky_area_light.h"
 
 #include <algorithm>
 #include <cmath>

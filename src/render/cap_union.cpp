@@ -1,4 +1,4 @@
-#include "render/soft_light.h"
+#include "render/cap_union.h"
 
 #include <algorithm>
 #include <bit>
