@@ -256,10 +256,11 @@ TEST(ConvertCompact, EveryMolecularCorpusFileRendersAsTheOriginal) {
         const Image b = render(out, (dir.path / (stem + "_b.png")).string(), 64, 48);
         const Difference d = difference(a, b);
         EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
-        // X3D XML files into compact X3D XML too (a VRML97 file would change standard: PyMOL's
-        // barnase_figure.wrl renders differently as X3D, with or without the option).
-        if (file.extension() == ".x3d") {
-            const std::string xml = (dir.path / (stem + ".x3d")).string();
+        // Every file into compact X3D XML too, VRML97 ones included: their meshes and primitives
+        // say `solid FALSE` there, so that no back face is culled that vrmlray draws in the
+        // VRML97 file (PyMOL's barnase_figure.wrl lost part of its ligand mesh as X3D).
+        {
+            const std::string xml = (dir.path / (stem + ".out.x3d")).string();
             ASSERT_EQ(run({"convert", "-q", "--recover-spheres", file.string(), xml}), kExitOk);
             EXPECT_EQ(run({"info", "-q", "--strict", xml}), kExitOk);
             const Difference x =
@@ -313,6 +314,48 @@ TEST(ConvertCompact, ObliqueTubesBecomeCylindersThatRenderAsTheOriginal) {
     const Image b = render(out, (dir.path / "b.png").string(), 96, 64);
     const Difference d = difference(a, b);
     EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
+}
+
+// A bug found on PyMOL's barnase_figure.wrl (1.9% of its pixels changed as X3D): VRML97's
+// `solid TRUE` lets a browser cull back faces, X3D's requires it, and vrmlray draws both faces of
+// a VRML97 node. Written as X3D without `solid FALSE`, a mesh whose front faces away from the
+// camera vanished, and the inside of an open Cylinder with it. Plain convert, no recovery.
+TEST(ConvertCompact, Vrml97BackFacesStayDrawnAsX3d) {
+    TempDir dir("backfaces");
+    const std::string in = (dir.path / "faces.wrl").string();
+    // The quad is wound clockwise seen from the camera (its front faces -z); the tube is open and
+    // tilted towards the camera, so its inside shows.
+    std::ofstream(in) << R"(#VRML V2.0 utf8
+Viewpoint { position 0 0 6 }
+Shape { appearance Appearance { material Material { diffuseColor 1 .5 .2 } }
+  geometry IndexedFaceSet { coord Coordinate { point [-2 -1 0, -2 1 0, -.5 1 0, -.5 -1 0] }
+                            coordIndex [0 1 2 3 -1] } }
+Transform { translation 1.2 0 0 rotation 1 0 0 .9 children Shape {
+  appearance Appearance { material Material { diffuseColor .2 .6 1 } }
+  geometry Cylinder { radius .6 height 1.5 top FALSE bottom FALSE } } }
+)";
+    auto render_plain = [&](const std::string& scene, const std::string& png) {
+        EXPECT_EQ(run({"render", scene, "-q", "-W", "64", "-H", "48", "--threads", "2", "-o",
+                       (dir.path / png).string()}),
+                  kExitOk);
+        Image image;
+        std::string error;
+        EXPECT_TRUE(read_image((dir.path / png).string(), image, error)) << error;
+        return image;
+    };
+    const Image original = render_plain(in, "a.png");
+    // The quad's centre (pixel 16, 24) is drawn, not the background of the corner.
+    const size_t centre = 4 * (24 * 64 + 16);
+    EXPECT_NE(original.rgba[centre], original.rgba[0]);
+    for (const std::string ext : {".x3d", ".x3dv"}) {
+        SCOPED_TRACE(ext);
+        const std::string out = (dir.path / ("out" + ext)).string();
+        ASSERT_EQ(run({"convert", "-q", in, out}), kExitOk);
+        const std::string text = read_all(out);
+        EXPECT_EQ(count_of(text, ext == ".x3d" ? "solid='false'" : "solid FALSE"), 2u) << text;
+        const Difference d = difference(original, render_plain(out, "b" + ext + ".png"));
+        EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
+    }
 }
 
 // Atoms that differ by their translation alone are instances of one PROTO per kind; a Transform
