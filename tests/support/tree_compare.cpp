@@ -64,7 +64,8 @@ class Comparer {
         // A VRML97 node written as X3D says `solid FALSE` (both faces drawn, as vrmlray draws the
         // VRML97 node: parser/writer.h).
         const NodeTypeDecl* b_decl = b_.decl(y);
-        if (b_decl && b_decl->spec == Spec::X3d && needs_solid_false_in_x3d(a_, x)) {
+        if (options_.names_as_written && b_decl && b_decl->spec == Spec::X3d &&
+            needs_solid_false_in_x3d(a_, x)) {
             if (b_.get_bool(y, intern("solid")))
                 return path + " " + std::string(type) + ".solid: TRUE where X3D needs FALSE";
             std::erase(fields, std::string("solid"));
