@@ -20,6 +20,7 @@
 #include "parser/load.h"
 #include "parser/writer.h"
 #include "parser/xml_writer.h"
+#include "scene_text.h"
 
 namespace vr {
 namespace {
@@ -356,6 +357,62 @@ Transform { translation 1.2 0 0 rotation 1 0 0 .9 children Shape {
         const Difference d = difference(original, render_plain(out, "b" + ext + ".png"));
         EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
     }
+}
+
+// A unit latitude-longitude sphere (y up) as a TriangleSet: every triangle's three vertices
+// written out with 6 decimals and no index, as an exporter that writes no IndexedTriangleSet
+// would (issue 43, item 2: TriangleSet as well as the indexed meshes).
+std::string unit_sphere_triangle_set() {
+    const int rings = 12, segments = 24;
+    auto vertex = [&](int i, int j) {
+        const double t = M_PI * i / rings, p = 2 * M_PI * (j % segments) / segments;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f, ", std::sin(t) * std::cos(p), std::cos(t),
+                      std::sin(t) * std::sin(p));
+        return std::string(buf);
+    };
+    std::string points;
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            // The quad between rings i and i + 1, outward-facing, as two triangles; at a pole one
+            // of them has two equal corners and is left out.
+            const std::string q0 = vertex(i, j), q1 = vertex(i, j + 1), q2 = vertex(i + 1, j + 1),
+                              q3 = vertex(i + 1, j);
+            if (i > 0) points += q0 + q1 + q2;
+            if (i + 1 < rings) points += q0 + q2 + q3;
+        }
+    return "TriangleSet { coord Coordinate { point [" + points + "] } }";
+}
+
+// A TriangleSet unit sphere under a non-uniform scale (an ellipsoid, exact as a quadric) and a
+// uniform one: convert writes one Sphere node where the mesh stood, under each Transform as it
+// was, and the converted file renders as the original does with recovery.
+TEST(ConvertCompact, TriangleSetSphereUnderAnyScaleRendersAsTheOriginal) {
+    TempDir dir("triangle_set");
+    const std::string in = (dir.path / "in.x3dv").string();
+    const std::string out = (dir.path / "out.x3dv").string();
+    const std::string blue = "appearance Appearance { material Material { diffuseColor 0 .6 1 } }";
+    std::ofstream(in) << "#X3D V3.3 utf8\nPROFILE Interchange\n"
+                         "Viewpoint { position 0 0 10 fieldOfView 0.6 }\n"
+                         "Transform { translation -1.4 0 0 rotation 0 0 1 .5 scale 1.2 .6 1 "
+                         "children Shape { " +
+                             blue + " geometry DEF U " + unit_sphere_triangle_set() +
+                             " } }\n"
+                             "Transform { translation 1.4 0 0 scale .9 .9 .9 children Shape { " +
+                             blue + " geometry USE U } }\n";
+    ASSERT_EQ(run({"convert", "-q", "--recover-spheres", in, out}), kExitOk);
+    const std::string text = read_all(out);
+    EXPECT_EQ(text.find("TriangleSet"), std::string::npos) << text;
+    EXPECT_EQ(count_of(text, "Sphere {"), 1u) << text;
+    EXPECT_NE(text.find("scale 1.2 .6 1"), std::string::npos) << text;
+    const testing::FlattenedText converted = testing::flatten_scene_text(text, out);
+    EXPECT_EQ(converted.flat.spheres.size(), 1u);
+    EXPECT_EQ(converted.flat.quadrics.size(), 1u);  // the ellipsoid
+    EXPECT_EQ(converted.flat.triangle_count(), 0u);
+    const Image a = render(in, (dir.path / "a.png").string(), 96, 64);
+    const Image b = render(out, (dir.path / "b.png").string(), 96, 64);
+    const Difference d = difference(a, b);
+    EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
 }
 
 // Atoms that differ by their translation alone are instances of one PROTO per kind; a Transform
