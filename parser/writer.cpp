@@ -25,6 +25,15 @@ std::string format_number_compact(double v) {
     return text;
 }
 
+bool needs_solid_false_in_x3d(const NodeTree& tree, NodeId id) {
+    const NodeTypeDecl* own = tree.decl(id);
+    if (!own || own->spec == Spec::X3d) return false;
+    const NodeTypeDecl* x3d = Registry::builtin().find(Spec::X3d, tree.type(id));
+    const FieldDecl* solid = x3d ? x3d->find(std::string_view("solid")) : nullptr;
+    // get() gives X3D's default where VRML97's interface has no `solid` (registry lookup_field).
+    return solid && tree.get_bool(id, solid->name);
+}
+
 namespace {
 
 class Writer {
@@ -178,19 +187,27 @@ class Writer {
         }
         out_ += tree_.type_name(id);
         auto fields = tree_.set_fields(id);
-        if (fields.empty()) {
+        const bool solid_false =
+            target_ == Encoding::X3dClassic && needs_solid_false_in_x3d(tree_, id);
+        if (fields.empty() && !solid_false) {
             out_ += " {}";
             return;
         }
         out_ += compact_ ? " { " : " {\n";
         if (id == body_) out_ += "translation IS t ";  // compact only: no indentation
+        static const Name solid = intern("solid");
         for (const FieldEntry& e : fields) {
             if (id == body_ && name_text(e.name) == "translation") continue;
+            if (solid_false && e.name == solid) continue;
             indent(depth + 1);
             out_ += field_name(id, e.name);
             out_ += " ";
             write_value(e, depth + 1);
             out_ += compact_ ? " " : "\n";
+        }
+        if (solid_false) {
+            indent(depth + 1);
+            out_ += compact_ ? "solid FALSE " : "solid FALSE\n";
         }
         indent(depth);
         out_ += "}";

@@ -138,17 +138,22 @@ class XmlWriter {
         if (!def.empty()) attribute("DEF", def);
         if (!container.empty()) attribute("containerField", container);
         bool has_children = false;
+        // A VRML97 node's both faces, as vrmlray draws them (parser/writer.h).
+        const bool solid_false = needs_solid_false_in_x3d(tree_, id);
+        static const Name solid = intern("solid");
         for (const FieldEntry& e : tree_.set_fields(id)) {
             if (e.type.kind == ValueKind::Node) {
                 has_children = has_children || has_nodes(e);
                 continue;
             }
+            if (solid_false && e.name == solid) continue;
             out_ += ' ';
             out_ += x3d_field_name(type, name_text(e.name));
             out_ += "='";
             write_value(e, depth + 1);
             out_ += '\'';
         }
+        if (solid_false) out_ += " solid='false'";
         if (!has_children) {
             out_ += "/>\n";
             return;

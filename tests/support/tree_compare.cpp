@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "parser/def_names.h"
+#include "parser/registry.h"
 #include "parser/writer.h"
 #include "parser/x3d_xml.h"
 
@@ -60,6 +61,15 @@ class Comparer {
         };
         add(a_, x);
         add(b_, y);
+        // A VRML97 node written as X3D says `solid FALSE` (both faces drawn, as vrmlray draws the
+        // VRML97 node: parser/writer.h).
+        const NodeTypeDecl* b_decl = b_.decl(y);
+        if (options_.names_as_written && b_decl && b_decl->spec == Spec::X3d &&
+            needs_solid_false_in_x3d(a_, x)) {
+            if (b_.get_bool(y, intern("solid")))
+                return path + " " + std::string(type) + ".solid: TRUE where X3D needs FALSE";
+            std::erase(fields, std::string("solid"));
+        }
         for (const std::string& field : fields) {
             FieldView u = value(a_, x, field), v = value(b_, y, field);
             const std::string where = path + " " + std::string(type) + "." + field;

@@ -10,7 +10,8 @@ namespace vr {
 
 struct TreeCompareOptions {
     // `b` was written from `a` and read back: expect the DEF names a writer gives (unique names,
-    // made-up names for shared nodes that had none) instead of `a`'s own.
+    // made-up names for shared nodes that had none) instead of `a`'s own, and `solid FALSE` on a
+    // VRML97 node written as X3D (parser/writer.h, needs_solid_false_in_x3d).
     bool names_as_written = false;
     // Numbers may differ by this much relative to their magnitude (0: exactly equal).
     double relative_tolerance = 0.0;

@@ -20,6 +20,7 @@
 #include "parser/load.h"
 #include "parser/writer.h"
 #include "parser/xml_writer.h"
+#include "scene_text.h"
 
 namespace vr {
 namespace {
@@ -256,10 +257,11 @@ TEST(ConvertCompact, EveryMolecularCorpusFileRendersAsTheOriginal) {
         const Image b = render(out, (dir.path / (stem + "_b.png")).string(), 64, 48);
         const Difference d = difference(a, b);
         EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
-        // X3D XML files into compact X3D XML too (a VRML97 file would change standard: PyMOL's
-        // barnase_figure.wrl renders differently as X3D, with or without the option).
-        if (file.extension() == ".x3d") {
-            const std::string xml = (dir.path / (stem + ".x3d")).string();
+        // Every file into compact X3D XML too, VRML97 ones included: their meshes and primitives
+        // say `solid FALSE` there, so that no back face is culled that vrmlray draws in the
+        // VRML97 file (PyMOL's barnase_figure.wrl lost part of its ligand mesh as X3D).
+        {
+            const std::string xml = (dir.path / (stem + ".out.x3d")).string();
             ASSERT_EQ(run({"convert", "-q", "--recover-spheres", file.string(), xml}), kExitOk);
             EXPECT_EQ(run({"info", "-q", "--strict", xml}), kExitOk);
             const Difference x =
@@ -315,6 +317,104 @@ TEST(ConvertCompact, ObliqueTubesBecomeCylindersThatRenderAsTheOriginal) {
     EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
 }
 
+// A bug found on PyMOL's barnase_figure.wrl (1.9% of its pixels changed as X3D): VRML97's
+// `solid TRUE` lets a browser cull back faces, X3D's requires it, and vrmlray draws both faces of
+// a VRML97 node. Written as X3D without `solid FALSE`, a mesh whose front faces away from the
+// camera vanished, and the inside of an open Cylinder with it. Plain convert, no recovery.
+TEST(ConvertCompact, Vrml97BackFacesStayDrawnAsX3d) {
+    TempDir dir("backfaces");
+    const std::string in = (dir.path / "faces.wrl").string();
+    // The quad is wound clockwise seen from the camera (its front faces -z); the tube is open and
+    // tilted towards the camera, so its inside shows.
+    std::ofstream(in) << R"(#VRML V2.0 utf8
+Viewpoint { position 0 0 6 }
+Shape { appearance Appearance { material Material { diffuseColor 1 .5 .2 } }
+  geometry IndexedFaceSet { coord Coordinate { point [-2 -1 0, -2 1 0, -.5 1 0, -.5 -1 0] }
+                            coordIndex [0 1 2 3 -1] } }
+Transform { translation 1.2 0 0 rotation 1 0 0 .9 children Shape {
+  appearance Appearance { material Material { diffuseColor .2 .6 1 } }
+  geometry Cylinder { radius .6 height 1.5 top FALSE bottom FALSE } } }
+)";
+    auto render_plain = [&](const std::string& scene, const std::string& png) {
+        EXPECT_EQ(run({"render", scene, "-q", "-W", "64", "-H", "48", "--threads", "2", "-o",
+                       (dir.path / png).string()}),
+                  kExitOk);
+        Image image;
+        std::string error;
+        EXPECT_TRUE(read_image((dir.path / png).string(), image, error)) << error;
+        return image;
+    };
+    const Image original = render_plain(in, "a.png");
+    // The quad's centre (pixel 16, 24) is drawn, not the background of the corner.
+    const size_t centre = 4 * (24 * 64 + 16);
+    EXPECT_NE(original.rgba[centre], original.rgba[0]);
+    for (const std::string ext : {".x3d", ".x3dv"}) {
+        SCOPED_TRACE(ext);
+        const std::string out = (dir.path / ("out" + ext)).string();
+        ASSERT_EQ(run({"convert", "-q", in, out}), kExitOk);
+        const std::string text = read_all(out);
+        EXPECT_EQ(count_of(text, ext == ".x3d" ? "solid='false'" : "solid FALSE"), 2u) << text;
+        const Difference d = difference(original, render_plain(out, "b" + ext + ".png"));
+        EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
+    }
+}
+
+// A unit latitude-longitude sphere (y up) as a TriangleSet: every triangle's three vertices
+// written out with 6 decimals and no index, as an exporter that writes no IndexedTriangleSet
+// would (issue 43, item 2: TriangleSet as well as the indexed meshes).
+std::string unit_sphere_triangle_set() {
+    const int rings = 12, segments = 24;
+    auto vertex = [&](int i, int j) {
+        const double t = M_PI * i / rings, p = 2 * M_PI * (j % segments) / segments;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f, ", std::sin(t) * std::cos(p), std::cos(t),
+                      std::sin(t) * std::sin(p));
+        return std::string(buf);
+    };
+    std::string points;
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            // The quad between rings i and i + 1, outward-facing, as two triangles; at a pole one
+            // of them has two equal corners and is left out.
+            const std::string q0 = vertex(i, j), q1 = vertex(i, j + 1), q2 = vertex(i + 1, j + 1),
+                              q3 = vertex(i + 1, j);
+            if (i > 0) points += q0 + q1 + q2;
+            if (i + 1 < rings) points += q0 + q2 + q3;
+        }
+    return "TriangleSet { coord Coordinate { point [" + points + "] } }";
+}
+
+// A TriangleSet unit sphere under a non-uniform scale (an ellipsoid, exact as a quadric) and a
+// uniform one: convert writes one Sphere node where the mesh stood, under each Transform as it
+// was, and the converted file renders as the original does with recovery.
+TEST(ConvertCompact, TriangleSetSphereUnderAnyScaleRendersAsTheOriginal) {
+    TempDir dir("triangle_set");
+    const std::string in = (dir.path / "in.x3dv").string();
+    const std::string out = (dir.path / "out.x3dv").string();
+    const std::string blue = "appearance Appearance { material Material { diffuseColor 0 .6 1 } }";
+    std::ofstream(in) << "#X3D V3.3 utf8\nPROFILE Interchange\n"
+                         "Viewpoint { position 0 0 10 fieldOfView 0.6 }\n"
+                         "Transform { translation -1.4 0 0 rotation 0 0 1 .5 scale 1.2 .6 1 "
+                         "children Shape { " +
+                             blue + " geometry DEF U " + unit_sphere_triangle_set() +
+                             " } }\n"
+                             "Transform { translation 1.4 0 0 scale .9 .9 .9 children Shape { " +
+                             blue + " geometry USE U } }\n";
+    ASSERT_EQ(run({"convert", "-q", "--recover-spheres", in, out}), kExitOk);
+    const std::string text = read_all(out);
+    EXPECT_EQ(text.find("TriangleSet"), std::string::npos) << text;
+    EXPECT_EQ(count_of(text, "Sphere {"), 1u) << text;
+    EXPECT_NE(text.find("scale 1.2 .6 1"), std::string::npos) << text;
+    const testing::FlattenedText converted = testing::flatten_scene_text(text, out);
+    EXPECT_EQ(converted.flat.spheres.size(), 1u);
+    EXPECT_EQ(converted.flat.quadrics.size(), 1u);  // the ellipsoid
+    EXPECT_EQ(converted.flat.triangle_count(), 0u);
+    const Image a = render(in, (dir.path / "a.png").string(), 96, 64);
+    const Image b = render(out, (dir.path / "b.png").string(), 96, 64);
+    const Difference d = difference(a, b);
+    EXPECT_EQ(d.pixels, 0u) << "largest difference " << d.largest;
+}
+
 // Atoms that differ by their translation alone are instances of one PROTO per kind; a Transform
 // that a ROUTE or a DEF name singles out, one of a kind of its own and the members of a kind
 // whose declaration would cost more than its instances save (two Boxes) stay Transforms.
@@ -338,11 +438,14 @@ ROUTE Clock.fraction_changed TO Moved.set_scale
     for (Encoding target : {Encoding::Vrml97, Encoding::X3dClassic}) {
         const std::string text = write_classic(loaded.tree, target, true);
         const std::string access = target == Encoding::Vrml97 ? "field" : "initializeOnly";
+        // As X3D the VRML97 Sphere draws both faces as before (parser/writer.h).
+        const std::string sphere = target == Encoding::Vrml97 ? "{}" : "{ solid FALSE }";
         EXPECT_EQ(count_of(text, "PROTO "), 1u) << text;
         EXPECT_NE(text.find("PROTO A[" + access +
                             " SFVec3f t 0 0 0]{Transform { translation IS t scale 2 2 2 children "
                             "Shape { appearance Appearance { material Material { diffuseColor .5 "
-                            ".5 .5 } } geometry Sphere {} } }}"),
+                            ".5 .5 } } geometry Sphere " +
+                            sphere + " } }}"),
                   std::string::npos)
             << text;
         EXPECT_NE(text.find("\nA{t 1 2 3}\nA{t -1.25 0 4}\nA{}\n"), std::string::npos) << text;

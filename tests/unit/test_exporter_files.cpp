@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "corpus.h"
 #include "scene_text.h"
 
 namespace vr {
@@ -86,6 +87,43 @@ TEST(ExporterFiles, EveryFileReadsAndShowsSomething) {
         EXPECT_EQ(f.flat.quadrics.size(), e.quadrics) << e.file;
         EXPECT_EQ(f.flat.triangle_count(), e.triangles) << e.file;
         EXPECT_GT(covered_pixels(f.flat), 0u) << e.file;
+    }
+}
+
+// UCSF Chimera's lights as it wrote them (issue 43): headlight FALSE and four DirectionalLights,
+// the fourth of intensity 0 carrying only the ambient term 0.15 (its direction left at the
+// default). The same in Chimera's .x3d and in the .wrl its x3d2vrml made of it.
+TEST(ExporterFiles, ChimeraFourLightsAsWritten) {
+    VR_CORPUS_FOLDER(folder, "molecular/chimera");
+    for (const char* name : {"PubChem-2519-sticks-color.x3d", "PubChem-2519-sticks-color.wrl"}) {
+        SCOPED_TRACE(name);
+        const LoadedScene loaded = load_scene(folder / name);
+        ASSERT_TRUE(loaded.ok());
+        const testing::FlattenedText f = testing::flatten_loaded(loaded);
+        EXPECT_EQ(f.build_warnings, 0u) << f.messages;
+        EXPECT_FALSE(f.flat.headlight);
+        ASSERT_EQ(f.flat.lights.size(), 4u);
+        const double intensity[4] = {0.646154, 0.361231, 1.0, 0.0};
+        const double ambient[4] = {0.0, 0.0, 0.0, 0.15};
+        const Vec3 direction[4] = {Vec3(0.0, 0.0, -1.0), Vec3(-0.911685, -0.341882, -0.227921),
+                                   Vec3(0.408248, 0.408248, 0.816497), Vec3(0.0, 0.0, -1.0)};
+        for (size_t i = 0; i < 4; ++i) {
+            const Light& l = f.flat.lights[i];
+            EXPECT_EQ(l.kind, LightKind::Directional) << i;
+            EXPECT_EQ(l.color, Vec3(1.0)) << i;
+            EXPECT_DOUBLE_EQ(l.intensity, intensity[i]) << i;
+            EXPECT_DOUBLE_EQ(l.ambient_intensity, ambient[i]) << i;
+            // Written to 6 decimals, normalised on reading: within 1e-6 of the written direction.
+            EXPECT_LE(glm::length(l.direction - direction[i]), 1e-6) << i;
+        }
+        // Every material is Chimera's ambientIntensity 1, so the fourth light's 0.15 reaches
+        // every surface in full: no atom is black where no light falls.
+        ASSERT_FALSE(f.flat.spheres.empty());
+        for (const Sphere& atom : f.flat.spheres) {
+            const Material& m = f.flat.materials[f.flat.shadings[atom.shading].material];
+            EXPECT_DOUBLE_EQ(m.ambient_intensity, 1.0);
+        }
+        EXPECT_GT(covered_pixels(f.flat), 64u * 48u / 20);
     }
 }
 

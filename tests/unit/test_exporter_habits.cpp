@@ -13,6 +13,7 @@
 #include "corpus.h"
 #include "image/image.h"
 #include "parser/load.h"
+#include "scene_text.h"
 
 namespace vr {
 namespace {
@@ -177,7 +178,7 @@ TEST(ExporterHabits, InfoSaysWhatTheExporterWrote) {
 
 // Every file of the molecular corpus reads without a warning: the habits of Jmol (unquoted
 // single MFStrings in XML, rotation axes far from unit length), Chimera (its own namespace),
-// PyMOL and RasMol (VRML 1.0) are accepted as what they mean.
+// PyMOL and RasMol (VRML 1.0) are accepted as what they mean; building and flattening add none.
 TEST(ExporterHabits, NoMolecularCorpusFileWarns) {
     VR_CORPUS_FOLDER(folder, "molecular");
     size_t files = 0;
@@ -188,6 +189,20 @@ TEST(ExporterHabits, NoMolecularCorpusFileWarns) {
         const LoadedScene s = load_scene(entry.path());
         EXPECT_TRUE(s.ok());
         EXPECT_EQ(s.diagnostics.warning_count(), 0u) << s.diagnostics.format(s.sources);
+        // Nor does building and flattening it, with recovery off and on (what `render --strict`
+        // and `render --strict --recover-spheres` add to reading).
+        for (const bool recover : {false, true}) {
+            Diagnostics diagnostics;
+            const Scene scene = build_scene(s, diagnostics);
+            FlattenOptions fo;
+            fo.scene_file = s.main_file;
+            fo.recover_spheres = recover;
+            FlattenStats stats;
+            const FlatScene flat = flatten_scene(scene, fo, diagnostics, stats);
+            EXPECT_EQ(diagnostics.warning_count(), 0u)
+                << (recover ? "recovery on\n" : "recovery off\n") << diagnostics.format(s.sources);
+            EXPECT_FALSE(flat.bounds().empty());
+        }
         ++files;
     }
     EXPECT_EQ(files, 21u);  // MANIFEST.tsv's 21 exports
