@@ -12,6 +12,7 @@
 #include "app/progress.h"
 #include "app/render_mpi.h"
 #include "app/render_stats.h"
+#include "core/format.h"
 #include "core/huge_pages.h"
 #include "image/image.h"
 
@@ -126,13 +127,14 @@ int render_frame(const RenderCommand& cmd, const MpiProcesses& world, const Load
     if ((code = agreed(world, code, "making the camera")) != kExitOk) return code;
     // A sequence says once how its frames turn (render_frames); one image gives its camera.
     if (job.options.orbit_angle && one_image(cmd) && !cmd.common.quiet) {
-        // Full precision: these three options render this frame alone, bit for bit.
-        const Vec3 &p = camera.position, &c = camera.orbit_centre, &u = camera.orbit_axis;
-        std::fprintf(stderr,
-                     "%s: note: %s: --position %.17g,%.17g,%.17g --look-at %.17g,%.17g,%.17g "
-                     "--up %.17g,%.17g,%.17g\n",
-                     cmd.scene.c_str(), output.c_str(), p.x, p.y, p.z, c.x, c.y, c.z, u.x, u.y,
-                     u.z);
+        // Exact (the shortest text of each double): these three options render this frame
+        // alone, bit for bit.
+        auto triple = [](const Vec3& v) {
+            return format_exact(v.x) + "," + format_exact(v.y) + "," + format_exact(v.z);
+        };
+        std::fprintf(stderr, "%s: note: %s: --position %s --look-at %s --up %s\n",
+                     cmd.scene.c_str(), output.c_str(), triple(camera.position).c_str(),
+                     triple(camera.orbit_centre).c_str(), triple(camera.orbit_axis).c_str());
     }
     const std::string empty_scene =
         nothing_to_render(loaded, flat, job.scene->stats, job.options.threads);
