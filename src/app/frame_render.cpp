@@ -106,6 +106,17 @@ bool soft_light_on_placed_meshes(const FlatScene& flat, const RenderOptions& opt
     return false;
 }
 
+// The camera of a turned image as the options that render it alone, bit for bit: each number the
+// shortest text that reads back as its double.
+void note_orbit_camera(const std::string& scene, const std::string& output, const Camera& camera) {
+    auto triple = [](const Vec3& v) {
+        return format_exact(v.x) + "," + format_exact(v.y) + "," + format_exact(v.z);
+    };
+    std::fprintf(stderr, "%s: note: %s: --position %s --look-at %s --up %s\n", scene.c_str(),
+                 output.c_str(), triple(camera.position).c_str(),
+                 triple(camera.orbit_centre).c_str(), triple(camera.orbit_axis).c_str());
+}
+
 }  // namespace
 
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
@@ -126,16 +137,8 @@ int render_frame(const RenderCommand& cmd, const MpiProcesses& world, const Load
     }
     if ((code = agreed(world, code, "making the camera")) != kExitOk) return code;
     // A sequence says once how its frames turn (render_frames); one image gives its camera.
-    if (job.options.orbit_angle && one_image(cmd) && !cmd.common.quiet) {
-        // Exact (the shortest text of each double): these three options render this frame
-        // alone, bit for bit.
-        auto triple = [](const Vec3& v) {
-            return format_exact(v.x) + "," + format_exact(v.y) + "," + format_exact(v.z);
-        };
-        std::fprintf(stderr, "%s: note: %s: --position %s --look-at %s --up %s\n",
-                     cmd.scene.c_str(), output.c_str(), triple(camera.position).c_str(),
-                     triple(camera.orbit_centre).c_str(), triple(camera.orbit_axis).c_str());
-    }
+    if (job.options.orbit_angle && one_image(cmd) && !cmd.common.quiet)
+        note_orbit_camera(cmd.scene, output, camera);
     const std::string empty_scene =
         nothing_to_render(loaded, flat, job.scene->stats, job.options.threads);
     static std::atomic<bool> framing_noted{false};  // once a run, not once a frame
