@@ -30,7 +30,7 @@
 #         samples that see the light (area_illumination off, its default).
 #         With `adaptive 1` it starts from 3x3 samples and refines only where they disagree, so bonds
 #         that none of them sees stay unseen: its RMSE against vrmlray stops near 6e-3 at 480x270 whatever
-#         N (bench/README.md, 2026-12-03).
+#         N (bench/README.md, "Area light against POV-Ray").
 # In both: no ambient term (Material ambientIntensity 0 / AMBIENT 0 / finish ambient 0), no highlights
 # (specularColor 0 / PHONG 0 / specular 0), the harness's background, camera, pixel centres, one sample per
 # pixel, linear output (vrmlray .exr, Tachyon PPM48, POV-Ray +FE File_Gamma 1: half floats, whose rounding

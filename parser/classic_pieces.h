@@ -1,11 +1,13 @@
-// Reading one large classic-encoding file on all cores. The file is cut into pieces at lines that
-// look like the start of a top-level node; every piece but the first is read speculatively, on its
-// own, into a node tree of its own, while the main reader reads the file in order. When the main
-// reader arrives at a piece's first byte between two top-level statements, and the file declared no
-// PROTO so far, the piece's tree, DEF names, statistics and warnings are appended in file order and
-// the main reader jumps to the piece's end. A piece whose read failed, declared PROTOs, or held
-// anything that depends on the rest of the file (USE of an earlier DEF, EXTERNPROTO, ROUTE) is
-// simply read again by the main reader, so the result and every message equal a single-thread read.
+// Reading one large classic-encoding file on all cores. A piece is a byte range of the file read
+// into a node tree of its own (the scene layer builds a piece's typed scene, a fragment:
+// scene/fragments.h). The file is cut into pieces at lines that look like the start of a top-level
+// node; every piece but the first is read speculatively, on its own, into a node tree of its own,
+// while the main reader reads the file in order. When the main reader arrives at a piece's first
+// byte between two top-level statements, and the file declared no PROTO so far, the piece's tree,
+// DEF names, statistics and warnings are appended in file order and the main reader jumps to the
+// piece's end. A piece whose read failed, declared PROTOs, or held anything that depends on the
+// rest of the file (USE of an earlier DEF, EXTERNPROTO, ROUTE) is simply read again by the main
+// reader, so the result and every message equal a single-thread read.
 #pragma once
 #include <condition_variable>
 #include <cstdint>

@@ -1,7 +1,8 @@
-// A consumer of the pieces a large classic-encoding file is read in (classic_pieces.h): it builds
-// what it needs from a piece's node tree on the thread that read the piece, so that the tree of a
-// large file is never held whole (src/scene/fragments.h builds typed scene fragments this way).
-// The parser knows only this interface: data still flows one way, file -> tree -> scene.
+// A consumer of the pieces (byte ranges read on their own) a large file is read in
+// (classic_pieces.h, x3d_xml_pieces.cpp): it builds what it needs from a piece's node tree on the
+// thread that read the piece, so that the tree of a large file is never held whole
+// (src/scene/fragments.h builds typed scene fragments this way). The parser knows only this
+// interface: data still flows one way, file -> tree -> scene.
 #pragma once
 #include <cstddef>
 #include <cstdint>

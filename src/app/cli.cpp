@@ -38,6 +38,8 @@ constexpr Label<CameraMode> kCameraLabels[] = {{"perspective", CameraMode::Persp
                                                {"viewpoint", CameraMode::FromViewpoint}};
 constexpr Label<BvhBuild> kBvhLabels[] = {
     {"auto", BvhBuild::Auto}, {"sah", BvhBuild::Sah}, {"morton", BvhBuild::Morton}};
+constexpr Label<bool> kHeadlightLabels[] = {{"on", true}, {"off", false}};
+constexpr Label<bool> kToneHueLabels[] = {{"clip", false}, {"hue", true}};
 
 // The --sampler words, in kSamplerNames' order.
 constexpr auto kSamplerLabels = [] {
@@ -103,17 +105,22 @@ std::optional<Vec3> parse_colour(const std::string& text) {
     return std::nullopt;
 }
 
-// A word that --outline's optional value took but names a scene: a file, or a scene's extension.
-bool looks_like_scene(const std::string& word) {
-    if (word.find_first_not_of("0123456789.,+-eE ") == std::string::npos) return false;
-    std::error_code error;
-    if (std::filesystem::exists(word, error)) return true;
+// Whether `word` ends in a scene's extension (kSceneExtensions, or any name + ".gz").
+bool has_scene_extension(const std::string& word) {
     std::string lower = word;
     for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (lower.size() > 3 && lower.ends_with(".gz")) return true;
     for (const SceneExtension& e : kSceneExtensions)
         if (lower.size() > std::strlen(e.name) && lower.ends_with(e.name)) return true;
     return false;
+}
+
+// A word that --outline's optional value took but names a scene: a file, or a scene's extension.
+bool looks_like_scene(const std::string& word) {
+    if (word.find_first_not_of("0123456789.,+-eE ") == std::string::npos) return false;
+    std::error_code error;
+    if (std::filesystem::exists(word, error)) return true;
+    return has_scene_extension(word);
 }
 
 // --outline's value: "" (the defaults), "WIDTH", "R,G,B", ",R,G,B" or "WIDTH,R,G,B". False
@@ -168,7 +175,38 @@ std::vector<std::string> option_spellings(const CLI::App& app) {
     return names;
 }
 
-// "did you mean" lines for the words of the command line that name no subcommand or option.
+// The known spelling nearest to `name`, compared without the leading dashes: "-o" is no slip for
+// "-h" (one letter of one changed), while "--widht" is one for "--width".
+std::string nearest_option(const std::string& name, const std::vector<std::string>& known) {
+    auto bare = [](const std::string& s) {
+        return s.substr(std::min(s.find_first_not_of('-'), s.size()));
+    };
+    std::vector<std::string> bare_known;
+    for (const std::string& k : known) bare_known.push_back(bare(k));
+    const std::string near = nearest_name(bare(name), bare_known);
+    for (size_t k = 0; k < known.size(); ++k)
+        if (!near.empty() && bare_known[k] == near) return known[k];
+    return "";
+}
+
+// The subcommand that has the option `name` (or one near it, into `near`): for an option given
+// before any subcommand ("vrmlray --width 3 a.wrl"), render's first.
+const CLI::App* subcommand_with_option(CLI::App& app, const std::string& name, std::string& near) {
+    const CLI::App* nearest = nullptr;
+    for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; })) {
+        const std::vector<std::string> own = option_spellings(*s);
+        if (std::find(own.begin(), own.end(), name) != own.end()) {
+            near = name;
+            return s;
+        }
+        const std::string guess = nearest_option(name, own);
+        if (!nearest && !guess.empty()) nearest = s, near = guess;
+    }
+    return nearest;
+}
+
+// "did you mean" lines for the words of the command line that name no subcommand or option; before
+// any subcommand, a scene file or a subcommand's option says which command to start with.
 std::string suggestions(CLI::App& app, int argc, const char* const* argv) {
     std::vector<std::string> subcommands;
     const CLI::App* sub = nullptr;
@@ -182,6 +220,11 @@ std::string suggestions(CLI::App& app, int argc, const char* const* argv) {
             for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; }))
                 if (s->get_name() == word) sub = s;
             if (sub) continue;
+            if (has_scene_extension(word)) {
+                said += "vrmlray: a command comes first; to render the scene: 'vrmlray render " +
+                        word + "'\n";
+                break;
+            }
             const std::string near = nearest_name(word, subcommands);
             if (!near.empty())
                 said += "vrmlray: '" + word + "' is no command; did you mean '" + near + "'?\n";
@@ -197,7 +240,16 @@ std::string suggestions(CLI::App& app, int argc, const char* const* argv) {
             known.insert(known.end(), own.begin(), own.end());
         }
         if (std::find(known.begin(), known.end(), name) != known.end()) continue;
-        const std::string near = nearest_name(name, known);
+        std::string near = nearest_option(name, known);
+        if (!sub && near.empty()) {
+            // An option of a subcommand, given before it: name the command it belongs to.
+            if (const CLI::App* owner = subcommand_with_option(app, name, near))
+                said += "vrmlray: " +
+                        (near == name ? "'" + name + "' is an option of a command"
+                                      : "unknown option '" + name + "'") +
+                        "; did you mean 'vrmlray " + owner->get_name() + " " + near + "'?\n";
+            continue;
+        }
         if (!near.empty())
             said += "vrmlray: unknown option '" + name + "'; did you mean '" + near + "'?\n";
     }
@@ -239,7 +291,7 @@ struct Texts {
     CLI::Option* outline = nullptr;
     std::string outline_text;
     // The look for publication (docs/manual.md, "Leaving the VRML lighting model").
-    std::string light_scale, headlight, tone, preset;
+    std::string light_scale, preset;
     std::vector<std::string> depth_cue;
 };
 
@@ -293,9 +345,8 @@ void add_render_look(CLI::App* r, RenderOptions& o, Texts& texts) {
                   "that keeps a white surface's brightest lit colour, sky light included, within "
                   "1 (as Tachyon's -auto_skylight)")
         ->type_name("S|auto");
-    r->add_option("--headlight", texts.headlight,
-                  "on or off: overrides the file's NavigationInfo headlight")
-        ->check(CLI::IsMember({"on", "off"}));
+    add_label_option(r, "--headlight", o.headlight, kHeadlightLabels,
+                     "on or off: overrides the file's NavigationInfo headlight");
     r->add_option("--depth-cue", texts.depth_cue,
                   "Leaves the VRML model: blend surfaces linearly toward the background colour "
                   "from view depth NEAR to FAR (default: the scene's depth range from the camera)")
@@ -310,11 +361,10 @@ void add_render_look(CLI::App* r, RenderOptions& o, Texts& texts) {
                              "after the scene)";
             },
             "NEAR,FAR"));
-    r->add_option("--tone", texts.tone,
-                  "clip (default: each channel clipped at 1) or hue (leaves the VRML model: a "
-                  "surface's colour scaled by a smooth shoulder of its largest channel, so that "
-                  "hue is kept where a channel would clip)")
-        ->check(CLI::IsMember({"clip", "hue"}));
+    add_label_option(r, "--tone", o.tone_hue, kToneHueLabels,
+                     "clip (default: each channel clipped at 1) or hue (leaves the VRML model: a "
+                     "surface's colour scaled by a smooth shoulder of its largest channel, so "
+                     "that hue is kept where a channel would clip)");
     r->add_option("--preset", texts.preset,
                   "Leaves the VRML model: preview, publication or poster: an antialiasing "
                   "sampler, sky light with --light-scale auto, --srgb, --fit, --depth-cue, --tone "
@@ -338,7 +388,6 @@ bool map_render_look(const Texts& texts, const CLI::App& r, RenderOptions& o) {
             return false;
         }
     }
-    if (!texts.headlight.empty()) o.headlight = texts.headlight == "on";
     if (r.get_option("--depth-cue")->count() > 0) {
         o.depth_cue = true;
         double near, far;
@@ -347,7 +396,6 @@ bool map_render_look(const Texts& texts, const CLI::App& r, RenderOptions& o) {
             o.depth_cue_far = far;
         }
     }
-    if (!texts.tone.empty()) o.tone_hue = texts.tone == "hue";
     if (!texts.preset.empty()) {
         auto given = [&](const char* name) { return r.get_option(name)->count() > 0; };
         if (!apply_preset(texts.preset, given, o)) return false;

@@ -12,6 +12,7 @@
 #include "app/progress.h"
 #include "app/render_mpi.h"
 #include "app/render_stats.h"
+#include "core/format.h"
 #include "core/huge_pages.h"
 #include "image/image.h"
 
@@ -105,6 +106,17 @@ bool soft_light_on_placed_meshes(const FlatScene& flat, const RenderOptions& opt
     return false;
 }
 
+// The camera of a turned image as the options that render it alone, bit for bit: each number the
+// shortest text that reads back as its double.
+void note_orbit_camera(const std::string& scene, const std::string& output, const Camera& camera) {
+    auto triple = [](const Vec3& v) {
+        return format_exact(v.x) + "," + format_exact(v.y) + "," + format_exact(v.z);
+    };
+    std::fprintf(stderr, "%s: note: %s: --position %s --look-at %s --up %s\n", scene.c_str(),
+                 output.c_str(), triple(camera.position).c_str(),
+                 triple(camera.orbit_centre).c_str(), triple(camera.orbit_axis).c_str());
+}
+
 }  // namespace
 
 // One frame: camera, this process's tiles, the gather to rank 0, which writes it (and the stats
@@ -125,15 +137,8 @@ int render_frame(const RenderCommand& cmd, const MpiProcesses& world, const Load
     }
     if ((code = agreed(world, code, "making the camera")) != kExitOk) return code;
     // A sequence says once how its frames turn (render_frames); one image gives its camera.
-    if (job.options.orbit_angle && one_image(cmd) && !cmd.common.quiet) {
-        // Full precision: these three options render this frame alone, bit for bit.
-        const Vec3 &p = camera.position, &c = camera.orbit_centre, &u = camera.orbit_axis;
-        std::fprintf(stderr,
-                     "%s: note: %s: --position %.17g,%.17g,%.17g --look-at %.17g,%.17g,%.17g "
-                     "--up %.17g,%.17g,%.17g\n",
-                     cmd.scene.c_str(), output.c_str(), p.x, p.y, p.z, c.x, c.y, c.z, u.x, u.y,
-                     u.z);
-    }
+    if (job.options.orbit_angle && one_image(cmd) && !cmd.common.quiet)
+        note_orbit_camera(cmd.scene, output, camera);
     const std::string empty_scene =
         nothing_to_render(loaded, flat, job.scene->stats, job.options.threads);
     static std::atomic<bool> framing_noted{false};  // once a run, not once a frame

@@ -1,9 +1,9 @@
 // Large arrays (an HD image, a BVH over 1e5 primitives and more, 1e5 typed nodes) are filled once,
 // front to back. On Linux, asking for transparent huge pages before the first touch replaces
-// thousands of 4 KiB page faults by a few 2 MiB ones. On virtual machines like the ones we run on a
-// 4 KiB fault costs about 3 us: a 1920x1080 float RGBA image (33 MB) takes 0.12 s to zero on 4 KiB
-// pages and 0.003-0.05 s on huge pages (three runs), and the BVH build of 1M spheres spends half
-// its time in faults. A hint only: nothing changes if it is refused, and storage below 4 MiB is
+// thousands of 4 KiB page faults by a few 2 MiB ones. On virtual machines like the ones we run on,
+// zeroing an HD image on 4 KiB pages takes several times as long as on huge pages, and the BVH
+// build of 1M spheres spends half its time in faults (bench/README.md, "Figures behind the
+// comments"). A hint only: nothing changes if it is refused, and storage below 4 MiB is
 // left alone.
 #pragma once
 #include <cstddef>

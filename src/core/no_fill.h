@@ -1,7 +1,7 @@
 // Vectors whose resize() leaves new elements unset, for large arrays that a parallel loop fills
-// right after: the kernel zeroes each fresh page on its first write (about 1.3 s a GB on the
-// virtual machines we run on), and a value-initialising resize() would take all those faults on
-// one thread before the loop could share them out.
+// right after: the kernel zeroes each fresh page on its first write (slow on the virtual machines
+// we run on: bench/README.md, "Figures behind the comments"), and a value-initialising resize()
+// would take all those faults on one thread before the loop could share them out.
 #pragma once
 #include <memory>
 #include <new>

@@ -378,8 +378,7 @@ Image to_rgba(int width, int height, int nch, int alpha, const std::vector<float
 
 // The extensions of OpenImageIO 2.4's image writers (its "extension_list" for the formats of
 // "output_format_list", less null and term). check_output refuses any other extension without
-// loading the module (0.4 s, over a second on a loaded machine); the module still has the last word
-// on these.
+// loading the module (slow to load: oiio_abi.h); the module still has the last word on these.
 bool oiio_may_write(const std::string& ext) {
     static constexpr const char* kKnown[] = {
         "exr",  "sxr",  "mxr",   "tif",  "tiff", "tx",   "env",  "sm",   "vsm",  "jpg",

@@ -1,7 +1,8 @@
 // The C interface between vrmlray and its OpenImageIO module (vrmlray_oiio.so, src/oiio/).
 //
 // Why a module: linking OpenImageIO pulls in about 260 shared libraries whose loading and static
-// initialisers cost ~0.4 s at every process start, more than a small render. The binary therefore
+// initialisers cost more than a small render at every process start (bench/README.md, "Figures
+// behind the comments"). The binary therefore
 // never links it; src/image/oiio_module.cpp dlopens the module the first time a format that is not
 // handled natively (PNG, PPM) is read or written.
 //

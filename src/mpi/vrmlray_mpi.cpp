@@ -20,8 +20,9 @@ int vrmlray_mpi_abi_version() { return VRMLRAY_MPI_ABI_VERSION; }
 void vrmlray_mpi_init(int* rank, int* size) {
 #ifdef OPEN_MPI
     // Open MPI opens every point-to-point layer (PML) before it picks one; opening cm, whose fabric
-    // layers (libfabric, PSM) probe the network devices, took 0.2 s of MPI_Init's 0.25 s on the
-    // 2-core test machine, which then picked ob1 anyway. When every process is on this node (local
+    // layers (libfabric, PSM) probe the network devices, took most of MPI_Init's time on the
+    // 2-core test machine (bench/README.md, "Figures behind the comments"), which then picked ob1
+    // anyway. When every process is on this node (local
     // size = world size, the same answer in every process, so all pick alike) ob1 with its
     // shared-memory transport is what a node needs, so it is named here unless the user named a PML
     // (--mca pml, OMPI_MCA_pml: both arrive as this variable, which setenv then leaves alone).

@@ -87,6 +87,23 @@ bool worse(const SuitePair& a, const SuitePair& b) {
     return a.name < b.name;
 }
 
+// A missing reference whose file name an extra result has in another folder (a.png against
+// scenes/a.png): most likely one batch was given the scenes by other paths, so say where it is.
+void hint_moved_images(std::vector<SuitePair>& pairs) {
+    std::map<std::string, std::vector<const SuitePair*>> extra_by_file;
+    for (const SuitePair& p : pairs)
+        if (p.status == PairStatus::kExtra)
+            extra_by_file[fs::path(p.name).filename().string()].push_back(&p);
+    for (SuitePair& p : pairs) {
+        if (p.status != PairStatus::kMissing) continue;
+        const auto found = extra_by_file.find(fs::path(p.name).filename().string());
+        if (found == extra_by_file.end() || found->second.size() != 1) continue;
+        p.message += "; the result " + found->second.front()->name +
+                     " has its file name (were the scenes given by other paths? a batch names "
+                     "its images after where each scene lies under the current folder)";
+    }
+}
+
 }  // namespace
 
 const CompareThresholds& SuiteThresholds::for_pair(const std::string& name) const {
@@ -154,6 +171,7 @@ std::vector<SuitePair> compare_folders(const fs::path& reference_dir, const fs::
             if (visit) visit(pair, ref, out);
         }
     });
+    hint_moved_images(pairs);
     std::sort(pairs.begin(), pairs.end(), worse);
     return pairs;
 }

@@ -129,11 +129,10 @@ bool Accel::instance_box(const MeshInstance& in, uint32_t id, BuildBox& box) con
 
 BvhBuild choose_bvh_build(double primitives, double camera_samples, size_t lights,
                           bool soft_light) {
-    // On 3.4M atoms the build phase (two threads) took 0.78 s by the SAH and 0.32 by Morton
-    // codes: about 270 ns of CPU a primitive saved. The Morton tree cost S2's rays (bonds among
-    // atoms) about a fifth more, some 70 ns of a 350 ns ray, S3's random spheres' 0-17% and the
-    // 1 GB file's atoms nothing measurable: it pays while a primitive gets fewer than about four
-    // rays. Soft light's rays per point are many and
+    // A Morton build saves a few hundred ns of CPU a primitive against the SAH's, and its tree
+    // costs a ray up to a fifth more (bonds among atoms; random spheres less, a molecule's atoms
+    // nothing measurable): it pays while a primitive gets fewer than about four rays (the figures:
+    // bench/README.md, "Figures behind the comments"). Soft light's rays per point are many and
     // not known beforehand: the SAH then.
     if (soft_light) return BvhBuild::Sah;
     const double rays = camera_samples * (1.0 + double(lights));

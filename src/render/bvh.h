@@ -84,9 +84,10 @@ struct BvhBuildOptions {
     // SAH cost of an interior node in sphere tests (BuildBox::cost): a binary node tests two boxes,
     // each about one primitive test.
     double traversal_cost = 2.0;
-    // Split at Morton code bits (a spatial median, as an LBVH) instead of by the SAH: a quicker
-    // build (3.4M atoms: the build phase 0.32 s against 0.78) of a tree that may cost rays more
-    // (choose_bvh_build in render/accel.h says when it pays).
+    // Split at Morton code bits (a spatial median, as an LBVH) instead of by the SAH: a build in
+    // well under half the time of a tree that may cost rays more (choose_bvh_build in
+    // render/accel.h says when it pays; the figures: bench/README.md, "Figures behind the
+    // comments").
     bool morton = false;
 };
 
@@ -120,8 +121,8 @@ inline float float_up(double v) {
 
 // float_step_down(float_down(v)) and float_step_up(float_up(v)) for a v that is not NaN, without
 // branches: whether the rounding went the wrong way is as likely as not, and six such branches a
-// box cost 62 ns a sphere (4% of a 1 GB file's samples in one perf profile). Floats as integers in
-// their order: +0 and -0 are 0, one step is one ulp.
+// box showed in a large file's profile (bench/README.md, "Figures behind the comments"). Floats as
+// integers in their order: +0 and -0 are 0, one step is one ulp.
 inline int32_t float_order(float f) {
     uint32_t bits;
     std::memcpy(&bits, &f, sizeof bits);

@@ -268,8 +268,8 @@ namespace {
 // in the order they are traced: row by row over one grid of the cone for the whole round (odd rows
 // right to left), so that consecutive rays are neighbours and share their blockers (the shadow
 // rays' hint). Tracing block after block, as before, put each of a loose tolerance's blocks of 2 or
-// 4 points across the whole cone: on the S2 molecule's sky at 2e-1 the hint then spared 5.3% of the
-// shadow rays their traversal, and 8.3% in round order (the render 2% sooner). The grid has as many
+// 4 points across the whole cone, and the hint spared fewer shadow rays their traversal than in
+// round order does (bench/README.md, "Figures behind the comments"). The grid has as many
 // boxes as the largest power of 2 not above the round's points (each aligned block of a power-of-2
 // count is a net: a box holds 1 or 2).
 struct RoundPoint {

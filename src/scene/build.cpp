@@ -100,8 +100,8 @@ std::vector<std::string_view> child_roles() {
 FieldView Builder::read(NodeId n, Name f, Many many, std::initializer_list<ValueKind> kinds) const {
     // One named result, returned on every path: GCC then builds it in the caller's slot. With a
     // second `return {}` it copied the 80-byte view with one 64-byte load right after get()
-    // stored it field by field, a store-forwarding stall on every field read (7% of the CPU
-    // reading a 1 GB PyMOL-style file).
+    // stored it field by field, a store-forwarding stall on every field read (bench/README.md,
+    // "Figures behind the comments").
     FieldView v = tree_.get(n, f);
     const bool kind_ok = std::find(kinds.begin(), kinds.end(), v.type.kind) != kinds.end();
     const bool many_ok = many == Many::Either || v.type.multi == (many == Many::MF);

@@ -1,9 +1,9 @@
-// An array kept in chunks, for the typed scene's largest arrays (a PyMOL atom is a group, a
-// translation, a shape and two child references). The scene build takes the arrays of the
-// fragments built while a large file is read (fragments.h) as chunks of its own, renumbered where
-// they lie, instead of copying them: on the virtual machines we run on, the first touch of fresh
-// memory is slow (bench/README.md, "Figures behind the comments"), and a copy would touch the
-// scene's memory twice.
+// An array kept in chunks (storage blocks; one a fragment's, fragments.h), for the typed scene's
+// largest arrays (a PyMOL atom is a group, a translation, a shape and two child references). The
+// scene build takes the arrays of the fragments built while a large file is read (fragments.h) as
+// chunks of its own, renumbered where they lie, instead of copying them: on the virtual machines we
+// run on, the first touch of fresh memory is slow (bench/README.md, "Figures behind the comments"),
+// and a copy would touch the scene's memory twice.
 //
 // Only the last chunk grows; a block taken by resize() lies in one chunk, so spans of it stay
 // contiguous (Scene::children_of).

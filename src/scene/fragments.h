@@ -1,9 +1,12 @@
-// Typed scene fragments built while a large file is read: the reader's worker threads hand each
-// piece of the main file (parser/piece_consumer.h) to SceneFragments, which builds the piece's
-// top-level nodes into a Scene of their own and lets the reader free the piece's node tree. The
-// scene build (build_scene) then splices the fragments in at their places among the top-level
-// nodes, so that the scene equals the one built from the whole tree: the same groups, shapes,
-// child lists and merged materials, appearances and spheres, in the same order.
+// Typed scene fragments built while a large file is read. A fragment is the typed scene of one
+// piece (the parser's name for a byte range of the file read on its own, parser/piece_consumer.h);
+// its arrays join the scene's as blocks of a chunked array (chunked_array.h), not copied. The
+// reader's worker threads hand each piece of the main file (parser/piece_consumer.h) to
+// SceneFragments, which builds the piece's top-level nodes into a Scene of their own and lets the
+// reader free the piece's node tree. The scene build (build_scene) then splices the fragments in at
+// their places among the top-level nodes, so that the scene equals the one built from the whole
+// tree: the same groups, shapes, child lists and merged materials, appearances and spheres, in the
+// same order.
 //
 // A piece is built only when that equality is plain: its nodes are grouping nodes, Shapes,
 // Appearances, Materials and the four primitive geometries, nothing in it has metadata, a USE of

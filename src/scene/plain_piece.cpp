@@ -254,8 +254,8 @@ class PlainReader {
         return tree.nodes.back();
     }
 
-    // Most names differ in length or first letter: no call to memcmp for them (it took 2.6% of
-    // a 1 GB file's samples).
+    // Most names differ in length or first letter: no call to memcmp for them (it showed in a
+    // large file's profile: bench/README.md, "Figures behind the comments").
     static bool same_word(std::string_view a, std::string_view b) {
         return a.size() == b.size() && a[0] == b[0] &&
                std::memcmp(a.data(), b.data(), a.size()) == 0;

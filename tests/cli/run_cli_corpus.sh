@@ -125,7 +125,7 @@ done < <(find "$corpus/molecular" -type f -name '*.wrl' -print0 2>/dev/null | so
 # path. Against a reference at 3e-3 (another seed, so that its error is independent), a pixel's sky term
 # (0.7 Kd A, Kd <= 1) may be off by 0.7 (0.1 + 3e-3) = 0.0721 at 1e-1, and only at 1 in 100 sampled points
 # (a 99% confidence per point); those points are 4.3% of the pixels here, so 1 in 100 of them is 0.04% and
-# 0.1% of the pixels is allowed. Measured 2026-12-05: 0 pixels over at seeds 0 to 3. 1 and 2 threads give
+# 0.1% of the pixels is allowed. Measured: 0 pixels over at seeds 0 to 3. 1 and 2 threads give
 # the same bytes.
 sticks=$corpus/molecular/pymol/pept_sticks.wrl
 if [ -f "$sticks" ]; then

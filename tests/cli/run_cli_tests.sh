@@ -36,10 +36,13 @@ complete_words() {  # complete_words WORD... : what <Tab> offers after these wor
 touch "$work/zz_scene.wrl"
 [ "$(complete_words render x.wrl --sampler r)" = "rgss rooks8 " ] && pass || fail "--sampler r<Tab> offers rgss rooks8 ($(complete_words render x.wrl --sampler r))"
 [ "$(complete_words render x.wrl --spheres "")" = "gas hints opaque " ] && pass || fail "--spheres <Tab> offers its three words"
+[ "$(complete_words render x.wrl --camera "")" = "ortho perspective viewpoint " ] && pass || fail "--camera <Tab> offers its three words"
 [ -z "$(complete_words render x.wrl -W zz)" ] && pass || fail "-W <Tab> offers no file names"
 [ -z "$(complete_words render x.wrl --background zz)" ] && pass || fail "--background <Tab> offers no file names"
 [ "$(complete_words render x.wrl -o zz_)" = "zz_scene.wrl " ] && pass || fail "-o <Tab> offers files"
 [ "$(complete_words render zz_)" = "zz_scene.wrl " ] && pass || fail "a scene argument offers scene files"
+touch "$work/yy_scene.x3dvz" "$work/yy_notes.txt"
+[ "$(complete_words render yy_)" = "yy_scene.x3dvz " ] && pass || fail "a scene argument offers every scene extension render's help lists, and no other file ($(complete_words render yy_))"
 "$bin" render --help >"$work/out.txt" && [ "$(head -1 "$work/out.txt")" = "Usage: vrmlray render [OPTIONS] [scene...]" ] && pass || fail "render --help starts with its usage"
 # --stats is valid JSON whatever the scene's name, with figures at full precision: per_pixel must be
 # exactly primary / pixels as Python's double division gives it (the statistical sampler's ray count

@@ -3,15 +3,18 @@
 // the program now says or does about it.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
 
 #include "app/cli.h"
+#include "core/format.h"
 #include "image/image.h"
 #include "parser/load.h"
 #include "parser/suggest.h"
+#include "qa/suite.h"
 #include "temp_path.h"
 
 namespace vr {
@@ -107,6 +110,24 @@ TEST(Newcomer, AMisspelledCommandGetsADidYouMean) {
     EXPECT_NE(swapped.err.find("did you mean 'compare'?"), std::string::npos) << swapped.err;
 }
 
+TEST(Newcomer, AnOptionOrASceneBeforeTheCommandNamesTheCommand) {
+    // Before, each said only "a subcommand is required" ("-o" even got "did you mean '-h'?").
+    const Parsed scene = parse({"a.wrl", "-o", "a.png"});
+    EXPECT_EQ(scene.code, kExitUsage);
+    EXPECT_NE(scene.err.find("to render the scene: 'vrmlray render a.wrl'"), std::string::npos)
+        << scene.err;
+    const Parsed typo = parse({"--widht", "3", "a.wrl"});
+    EXPECT_EQ(typo.code, kExitUsage);
+    EXPECT_NE(typo.err.find("unknown option '--widht'; did you mean 'vrmlray render --width'?"),
+              std::string::npos)
+        << typo.err;
+    const Parsed output = parse({"-o", "a.png", "a.wrl"});
+    EXPECT_NE(output.err.find("'-o' is an option of a command; did you mean 'vrmlray render -o'?"),
+              std::string::npos)
+        << output.err;
+    EXPECT_EQ(output.err.find("'-h'"), std::string::npos) << output.err;
+}
+
 TEST(Newcomer, ColourWordsAndHexAreColours) {
     const Parsed white = parse({"render", "a.wrl", "--background", "white"});
     ASSERT_EQ(white.code, -1) << white.err;
@@ -139,6 +160,54 @@ TEST(Newcomer, OrbitOnOneFrameTurnsTheCamera) {
     EXPECT_EQ(pl, 0);
     EXPECT_GT(tl, 0);
     EXPECT_EQ(tr, 0);
+}
+
+// The numbers of the "--position X,Y,Z --look-at X,Y,Z --up X,Y,Z" note of `err`.
+std::vector<std::string> camera_note_numbers(const std::string& err) {
+    std::vector<std::string> numbers;
+    const size_t at = err.find("--position ");
+    if (at == std::string::npos) return numbers;
+    std::istringstream words(err.substr(at, err.find('\n', at) - at));
+    for (std::string word; words >> word;) {
+        if (word[0] == '-' && word[1] == '-') continue;
+        std::istringstream parts(word);
+        for (std::string part; std::getline(parts, part, ',');) numbers.push_back(part);
+    }
+    return numbers;
+}
+
+TEST(Newcomer, AnOrbitFramesCameraNoteIsExactAndShort) {
+    Folder dir;
+    // The box at x = 2.7 puts the scene's centre (the orbit's look-at) at x = 1.1, which %.17g
+    // wrote as 1.1000000000000001.
+    std::string scene = kScene;
+    scene.replace(scene.find("2.5 0 0"), 7, "2.7 0 0");
+    const std::string file = dir.write("scene.wrl", scene);
+    const std::string first = (dir.path / "first.png").string(),
+                      again = (dir.path / "again.png").string();
+    const auto [code, err] =
+        run({"render", file, "-W", "32", "-H", "24", "--orbit", "50", "-o", first});
+    ASSERT_EQ(code, kExitOk) << err;
+    const std::vector<std::string> numbers = camera_note_numbers(err);
+    ASSERT_EQ(numbers.size(), 9u) << err;
+    std::vector<std::string> camera = {"render", file, "-W", "32", "-H", "24", "-o", again};
+    const char* options[] = {"--position", "--look-at", "--up"};
+    for (int k = 0; k < 3; ++k) {
+        camera.push_back(options[k]);
+        camera.push_back(numbers[3 * k] + "," + numbers[3 * k + 1] + "," + numbers[3 * k + 2]);
+    }
+    for (const std::string& n : numbers) {
+        // Each number is the shortest text of its double: what reads back as it, and no longer.
+        char* end = nullptr;
+        const double value = std::strtod(n.c_str(), &end);
+        EXPECT_EQ(*end, '\0') << n;
+        EXPECT_EQ(format_exact(value), n);
+        EXPECT_LE(n.size(), 24u) << n;
+    }
+    EXPECT_NE(err.find("1.1,"), std::string::npos) << err;
+    // The note's camera renders the same bytes.
+    ASSERT_EQ(run(camera).first, kExitOk);
+    EXPECT_EQ(bytes_of(first), bytes_of(again));
 }
 
 TEST(Newcomer, ATurntableSaysItsCamerasOnceAndRendersAnyFrameAlone) {
@@ -206,6 +275,20 @@ TEST(Newcomer, BatchOutputsAreNamedAfterWhereTheSceneLiesNotHowItWasWritten) {
     EXPECT_EQ(absolute_code, kExitOk);
     EXPECT_TRUE(rel_named);
     EXPECT_TRUE(abs_named);
+}
+
+TEST(Newcomer, AMissingImageSaysWhereAnImageOfItsNameIs) {
+    // A golden folder from a run that named its images a.png; this run's batch wrote scenes/a.png.
+    Folder dir;
+    Image image(4, 4);
+    std::string error;
+    fs::create_directories(dir.path / "ref");
+    fs::create_directories(dir.path / "out/scenes");
+    ASSERT_TRUE(write_image((dir.path / "ref/a.png").string(), image, false, error)) << error;
+    ASSERT_TRUE(write_image((dir.path / "out/scenes/a.png").string(), image, false, error));
+    const std::string table =
+        format_suite_table(compare_folders(dir.path / "ref", dir.path / "out", {}, 1));
+    EXPECT_NE(table.find("the result scenes/a.png has its file name"), std::string::npos) << table;
 }
 
 TEST(Newcomer, CompareNamesTheReferenceFirstForImagesAndFoldersAlike) {

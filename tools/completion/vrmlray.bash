@@ -39,9 +39,13 @@ _vrmlray() {
             return
         fi
     fi
+    # The scene extensions as render's help lists them: "Scene file (.wrl .x3dv ..., each also + .gz)".
+    local scenes
+    scenes=$("${COMP_WORDS[0]}" render --help 2>/dev/null | sed -n 's/.*Scene file (\([^,]*\),.*/\1/p' |
+        head -n 1 | sed 's/^\.//; s/ \./|/g')
     case "$sub" in
         compare) COMPREPLY=($(compgen -f -X '!*.@(png|exr|hdr|tif|tiff|jpg|jpeg|ppm)' -- "$cur")) ;;
-        *) COMPREPLY=($(compgen -f -X '!*.@(wrl|wrz|gz|x3d|x3dv|x3dz|x3dvz|png|exr|hdr|tif|ppm|jpg)' -- "$cur")) ;;
+        *) COMPREPLY=($(compgen -f -X "!*.@(${scenes:-wrl}|gz|png|exr|hdr|tif|ppm|jpg)" -- "$cur")) ;;
     esac
     compopt -o plusdirs 2>/dev/null
 }
