@@ -12,7 +12,9 @@ namespace vr {
 namespace {
 
 template <class T>
-concept HasOrigin = requires(T t) { t.origin; };
+concept HasOrigin = requires(T t) {
+    t.origin;
+};
 
 // Bytes out: the pieces, then the table of names their numbers stand for (its offset first).
 class Writer {
@@ -21,7 +23,7 @@ class Writer {
     // of fresh memory is the cost of a large message, and growing it would touch it again).
     explicit Writer(size_t bytes) {
         reserve_huge(out_, bytes);
-        put(uint64_t(0));  // where the table starts, set by finish()
+        put(uint64_t(0));          // where the table starts, set by finish()
         ids_.emplace(kNoName, 0);  // number 0, always
         order_.push_back(kNoName);
     }
@@ -95,8 +97,8 @@ class Reader {
         const auto count = get<uint32_t>();
         for (uint32_t k = 0; k < count; ++k) {
             const auto length = get<uint32_t>();
-            names_.push_back(intern(std::string_view(
-                reinterpret_cast<const char*>(take(length).data()), length)));
+            names_.push_back(intern(
+                std::string_view(reinterpret_cast<const char*>(take(length).data()), length)));
         }
         end_ = table;  // the body ends where the table begins
         at_ = body;
@@ -229,8 +231,8 @@ bool fits_wire(const Scene& s) {
     if (!s.textures.empty() || !s.lights.empty() || !s.viewpoints.empty() ||
         !s.backgrounds.empty() || !s.fogs.empty() || !s.navigation_infos.empty() ||
         !s.hints.empty() || !s.billboard_axes.empty() || !s.clip_planes.empty() ||
-        !s.layouts.empty() || !s.layers.empty() || !s.layer_order.empty() ||
-        s.active_layer != 0 || !s.main_file.empty() || !s.allowed_roots.empty())
+        !s.layouts.empty() || !s.layers.empty() || !s.layer_order.empty() || s.active_layer != 0 ||
+        !s.main_file.empty() || !s.allowed_roots.empty())
         return false;
     for (const sg::Geometry& g : s.geometries)
         if (!std::holds_alternative<sg::Sphere>(g.shape) &&

@@ -28,7 +28,7 @@ struct WirePiece {
 bool fits_wire(const Scene& fragment);
 
 // The pieces as one message: a table of names, then piece after piece. Fragments that do not
-// fit_wire go as "not plain".
+// fits_wire go as "not plain".
 std::vector<uint8_t> pack_pieces(std::span<const WirePiece> pieces);
 // The pieces of a message pack_pieces made, in its order; throws std::runtime_error on a message
 // that ends early.

@@ -44,7 +44,8 @@ void SharedPieces::plan(std::span<const PieceText> pieces) {
     for (size_t k = size_t(world_.rank()); k < pieces.size(); k += size_t(world_.size()))
         mine.push_back(k);
     std::vector<std::optional<PlainPiece>> built(mine.size());
-    const int threads = threads_ > 0 ? threads_ : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads =
+        threads_ > 0 ? threads_ : int(std::max(1u, std::thread::hardware_concurrency()));
     parallel_ranges(mine.size(), threads, [&](size_t begin, size_t end, int) {
         for (size_t i = begin; i < end; ++i) try {
                 built[i] = read_plain_piece(pieces[mine[i]]);

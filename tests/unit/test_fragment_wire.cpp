@@ -81,7 +81,8 @@ TEST(FragmentWire, APlainPieceArrivesAsItLeft) {
         EXPECT_EQ(t.child_refs[i].index, s.child_refs[i].index);
     }
     ASSERT_EQ(t.translations.size(), s.translations.size());
-    for (size_t i = 0; i < s.translations.size(); ++i) EXPECT_EQ(t.translations[i], s.translations[i]);
+    for (size_t i = 0; i < s.translations.size(); ++i)
+        EXPECT_EQ(t.translations[i], s.translations[i]);
     EXPECT_EQ(t.matrices, s.matrices);  // bit for bit: == on doubles
     ASSERT_EQ(t.shapes.size(), s.shapes.size());
     for (size_t i = 0; i < s.shapes.size(); ++i) {
