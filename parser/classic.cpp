@@ -69,8 +69,14 @@ class Reader {
                     std::make_shared<ProtoScope>()};
         frame.whole_file = true;
         result.protos = frame.protos;
+        std::vector<Piece> planned = plan_pieces(text);
+        if (consumer_) {
+            std::vector<PieceText> texts;
+            for (const Piece& p : planned) texts.push_back(piece_text(file, p));
+            consumer_->plan(texts);
+        }
         PieceScheduler pieces(
-            plan_pieces(text), [this, file](Piece& p) { read_piece(file, p); },
+            std::move(planned), [this, file](Piece& p) { read_piece(file, p); },
             piece_workers(limits_.read_threads));
         try {
             for (;;) {
@@ -1049,9 +1055,10 @@ class Reader {
 
     // ---- pieces (classic_pieces.h) -----------------------------------------------------------
 
-    static std::vector<Piece> plan_pieces(std::string_view text) {
+    std::vector<Piece> plan_pieces(std::string_view text) const {
         std::vector<Piece> pieces;
-        const std::vector<uint32_t> starts = piece_starts(text, 0, piece_bytes());
+        const std::vector<uint32_t> starts =
+            piece_starts(text, 0, limits_.piece_bytes > 0 ? limits_.piece_bytes : piece_bytes());
         for (size_t k = 0; k < starts.size(); ++k) {
             pieces.emplace_back();
             pieces.back().index = static_cast<uint32_t>(k);
@@ -1174,19 +1181,24 @@ class Reader {
         piece.tree = NodeTree{};
     }
 
+    // A piece's text and the limits a consumer reads it with.
+    PieceText piece_text(uint32_t file, const Piece& piece) const {
+        return PieceText{scene_.sources.file(file).text,
+                         file,
+                         piece.begin,
+                         piece.end,
+                         spec_,
+                         std::min<size_t>(limits_.max_nodes, kFirstOuterNode),
+                         limits_.max_nesting_depth,
+                         limits_.max_mf_values};
+    }
+
     // A piece the consumer read from its text with no node tree (piece_consumer.h): usable as a
     // tree read without a message would be.
     bool consume_text(uint32_t file, Piece& piece) {
         if (!consumer_ || angle_unit_) return false;
-        const PieceText text{scene_.sources.file(file).text,
-                             file,
-                             piece.begin,
-                             piece.end,
-                             spec_,
-                             std::min<size_t>(limits_.max_nodes, kFirstOuterNode),
-                             limits_.max_nesting_depth,
-                             limits_.max_mf_values};
-        std::optional<TextConsumed> took = consumer_->consume_text(piece.index, text);
+        std::optional<TextConsumed> took =
+            consumer_->consume_text(piece.index, piece_text(file, piece));
         if (!took) return false;
         piece.usable = piece.consumed = true;
         piece.nodes = took->nodes;

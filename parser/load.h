@@ -31,6 +31,9 @@ struct LoadLimits {
     // Threads that read a large file in pieces, the calling one included (--threads); 0: one a
     // core.
     unsigned read_threads = 0;
+    // The bytes a large classic-encoding file's pieces are cut to; 0: piece_bytes()
+    // (classic_pieces.h). Processes that share the pieces cut them finer (src/app/shared_pieces.h).
+    size_t piece_bytes = 0;
 };
 
 struct LoadOptions {

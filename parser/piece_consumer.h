@@ -53,6 +53,11 @@ class PieceConsumer {
     virtual std::optional<TextConsumed> consume_text(size_t /*piece*/, const PieceText& /*text*/) {
         return std::nullopt;
     }
+    // On the reading thread, once, before any piece of the main file is read: every piece it is
+    // cut into, in file order (none when the file is read whole). A consumer may build pieces
+    // ahead of the reader here, or have other processes build them (src/app/shared_pieces.h);
+    // consume_text is still asked for each piece the reader reaches.
+    virtual void plan(std::span<const PieceText> /*pieces*/) {}
     // On a reading thread, for the main file's piece `piece` (an index in file order): its tree,
     // read to its end without an error, with no DEF, ROUTE, PROTO, IMPORT or EXPORT in it, and its
     // top-level nodes. Node references may be outer nodes (is_outer_node). True when the consumer

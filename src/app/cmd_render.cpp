@@ -13,6 +13,7 @@
 #include "app/pipeline.h"
 #include "app/render_mpi.h"
 #include "app/render_stats.h"
+#include "app/shared_pieces.h"
 #include "render/sky_map.h"
 
 namespace vr {
@@ -29,7 +30,7 @@ std::string output_path(const RenderCommand& cmd) {
 // Checks the frame pattern and the output, loads the scene and checks its ROUTEs; the exit code
 // all processes agree on.
 int prepare(const RenderCommand& cmd, const MpiProcesses& world, const FramePlan& plan,
-            const std::string& output, LoadedScene& loaded, double& parse_seconds) {
+            const std::string& output, LoadedScene& loaded, RenderTimings& timings) {
     bool has_pattern = false;
     std::string error;
     // Rank 0 writes every frame, also those the others render.
@@ -63,10 +64,26 @@ int prepare(const RenderCommand& cmd, const MpiProcesses& world, const FramePlan
     }
     if ((code = agreed(world, code, "checking the output")) != kExitOk) return code;
     const auto t_load = std::chrono::steady_clock::now();
-    code = load_and_report(cmd.scene, cmd.common, loaded, true, cmd.options.threads)
+    if (!world.parallel()) {
+        code = load_and_report(cmd.scene, cmd.common, loaded, true, cmd.options.threads)
+                   ? kExitOk
+                   : kExitBadInput;
+        timings.parse = seconds_since(t_load);
+        return code;
+    }
+    // Many processes share the pieces of a large file (app/shared_pieces.h).
+    auto shared = std::make_shared<SharedPieces>(world, cmd.options.threads);
+    std::error_code ec;
+    const auto file_bytes = std::filesystem::file_size(cmd.scene, ec);
+    code = load_and_report(cmd.scene, cmd.common, loaded, shared,
+                           shared_piece_bytes(ec ? 0 : size_t(file_bytes), world.size()),
+                           cmd.options.threads)
                ? kExitOk
                : kExitBadInput;
-    parse_seconds = seconds_since(t_load);
+    timings.parse = seconds_since(t_load);
+    timings.reading = shared->figures();
+    // Another process failed before the pieces were dealt: all agreed on it then.
+    if (shared->agreed() != kExitOk) return shared->agreed();
     return agreed(world, code, "reading the scene");
 }
 
@@ -99,7 +116,7 @@ int run_render(const RenderCommand& command) {
     LoadedScene loaded;
     RenderTimings timings;
     FramePlan plan = plan_frames(cmd, world);
-    int code = prepare(cmd, world, plan, output, loaded, timings.parse);
+    int code = prepare(cmd, world, plan, output, loaded, timings);
     if (code != kExitOk) return code;
     take_exporter_view(loaded.stats.exporter_view, cmd);
     if (!cmd.options.sky_file.empty() && !cmd.options.sky_map) {

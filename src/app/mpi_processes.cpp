@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/huge_pages.h"
 #include "image/module_path.h"
 #include "mpi/mpi_abi.h"
 #include "render/render.h"
@@ -70,6 +71,7 @@ struct Module {
     VrMpiGatherDoublesFn gather_doubles = nullptr;
     VrMpiSendFn send = nullptr;
     VrMpiRecvFn recv = nullptr;
+    VrMpiBcastFn bcast = nullptr;
 };
 Module g_mpi;
 
@@ -106,7 +108,8 @@ std::string load_module() {
             bind(handle, "vrmlray_mpi_sum_u64", m.sum_u64) &&
             bind(handle, "vrmlray_mpi_max_double", m.max_double) &&
             bind(handle, "vrmlray_mpi_gather_doubles", m.gather_doubles) &&
-            bind(handle, "vrmlray_mpi_send", m.send) && bind(handle, "vrmlray_mpi_recv", m.recv)) {
+            bind(handle, "vrmlray_mpi_send", m.send) && bind(handle, "vrmlray_mpi_recv", m.recv) &&
+            bind(handle, "vrmlray_mpi_bcast", m.bcast)) {
             g_mpi = m;
             return "";
         }
@@ -189,6 +192,14 @@ std::vector<uint8_t> MpiProcesses::receive(int from) const {
     std::vector<uint8_t> data(bytes);
     g_mpi.recv(data.data(), data.size(), from);
     return data;
+}
+
+void MpiProcesses::broadcast(std::vector<uint8_t>& data, int root) const {
+    if (!parallel()) return;
+    uint64_t bytes = data.size();
+    g_mpi.bcast(&bytes, sizeof bytes, root);
+    if (rank_ != root) resize_huge(data, bytes);  // fresh memory, touched first by the copy
+    g_mpi.bcast(data.data(), data.size(), root);
 }
 
 MpiProcesses& MpiProcesses::get() {

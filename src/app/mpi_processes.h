@@ -42,6 +42,8 @@ class MpiProcesses {
     // matching point of its own order (a frame file a process rendered, for rank 0 to write).
     void send(const std::vector<uint8_t>& data, int to) const;
     std::vector<uint8_t> receive(int from) const;
+    // Process `root`'s `data` into every process's `data` (resized to it).
+    void broadcast(std::vector<uint8_t>& data, int root) const;
 
   private:
     MpiProcesses();

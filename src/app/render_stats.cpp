@@ -79,11 +79,17 @@ std::vector<double> process_share(size_t tiles, const RenderStats& own, const Re
             t.scene,
             own.build_seconds,
             own.render_seconds,
-            gather_seconds};
+            gather_seconds,
+            t.reading.read_seconds,
+            t.reading.exchange_seconds,
+            double(t.reading.pieces),
+            double(t.reading.built_here),
+            double(t.reading.received),
+            double(t.reading.bytes_sent)};
 }
 
 nlohmann::ordered_json process_shares_json(const std::vector<double>& shares) {
-    constexpr size_t kFields = 8;  // process_share's
+    constexpr size_t kFields = 14;  // process_share's
     nlohmann::ordered_json all = nlohmann::ordered_json::array();
     for (size_t at = 0; at + kFields <= shares.size(); at += kFields) {
         const double* s = &shares[at];
@@ -93,6 +99,11 @@ nlohmann::ordered_json process_shares_json(const std::vector<double>& shares) {
         p["rays"] = uint64_t(s[1]);  // exact: a double holds integers to 2^53
         p["seconds"] = {{"mpi_init", s[2]}, {"parse", s[3]},  {"scene", s[4]},
                         {"build", s[5]},    {"render", s[6]}, {"gather", s[7]}};
+        p["reading"] = {{"pieces", uint64_t(s[10])},
+                        {"built", uint64_t(s[11])},
+                        {"received", uint64_t(s[12])},
+                        {"bytes_sent", uint64_t(s[13])},
+                        {"seconds", {{"pieces", s[8]}, {"exchange", s[9]}}}};
         all.push_back(p);
     }
     return all;

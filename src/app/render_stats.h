@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/shared_pieces.h"
 #include "render/flat_scene.h"
 #include "render/render.h"
 
@@ -23,6 +24,8 @@ struct RenderTimings {
     // The process's peak memory when reading and the scene build had ended (MB): bench/scale.sh's
     // bytes per atom of each phase.
     double peak_parse_mb = 0.0, peak_scene_mb = 0.0;
+    // Many processes: this one's part in reading the file's pieces (app/shared_pieces.h).
+    SharedReading reading;
 };
 
 // scene, width, height, seconds{parse scene build render write total}, primitives{...}, rays{...},
@@ -34,12 +37,15 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
 
 // One process's share of a render with many processes (docs/mpi.md), as the doubles that
 // MpiProcesses::gather carries: tiles, rays (all kinds), then seconds of MPI's start-up, parse,
-// scene, build, render and gather (which includes waiting for the slowest process).
+// scene, build, render and gather (which includes waiting for the slowest process), then its part
+// in the shared reading (SharedReading: seconds of its pieces and of the exchange, pieces built
+// and received, bytes sent).
 std::vector<double> process_share(size_t tiles, const RenderStats& own,
                                   const RenderTimings& timings, double init_seconds,
                                   double gather_seconds);
-// --stats "processes": [{rank, tiles, rays, seconds{mpi_init parse scene build render gather}},
-// ...] from every process's process_share, one after the other in rank order.
+// --stats "processes": [{rank, tiles, rays, seconds{mpi_init parse scene build render gather},
+// reading{pieces built received bytes_sent seconds{pieces exchange}}}, ...] from every process's
+// process_share, one after the other in rank order.
 nlohmann::ordered_json process_shares_json(const std::vector<double>& shares);
 
 // Writes `j` to --stats FILE (or cmd.stats_text in a batch); kExitOutput when it cannot.

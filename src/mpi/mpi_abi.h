@@ -6,11 +6,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#define VRMLRAY_MPI_ABI_VERSION 1
+#define VRMLRAY_MPI_ABI_VERSION 2
 
 extern "C" {
 using VrMpiAbiVersionFn = int (*)();
-// MPI_Init_thread (only the calling thread uses MPI), then this process's rank and the count.
+// MPI_Init_thread (one thread at a time uses MPI: the main one, or the reader's, which the main
+// one waits for), then this process's rank and the count.
 using VrMpiInitFn = void (*)(int* rank, int* size);
 using VrMpiFinalizeFn = void (*)();
 // Allreduce over every process: the largest int, the sum of uint64, the largest double.
@@ -22,4 +23,6 @@ using VrMpiGatherDoublesFn = void (*)(const double* mine, int n, double* all);
 // Point to point, any byte count (cut into messages MPI's int counts can hold).
 using VrMpiSendFn = void (*)(const void* data, size_t bytes, int to);
 using VrMpiRecvFn = void (*)(void* data, size_t bytes, int from);
+// MPI_Bcast of `bytes` bytes from process `root` into every other's `data` (any byte count).
+using VrMpiBcastFn = void (*)(void* data, size_t bytes, int root);
 }

@@ -33,7 +33,7 @@ void vrmlray_mpi_init(int* rank, int* size) {
         setenv("OMPI_MCA_pml", "ob1", 0);
 #endif
     int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, rank);
     MPI_Comm_size(MPI_COMM_WORLD, size);
 }
@@ -74,6 +74,12 @@ void vrmlray_mpi_recv(void* data, size_t bytes, int from) {
     for (size_t at = 0; at < bytes; at += kChunk)
         MPI_Recv(p + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, from, kTag, MPI_COMM_WORLD,
                  MPI_STATUS_IGNORE);
+}
+
+void vrmlray_mpi_bcast(void* data, size_t bytes, int root) {
+    char* p = static_cast<char*>(data);
+    for (size_t at = 0; at < bytes; at += kChunk)
+        MPI_Bcast(p + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, root, MPI_COMM_WORLD);
 }
 
 }  // extern "C"
