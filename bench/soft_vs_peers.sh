@@ -48,7 +48,8 @@
 #   bench/soft_vs_peers.sh [VRMLRAY_BINARY] [WIDTH HEIGHT] [RUNS]    (default build/vrmlray 1920 1080 1)
 # Environment: MODES ("sky area sky4"), TOLS ("3e-1 2.5e-1 2e-1 1e-1 3e-2 1e-2 3e-3 1e-3"), REF_TOL (1e-4; REF_TOL_SKY and
 # REF_TOL_AREA for one mode), REF_SEED (7: --seed of the reference), TACHYON_N ("4 16 64 256"),
-# POV_N ("3 5 9 17 33"), MAX_SECONDS (a renderer's ladder stops once a median passes it; default 600).
+# POV_N ("3 5 9 17 33"), MAX_SECONDS (a renderer's ladder stops once a median passes it; default 600),
+# EQUAL_TOL (sky4: the vrmlray tolerance Tachyon is matched to at equal RMSE, below; default 2e-2).
 # Seconds are whole-process wall time, the median of RUNS runs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -142,12 +143,43 @@ wall() {  # wall seconds of one command; its output to log
 timed() { for r in $(seq "$runs"); do wall "$@"; done | median; }
 rmse() { "$bin" compare "$1" "$2" --json 2>/dev/null | grep -o '"rmse": [-0-9.e+]*' | awk '{print $2}' || true; }
 too_slow() { awk -v t="$1" -v m="$max_seconds" 'BEGIN {exit !(t > m)}'; }
-vr() {  # MODE TOLERANCE OUT [SEED]
+vr() {  # MODE TOLERANCE OUT [SEED [OPTION ...]]
     local extra=() scene=$1
     [ "$1" = sky ] && extra=(--sky 0.7,0.7,0.7)
     [ "$1" = sky4 ] && extra=(--sky 0.7,0.7,0.7 --sampler rgss) && scene=sky
     "$bin" render "$scene.wrl" -W "$width" -H "$height" --threads 2 -q "${extra[@]}" --light-tolerance "$2" \
-        --seed "${4:-0}" -o "$3"
+        --seed "${4:-0}" "${@:5}" -o "$3"
+}
+
+# sky4 at equal RMSE. Tachyon's jittered antialiasing samples other points of each pixel than rgss,
+# which leaves it an RMSE against vrmlray's reference that no sky sample count lowers (its edges, not
+# its sky light), so equal RMSE is taken as equal sky-light error, each against its own converged
+# image: vrmlray's RMSE at EQUAL_TOL (default 2e-2, the default --light-tolerance) against the 1e-4
+# reference; Tachyon's per-sample variance s2 from its ladder against its own largest N, M (the same
+# jittered positions at every N: its RMSE^2 against M is s2 (1/N + 1/M), each N's s2 printed, the
+# median used), so that N = s2 / RMSE^2 skylight samples give vrmlray's RMSE. Tachyon is then timed at
+# that N and the two times compared (target: vrmlray at least 2x sooner).
+tachyon_at_equal_rmse() {  # Tachyon's ladder images, largest N last
+    local equal_tol=${EQUAL_TOL:-2e-2} ns=($tachyon_n) e_vr t_vr s2 n_eq t_t e_t
+    read -r t_vr e_vr < <(awk -F'\t' -v tol="tolerance $equal_tol" '$1 == "sky4" && $2 == "vrmlray" && $3 == tol {print $4, $5}' "$rows") || true
+    [ -n "$e_vr" ] || { echo "sky4 equal RMSE: no vrmlray row at tolerance $equal_tol (TOLS)" >&2; return 0; }
+    local m=${ns[$((${#images[@]} - 1))]} list=()
+    for ((i = 0; i < ${#images[@]} - 1; i++)); do
+        local e
+        e=$(rmse "${images[$i]}" "${images[-1]}")
+        list+=("$(awk -v e="$e" -v n="${ns[$i]}" -v m="$m" 'BEGIN {printf "%.6e", e * e / (1 / n + 1 / m)}')")
+    done
+    s2=$(printf '%s\n' "${list[@]}" | median)
+    n_eq=$(awk -v s="$s2" -v e="$e_vr" 'BEGIN {n = s / (e * e); printf "%d", n == int(n) ? n : int(n) + 1}')
+    t_t=$(timed tachyon sky_grid.dat -numthreads 2 -res $((width + 1)) $((height + 1)) -fullshade -aasamples 4 \
+        -auto_skylight 0.7 -skylight_samples "$n_eq" -format PPM48 -o t_sky4_eq_grid.ppm)
+    tachyon_cut t_sky4_eq_grid.ppm t_sky4_eq.ppm
+    e_t=$(rmse t_sky4_eq.ppm "${images[-1]}")
+    echo "sky4 equal RMSE: Tachyon's per-sample variance s2 at N = ${ns[*]:0:${#list[@]}} against N = $m: ${list[*]}, median $s2"
+    echo "sky4 equal RMSE: vrmlray tolerance $equal_tol RMSE $e_vr in $t_vr s; Tachyon -skylight_samples $n_eq" \
+        "(sqrt(s2 / N) = $(awk -v s="$s2" -v n="$n_eq" 'BEGIN {printf "%.3e", sqrt(s / n)}'); against N = $m: $e_t," \
+        "expected $(awk -v s="$s2" -v n="$n_eq" -v m="$m" 'BEGIN {printf "%.3e", sqrt(s * (1 / n + 1 / m))}')) in $t_t s:" \
+        "$(awk -v a="$t_t" -v b="$t_vr" 'BEGIN {r = a / b; printf "vrmlray %.2fx sooner (target 2x: %s)", r, (r >= 2 ? "met" : "MISSED")}')"
 }
 
 echo "load: $(cat /proc/loadavg)  size ${width}x$height  runs $runs"
@@ -158,8 +190,9 @@ for mode in $modes; do
     rt=$ref_tol
     [ "$mode" = sky ] && rt=${REF_TOL_SKY:-$ref_tol}
     [ "$mode" = area ] && rt=${REF_TOL_AREA:-$ref_tol}
-    ref=${mode}_ref_${width}x${height}_${rt}_seed$ref_seed.exr
-    [ -s "$ref" ] || { t=$(wall vr "$mode" "$rt" "$ref" "$ref_seed"); echo "reference $ref: $t s" >&2; }
+    # The reference estimates every sample on its own (--sky-share 1): no interpolation error in it.
+    ref=${mode}_ref_${width}x${height}_${rt}_seed${ref_seed}_share1.exr
+    [ -s "$ref" ] || { t=$(wall vr "$mode" "$rt" "$ref" "$ref_seed" --sky-share 1); echo "reference $ref: $t s" >&2; }
     for tol in $tols; do
         t=$(timed vr "$mode" "$tol" "v_$mode.exr")
         e=$(rmse "v_$mode.exr" "$ref")
@@ -190,6 +223,7 @@ for mode in $modes; do
             if too_slow "$t"; then break; fi
         done
     fi
+    [ "$mode" = sky4 ] && [ "${#images[@]}" -ge 2 ] && tachyon_at_equal_rmse "${images[@]}"
     # The peer's rows, with the RMSE against its own best setting (the last) as well.
     i=0
     grep -P "^$mode\t$peer\t" "$rows" | while IFS=$'\t' read -r _ _ setting t e; do
@@ -208,6 +242,8 @@ for mode in dict.fromkeys(r[0] for r in rows):
     peers = [r for r in rows if r[0] == mode and r[1] != "vrmlray"]
     if not peers:
         continue
+    if mode == "sky4":
+        continue  # compared at equal sky-light RMSE above: its best RMSE here is its antialiasing's floor
     best = min(peers, key=lambda r: float(r[4]))
     t_peer, e_peer = float(best[3]), float(best[4])
     reach = [m for m in mine if m[1] <= e_peer]
