@@ -13,6 +13,8 @@
 namespace vr {
 namespace {
 
+using namespace testing;
+
 FlatScene random_spheres(size_t n, double transparency) {
     FlatScene scene = empty_scene();
     Material m;
