@@ -30,6 +30,7 @@ FlatScene Flattener::run() {
     out_.light_sets.emplace_back();  // light set 0: no scoped lights
     releasing_ = plan_release();
     visit(frame_.root, Mat4(1.0), 0, 0);
+    if (releasing_) give_back_released();
     for (auto& set : out_.light_sets)
         set.insert(set.end(), global_lights_.begin(), global_lights_.end());
     // World meshes whose geometry became a prototype on its second use were left empty.

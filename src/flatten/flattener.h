@@ -213,10 +213,11 @@ class Flattener {
     void release_before(const sg::ChildRef& next);
     Scene* releasable_ = nullptr;
     bool releasing_ = false;  // plan_release said yes
-    // Freed so far. (Some stays in the reading threads' malloc arenas, which keep freed memory in
-    // the middle of a heap: a malloc_trim every 64 MB freed gave back 100 MB more of the 10M-atom
-    // file's peak but tripled the scene phase; bench/README.md, "Issue 45: the typed scene freed
-    // behind the flattening".)
+    // Returns what release_before freed to the system. The chunks were filled on the reading
+    // threads, whose malloc arenas keep freed memory in the middle of a heap, where the BVH build's
+    // large arrays (mapped afresh) would not reuse it. Once, at the end: a malloc_trim every 64 MB
+    // freed tripled the scene phase (bench/README.md, "Issue 45: where the bytes go").
+    void give_back_released();
     size_t released_bytes_ = 0;
     std::vector<sg::Index> span_stack_;
 

@@ -1,5 +1,7 @@
 // flatten_scene_releasing: the typed scene's per-node chunks freed behind the walk over the root's
 // children (flattener.h, "releasing the typed scene behind the walk").
+#include <malloc.h>
+
 #include <algorithm>
 #include <cstdint>
 
@@ -80,6 +82,10 @@ void Flattener::release_before(const sg::ChildRef& next) {
         released_bytes_ += s.translations.release_below(span.lo[kTranslations]);
     if (span.lo[kChildRefs] != SIZE_MAX)
         released_bytes_ += s.child_refs.release_below(span.lo[kChildRefs], root_children);
+}
+
+void Flattener::give_back_released() {
+    if (released_bytes_ > 0) malloc_trim(0);
 }
 
 }  // namespace vr::flatten_detail
