@@ -216,7 +216,7 @@ class Flattener {
     // Returns what release_before freed to the system. The chunks were filled on the reading
     // threads, whose malloc arenas keep freed memory in the middle of a heap, where the BVH build's
     // large arrays (mapped afresh) would not reuse it. Once, at the end: a malloc_trim every 64 MB
-    // freed tripled the scene phase (bench/README.md, "Issue 45: where the bytes go").
+    // freed slowed the scene phase down far more (bench/README.md, "Issue 45: where the bytes go").
     void give_back_released();
     size_t released_bytes_ = 0;
     std::vector<sg::Index> span_stack_;
