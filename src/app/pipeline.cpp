@@ -132,8 +132,8 @@ bool build_and_flatten(LoadedScene& loaded, const RenderOptions& options,
     Diagnostics diagnostics;
     Scene scene = keep_tree ? build_scene(loaded, diagnostics)
                             : build_scene_releasing_tree(loaded, diagnostics);
-    flat = flatten_scene(scene, flatten_options(loaded, options, recover_spheres, common),
-                         diagnostics, stats);
+    flat = flatten_scene_releasing(scene, flatten_options(loaded, options, recover_spheres, common),
+                                   diagnostics, stats);
     scene = Scene{};  // before the diagnostics are printed and the caller builds its BVH
     print_diagnostics(diagnostics, loaded.sources, quiet);
     return !diagnostics.has_errors();

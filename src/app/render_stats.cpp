@@ -64,6 +64,14 @@ nlohmann::ordered_json render_stats_json(const RenderCommand& cmd, const FlatSce
                            {"shared_points", s.shared_points}};
     }
     j["tracer_bytes"] = stats.tracer_bytes;
+    const TracerBytes& parts = stats.tracer_parts;
+    j["tracer_bytes_by_part"] = {
+        {"bvh_nodes", parts.bvh_nodes},           {"spheres", parts.spheres},
+        {"sphere_shading", parts.sphere_shading}, {"references", parts.references},
+        {"transparency", parts.transparency},     {"quadrics", parts.quadrics},
+        {"triangles", parts.triangles},           {"instances", parts.instances}};
+    // What the flattened scene's spheres held before the render freed them (docs/manual.md).
+    j["flat_sphere_bytes"] = sphere_count * sizeof(Sphere);
     j["peak_memory_mb"] = peak_memory_mb();
     j["peak_memory_mb_after_parse"] = t.peak_parse_mb;
     j["peak_memory_mb_after_scene"] = t.peak_scene_mb;

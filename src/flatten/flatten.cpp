@@ -28,7 +28,9 @@ FlatScene Flattener::run() {
     start_layer();
     choose_viewer();
     out_.light_sets.emplace_back();  // light set 0: no scoped lights
+    releasing_ = plan_release();
     visit(frame_.root, Mat4(1.0), 0, 0);
+    if (releasing_) give_back_released();
     for (auto& set : out_.light_sets)
         set.insert(set.end(), global_lights_.begin(), global_lights_.end());
     // World meshes whose geometry became a prototype on its second use were left empty.
@@ -121,7 +123,13 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
 
 void Flattener::visit_children(const sg::Group& group, const Mat4& m, uint32_t light_set,
                                size_t depth) {
-    for (const sg::ChildRef& c : scene_.children_of(group)) {
+    // A molecule export's atoms are the root's children: its typed nodes go as the walk passes.
+    const bool releasing = releasing_ && &group == &scene_.groups[Scene::kRoot];
+    constexpr size_t kReleaseEvery = 4096;  // children between two releases
+    const std::span<const sg::ChildRef> children = scene_.children_of(group);
+    for (size_t k = 0; k < children.size(); ++k) {
+        const sg::ChildRef& c = children[k];
+        if (releasing && k % kReleaseEvery == 0 && k > 0) release_before(c);
         switch (c.kind) {
             case sg::NodeKind::Group:
                 visit(c.index, m, light_set, depth + 1);
@@ -180,6 +188,15 @@ FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagn
     stats = FlattenStats{};
     if (!scene.layers.empty()) return flatten_layers(scene, options, diagnostics, stats);
     flatten_detail::Flattener flattener(scene, options, diagnostics, stats);
+    return flattener.run();
+}
+
+FlatScene flatten_scene_releasing(Scene& scene, const FlattenOptions& options,
+                                  Diagnostics& diagnostics, FlattenStats& stats) {
+    stats = FlattenStats{};
+    if (!scene.layers.empty()) return flatten_layers(scene, options, diagnostics, stats);
+    flatten_detail::Flattener flattener(scene, options, diagnostics, stats);
+    flattener.release_behind(scene);
     return flattener.run();
 }
 

@@ -116,5 +116,11 @@ struct FlattenStats {
 
 FlatScene flatten_scene(const Scene& scene, const FlattenOptions& options, Diagnostics& diagnostics,
                         FlattenStats& stats);
+// The same flat scene, freeing the typed scene's per-node arrays as the walk leaves them behind
+// where the scene's shape allows (a molecule export: a subtree per atom, none shared), so that
+// the typed nodes and the flat primitives are not all held at once. `scene` is then fit only to
+// be destroyed.
+FlatScene flatten_scene_releasing(Scene& scene, const FlattenOptions& options,
+                                  Diagnostics& diagnostics, FlattenStats& stats);
 
 }  // namespace vr

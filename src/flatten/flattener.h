@@ -79,6 +79,10 @@ class Flattener {
           frame_(frame) {}
 
     FlatScene run();
+    // Frees `scene`'s per-node chunks (groups, shapes, translations, child references) behind the
+    // walk over its root's children, when its shape allows that (plan_release). `scene` is the
+    // scene being flattened, which is then fit only to be destroyed.
+    void release_behind(Scene& scene) { releasable_ = &scene; }
 
   private:
     static constexpr int32_t kUnloaded = -2;
@@ -189,6 +193,33 @@ class Flattener {
 
     int32_t load_image(const std::vector<std::string>& urls, const std::filesystem::path& from_file,
                        const TextureSampling& sampling, const sg::Origin& origin);
+
+    // ---- releasing the typed scene behind the walk (release.cpp)
+
+    // The indices a subtree uses in each chunked array: groups, shapes, translations, child
+    // references.
+    struct NodeSpan {
+        size_t lo[4] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
+        size_t hi[4] = {0, 0, 0, 0};
+    };
+    // The span of the subtree under `c`; false when it takes more than `budget` nodes (which it
+    // lowers).
+    bool span_of(const sg::ChildRef& c, NodeSpan& span, size_t& budget);
+    // True when no two of the root's children share a node and each child's nodes come after the
+    // ones of the children before it, in every chunked array: then what lies before a child's
+    // nodes is never read again once the walk reaches it.
+    bool plan_release();
+    // Frees the chunks wholly before the nodes of the root's child `next`.
+    void release_before(const sg::ChildRef& next);
+    Scene* releasable_ = nullptr;
+    bool releasing_ = false;  // plan_release said yes
+    // Returns what release_before freed to the system. The chunks were filled on the reading
+    // threads, whose malloc arenas keep freed memory in the middle of a heap, where the BVH build's
+    // large arrays (mapped afresh) would not reuse it. Once, at the end: a malloc_trim every 64 MB
+    // freed slowed the scene phase down far more (bench/README.md, "Issue 45: where the bytes go").
+    void give_back_released();
+    size_t released_bytes_ = 0;
+    std::vector<sg::Index> span_stack_;
 
     const Scene& scene_;
     const FlattenOptions& options_;

@@ -176,6 +176,10 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
     bvh_ = collapse_bvh(binary);
     copy_in_leaf_order(scene, threads, ids, binary.order);
     build_clip_scopes();
+    // An opaque all-sphere scene without clip planes reads entry i as sphere i everywhere
+    // (ref_at): its references would be held for the render and never read.
+    entries_ = prims_.size();
+    if (spheres_only_ && !any_transparent_ && !any_clip_) NoFillVector<uint32_t>().swap(prims_);
 }
 
 // One box per candidate, made in parallel; the skipped ones (nothing to hit) are removed after.
@@ -263,8 +267,9 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
     spheres_only_ = n > 0 && totals[0] == n;
     any_transparent_ = std::any_of(prim_transparency_.begin(), prim_transparency_.end(),
                                    [](float t) { return t > 0.0f; });
-    // Held for the whole render: keep only what traversal reads.
-    if (!any_transparent_) prim_transparency_ = {};
+    // Held for the whole render: keep only what traversal reads. (Swapped with an empty one:
+    // assigning `{}` empties a vector but keeps its memory.)
+    if (!any_transparent_) NoFillVector<float>().swap(prim_transparency_);
 }
 
 // Primitive `id` as entry i of leaf order, at next[kind] of its kind's compact array (which it
@@ -330,16 +335,23 @@ void Accel::copy_primitive(const FlatScene& scene, const BuildIds& ids, uint32_t
     prim_transparency_[i] = float(material_transparency(scene, shading));
 }
 
-size_t Accel::held_bytes() const {
-    // size, not capacity: the BVH's reserved tail is never touched, so it is address space, not
-    // memory.
-    auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
-    size_t prototypes = 0;
+TracerBytes Accel::held_bytes_by_part() const {
+    // The BVH by size, not capacity: its reserved tail is never touched, so it is address space,
+    // not memory. The other arrays by capacity: what they hold, written or not.
+    auto nodes = [](const WideBvh& b) { return b.nodes.size() * sizeof(WideBvhNode); };
+    auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    TracerBytes t;
+    t.bvh_nodes = nodes(bvh_);
+    t.references = bytes(prims_) + bytes(prim_scope_);
+    t.transparency = bytes(prim_transparency_);
+    t.spheres = bytes(spheres_);
+    t.sphere_shading = bytes(sphere_shading_);
+    t.quadrics = bytes(quadrics_) + bytes(quadric_source_);
+    t.triangles = bytes(triangles_) + bytes(triangle_mesh_) + bytes(triangle_index_);
+    t.instances = bytes(instances_);
     for (const Prototype& p : prototypes_)
-        prototypes += bytes(p.bvh.nodes) + bytes(p.triangles) + bytes(p.triangle_index);
-    return bytes(bvh_.nodes) + bytes(prims_) + bytes(prim_transparency_) + bytes(spheres_) +
-           bytes(sphere_shading_) + bytes(quadrics_) + bytes(quadric_source_) + bytes(triangles_) +
-           bytes(triangle_mesh_) + bytes(triangle_index_) + bytes(instances_) + prototypes;
+        t.instances += nodes(p.bvh) + bytes(p.triangles) + bytes(p.triangle_index);
+    return t;
 }
 
 inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
@@ -588,8 +600,9 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     double result = 1.0;
     auto prefetch = [this](uint32_t first, uint32_t count) { prefetch_leaf(first, count); };
     const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
-    if (blocker != nullptr && *blocker < prims_.size() && !(prim_transparency_[*blocker] > 0.0) &&
-        crossings(prims_[*blocker], ray, inv_a, tri_ray) > 0)
+    if (blocker != nullptr && *blocker < entries_ &&
+        !(any_transparent_ && prim_transparency_[*blocker] > 0.0) &&
+        crossings(ref_at(*blocker), ray, inv_a, tri_ray) > 0)
         return 0.0;
     uint32_t unused = 0;
     uint32_t& found = blocker != nullptr ? *blocker : unused;
@@ -731,7 +744,8 @@ bool Accel::intersect_brute_force(const Ray& ray, Hit& hit) const {
     const TriangleRay tri_ray(ray);
     double t_max = ray.t_max;
     bool found = false;
-    for (uint32_t ref : prims_) {
+    for (size_t i = 0; i < entries_; ++i) {
+        const uint32_t ref = ref_at(i);
         const bool hit_here =
             prim_kind(ref) == PrimKind::Instance
                 ? test_instance(prim_index(ref), ray, t_max, hit, /*brute_force=*/true)

@@ -40,6 +40,21 @@ struct BvhChoice {
     bool soft_light = false;
 };
 
+// The bytes an Accel holds for the render, by what they hold (--stats "tracer_bytes_by_part").
+struct TracerBytes {
+    size_t bvh_nodes = 0;       // the wide BVH's nodes
+    size_t references = 0;      // packed references in leaf order (and clip scopes)
+    size_t transparency = 0;    // shadow rays' transparency per entry (only if some is > 0)
+    size_t spheres = 0;         // centre and radius, in double
+    size_t sphere_shading = 0;  // the Shading of each sphere
+    size_t quadrics = 0, triangles = 0;
+    size_t instances = 0;  // instances, with their prototypes' BVHs and triangles
+    size_t total() const {
+        return bvh_nodes + references + transparency + spheres + sphere_shading + quadrics +
+               triangles + instances;
+    }
+};
+
 class Accel {
   public:
     // threads: for the BVH build (0 or 1: one thread).
@@ -84,9 +99,10 @@ class Accel {
     uint32_t shape_of(const Hit& hit) const;
 
     size_t node_count() const { return bvh_.nodes.size(); }
-    size_t primitive_count() const { return prims_.size(); }
+    size_t primitive_count() const { return entries_; }
     // Bytes of the arrays held for rendering, BVH included.
-    size_t held_bytes() const;
+    size_t held_bytes() const { return held_bytes_by_part().total(); }
+    TracerBytes held_bytes_by_part() const;
     const WideBvh& bvh() const { return bvh_; }
 
     // Brute force over every primitive: the tests' oracle, kept here (accel.cpp says why).
@@ -145,7 +161,13 @@ class Accel {
     BvhBuild built_by_ = BvhBuild::Sah;
     WideBvh bvh_;  // collapsed from the binary build, which is not kept
     // The arrays a primitive fills are written by parallel loops after resize() (core/no_fill.h).
-    NoFillVector<uint32_t> prims_;           // packed references in leaf order
+    // Packed references in leaf order; empty (freed after the build) for an opaque all-sphere
+    // scene without clip planes, whose entry i is sphere i.
+    NoFillVector<uint32_t> prims_;
+    size_t entries_ = 0;  // entries of leaf order
+    uint32_t ref_at(size_t i) const {
+        return prims_.empty() ? pack_prim(PrimKind::Sphere, uint32_t(i)) : prims_[i];
+    }
     NoFillVector<float> prim_transparency_;  // per entry of prims_: 0 opaque, else the transparency
     bool any_transparent_ = false;
     bool culls_back_faces_ = false;  // some Shading has cull_back_faces

@@ -308,7 +308,8 @@ void render_tiles(const FlatScene& scene, const Camera& camera, const RenderOpti
     stats.build_seconds = seconds_since(build_start);
     stats.bvh_nodes = accel.node_count();
     stats.primitives = accel.primitive_count();
-    stats.tracer_bytes = accel.held_bytes();
+    stats.tracer_parts = accel.held_bytes_by_part();
+    stats.tracer_bytes = stats.tracer_parts.total();
 
     if (width == 0 || height == 0) {
         if (progress) progress(1.0, 0);

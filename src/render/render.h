@@ -25,8 +25,9 @@ struct RenderStats {
     BvhBuild bvh_build = BvhBuild::Sah;  // how the BVH was built (never Auto)
     size_t primitives = 0;
     size_t tracer_bytes =
-        0;                   // held by the opaque tracer's primitive copies and BVH while rendering
-    bool timed_out = false;  // options.timeout passed; the image is incomplete
+        0;  // held by the opaque tracer's primitive copies and BVH while rendering
+    TracerBytes tracer_parts;  // the main scene's tracer bytes by part (X3D layers' not included)
+    bool timed_out = false;    // options.timeout passed; the image is incomplete
     // NaN/inf values replaced by 0 while tracing (should stay 0; a bug if not)
     NonFiniteCounts nonfinite;
     SoftLightCounts

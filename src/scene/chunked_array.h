@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <iterator>
 #include <span>
 #include <utility>
@@ -73,6 +74,33 @@ class ChunkedArray {
         chunks_.push_back(std::move(chunk));
         last_adopted_ = true;
     }
+    // Frees every chunk that lies wholly below index `bound`, except the last chunk and the one
+    // holding index `keep`; returns the bytes freed. A chunk that was emptied stays in place
+    // (empty), so the indices of the others do not change. The elements freed must not be read
+    // again: for a reader done with the front of the array (flatten_scene_releasing).
+    size_t release_below(size_t bound, size_t keep = SIZE_MAX) {
+        size_t freed = 0;
+        while (released_ + 1 < chunks_.size() &&
+               starts_[released_] + chunks_[released_].size() <= bound) {
+            std::vector<T>& chunk = chunks_[released_];
+            const bool holds_keep =
+                keep >= starts_[released_] && keep < starts_[released_] + chunk.size();
+            if (!holds_keep) {  // (the kept chunk stays, and the ones after it may go)
+                freed += chunk.capacity() * sizeof(T);
+                std::vector<T>().swap(chunk);
+            }
+            ++released_;
+        }
+        return freed;
+    }
+
+    // The bytes the chunks hold (their capacity).
+    size_t held_bytes() const {
+        size_t bytes = 0;
+        for (const std::vector<T>& chunk : chunks_) bytes += chunk.capacity() * sizeof(T);
+        return bytes;
+    }
+
     // The elements as one vector (one chunk is given up without a copy).
     std::vector<T> take_all() && {
         std::vector<T> all;
@@ -129,6 +157,7 @@ class ChunkedArray {
     size_t last_start_ = 0;
     size_t size_ = 0;
     bool last_adopted_ = false;
+    size_t released_ = 0;  // chunks before this one were freed by release_below
 };
 
 }  // namespace vr
