@@ -117,6 +117,25 @@ TEST(FragmentWire, APlainPieceArrivesAsItLeft) {
     }
 }
 
+// A molecule's piece of translated atoms holds no rotation matrix: an array of none must travel as
+// one (the process that receives it must not copy from or into no storage at all; the sanitizer
+// build of CI fails on that).
+TEST(FragmentWire, AnEmptyArrayArrivesEmpty) {
+    const PlainPiece plain =
+        read("Transform { translation 1 2 3 children Shape { geometry Sphere {} } }\n");
+    ASSERT_TRUE(plain.fragment.matrices.empty());
+    std::vector<WirePiece> out(1);
+    out[0].piece = 3;
+    out[0].fragment =
+        read("Transform { translation 1 2 3 children Shape { geometry Sphere {} } }\n").fragment;
+    out[0].counts = plain.counts;
+    const std::vector<WirePiece> in = unpack_pieces(pack_pieces(out));
+    ASSERT_EQ(in.size(), 1u);
+    ASSERT_TRUE(in[0].fragment);
+    EXPECT_TRUE(in[0].fragment->matrices.empty());
+    EXPECT_EQ(in[0].fragment->geometries.size(), 1u);
+}
+
 TEST(FragmentWire, AFragmentWithMoreThanAPlainPieceHoldsGoesAsNotPlain) {
     std::vector<WirePiece> out(1);
     out[0].fragment = read(kPiece).fragment;
