@@ -69,7 +69,7 @@ class Writer {
             const std::string_view text = name_text(n);
             put(uint32_t(text.size()));
             const size_t at = grow(text.size());
-            std::memcpy(out_.data() + at, text.data(), text.size());
+            if (!text.empty()) std::memcpy(out_.data() + at, text.data(), text.size());
         }
         return std::move(out_);
     }
@@ -126,7 +126,10 @@ class Reader {
             throw std::runtime_error("a piece ends early");
         std::vector<T> all;
         resize_huge(all, count);
-        std::memcpy(all.data(), take(count * sizeof(T)).data(), count * sizeof(T));
+        const std::span<const uint8_t> bytes = take(count * sizeof(T));
+        if (count > 0)
+            std::memcpy(all.data(), bytes.data(),
+                        bytes.size());  // an empty vector's data() may be null
         if constexpr (HasOrigin<T>)
             for (T& e : all) origin(e.origin);
         return all;
