@@ -24,14 +24,12 @@ ELEMENTS = [  # name, fraction, radius (A), colour
 ]
 
 
-def main():
-    n = int(sys.argv[1])
-    out = sys.argv[2]
-    seed = int(sys.argv[sys.argv.index("--seed") + 1]) if "--seed" in sys.argv else 1
-    bonds = "--no-bonds" not in sys.argv
+def walk(n, seed):
+    """The atoms one at a time, (position, radius, colour): the same seed gives the same walk, so the
+    writers walk it twice (atoms, then bonds) instead of holding it, which at 10^8 atoms would take
+    more memory than the file it writes."""
     rng = random.Random(seed)
     ball = 1.6 * n ** (1 / 3) + 5
-    atoms = []
     p = [0.0, 0.0, 0.0]
     for _ in range(n):
         for _ in range(50):
@@ -46,9 +44,26 @@ def main():
             r -= frac
             if r <= 0:
                 break
-        atoms.append((p, rad, col))
+        yield p, rad, col
+
+
+def pairs(atoms):
+    """Consecutive atoms' positions: the chain's bonds."""
+    prev = None
+    for p, _, _ in atoms:
+        if prev is not None:
+            yield prev, p
+        prev = p
+
+
+def main():
+    n = int(sys.argv[1])
+    out = sys.argv[2]
+    seed = int(sys.argv[sys.argv.index("--seed") + 1]) if "--seed" in sys.argv else 1
+    bonds = "--no-bonds" not in sys.argv
+    ball = 1.6 * n ** (1 / 3) + 5
     if "--vmd" in sys.argv:
-        write_vmd(out, atoms, bonds)
+        write_vmd(out, lambda: walk(n, seed), bonds)
         return
     with open(out, "w") as f:
         f.write("#VRML V2.0 utf8\n# Synthetic %d-atom molecule in PyMOL's VRML97 export style (tools/gen_molecule.py,"
@@ -57,14 +72,13 @@ def main():
         f.write("NavigationInfo { headlight FALSE }\n")
         f.write("DirectionalLight { direction 0.6 -0.7 -0.4 intensity 1 ambientIntensity 0.2 }\n")
         f.write("Background { skyColor [ 0.1 0.1 0.15 ] }\n")
-        for (x, y, z), rad, (r, g, b) in atoms:
+        for (x, y, z), rad, (r, g, b) in walk(n, seed):
             f.write("Transform {\n translation %.4f %.4f %.4f\n children [\n  Shape {\n   appearance Appearance {\n"
                     "    material Material {\n     diffuseColor %.3f %.3f %.3f\n     specularColor 0.3 0.3 0.3\n"
                     "     shininess 0.2\n     ambientIntensity 0.2\n    }\n   }\n   geometry Sphere { radius %.2f }\n"
                     "  }\n ]\n}\n" % (x, y, z, r, g, b, rad))
         if bonds:
-            for i in range(1, n):
-                a, b = atoms[i - 1][0], atoms[i][0]
+            for a, b in pairs(walk(n, seed)):
                 mid = [(a[k] + b[k]) / 2 for k in range(3)]
                 d = [b[k] - a[k] for k in range(3)]
                 length = math.sqrt(sum(x * x for x in d))
@@ -126,16 +140,16 @@ Background { skyColor [ 0.1 0.1 0.15 ] }
 
 
 def write_vmd(out, atoms, bonds):
+    """`atoms`: a function that starts the walk afresh."""
     def material(rgb):
         return "appearance VMDMat { Kd %g %g %g Ksx 0.53 Ks 0.5 0.5 0.5  }\n" % tuple(0.65 * c for c in rgb)
 
     with open(out, "w") as f:
         f.write(VMD_HEADER)
-        for (x, y, z), rad, col in atoms:
+        for (x, y, z), rad, col in atoms():
             f.write("Transform {\n  translation %g %g %g\n  children [ Shape {\n    " % (x, y, z) + material(col)
                     + "    geometry Sphere { radius %g }\n  }]\n}\n" % rad)
-        for i in range(1, len(atoms) if bonds else 0):
-            a, b = atoms[i - 1][0], atoms[i][0]
+        for a, b in pairs(atoms()) if bonds else ():
             h = math.dist(a, b)
             d = [(b[k] - a[k]) / h for k in range(3)]
             # The writer's rotation: axis = d x (0 1 0), angle -acos(d.y), about the bottom end.
