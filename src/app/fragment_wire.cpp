@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "core/huge_pages.h"
+#include "scene/fragments.h"
 
 namespace vr {
 namespace {
@@ -237,13 +238,7 @@ bool fits_wire(const Scene& s) {
         !s.layouts.empty() || !s.layers.empty() || !s.layer_order.empty() || s.active_layer != 0 ||
         !s.main_file.empty() || !s.allowed_roots.empty())
         return false;
-    for (const sg::Geometry& g : s.geometries)
-        if (!std::holds_alternative<sg::Sphere>(g.shape) &&
-            !std::holds_alternative<sg::Box>(g.shape) &&
-            !std::holds_alternative<sg::Cylinder>(g.shape) &&
-            !std::holds_alternative<sg::Cone>(g.shape))
-            return false;
-    return true;
+    return only_plain_primitives(s);
 }
 
 // The bytes put_fragment writes, but for the names' table.

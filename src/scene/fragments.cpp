@@ -50,6 +50,12 @@ bool splicable(const Scene& s) {
         return false;
     for (const sg::Group& g : s.groups)
         if (g.inline_content || g.billboard()) return false;
+    return only_plain_primitives(s);
+}
+
+}  // namespace
+
+bool only_plain_primitives(const Scene& s) {
     for (const sg::Geometry& g : s.geometries)
         if (!std::holds_alternative<sg::Sphere>(g.shape) &&
             !std::holds_alternative<sg::Box>(g.shape) &&
@@ -58,8 +64,6 @@ bool splicable(const Scene& s) {
             return false;
     return true;
 }
-
-}  // namespace
 
 bool SceneFragments::consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) {
     if (!buildable_on_its_own(tree) || !outer_uses_are_appearances(tree, roots)) return false;

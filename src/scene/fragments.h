@@ -25,6 +25,10 @@
 
 namespace vr {
 
+// Every geometry of `s` is a Sphere, Box, Cylinder or Cone: what a plain piece makes, and all that
+// a fragment may hold to be spliced or sent between processes as it is.
+bool only_plain_primitives(const Scene& s);
+
 class SceneFragments final : public PieceConsumer, public FragmentStore {
   public:
     bool consume(size_t piece, const NodeTree& tree, std::span<const NodeId> roots) override;
