@@ -99,6 +99,44 @@ TEST(ParserRecovery, UnknownFieldOfAPrototypeInstanceAndAnEventGivenAValue) {
     EXPECT_EQ(s.tree.get(s.tree.roots[1], "children").nodes.size(), 1u);
 }
 
+// A PROTO declared again while an instance of its old declaration is being read (a PROTO
+// statement among a children list, or in a node's body, as the reader forgives): the instance
+// goes on with the declaration it began with and the next instance takes the new one. The old
+// declaration used to be freed under the instance (found by fuzz_classic in CI).
+TEST(ParserRecovery, PrototypeDeclaredAgainInsideItsOwnInstance) {
+    const char* again[] = {"PROTO A [] { Shape { geometry Box {} } }",
+                           "Group { PROTO A [] { Shape { geometry Box {} } } }",
+                           "Group { EXTERNPROTO A [] \"nowhere.wrl#A\" }"};
+    for (const char* redeclare : again) {
+        LoadedScene s = read(std::string("#VRML V2.0 utf8\n"
+                                         "PROTO A [ field MFNode kids [] ] { Group { children IS "
+                                         "kids } }\n"
+                                         "A { kids [ ") +
+                             redeclare + " Shape { geometry Sphere {} } ] }\nA { }\n");
+        ASSERT_FALSE(s.diagnostics.has_errors()) << redeclare << "\n" << messages(s);
+        ASSERT_GE(s.tree.roots.size(), 1u) << redeclare;
+        // The first instance is the Group of the first declaration, holding its Sphere shape.
+        EXPECT_EQ(s.tree.type_name(s.tree.roots[0]), "Group") << redeclare;
+        EXPECT_GE(s.tree.get(s.tree.roots[0], "children").nodes.size(), 1u) << redeclare;
+    }
+}
+
+// The same in XML: a ProtoDeclare inside the fieldValue of an instance of the name it declares.
+TEST(ParserRecovery, XmlPrototypeDeclaredAgainInsideItsOwnInstance) {
+    LoadedScene s = read(
+        xml("<ProtoDeclare name='A'><ProtoInterface><field name='kids' type='MFNode' "
+            "accessType='initializeOnly'/></ProtoInterface><ProtoBody><Group><IS><connect "
+            "nodeField='children' protoField='kids'/></IS></Group></ProtoBody></ProtoDeclare>\n"
+            "<ProtoInstance name='A'><fieldValue name='kids'><Group><ProtoDeclare "
+            "name='A'><ProtoBody><Shape><Box/></Shape></ProtoBody></ProtoDeclare></Group>"
+            "<Shape><Sphere/></Shape></fieldValue></ProtoInstance>\n<ProtoInstance name='A'/>"),
+        "r.x3d");
+    ASSERT_FALSE(s.diagnostics.has_errors()) << messages(s);
+    ASSERT_GE(s.tree.roots.size(), 1u);
+    EXPECT_EQ(s.tree.type_name(s.tree.roots[0]), "Group");
+    EXPECT_GE(s.tree.get(s.tree.roots[0], "children").nodes.size(), 1u);
+}
+
 // Where the reader can find no next field, the text is not a scene it can resume: still errors.
 TEST(ParserRecovery, SyntaxErrorsThatLeaveNoPointToResumeStayErrors) {
     // A value too many: '2' cannot be a field name.
