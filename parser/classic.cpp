@@ -467,7 +467,7 @@ class Reader {
                      " (limit)");
         std::string_view type = f.lexer.text(type_token);
         Name type_name = intern(type);
-        if (const ProtoDecl* proto = f.protos->find(type_name))
+        if (std::shared_ptr<const ProtoDecl> proto = f.protos->find_owned(type_name))
             return proto_instance(f, type_token, *proto, depth);
         const NodeTypeDecl* decl = registry_.lookup(spec_, type_name);
         if (!decl) return unknown_node(f, type_token, depth);

@@ -53,11 +53,23 @@ struct ProtoScope {
     std::vector<Name> order;  // declaration order, for "the first PROTO of a file"
 
     const ProtoDecl* find(Name name) const {
+        const std::shared_ptr<const ProtoDecl>* entry = find_entry(name);
+        return entry ? entry->get() : nullptr;
+    }
+    // For whoever reads an instance: its field values may declare the same name again, which
+    // replaces (and so frees) the scope's entry while the instance still uses it.
+    std::shared_ptr<const ProtoDecl> find_owned(Name name) const {
+        const std::shared_ptr<const ProtoDecl>* entry = find_entry(name);
+        return entry ? *entry : nullptr;
+    }
+
+private:
+    const std::shared_ptr<const ProtoDecl>* find_entry(Name name) const {
         for (const ProtoScope* s = this; s; s = s->parent.get()) {
             if (s->protos.empty())
                 continue;  // most files declare none, and this runs for every node
             auto it = s->protos.find(name);
-            if (it != s->protos.end()) return it->second.get();
+            if (it != s->protos.end()) return &it->second;
         }
         return nullptr;
     }

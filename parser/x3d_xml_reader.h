@@ -191,7 +191,8 @@ class XmlReader {
         ReplayRoot,
     };
     struct Instance {
-        const ProtoDecl* proto = nullptr;
+        // Owned: a ProtoDeclare among the instance's field values may replace the scope's entry.
+        std::shared_ptr<const ProtoDecl> proto;
         std::unordered_map<Name, FieldEntry> values;
         std::vector<std::pair<Name, Name>> events;  // (field, enclosing PROTO field) of IS events
     };

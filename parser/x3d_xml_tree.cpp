@@ -516,7 +516,7 @@ void XmlReader::instance_start(const XmlElement& e) {
     if (const XmlAttr* use = e.find(n_.use)) return use_start(e, *use, true);
     std::string name = required(e, n_.name, "ProtoInstance");
     Open o = make_open(Role::Instance, e);
-    const ProtoDecl* proto = frame().protos->find(intern(name));
+    std::shared_ptr<const ProtoDecl> proto = frame().protos->find_owned(intern(name));
     if (!proto) {
         warn(e.file, e.offset,
              "ProtoInstance of '" + name +
