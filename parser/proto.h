@@ -63,7 +63,7 @@ struct ProtoScope {
         return entry ? *entry : nullptr;
     }
 
-private:
+  private:
     const std::shared_ptr<const ProtoDecl>* find_entry(Name name) const {
         for (const ProtoScope* s = this; s; s = s->parent.get()) {
             if (s->protos.empty())
