@@ -8,6 +8,7 @@
 
 #include "core/huge_pages.h"
 #include "core/parallel.h"
+#include "render/accel_primitive.h"
 
 namespace vr {
 namespace {
@@ -180,6 +181,9 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
     // (ref_at): its references would be held for the render and never read.
     entries_ = prims_.size();
     if (spheres_only_ && !any_transparent_ && !any_clip_) NoFillVector<uint32_t>().swap(prims_);
+    tri_blocks_.clear();
+    leaf_block_.clear();
+    if (choice.soft_light) build_triangle_blocks();
 }
 
 // One box per candidate, made in parallel; the skipped ones (nothing to hit) are removed after.
@@ -347,54 +351,12 @@ TracerBytes Accel::held_bytes_by_part() const {
     t.spheres = bytes(spheres_);
     t.sphere_shading = bytes(sphere_shading_);
     t.quadrics = bytes(quadrics_) + bytes(quadric_source_);
-    t.triangles = bytes(triangles_) + bytes(triangle_mesh_) + bytes(triangle_index_);
+    t.triangles = bytes(triangles_) + bytes(triangle_mesh_) + bytes(triangle_index_) +
+                  bytes(tri_blocks_) + bytes(leaf_block_);
     t.instances = bytes(instances_);
     for (const Prototype& p : prototypes_)
         t.instances += nodes(p.bvh) + bytes(p.triangles) + bytes(p.triangle_index);
     return t;
-}
-
-inline bool Accel::test_primitive(uint32_t ref, const Ray& ray, double inv_a,
-                                  const TriangleRay& tri_ray, double& t_max, Hit& hit) const {
-    const uint32_t index = prim_index(ref);
-    switch (prim_kind(ref)) {
-        case PrimKind::Sphere: {
-            const SphereGeom& s = spheres_[index];
-            double t[2];
-            if (sphere_roots(ray.o, ray.d, inv_a, s.center, s.radius, t_max, t) == 0) return false;
-            t_max = t[0];
-            hit.t = t[0];
-            hit.prim = ref;
-            return true;
-        }
-        case PrimKind::Quadric: {
-            double t[4];
-            uint8_t part[4];
-            int n = quadric_roots(quadrics_[index], ray, t_max, t, part);
-            if (n == 0) return false;
-            int best = 0;
-            for (int i = 1; i < n; ++i)
-                if (t[i] < t[best]) best = i;
-            t_max = t[best];
-            hit.t = t[best];
-            hit.prim = ref;
-            hit.part = part[best];
-            return true;
-        }
-        case PrimKind::Triangle: {
-            double t, b1, b2;
-            if (!triangle_hit(tri_ray, triangles_[index], t_max, t, b1, b2)) return false;
-            t_max = t;
-            hit.t = t;
-            hit.prim = ref;
-            hit.b1 = b1;
-            hit.b2 = b2;
-            return true;
-        }
-        case PrimKind::Instance:
-            return test_instance(index, ray, t_max, hit);
-    }
-    return false;
 }
 
 // The ray goes to the prototype's object space as for quadrics (its origin advanced by the map's
@@ -600,7 +562,10 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
     double result = 1.0;
     auto prefetch = [this](uint32_t first, uint32_t count) { prefetch_leaf(first, count); };
     const TriangleRay tri_ray = triangles_.empty() ? TriangleRay() : TriangleRay(ray);
-    if (blocker != nullptr && *blocker < entries_ &&
+    // With triangle blocks (soft light on triangles) the hint is not tried: on 1tii's cartoon of
+    // small triangles it named the blocker of 1.7% of the sky rays and cost a triangle test on
+    // every one (bench/README.md, "Issue 46: triangles four at a time").
+    if (blocker != nullptr && *blocker < entries_ && leaf_block_.empty() &&
         !(any_transparent_ && prim_transparency_[*blocker] > 0.0) &&
         crossings(ref_at(*blocker), ray, inv_a, tri_ray) > 0)
         return 0.0;
@@ -625,6 +590,7 @@ double Accel::transmittance(const Ray& ray, uint32_t* blocker) const {
         return result;
     }
     if (!any_transparent_) {
+        if (!leaf_block_.empty()) return transmittance_blocks(ray, inv_a, tri_ray, found);
         Hit hit;
         traverse_wide_bvh</*kNearFirst=*/false>(
             bvh_, ray, t_max,

@@ -13,6 +13,7 @@
 #include "render/frustum.h"
 #include "render/intersect.h"
 #include "render/options.h"
+#include "render/triangle_block.h"
 #include "render/wide_bvh.h"
 
 namespace vr {
@@ -80,7 +81,8 @@ class Accel {
     // setting it to the opaque entry that blocks this ray, if one does. Shadow rays from
     // neighbouring pixels are mostly blocked by the same primitive, which then costs one test
     // instead of a traversal. The result does not depend on the hint: a blocking opaque entry
-    // makes it 0 whichever entry is found first.
+    // makes it 0 whichever entry is found first. (A render with triangle blocks, below, only sets
+    // it: see accel.cpp.)
     double transmittance(const Ray& ray, uint32_t* blocker) const;
 
     // False when no ray inside `f` can hit anything: every box of the BVH it reaches, and every
@@ -156,6 +158,26 @@ class Accel {
     std::vector<uint32_t>
         prim_scope_;         // per entry of prims_: its FlatScene scope with planes, or 0
     bool any_clip_ = false;  // some scope has clip planes: the queries above answer
+
+    // ---- Triangle blocks (accel_blocks.cpp, render/triangle_block.h): for renders with soft
+    // light, whose opaque shadow rays are most of the work, each leaf of triangles only also holds
+    // its triangles lane by lane, so that a shadow ray rejects them four at a time.
+    void build_triangle_blocks();
+    // transmittance's opaque case through the blocks (0 or 1, the same answer); sets `found`.
+    double transmittance_blocks(const Ray& ray, double inv_a, const TriangleRay& tri_ray,
+                                uint32_t& found) const;
+    // Whether a triangle of the entries first + (the set bits of `lanes`) crosses the ray in
+    // (0, t_max): triangle_hit's answer, the first such entry in `found`. Out of line: the
+    // filter keeps few lanes, and inlined triangle_hit crowded its registers.
+    bool block_lanes_hit(uint32_t first, unsigned lanes, const TriangleRay& tri_ray, double t_max,
+                         uint32_t& found) const;
+    // Fetches the blocks of the leaf starting at `first` (its references, if it has none).
+    void prefetch_leaf_blocks(uint32_t first) const;
+    static constexpr uint32_t kNoBlock = ~uint32_t(0);
+    std::vector<TriangleBlock, CacheAlignedAllocator<TriangleBlock>> tri_blocks_;
+    std::vector<uint32_t>
+        leaf_block_;  // per entry that starts a leaf: its first block, or kNoBlock
+    Vec3 tri_blocks_lo_{0.0}, tri_blocks_hi_{0.0};  // a box around every vertex in the blocks
 
     const FlatScene* scene_ = nullptr;
     BvhBuild built_by_ = BvhBuild::Sah;

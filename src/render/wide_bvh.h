@@ -169,8 +169,12 @@ class WideBoxTest {
 // Any-hit queries whose answer does not depend on which hit is found (an opaque shadow ray: 0 or
 // 1) pass kNearFirst = false: the children hit are then visited in lane order, unsorted. Sorting
 // did not find blockers sooner, and without it S2's sky light and S3's shadow rays render faster,
-// to the same images (bench/README.md, "Figures behind the comments").
-template <bool kNearFirst = true, class LeafFn, class PrefetchFn = NoLeafPrefetch>
+// to the same images (bench/README.md, "Figures behind the comments"). kFarFirst = true (with
+// kNearFirst = false) visits them farthest first instead: the sky light's rays on a triangle
+// cartoon leave their own surface's leaves, which never block them, and meet their blockers
+// farther on, so they stop sooner (bench/README.md, "Issue 46: triangles four at a time").
+template <bool kNearFirst = true, bool kFarFirst = false, class LeafFn,
+          class PrefetchFn = NoLeafPrefetch>
 inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max, LeafFn&& leaf,
                               PrefetchFn&& prefetch_leaf = NoLeafPrefetch{}) {
     if (bvh.nodes.empty()) return;
@@ -214,7 +218,9 @@ inline void traverse_wide_bvh(const WideBvh& bvh, const Ray& ray, double& t_max,
                             __builtin_prefetch(line + at);
                     }
                     int j = hits++;
-                    while (kNearFirst && j > 0 && t_near[order[j - 1]] < t_near[c]) {
+                    while ((kNearFirst || kFarFirst) && j > 0 &&
+                           (kFarFirst ? t_near[order[j - 1]] > t_near[c]
+                                      : t_near[order[j - 1]] < t_near[c])) {
                         order[j] = order[j - 1];
                         --j;
                     }
