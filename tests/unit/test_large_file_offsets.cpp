@@ -86,6 +86,11 @@ TEST(LargeFileOffsets, PackedPlacesKeepOffsetsPastFourGiB) {
             EXPECT_EQ(back.offset, offset);
         }
     }
+    // The loader reads a file up to the offsets a place holds (parser/load.cpp), and --limit
+    // file-bytes goes no higher (src/app/limits.cpp).
+    EXPECT_EQ(kMaxSourceBytes, uint64_t(1) << 38);
+    EXPECT_EQ(PackedLoc::kMaxOffset, (uint64_t(1) << 38) - 1);
+    EXPECT_EQ(SourceManager::kMaxFiles, (1u << 18) - 1);
     EXPECT_EQ(sizeof(PackedLoc), 7u);
     EXPECT_EQ(sizeof(sg::Origin), 16u);
 }
