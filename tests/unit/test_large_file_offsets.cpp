@@ -100,19 +100,24 @@ TEST(LargeFileOffsets, PackedPlacesKeepOffsetsPastFourGiB) {
 TEST(LargeFileOffsets, PlainPiecePastFourGiBHasItsOwnPlaces) {
     SparseText text(kFourGiB + (size_t(1) << 20));
     ASSERT_TRUE(text.ok());
-    const std::string atom =
-        "Transform { translation 1 2 3 children Shape {\n"
-        "  appearance Appearance { material Material { diffuseColor 0.2 0.4 0.6 } }\n"
-        "  geometry Sphere { radius 0.75 } } }\n";
+    // Two atoms of the same length whose spheres differ (equal ones would share one geometry).
+    auto atom = [](char digit) {
+        return std::string(
+                   "Transform { translation 1 2 3 children Shape {\n"
+                   "  appearance Appearance { material Material { diffuseColor 0.2 0.4 0.6 "
+                   "} }\n  geometry Sphere { radius 0.7") +
+               digit + " } } }\n";
+    };
+    const size_t size = atom('5').size();
     const size_t begin = kFourGiB + 4096;  // a line start, as the piece reader cuts
     text.write(begin - 1, "\n");
-    text.write(begin, atom);
-    text.write(begin + atom.size(), atom);
+    text.write(begin, atom('5'));
+    text.write(begin + size, atom('6'));
     PieceText piece;
     piece.source = text.view();
     piece.file = 3;
     piece.begin = begin;
-    piece.end = begin + 2 * atom.size();
+    piece.end = begin + 2 * size;
     piece.max_nodes = 1000;
     piece.max_depth = 100;
     piece.max_values = 1000;
@@ -124,8 +129,12 @@ TEST(LargeFileOffsets, PlainPiecePastFourGiBHasItsOwnPlaces) {
     for (size_t k = 0; k < 2; ++k) {
         const SourceLoc loc = s.geometries[k].origin.loc;
         EXPECT_EQ(loc.file, 3u);
-        EXPECT_EQ(loc.offset, begin + k * atom.size() + atom.find("Sphere")) << k;
+        EXPECT_EQ(loc.offset, begin + k * size + atom('5').find("Sphere")) << k;
     }
+    const auto& first = std::get<sg::Sphere>(s.geometries[0].shape);
+    const auto& second = std::get<sg::Sphere>(s.geometries[1].shape);
+    EXPECT_EQ(first.radius, 0.75);  // the atoms' own values, not zero bytes
+    EXPECT_EQ(second.radius, 0.76);
 }
 
 }  // namespace
