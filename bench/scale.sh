@@ -9,9 +9,10 @@
 # temporary folder that is deleted at the end.
 # Usage: bench/scale.sh [--big] [--huge] [--runs N] [--sizes "100000 300000"] [--bin VRMLRAY]... [--csv FILE]
 #   --big adds 10M atoms (a 3 GB file; ~5 GB of free disk space needed).
-#   --huge adds 100M atoms (a 29 GB file, ~25 min to write; ~32 GB of free disk space and some 16 GB of
-#   memory needed). A file over 4 GiB is read with --limit file-bytes, nodes and primitives raised to
-#   fit it; wrl_scan reads the whole file into memory, so where it fails its time is left out (nan).
+#   --huge adds 100M atoms (a 29 GB file, 25-60 min to write; ~32 GB of free disk space and some 14 GB
+#   of memory needed). A file over 4 GiB is read with --limit file-bytes, nodes, primitives and
+#   group-visits raised to fit it; wrl_scan reads the whole file into memory, so where that fails
+#   (29 GB on a 24 GB machine) its time is left out (nan).
 #   --bin given twice or more: each binary runs on the same files, alternating, one table each
 #   (e.g. a build of the previous commit against this one); --csv holds the last binary's table.
 set -euo pipefail
@@ -51,7 +52,8 @@ for n in $sizes; do
     # The default limits refuse a file over 4 GiB (docs/input.md, Limits): raised to fit this one.
     limits=()
     if [ "$bytes" -gt $((4 << 30)) ]; then
-        limits=(--limit "file-bytes=$bytes" --limit "nodes=$((6 * n))" --limit "primitives=$((2 * n))")
+        limits=(--limit "file-bytes=$bytes" --limit "nodes=$((6 * n))" --limit "primitives=$((2 * n))"
+                --limit "group-visits=$((4 * n))")
     fi
     for i in $(seq "$runs"); do for b in "${!bins[@]}"; do
         bin=${bins[$b]}
