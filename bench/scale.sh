@@ -7,8 +7,12 @@
 # ../shared/bench/wrl_scan.cpp (tokenizing and converting every number, the floor of any reader)
 # measured in the same run, alternating with vrmlray. Medians of RUNS runs. Files live in a
 # temporary folder that is deleted at the end.
-# Usage: bench/scale.sh [--big] [--runs N] [--sizes "100000 300000"] [--bin VRMLRAY]... [--csv FILE]
+# Usage: bench/scale.sh [--big] [--huge] [--runs N] [--sizes "100000 300000"] [--bin VRMLRAY]... [--csv FILE]
 #   --big adds 10M atoms (a 3 GB file; ~5 GB of free disk space needed).
+#   --huge adds 100M atoms (a 29 GB file, 25-60 min to write; ~32 GB of free disk space and some 14 GB
+#   of memory needed). A file over 4 GiB is read with --limit file-bytes, nodes, primitives and
+#   group-visits raised to fit it; wrl_scan reads the whole file into memory, so where that fails
+#   (29 GB on a 24 GB machine) its time is left out (nan).
 #   --bin given twice or more: each binary runs on the same files, alternating, one table each
 #   (e.g. a build of the previous commit against this one); --csv holds the last binary's table.
 set -euo pipefail
@@ -20,11 +24,12 @@ csv=""
 while [ $# -gt 0 ]; do
     case $1 in
         --big) sizes="$sizes 10000000" ;;
+        --huge) sizes="$sizes 100000000" ;;
         --runs) runs=$2; shift ;;
         --sizes) sizes=$2; shift ;;
         --bin) bins+=("$2"); shift ;;
         --csv) csv=$2; shift ;;
-        *) echo "usage: bench/scale.sh [--big] [--runs N] [--sizes LIST] [--bin VRMLRAY] [--csv FILE]" >&2
+        *) echo "usage: bench/scale.sh [--big] [--huge] [--runs N] [--sizes LIST] [--bin VRMLRAY] [--csv FILE]" >&2
            exit 2 ;;
     esac
     shift
@@ -44,17 +49,23 @@ for n in $sizes; do
     wrl=$work/molecule_$n.wrl
     python3 "$root/tools/gen_molecule.py" "$n" "$wrl" --no-bonds
     bytes=$(stat -c %s "$wrl")
+    # The default limits refuse a file over 4 GiB (docs/input.md, Limits): raised to fit this one.
+    limits=()
+    if [ "$bytes" -gt $((4 << 30)) ]; then
+        limits=(--limit "file-bytes=$bytes" --limit "nodes=$((6 * n))" --limit "primitives=$((2 * n))"
+                --limit "group-visits=$((4 * n))")
+    fi
     for i in $(seq "$runs"); do for b in "${!bins[@]}"; do
         bin=${bins[$b]}
         /usr/bin/time -v -o "$work/time.txt" "$bin" render "$wrl" -W 1920 -H 1080 -q \
-            -o "$work/out.png" --stats "$work/stats.json" >/dev/null
+            -o "$work/out.png" --stats "$work/stats.json" "${limits[@]}" >/dev/null
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, a, ":"); s = 0
                                                       for (i = 1; i <= n; ++i) s = s * 60 + a[i]
                                                       print s}' "$work/time.txt")
         rss=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$work/time.txt")
         scan_s=0
         if [ -n "$scan" ]; then
-            scan_s=$("$scan" "$wrl" | grep -o 'total_s=[0-9.]*' | cut -d= -f2)
+            scan_s=$("$scan" "$wrl" | grep -o 'total_s=[0-9.]*' | cut -d= -f2) || scan_s=nan
         fi
         python3 - "$work/stats.json" "$b" "$n" "$bytes" "$wall" "$rss" "$scan_s" >>"$rows" <<'EOF'
 import json, sys

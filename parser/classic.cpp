@@ -61,12 +61,9 @@ class Reader {
         error_file_ = file;
         const std::string_view text = scene_.sources.file(file).text;
         // A UTF-8 byte-order mark before the header is no token (the header is a comment).
-        const uint32_t bom = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
-        Frame frame{Lexer(text, bom, static_cast<uint32_t>(text.size())),
-                    file,
-                    {},
-                    nullptr,
-                    std::make_shared<ProtoScope>()};
+        const SourceOffset bom = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+        Frame frame{
+            Lexer(text, bom, text.size()), file, {}, nullptr, std::make_shared<ProtoScope>()};
         frame.whole_file = true;
         result.protos = frame.protos;
         std::vector<Piece> planned = plan_pieces(text);
@@ -127,7 +124,7 @@ class Reader {
         return t.kind == TokenKind::Word && f.lexer.text(t) == word;
     }
 
-    void warn(Frame& f, uint32_t offset, std::string message, const std::string& cause) {
+    void warn(Frame& f, SourceOffset offset, std::string message, const std::string& cause) {
         scene_.diagnostics.warning({f.file, offset}, std::move(message), cause);
     }
 
@@ -1057,14 +1054,13 @@ class Reader {
 
     std::vector<Piece> plan_pieces(std::string_view text) const {
         std::vector<Piece> pieces;
-        const std::vector<uint32_t> starts =
+        const std::vector<SourceOffset> starts =
             piece_starts(text, 0, limits_.piece_bytes > 0 ? limits_.piece_bytes : piece_bytes());
         for (size_t k = 0; k < starts.size(); ++k) {
             pieces.emplace_back();
             pieces.back().index = static_cast<uint32_t>(k);
             pieces.back().begin = starts[k];
-            pieces.back().end =
-                k + 1 < starts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
+            pieces.back().end = k + 1 < starts.size() ? starts[k + 1] : SourceOffset(text.size());
         }
         return pieces;
     }
@@ -1074,7 +1070,7 @@ class Reader {
     // passed.
     void take_pieces(Frame& f, PieceScheduler& pieces, std::vector<NodeId>& roots) {
         while (next_piece_ < pieces.size()) {
-            const uint32_t begin = pieces.begin(next_piece_);
+            const SourceOffset begin = pieces.begin(next_piece_);
             // With a token peeked, where the last statement ended is not known: read on.
             if (f.lexer.has_peek() && f.lexer.peek().offset < begin) return;
             if (f.lexer.has_peek() || f.lexer.position() > begin || !f.protos->protos.empty()) {
@@ -1096,7 +1092,7 @@ class Reader {
                 if (piece.consumed) consumer_->discard(piece.index);
                 return;  // read here: the same error message
             }
-            const uint32_t end = piece.end;
+            const SourceOffset end = piece.end;
             join_piece(piece, std::move(outer),
                        {tree_, roots, f.defs, consumed_, consumed_nodes_, scene_.stats,
                         scene_.diagnostics});

@@ -20,15 +20,15 @@ unsigned piece_workers(unsigned threads) {
     return all - 1;
 }
 
-std::vector<uint32_t> piece_starts(std::string_view text, uint32_t begin, size_t piece) {
-    std::vector<uint32_t> starts;
+std::vector<SourceOffset> piece_starts(std::string_view text, SourceOffset begin, size_t piece) {
+    std::vector<SourceOffset> starts;
     if (piece == 0) return starts;
     for (size_t at = size_t(begin) + piece; at < text.size();) {
         size_t line = text.find('\n', at - 1);  // a line start at or after `at`
         if (line == std::string_view::npos || line + 1 >= text.size()) break;
         const unsigned char c = static_cast<unsigned char>(text[line + 1]);
         if ((c | 0x20) >= 'a' && (c | 0x20) <= 'z') {
-            starts.push_back(static_cast<uint32_t>(line + 1));
+            starts.push_back(line + 1);
             at = line + 1 + piece;
         } else {
             at = line + 2;

@@ -39,12 +39,12 @@ unsigned piece_workers(unsigned threads);
 // Offsets where pieces start (the first piece, at `begin`, is not listed): the first line start
 // at or after each multiple of `piece` whose first byte is a letter, the way exporters begin
 // top-level nodes. Only a guess: the main reader checks every one.
-std::vector<uint32_t> piece_starts(std::string_view text, uint32_t begin, size_t piece);
+std::vector<SourceOffset> piece_starts(std::string_view text, SourceOffset begin, size_t piece);
 
 // What a speculative read of one piece gives.
 struct Piece {
-    uint32_t index = 0;  // in file order
-    uint32_t begin = 0, end = 0;
+    uint32_t index = 0;               // in file order
+    SourceOffset begin = 0, end = 0;  // 64-bit: a file may pass 4 GiB
     NodeTree tree;
     Diagnostics diagnostics;
     ReadStats stats;
@@ -74,7 +74,7 @@ class PieceScheduler {
     PieceScheduler& operator=(const PieceScheduler&) = delete;
 
     size_t size() const { return pieces_.size(); }
-    uint32_t begin(size_t k) const { return pieces_[k].begin; }
+    SourceOffset begin(size_t k) const { return pieces_[k].begin; }
     // Piece k, read; while a worker still reads it, this thread reads later pieces. Pieces are
     // asked for in order, each at most once (get or drop).
     Piece& get(size_t k);

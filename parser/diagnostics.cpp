@@ -72,7 +72,7 @@ std::string Diagnostics::format_one(const Diagnostic& d, const SourceManager& so
             out += "  ";
             out += line;
             out += "\n  ";
-            for (uint32_t i = 1; i < lc.column && i <= line.size(); ++i)
+            for (uint64_t i = 1; i < lc.column && i <= line.size(); ++i)
                 out += line[i - 1] == '\t' ? '\t' : ' ';
             out += "^\n";
         }

@@ -170,7 +170,7 @@ void read_string(ValueContext& ctx) {
             if (quoted[i] != '\\') continue;
             if (quoted[i + 1] != '"' && quoted[i + 1] != '\\') {
                 ctx.diagnostics->warning(
-                    {ctx.file, uint32_t(t.offset + i)},
+                    {ctx.file, t.offset + i},
                     std::string("a backslash before '") + quoted[i + 1] +
                         "' is not an escape (only \\\" and \\\\ are); it is dropped",
                     "string-escape");

@@ -16,7 +16,7 @@ namespace vr {
 // Thrown by the readers for a syntax error at a byte offset of the current file; caught at the top
 // of a reader and turned into one Diagnostic.
 struct SyntaxError {
-    uint32_t offset;
+    SourceOffset offset;
     std::string message;
 };
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "parser/source.h"
+
 namespace vr {
 
 enum class TokenKind : uint8_t {
@@ -21,8 +23,8 @@ enum class TokenKind : uint8_t {
 
 struct Token {
     TokenKind kind = TokenKind::End;
-    uint32_t offset = 0;
-    uint32_t length = 0;
+    SourceOffset offset = 0;
+    SourceOffset length = 0;  // a string may run to the end of a file of any size
 };
 
 // Byte classes of the classic encodings. Word bytes are all that end no word (UTF-8 sequences too).
@@ -97,11 +99,9 @@ inline const unsigned char* read_decimal(const unsigned char* p, const unsigned 
 // number.
 class Lexer {
   public:
-    Lexer(std::string_view text, uint32_t begin, uint32_t end)
-        : text_(text),
-          pos_(begin),
-          end_(end > text.size() ? static_cast<uint32_t>(text.size()) : end) {}
-    explicit Lexer(std::string_view text) : Lexer(text, 0, static_cast<uint32_t>(text.size())) {}
+    Lexer(std::string_view text, SourceOffset begin, SourceOffset end)
+        : text_(text), pos_(begin), end_(end > text.size() ? text.size() : end) {}
+    explicit Lexer(std::string_view text) : Lexer(text, 0, text.size()) {}
 
     const Token& peek() {
         if (!has_peek_) {
@@ -134,12 +134,12 @@ class Lexer {
     }
     std::string_view text(const Token& t) const { return {text_.data() + t.offset, t.length}; }
     // Offset of the next token (after skipping white space and comments).
-    uint32_t next_offset() { return peek().offset; }
+    SourceOffset next_offset() { return peek().offset; }
     // Offset up to which the text has been read (the end of the last token scanned).
-    uint32_t position() const { return pos_; }
+    SourceOffset position() const { return pos_; }
     bool has_peek() const { return has_peek_; }
     std::string_view source() const { return text_; }
-    uint32_t source_end() const { return end_; }
+    SourceOffset source_end() const { return end_; }
 
     // A token as an error message names it: "end of file", "'{'", "a string", "'word'" (cut at 40
     // bytes).
@@ -177,7 +177,7 @@ class Lexer {
         const auto* s = reinterpret_cast<const unsigned char*>(text_.data());
         const unsigned char* const e = s + end_;
         const unsigned char* p = skip_space(s + pos_, e);
-        t.offset = static_cast<uint32_t>(p - s);
+        t.offset = static_cast<SourceOffset>(p - s);
         if (p >= e) {
             t.kind = TokenKind::End;
             t.length = 0;
@@ -209,8 +209,8 @@ class Lexer {
                 scan_string(q, e, t);
                 break;  // '"' (white space and '#' were skipped above)
         }
-        t.length = static_cast<uint32_t>(q - p);
-        pos_ = static_cast<uint32_t>(q - s);
+        t.length = static_cast<SourceOffset>(q - p);
+        pos_ = static_cast<SourceOffset>(q - s);
     }
 
     static bool is_number_start(unsigned char c) {
@@ -245,8 +245,8 @@ class Lexer {
     }
 
     std::string_view text_;
-    uint32_t pos_;
-    uint32_t end_;
+    SourceOffset pos_;
+    SourceOffset end_;
     Token peeked_;
     Decimal peeked_decimal_;
     bool has_peek_ = false;

@@ -97,6 +97,7 @@ static bool is_gzip(std::string_view data) {
 }
 
 std::string read_file_bytes(const fs::path& path, size_t max_bytes) {
+    max_bytes = std::min<size_t>(max_bytes, kMaxSourceBytes);  // the offsets a place can hold
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw std::runtime_error("is a directory, not a file");
     std::ifstream in(path, std::ios::binary);
@@ -120,6 +121,7 @@ SourceText read_source_text(const fs::path& path, size_t max_bytes) {
     // mapping. Anything else (small files, pipes, devices, a failed mapping) is read by
     // read_file_bytes.
     constexpr size_t kMapFrom = size_t(1) << 20;
+    max_bytes = std::min<size_t>(max_bytes, kMaxSourceBytes);  // the offsets a place can hold
     struct stat st {};
     int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
@@ -378,6 +380,16 @@ class Loader {
                 break;
             }
             case Encoding::X3dXml:
+                // libxml2 and the XML reader place elements by 32-bit offsets (x3d_xml_reader.h):
+                // a larger file is refused, not misread.
+                if (src.text.size() > UINT32_MAX) {
+                    scene_.diagnostics.error(
+                        {file, 0}, "an X3D XML file is read up to 4 GiB (this one has " +
+                                       std::to_string(src.text.size()) +
+                                       " bytes); the classic encoding is read to any size");
+                    result.ok = false;
+                    break;
+                }
                 result = read_x3d_xml(scene_, file, options_.limits, resolver,
                                       file == 0 ? options_.piece_consumer.get() : nullptr);
                 break;

@@ -26,7 +26,7 @@ struct LoadLimits {
     size_t max_nodes = 100'000'000;
     size_t max_inline_depth = 16;
     size_t max_inline_files = 1000;
-    size_t max_file_bytes = size_t(4) << 30;  // after decompression
+    size_t max_file_bytes = size_t(4) << 30;  // after decompression; kMaxSourceBytes at most
     size_t max_mf_values = size_t(1) << 28;   // numbers or strings in one field
     // Threads that read a large file in pieces, the calling one included (--threads); 0: one a
     // core.

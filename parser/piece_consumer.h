@@ -27,7 +27,7 @@ inline bool is_outer_node(NodeId id) { return id >= kFirstOuterNode && id != kNu
 struct PieceText {
     std::string_view source;  // the whole file
     uint32_t file = 0;
-    uint32_t begin = 0, end = 0;  // the piece's bytes in `source`
+    SourceOffset begin = 0, end = 0;  // the piece's bytes in `source`
     Spec spec = Spec::Vrml97;
     size_t max_nodes = 0;  // the reader's limits for the piece: past them it gives up
     size_t max_depth = 0;

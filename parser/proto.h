@@ -26,9 +26,9 @@ struct ProtoDecl {
     Name name = kNoName;
     std::vector<ProtoField> fields;
     Spec spec = Spec::Vrml97;
-    uint32_t file = 0;        // source file of the body
-    uint32_t body_begin = 0;  // byte range of the body, inside its braces
-    uint32_t body_end = 0;
+    uint32_t file = 0;            // source file of the body
+    SourceOffset body_begin = 0;  // byte range of the body, inside its braces
+    SourceOffset body_end = 0;
     // Where the PROTO was declared: bodies see the PROTOs before it. Weak, because that scope owns
     // this declaration; whoever reads the body (the file being read, or the EXTERNPROTO file cache)
     // keeps it alive.

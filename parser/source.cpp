@@ -75,7 +75,7 @@ uint32_t SourceManager::add(std::string path, SourceText text) {
     return static_cast<uint32_t>(files_.size() - 1);
 }
 
-void SourceManager::release_before(uint32_t file, uint32_t offset) const {
+void SourceManager::release_before(uint32_t file, SourceOffset offset) const {
     constexpr uint64_t kStep = uint64_t(4) << 20;
     if (file >= files_.size()) return;
     const SourceFile& f = *files_[file];
@@ -103,7 +103,7 @@ void index_blocks(const SourceFile& f, size_t block) {
         const size_t begin = (counts.size() - 1) * size_t(SourceFile::kLineBlock);
         if (begin >= f.text.size()) break;
         const size_t end = std::min(f.text.size(), begin + SourceFile::kLineBlock);
-        counts.push_back(counts.back() + static_cast<uint32_t>(std::count(
+        counts.push_back(counts.back() + static_cast<uint64_t>(std::count(
                                              f.text.data() + begin, f.text.data() + end, '\n')));
     }
     // Pages a reader had already given back go back again.
@@ -125,11 +125,11 @@ LineCol SourceManager::line_col(SourceLoc loc) const {
     index_blocks(f, block);
     const size_t block_begin = block * size_t(SourceFile::kLineBlock);
     const char* s = f.text.data();
-    const uint32_t newlines = f.lines_before_block[block] +
-                              static_cast<uint32_t>(std::count(s + block_begin, s + offset, '\n'));
+    const uint64_t newlines = f.lines_before_block[block] +
+                              static_cast<uint64_t>(std::count(s + block_begin, s + offset, '\n'));
     size_t line_start = offset;
     while (line_start > 0 && s[line_start - 1] != '\n') --line_start;
-    return {newlines + 1, static_cast<uint32_t>(offset - line_start + 1)};
+    return {newlines + 1, uint64_t(offset - line_start + 1)};
 }
 
 static std::string_view line_from(std::string_view text, size_t start) {
@@ -140,10 +140,10 @@ static std::string_view line_from(std::string_view text, size_t start) {
     return line;
 }
 
-std::string_view SourceManager::line_text(uint32_t file, uint32_t line) const {
+std::string_view SourceManager::line_text(uint32_t file, uint64_t line) const {
     if (file >= files_.size() || line == 0) return {};
     const SourceFile& f = *files_[file];
-    const uint32_t wanted = line - 1;  // newlines before the line
+    const uint64_t wanted = line - 1;  // newlines before the line
     auto& counts = f.lines_before_block;
     size_t pos = 0;
     if (wanted > 0) {
@@ -159,7 +159,7 @@ std::string_view SourceManager::line_text(uint32_t file, uint32_t line) const {
                                            counts.begin()) -
                        1;
         pos = block * size_t(SourceFile::kLineBlock);
-        for (uint32_t seen = counts[block]; seen < wanted; ++seen) {
+        for (uint64_t seen = counts[block]; seen < wanted; ++seen) {
             size_t nl = f.text.find('\n', pos);
             if (nl == std::string_view::npos) return {};  // the file has fewer lines
             pos = nl + 1;

@@ -111,7 +111,7 @@ class Reader {
         return copy.peek();
     }
 
-    void warn(uint32_t offset, std::string message, const std::string& cause) {
+    void warn(SourceOffset offset, std::string message, const std::string& cause) {
         scene_.diagnostics.warning({file_, offset}, std::move(message), cause);
     }
 
@@ -125,8 +125,7 @@ class Reader {
         while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t'))
             rest.remove_prefix(1);
         if (rest.substr(0, 5) != "ascii")
-            warn(static_cast<uint32_t>(start),
-                 "header should say 'ascii' after the version: '" + std::string(line) + "'",
+            warn(start, "header should say 'ascii' after the version: '" + std::string(line) + "'",
                  "header-ascii");
     }
 

@@ -517,10 +517,10 @@ void XmlReader::lex_value(const XmlElement& e, const XmlAttr& a, FieldType type,
         read_field_value(ctx, type, entry);
         const Token extra = lexer.peek();
         if (extra.kind != TokenKind::End)
-            fail(e.file, where(extra.offset),
+            fail(e.file, where(static_cast<uint32_t>(extra.offset)),
                  what.text() + ": more values than one " + std::string(type_name(type)) + " holds");
     } catch (const SyntaxError& s) {
-        fail(e.file, where(s.offset), what.text() + ": " + s.message);
+        fail(e.file, where(static_cast<uint32_t>(s.offset)), what.text() + ": " + s.message);
     }
     entry.loc = {e.file, a.begin};
     if (local)

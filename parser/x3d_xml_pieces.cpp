@@ -137,8 +137,8 @@ void XmlReader::read_piece(uint32_t file, uint32_t prefix_end, Piece& piece,
                            PieceConsumer* consumer) {
     in_piece_ = true;
     prefix_end_ = prefix_end;
-    piece_begin_ = piece.begin;
-    piece_end_ = piece.end;
+    piece_begin_ = static_cast<uint32_t>(piece.begin);
+    piece_end_ = static_cast<uint32_t>(piece.end);
     piece_stream_ = uint64_t(prefix_end) + 1;  // after the prefix and the line break
     if (!start_parser(file)) {
         if (ctxt_) finish_parser();
@@ -204,7 +204,7 @@ bool XmlReader::at_piece_boundary() const {
 
 void XmlReader::take_pieces(PieceScheduler& pieces, size_t& pos) {
     while (next_piece_ < pieces.size()) {
-        const uint32_t begin = pieces.begin(next_piece_);
+        const uint32_t begin = static_cast<uint32_t>(pieces.begin(next_piece_));
         if (begin > pos) return;
         if (begin < pos || !at_piece_boundary()) {
             drop_piece(pieces);  // cut inside an element, or after a prototype
@@ -229,7 +229,8 @@ void XmlReader::join(Piece& piece, std::vector<NodeId>& outer, size_t& pos) {
             if (e.type.kind == ValueKind::Node && !e.loc.valid() && e.count > 0 &&
                 is_outer_node(piece.tree.node_refs[e.begin]))
                 e.loc = tree_.nodes[outer[piece.tree.node_refs[e.begin] - kFirstOuterNode]].loc;
-    const uint32_t begin = piece.begin, end = piece.end, lines = piece.lines;
+    const auto begin = static_cast<uint32_t>(piece.begin), end = static_cast<uint32_t>(piece.end);
+    const uint32_t lines = piece.lines;
     join_piece(piece, std::move(outer),
                {tree_, roots_, frames_.front()->defs, consumed_, consumed_nodes_, scene_.stats,
                 scene_.diagnostics});

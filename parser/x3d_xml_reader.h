@@ -1,5 +1,6 @@
 // Internals of the X3D XML reader (parser/x3d_xml.cpp: libxml2 glue; parser/x3d_xml_tree.cpp:
-// elements to nodes). Not part of the parser's interface.
+// elements to nodes). Not part of the parser's interface. Its byte offsets are 32-bit (libxml2
+// places elements by line and column in int): parser/load.cpp refuses an XML file over 4 GiB.
 #pragma once
 #include <libxml/parser.h>
 #include <libxml/xmlerror.h>

@@ -420,7 +420,7 @@ void XmlReader::node_end(Open& o) {
         entry.count = static_cast<uint32_t>(tree_.node_refs.size() - entry.begin);
         if (!decl->type.multi && entry.count > 1) {
             if (!entry.loc.valid()) not_in_piece(o.file, o.offset);
-            warn(entry.loc.get().file, entry.loc.get().offset,
+            warn(entry.loc.get().file, static_cast<uint32_t>(entry.loc.get().offset),
                  "field '" + std::string(name_text(field)) + "' of " + tag_of(o) +
                      " holds one node but was given " + std::to_string(entry.count) +
                      "; the last is used",

@@ -60,7 +60,7 @@ class OutputError(Error, OSError):
 
 struct DiagnosticRow {
     std::string file;
-    uint32_t line = 0, column = 0;
+    uint64_t line = 0, column = 0;
     std::string severity, message;
 };
 

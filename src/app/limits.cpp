@@ -73,12 +73,11 @@ bool parse_limit(const std::string& text, Limits& limits, std::string& error) {
                 text.substr(eq + 1) + "')";
         return false;
     }
-    // The reader addresses a file with 32-bit offsets (parser/classic_pieces.h): a larger file
-    // would be misread, not refused.
-    const size_t most_file_bytes = LoadLimits{}.max_file_bytes;
-    if (entry->load == &LoadLimits::max_file_bytes && value * scale > most_file_bytes) {
-        error = "--limit file-bytes is at most " + std::to_string(most_file_bytes) +
-                ": the reader addresses a file with 32-bit offsets (got '" + text.substr(eq + 1) +
+    // A place in a file holds a 38-bit offset (parser/source.h, PackedLoc): a larger file would be
+    // misread, not refused.
+    if (entry->load == &LoadLimits::max_file_bytes && value * scale > kMaxSourceBytes) {
+        error = "--limit file-bytes is at most " + std::to_string(kMaxSourceBytes) +
+                " (256 GiB, the offsets a place in a file holds; got '" + text.substr(eq + 1) +
                 "')";
         return false;
     }

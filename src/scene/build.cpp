@@ -574,7 +574,7 @@ sg::Index Builder::appearance(NodeId id) {
     }
     if (const NodeId tt = node(id, "textureTransform"_n); tt != kNullNode)
         read_texture_transform(tt, a);
-    const uint32_t file = a.origin.loc.file;
+    const uint32_t file = a.origin.loc.get().file;
     a.texture_modulates =
         a.texture != sg::kNone && file < loaded_.x3d_major.size() && loaded_.x3d_major[file] >= 4;
     sg::Index index = static_cast<sg::Index>(scene_.appearances.size());

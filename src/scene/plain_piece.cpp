@@ -187,8 +187,8 @@ constexpr uint32_t kNoNode = UINT32_MAX;
 // One node of the top-level subtree being read.
 struct PlainNode {
     Type type = Type::Group;
-    uint32_t offset = 0;  // of its type name, as the tree's node location
-    uint64_t given = 0;   // fields the file gave, by index in TypeInfo::fields
+    SourceOffset offset = 0;  // of its type name, as the tree's node location
+    uint64_t given = 0;       // fields the file gave, by index in TypeInfo::fields
     uint32_t first_child = 0, child_count = 0;  // into Subtree::children
     // Nodes of the subtree, kNoNode for none; an appearance may be an outer node (a USE of a DEF
     // before the piece: kFirstOuterNode + k).

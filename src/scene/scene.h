@@ -34,15 +34,17 @@ namespace vr::sg {
 using Index = uint32_t;
 inline constexpr Index kNone = UINT32_MAX;
 
-// Where a typed node came from, for messages. (Kept small: PyMOL scenes hold 1e5 of each node.) It
-// holds no NodeId: the node tree may be released once the scene is built.
+// Where a typed node came from, for messages. (Kept small: PyMOL scenes hold 1e5 of each node, a
+// 10^8-atom export 10^8: 16 bytes, the place packed as in the node tree.) It holds no NodeId: the
+// node tree may be released once the scene is built.
 struct Origin {
     Name type = kNoName;      // node type name
     Name def_name = kNoName;  // DEF name, kNoName if none
-    SourceLoc loc;
+    PackedLoc loc;
     std::string_view type_text() const { return name_text(type); }
     std::string_view def_text() const { return name_text(def_name); }
 };
+static_assert(sizeof(Origin) == 16, "a typed node per atom holds one");
 
 // Renderer hints (docs/input.md, Renderer hints) read from a MetadataSet named "vrmlray". Negative
 // means "not set".

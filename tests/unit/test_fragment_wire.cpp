@@ -35,8 +35,8 @@ PlainPiece read(const std::string& text) {
 void expect_same_origin(const sg::Origin& a, const sg::Origin& b) {
     EXPECT_EQ(a.type_text(), b.type_text());
     EXPECT_EQ(a.def_text(), b.def_text());
-    EXPECT_EQ(a.loc.file, b.loc.file);
-    EXPECT_EQ(a.loc.offset, b.loc.offset);
+    EXPECT_EQ(a.loc.get().file, b.loc.get().file);
+    EXPECT_EQ(a.loc.get().offset, b.loc.get().offset);
 }
 
 TEST(FragmentWire, APlainPieceArrivesAsItLeft) {

@@ -1,6 +1,6 @@
 // The node tree's packed records: a Node names its (interface, type) through NodeTree::kinds, and a
-// FieldEntry keeps its type in one byte and its place in seven (a 24-bit file index). Places must
-// come back exact, also in files other than the first.
+// FieldEntry keeps its type in one byte and its place in seven (an 18-bit file index, a 38-bit
+// offset). Places must come back exact, also in files other than the first.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -36,8 +36,8 @@ LoadedScene load_in_pieces(const fs::path& file, size_t piece, bool consume,
 }
 
 std::string loc(const sg::Origin& o) {
-    return std::string(o.type_text()) + "@" + std::to_string(o.loc.file) + ":" +
-           std::to_string(o.loc.offset) + "/" + std::string(o.def_text());
+    return std::string(o.type_text()) + "@" + std::to_string(o.loc.get().file) + ":" +
+           std::to_string(o.loc.get().offset) + "/" + std::string(o.def_text());
 }
 
 // "" when the two scenes are equal in every array the flattening reads; else the first difference.

@@ -72,7 +72,7 @@ void expect_same_scene(const std::string& text, std::string* messages = nullptr)
     ASSERT_EQ(a.child_refs.size(), b.child_refs.size());
     for (size_t i = 0; i < a.groups.size(); ++i) {
         ASSERT_EQ(a.groups[i].child_count, b.groups[i].child_count) << i;
-        ASSERT_EQ(a.groups[i].origin.loc.offset, b.groups[i].origin.loc.offset) << i;
+        ASSERT_EQ(a.groups[i].origin.loc.get().offset, b.groups[i].origin.loc.get().offset) << i;
     }
     ASSERT_EQ(a.shapes.size(), b.shapes.size());
     for (size_t i = 0; i < a.shapes.size(); ++i) {

@@ -37,7 +37,7 @@ const Diagnostic* first_error(const LoadedScene& s) {
 
 struct ErrorAt {
     std::string message;
-    uint32_t line = 0, column = 0;
+    uint64_t line = 0, column = 0;
 };
 
 ErrorAt error_of(const LoadedScene& s) {
