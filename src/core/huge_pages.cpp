@@ -1,6 +1,8 @@
 #include "core/huge_pages.h"
 
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -19,6 +21,27 @@ void advise_huge_pages(void* data, size_t bytes) {
 #else
     (void)data;
     (void)bytes;
+#endif
+}
+
+void* allocate_mapped(size_t bytes) {
+#if defined(__linux__)
+    void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    return p;
+#else
+    void* p = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
+    if (p == nullptr) throw std::bad_alloc();
+    return p;
+#endif
+}
+
+void free_mapped(void* data, size_t bytes) {
+#if defined(__linux__)
+    if (data != nullptr) munmap(data, bytes);
+#else
+    (void)bytes;
+    std::free(data);
 #endif
 }
 

@@ -13,6 +13,16 @@ namespace vr {
 
 void advise_huge_pages(void* data, size_t bytes);
 
+// Storage of kMappedBytes or more mapped on its own (page-aligned, so aligned to any cache line)
+// and unmapped when freed. glibc serves blocks below its dynamic mmap threshold, which the first
+// free of a large block raises up to 32 MiB, from the thread's arena, and keeps them there when
+// they are freed: a BVH build's per-task node arrays (a few MiB each, 80 MiB on 10M atoms) stayed
+// in the process through the render (bench/README.md, "Issue 45: 10M atoms toward 1 GB").
+constexpr size_t kMappedBytes = size_t(1) << 20;
+// Throws std::bad_alloc when the system has no room.
+void* allocate_mapped(size_t bytes);
+void free_mapped(void* data, size_t bytes);
+
 // Reserves `count` elements and advises huge pages for the new, untouched storage.
 template <class T, class A>
 void reserve_huge(std::vector<T, A>& v, size_t count) {

@@ -173,13 +173,15 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
                     : choose_bvh_build(double(boxes.size()), choice.camera_samples, choice.lights,
                                        choice.soft_light);
     options.morton = built_by_ == BvhBuild::Morton;
-    const Bvh binary = build_bvh(std::move(boxes), options);
+    Bvh binary = build_bvh(std::move(boxes), options);
     bvh_ = collapse_bvh(binary);
+    // The binary nodes (about 25 bytes a sphere of a large molecule) are not read again: freed
+    // before the leaf-order copies are made, so that they are never held together.
+    BvhNodeArray().swap(binary.nodes);
     copy_in_leaf_order(scene, threads, ids, binary.order);
     build_clip_scopes();
     // An opaque all-sphere scene without clip planes reads entry i as sphere i everywhere
     // (ref_at): its references would be held for the render and never read.
-    entries_ = prims_.size();
     if (spheres_only_ && !any_transparent_ && !any_clip_) NoFillVector<uint32_t>().swap(prims_);
     tri_blocks_.clear();
     leaf_block_.clear();
@@ -246,11 +248,19 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
     for (size_t c = 1; c <= size_t(chunks); ++c)
         for (int k = 0; k < 4; ++k) chunk_start[c][size_t(k)] += chunk_start[c - 1][size_t(k)];
     const std::array<uint32_t, 4>& totals = chunk_start[size_t(chunks)];
+    entries_ = n;
+    // Then leaf order is sphere order, and traversal skips the references (one cache miss a leaf
+    // fewer on a large scene).
+    spheres_only_ = n > 0 && totals[0] == n;
+    resize_huge(spheres_, totals[0]);
+    resize_huge(sphere_shading_, totals[0]);
+    if (spheres_only_ && !scene.any_clip_planes()) {
+        copy_spheres_in_leaf_order(scene, chunks, order);
+        return;
+    }
 
     resize_huge(prims_, n);
     resize_huge(prim_transparency_, n);
-    resize_huge(spheres_, totals[0]);
-    resize_huge(sphere_shading_, totals[0]);
     resize_huge(quadrics_, totals[1]);
     resize_huge(quadric_source_, totals[1]);
     resize_huge(triangles_, totals[2]);
@@ -266,14 +276,46 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
             copy_primitive(scene, ids, order[i], i, next);
         }
     });
-    // Then leaf order is sphere order, and traversal skips the references (one cache miss a leaf
-    // fewer on a large scene).
-    spheres_only_ = n > 0 && totals[0] == n;
     any_transparent_ = std::any_of(prim_transparency_.begin(), prim_transparency_.end(),
                                    [](float t) { return t > 0.0f; });
     // Held for the whole render: keep only what traversal reads. (Swapped with an empty one:
     // assigning `{}` empties a vector but keeps its memory.)
     if (!any_transparent_) NoFillVector<float>().swap(prim_transparency_);
+}
+
+// An all-sphere scene without clip planes: entry i is sphere i (ref_at), so the references are
+// made only if some sphere is see-through (then shadow rays read its transparency by entry), and
+// for an opaque one never (8 bytes a sphere the build held beside the flat spheres and its own).
+void Accel::copy_spheres_in_leaf_order(const FlatScene& scene, int chunks,
+                                       const std::vector<uint32_t>& order) {
+    const size_t n = order.size();
+    std::vector<float> transparency(scene.shadings.size());
+    for (size_t s = 0; s < transparency.size(); ++s)
+        transparency[s] = float(material_transparency(scene, uint32_t(s)));
+    std::vector<char> chunk_transparent(size_t(chunks), 0);
+    parallel_ranges(n, chunks, [&](size_t begin, size_t end, int c) {
+        bool any = false;
+        for (size_t i = begin; i < end; ++i) {
+            if (i + 8 < end) __builtin_prefetch(&scene.spheres[order[i + 8]]);
+            const Sphere& sp = scene.spheres[order[i]];
+            spheres_[i] = {sp.center, sp.radius};
+            sphere_shading_[i] = sp.shading;
+            any = any || (sp.shading < transparency.size() && transparency[sp.shading] > 0.0f);
+        }
+        chunk_transparent[size_t(c)] = any;
+    });
+    any_transparent_ = std::any_of(chunk_transparent.begin(), chunk_transparent.end(),
+                                   [](char t) { return t != 0; });
+    if (!any_transparent_) return;
+    resize_huge(prims_, n);
+    resize_huge(prim_transparency_, n);
+    parallel_ranges(n, chunks, [&](size_t begin, size_t end, int) {
+        for (size_t i = begin; i < end; ++i) {
+            prims_[i] = pack_prim(PrimKind::Sphere, uint32_t(i));
+            const uint32_t s = sphere_shading_[i];
+            prim_transparency_[i] = s < transparency.size() ? transparency[s] : 0.0f;
+        }
+    });
 }
 
 // Primitive `id` as entry i of leaf order, at next[kind] of its kind's compact array (which it

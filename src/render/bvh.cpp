@@ -142,7 +142,7 @@ class Builder {
 
     // The whole tree over the boxes, into `nodes`: slot 0 the root, slot 1 padding, so that the
     // pairs start at index 2.
-    void build_all(BvhNodeArray& nodes) {
+    void build_all(BvhNodeArray& nodes, std::vector<uint32_t>& order) {
         const int threads = std::max(options_.threads, 1);
         Task& top = tasks_.emplace_back();
         top.range = root(threads);
@@ -154,11 +154,18 @@ class Builder {
         for (int t = 1; t < threads; ++t) helpers.emplace_back([this] { work(); });
         work();
         for (std::thread& t : helpers) t.join();
+        // The boxes and the Morton keys are read last by leaf_order: freed before the tasks' nodes
+        // are joined into one array, so that they are never held beside both (on a large molecule
+        // 40 bytes a primitive, more than the nodes).
+        leaf_order(order);
+        NoFillVector<uint64_t>().swap(keys_);
+        BuildBoxes().swap(boxes_);
         join(threads, nodes);
         nodes[1] = BvhNode{};
         if (options_.morton) bound_interior_nodes(nodes);
     }
 
+  private:
     // Caller ids in leaf order.
     void leaf_order(std::vector<uint32_t>& order) const {
         resize_huge(order, boxes_.size());
@@ -166,7 +173,6 @@ class Builder {
             order[i] = boxes_[options_.morton ? uint32_t(keys_[i]) : i].id;
     }
 
-  private:
     // Builds the subtree over `range` as part of task `self`: returns its root and appends the
     // descendants' pairs to `out` (self's array).
     BvhNode build(const Range& range, int depth, Task& self, BvhNodeArray& out) {
@@ -420,11 +426,14 @@ class Builder {
         };
         reserve_huge(nodes, top.joined);
         nodes.resize(top.joined);
+        // Each task's array is freed once copied (place() reads its children, not its nodes):
+        // the joined array and the tasks' are not held whole together.
         parallel_ranges(tasks_.size(), threads, [&](size_t begin, size_t end, int) {
             for (size_t k = begin; k < end; ++k) {
-                const Task& t = tasks_[k];
+                Task& t = tasks_[k];
                 for (uint32_t i = 0; i < t.nodes.size(); ++i)
                     nodes[t.place(i)] = moved(t, t.nodes[i]);
+                BvhNodeArray().swap(t.nodes);
             }
         });
         // The slots that waited for a child task's root.
@@ -608,8 +617,7 @@ Bvh build_bvh(BuildBoxes boxes, const BvhBuildOptions& options) {
     Bvh bvh;
     if (boxes.empty()) return bvh;
     Builder builder(boxes, options);
-    builder.build_all(bvh.nodes);
-    builder.leaf_order(bvh.order);
+    builder.build_all(bvh.nodes, bvh.order);
     return bvh;
 }
 

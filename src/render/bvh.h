@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/float_error.h"
+#include "core/huge_pages.h"
 #include "core/math.h"
 #include "core/no_fill.h"
 #include "core/ray.h"
@@ -57,8 +58,18 @@ struct CacheAlignedAllocator {
     CacheAlignedAllocator() = default;
     template <class U>
     CacheAlignedAllocator(const CacheAlignedAllocator<U>&) {}
-    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
-    void deallocate(T* p, size_t) { ::operator delete(p, kAlignment); }
+    // Large arrays mapped on their own: freed, they go back to the system at once
+    // (core/huge_pages.h, allocate_mapped).
+    T* allocate(size_t n) {
+        const size_t bytes = n * sizeof(T);
+        if (bytes >= kMappedBytes) return static_cast<T*>(allocate_mapped(bytes));
+        return static_cast<T*>(::operator new(bytes, kAlignment));
+    }
+    void deallocate(T* p, size_t n) {
+        const size_t bytes = n * sizeof(T);
+        if (bytes >= kMappedBytes) return free_mapped(p, bytes);
+        ::operator delete(p, kAlignment);
+    }
     // resize() leaves new elements default-initialised, as NoFillAllocator (core/no_fill.h) does:
     // a parallel loop fills them, taking the page faults on every thread.
     template <class U, class... Args>

@@ -313,7 +313,10 @@ void Builder::reserve() {
     // Every child is a reference in the tree: an upper bound (pages past the end stay untouched).
     size_t refs = tree_.node_refs.size() + tree_.roots.size();
     for (const auto& [inline_node, roots] : tree_.inline_roots) refs += roots.size();
-    // (Fragments come as chunks of their own.)
+    // (Fragments come as chunks of their own, but the root's block has a slot for each of their
+    // top-level nodes: without room for those, the first child block after it would move the
+    // root's block, holding it twice for a moment, 16 bytes a spliced atom.)
+    for (const ConsumedPiece& p : loaded_.consumed_pieces) refs += p.roots;
     scene_.groups.reserve(groups);
     scene_.shapes.reserve(shapes);
     scene_.translations.reserve(transforms);

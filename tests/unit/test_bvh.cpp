@@ -565,3 +565,28 @@ TEST(Bvh, PaddedBoundsEqualTheStepwiseRounding) {
 
 }  // namespace
 }  // namespace vr
+
+namespace vr {
+namespace {
+
+// Node arrays of kMappedBytes or more are mapped on their own (core/huge_pages.h), so that freeing
+// one gives its memory back at once: page-aligned (so cache-line aligned, as sibling pairs need),
+// and growing across the threshold keeps every node.
+TEST(BvhNodeMemory, LargeArraysAreMappedAlignedAndKeepTheirNodesWhenGrown) {
+    BvhNodeArray nodes;
+    const size_t small = kMappedBytes / sizeof(BvhNode) / 4;
+    for (size_t i = 0; i < small; ++i) {
+        BvhNode n{};
+        n.offset = uint32_t(i);
+        nodes.push_back(n);
+    }
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(nodes.data()) % 64, 0u);
+    nodes.resize(2 * kMappedBytes / sizeof(BvhNode));  // past the threshold: mapped
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(nodes.data()) % 4096, 0u);
+    for (size_t i = 0; i < small; ++i) ASSERT_EQ(nodes[i].offset, uint32_t(i)) << i;
+    BvhNodeArray().swap(nodes);  // unmapped: the sanitizers would see a mismatched free
+    EXPECT_TRUE(nodes.empty());
+}
+
+}  // namespace
+}  // namespace vr

@@ -50,6 +50,32 @@ TEST(TracerBytes, SeeThroughSpheresKeepWhatShadowRaysRead) {
     EXPECT_EQ(b.transparency, 5000 * sizeof(float));
 }
 
+// The references and transparencies of an all-sphere scene are made only once a see-through
+// sphere is found in the leaf-order copy: one among opaque ones must still be seen through by
+// shadow rays (t^2 across it: entered and left, docs/rendering.md) while the opaque ones block.
+TEST(TracerBytes, OneSeeThroughSphereAmongOpaqueKeepsWhatShadowRaysRead) {
+    FlatScene scene = random_spheres(5000, 0.0);
+    Material glass;
+    glass.transparency = 0.25;
+    const uint32_t see_through = add_shading(scene, glass);
+    add_sphere(scene, Vec3(0.0, 0.0, 100.0), 1.0, see_through);  // far from the others
+    Accel accel;
+    accel.build(scene, 2);
+    const TracerBytes b = accel.held_bytes_by_part();
+    EXPECT_EQ(b.references, 5001 * sizeof(uint32_t));
+    EXPECT_EQ(b.transparency, 5001 * sizeof(float));
+    Ray across;  // through the see-through sphere's centre only
+    across.o = Vec3(-5.0, 0.0, 100.0);
+    across.d = Vec3(1.0, 0.0, 0.0);
+    across.t_max = 10.0;
+    EXPECT_DOUBLE_EQ(accel.transmittance(across), 0.25 * 0.25);
+    Ray blocked;  // through an opaque sphere's centre
+    blocked.o = scene.spheres[17].center - Vec3(5.0, 0.0, 0.0);
+    blocked.d = Vec3(1.0, 0.0, 0.0);
+    blocked.t_max = 10.0;
+    EXPECT_EQ(accel.transmittance(blocked), 0.0);
+}
+
 // The hint of the last blocker (an entry of leaf order) is tried first; with the references freed
 // it must still name the sphere that blocks, and any value must give the same answer.
 TEST(TracerBytes, ShadowRaysWithBlockerHintsAnswerAsWithout) {
