@@ -18,11 +18,7 @@ namespace {
 
 using Rng = std::mt19937_64;
 
-Vec3 random_unit(Rng& rng) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    Vec3 v(n(rng), n(rng), n(rng));
-    return glm::normalize(v);
-}
+using testing::random_unit;
 
 FlatScene random_scene(Rng& rng, int spheres, int quadrics, int triangles, double extent) {
     FlatScene scene = testing::empty_scene();

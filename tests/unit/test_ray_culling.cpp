@@ -24,10 +24,7 @@ namespace {
 
 using Rng = std::mt19937_64;
 
-Vec3 random_unit(Rng& rng) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    return glm::normalize(Vec3(n(rng), n(rng), n(rng)));
-}
+using testing::random_unit;
 
 // A random affine map: rotation, non-uniform scale, shear, translation by up to `offset`.
 Mat4 random_map(Rng& rng, double offset) {

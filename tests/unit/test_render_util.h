@@ -8,6 +8,13 @@
 
 namespace vr::testing {
 
+// A direction drawn uniformly on the unit sphere (a normal deviate per axis, normalised): the
+// random rays of the BVH, culling and triangle-block tests.
+inline Vec3 random_unit(std::mt19937_64& rng) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    return glm::normalize(Vec3(n(rng), n(rng), n(rng)));
+}
+
 // Adds a material + shading (lit by light set `light_set`) and returns the shading index.
 inline uint32_t add_shading(FlatScene& scene, const Material& m, uint32_t light_set = 0) {
     scene.materials.push_back(m);

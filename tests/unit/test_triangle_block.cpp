@@ -15,10 +15,7 @@ namespace {
 
 using Rng = std::mt19937_64;
 
-Vec3 random_unit(Rng& rng) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    return glm::normalize(Vec3(n(rng), n(rng), n(rng)));
-}
+using testing::random_unit;
 
 // An n x n height field of 2 n^2 triangles over [0, n] x [0, n] (a bumpy sheet like a ribbon of
 // a cartoon), every inner edge and vertex shared; the heights of the first quarter of the rows are
