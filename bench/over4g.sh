@@ -37,27 +37,27 @@ size=$(stat -c %s "$f")
 echo "file: $size bytes ($(du -k "$f" | cut -f1) KB on disk); atoms after byte $(((4 << 30) + 17))"
 fail=0
 check() { if grep -q -- "$1" "$work/out.txt"; then echo "ok: $2"; else echo "FAIL: $2 (no '$1')"; fail=1; fi; }
+# run LABEL WANTED_EXIT COMMAND...: runs the command into out.txt, prints its exit and seconds.
+run() {
+    local label=$1 want=$2 s rc
+    shift 2
+    s=$(date +%s.%N)
+    set +e
+    VRMLRAY_PIECE_BYTES=65536 "$@" >"$work/out.txt" 2>&1
+    rc=$?
+    set -e
+    echo "$label: exit $rc, $(echo "$(date +%s.%N) - $s" | bc) s"
+    [ "$rc" -eq "$want" ] || { echo "FAIL: exit $rc, wanted $want"; fail=1; }
+}
 
-s=$(date +%s.%N)
-set +e
-VRMLRAY_PIECE_BYTES=65536 "$bin" info "$f" --limit file-bytes=5G >"$work/out.txt" 2>&1
-rc=$?
-set -e
-echo "info (a warning): exit $rc, $(echo "$(date +%s.%N) - $s" | bc) s"
-[ "$rc" -eq 0 ] || { echo "FAIL: exit $rc, wanted 0"; fail=1; }
+run "info (a warning)" 0 "$bin" info "$f" --limit file-bytes=5G
 check "over4g.wrl:$warn_line:21: warning: unknown field .spin. in node Sphere" "the warning at line $warn_line, column 21"
 check "Sphere  *$atoms\$" "$atoms Sphere nodes read"
 check "tracer  *$atoms spheres" "$atoms spheres traced"
 
 # The render path: plain pieces past 4 GiB go straight from tokens to the scene (scene/plain_piece.h).
-s=$(date +%s.%N)
-set +e
-VRMLRAY_PIECE_BYTES=65536 "$bin" render "$f" --limit file-bytes=5G -W 64 -H 48 -o "$work/out.png" \
-    --stats "$work/stats.json" >"$work/out.txt" 2>&1
-rc=$?
-set -e
-echo "render: exit $rc, $(echo "$(date +%s.%N) - $s" | bc) s"
-[ "$rc" -eq 0 ] || { echo "FAIL: exit $rc, wanted 0"; fail=1; }
+run render 0 "$bin" render "$f" --limit file-bytes=5G -W 64 -H 48 -o "$work/out.png" \
+    --stats "$work/stats.json"
 check "over4g.wrl:$warn_line:21: warning: unknown field .spin. in node Sphere" "render: the warning at line $warn_line, column 21"
 spheres=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["primitives"]["spheres"])' "$work/stats.json")
 if [ "$spheres" = "$atoms" ]; then echo "ok: render: $atoms spheres"; else echo "FAIL: render: $spheres spheres"; fail=1; fi
@@ -65,13 +65,7 @@ if [ "$spheres" = "$atoms" ]; then echo "ok: render: $atoms spheres"; else echo 
 # An error after the atoms: the statement on the line after the last atom, its bad value at column 34.
 err_line=$((3 + 3 * atoms))
 printf 'Shape { geometry Sphere { radius bad } }\n' >>"$f"
-s=$(date +%s.%N)
-set +e
-VRMLRAY_PIECE_BYTES=65536 "$bin" info "$f" --limit file-bytes=5G >"$work/out.txt" 2>&1
-rc=$?
-set -e
-echo "info (an error): exit $rc, $(echo "$(date +%s.%N) - $s" | bc) s"
-[ "$rc" -eq 3 ] || { echo "FAIL: exit $rc, wanted 3"; fail=1; }
+run "info (an error)" 3 "$bin" info "$f" --limit file-bytes=5G
 check "over4g.wrl:$err_line:34: error: expected a number, found .bad." "the error at line $err_line, column 34"
 [ "$fail" -eq 0 ] || { echo "--- output:"; cat "$work/out.txt"; exit 1; }
 echo "all checks passed"
