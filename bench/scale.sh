@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # How reading and rendering grow with the size of a molecular export (issue 16): for each size, a
-# PyMOL-style file from tools/gen_molecule.py (Transform + Shape + Appearance + Material + Sphere
-# per atom, no bonds) rendered at 1920x1080 with --stats. Prints per size the whole process's time
-# and peak memory (/usr/bin/time -v), the seconds of each phase, the peak memory per atom after
-# reading, after the scene build and at the end, and the ratio of the whole process to
-# ../shared/bench/wrl_scan.cpp (tokenizing and converting every number, the floor of any reader)
-# measured in the same run, alternating with vrmlray. Medians of RUNS runs. Files live in a
-# temporary folder that is deleted at the end.
+# PyMOL-style file (Transform + Shape + Appearance + Material + Sphere per atom, no bonds) rendered
+# at 1920x1080 with --stats. Prints per size the whole process's time and peak memory (/usr/bin/time
+# -v), the seconds of each phase, the peak memory per atom after reading, after the scene build and
+# at the end, and the ratio of the whole process to ../shared/bench/wrl_scan.cpp (tokenizing and
+# converting every number, the floor of any reader) measured in the same run, alternating with
+# vrmlray. Medians of RUNS runs. Files live in a temporary folder that is deleted at the end. They
+# come from tools/gen_molecule.cpp (compiled here with g++ -O2; tools/gen_molecule.py's layout, and
+# that script is used when g++ fails), which writes at the disk's pace where the Python script
+# spends ~35 us an atom (an hour for 100M atoms).
 # Usage: bench/scale.sh [--big] [--huge] [--runs N] [--sizes "100000 300000"] [--bin VRMLRAY]... [--csv FILE]
 #   --big adds 10M atoms (a 3 GB file; ~5 GB of free disk space needed).
-#   --huge adds 100M atoms (a 29 GB file, 25-60 min to write; ~32 GB of free disk space and some 14 GB
+#   --huge adds 100M atoms (a 29 GB file, ~6-8 min to write; ~32 GB of free disk space and some 14 GB
 #   of memory needed). A file over 4 GiB is read with --limit file-bytes, nodes, primitives and
 #   group-visits raised to fit it; wrl_scan reads the whole file into memory, so where that fails
 #   (29 GB on a 24 GB machine) its time is left out (nan).
@@ -42,12 +44,16 @@ scan=""
 scan_src=$root/../shared/bench/wrl_scan.cpp
 if [ -f "$scan_src" ] && g++ -O2 -std=c++17 "$scan_src" -o "$work/wrl_scan"; then scan=$work/wrl_scan; fi
 
+# The molecules' writer: the C++ one when it compiles, else the Python script (the same layout).
+gen=(python3 "$root/tools/gen_molecule.py")
+if g++ -O2 -std=c++20 "$root/tools/gen_molecule.cpp" -o "$work/gen_molecule"; then gen=("$work/gen_molecule"); fi
+
 echo "load at start: $(cat /proc/loadavg); $(nproc) cores; $runs runs per size; $(date -u '+%F %H:%M UTC')"
 rows=$work/rows.txt
 : >"$rows"
 for n in $sizes; do
     wrl=$work/molecule_$n.wrl
-    python3 "$root/tools/gen_molecule.py" "$n" "$wrl" --no-bonds
+    "${gen[@]}" "$n" "$wrl" --no-bonds
     bytes=$(stat -c %s "$wrl")
     # The default limits refuse a file over 4 GiB (docs/input.md, Limits): raised to fit this one.
     limits=()

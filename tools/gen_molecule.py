@@ -9,6 +9,10 @@ export is in ../shared/corpus; tests/unit/test_vmd_export.cpp describes the layo
 (VMDCyl, an open Cylinder; VMDMat, an Appearance), everything in one Group, every atom a Transform whose
 Appearance is a VMDMat instance, every bond a VMDCyl turned about its first end, numbers as %g prints them.
 
+tools/gen_molecule.cpp writes the default layout (not --vmd) at the disk's pace, about a hundred times
+faster than this script's ~35 us an atom, with its own random numbers: bench/scale.sh uses it, so its
+100M-atom file takes minutes instead of an hour. The tests keep using this script.
+
 Usage: gen_molecule.py N_ATOMS OUT.wrl [--seed S] [--no-bonds] [--vmd]
 """
 import math
