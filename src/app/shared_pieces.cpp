@@ -164,6 +164,12 @@ class PieceExchange {
 
 }  // namespace
 
+size_t shared_head_bytes(size_t piece) {
+    // A 174 MB file of 1M spheres on 2 processes: a head of a piece (5.4 MB) was 0.025 s of the
+    // 0.24 s each process read (bench/README.md, "Issue 45: split reading, the exchange").
+    return std::min(piece, kSharedHeadBytes);
+}
+
 void SharedPieces::plan(std::span<const PieceText> pieces) {
     figures_.pieces = pieces.size();
     // One piece or none: a small file, read whole by every process (the same decision in each, as

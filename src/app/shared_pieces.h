@@ -26,6 +26,12 @@ namespace vr {
 // that each process gets a dozen or more (so that the head every process reads and the unevenness
 // of the deal are small), at most what one process uses.
 size_t shared_piece_bytes(size_t file_bytes, int processes);
+constexpr size_t kSharedHeadBytes = size_t(64) << 10;
+// The bytes of the head before the first piece (`piece`: shared_piece_bytes), which every process
+// reads itself: as short as the head of an export is (its lights, viewpoint and DEF'd
+// appearances), not a piece's worth. A cut inside the head's statements costs nothing wrong: the
+// reader drops that piece and reads its text itself.
+size_t shared_head_bytes(size_t piece);
 
 // What one process did of the reading, for --stats (processes[].reading).
 struct SharedReading {
