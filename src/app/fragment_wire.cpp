@@ -46,9 +46,11 @@ struct GeometryRecord {
     sg::Origin origin;
     sg::Index hints = sg::kNone;
     uint8_t cull_back_faces = 0;
-    uint8_t kind = 0;  // the variant's index
+    uint8_t kind = 0;        // the variant's index
+    uint8_t unused[2] = {};  // no padding: every byte sent is set
     alignas(8) uint8_t shape[kShapeBytes] = {};
 };
+static_assert(sizeof(GeometryRecord) == sizeof(sg::Origin) + sizeof(sg::Index) + 4 + kShapeBytes);
 
 template <class Shape>
 bool put_shape(const sg::GeometryShape& from, GeometryRecord& r) {

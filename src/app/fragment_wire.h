@@ -33,8 +33,10 @@ struct WireHeader {
     uint32_t roots = 0, nodes = 0, uses = 0;  // TextConsumed's
     uint32_t first_name = 0;                  // the sender's number of the names part's first name
     uint32_t new_names = 0;                   // names in the names part
+    uint32_t unused = 0;                      // no padding: every byte sent is set
     uint64_t counts[kMaxParts] = {};
 };
+static_assert(sizeof(WireHeader) == 8 * 4 + WireHeader::kMaxParts * 8);
 
 // The texts of the names interned in this process since the last call (a sender's, for the
 // names part of its next piece).
