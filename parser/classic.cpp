@@ -1055,7 +1055,8 @@ class Reader {
     std::vector<Piece> plan_pieces(std::string_view text) const {
         std::vector<Piece> pieces;
         const std::vector<SourceOffset> starts =
-            piece_starts(text, 0, limits_.piece_bytes > 0 ? limits_.piece_bytes : piece_bytes());
+            piece_starts(text, 0, limits_.piece_bytes > 0 ? limits_.piece_bytes : piece_bytes(),
+                         limits_.head_bytes);
         for (size_t k = 0; k < starts.size(); ++k) {
             pieces.emplace_back();
             pieces.back().index = static_cast<uint32_t>(k);

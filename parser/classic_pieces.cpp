@@ -20,10 +20,11 @@ unsigned piece_workers(unsigned threads) {
     return all - 1;
 }
 
-std::vector<SourceOffset> piece_starts(std::string_view text, SourceOffset begin, size_t piece) {
+std::vector<SourceOffset> piece_starts(std::string_view text, SourceOffset begin, size_t piece,
+                                       size_t head) {
     std::vector<SourceOffset> starts;
     if (piece == 0) return starts;
-    for (size_t at = size_t(begin) + piece; at < text.size();) {
+    for (size_t at = size_t(begin) + (head > 0 ? head : piece); at < text.size();) {
         size_t line = text.find('\n', at - 1);  // a line start at or after `at`
         if (line == std::string_view::npos || line + 1 >= text.size()) break;
         const unsigned char c = static_cast<unsigned char>(text[line + 1]);

@@ -37,9 +37,11 @@ size_t piece_bytes();
 unsigned piece_workers(unsigned threads);
 
 // Offsets where pieces start (the first piece, at `begin`, is not listed): the first line start
-// at or after each multiple of `piece` whose first byte is a letter, the way exporters begin
-// top-level nodes. Only a guess: the main reader checks every one.
-std::vector<SourceOffset> piece_starts(std::string_view text, SourceOffset begin, size_t piece);
+// at or after `begin` + `head` (0: `piece`), then after each `piece` bytes more, whose first byte
+// is a letter, the way exporters begin top-level nodes. Only a guess: the main reader checks every
+// one.
+std::vector<SourceOffset> piece_starts(std::string_view text, SourceOffset begin, size_t piece,
+                                       size_t head = 0);
 
 // What a speculative read of one piece gives.
 struct Piece {

@@ -34,6 +34,9 @@ struct LoadLimits {
     // The bytes a large classic-encoding file's pieces are cut to; 0: piece_bytes()
     // (classic_pieces.h). Processes that share the pieces cut them finer (src/app/shared_pieces.h).
     size_t piece_bytes = 0;
+    // The bytes before the first piece, which the main reader reads itself; 0: one piece's. Every
+    // process that shares the pieces reads that head, so they keep it short.
+    size_t head_bytes = 0;
 };
 
 struct LoadOptions {

@@ -75,8 +75,8 @@ int prepare(const RenderCommand& cmd, const MpiProcesses& world, const FramePlan
     auto shared = std::make_shared<SharedPieces>(world, cmd.options.threads);
     std::error_code ec;
     const auto file_bytes = std::filesystem::file_size(cmd.scene, ec);
-    code = load_and_report(cmd.scene, cmd.common, loaded, shared,
-                           shared_piece_bytes(ec ? 0 : size_t(file_bytes), world.size()),
+    const size_t piece = shared_piece_bytes(ec ? 0 : size_t(file_bytes), world.size());
+    code = load_and_report(cmd.scene, cmd.common, loaded, shared, piece, shared_head_bytes(piece),
                            cmd.options.threads)
                ? kExitOk
                : kExitBadInput;

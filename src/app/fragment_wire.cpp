@@ -1,10 +1,11 @@
 #include "app/fragment_wire.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
-#include <string>
+#include <string_view>
 #include <type_traits>
-#include <unordered_map>
 
 #include "core/huge_pages.h"
 #include "scene/fragments.h"
@@ -17,216 +18,117 @@ concept HasOrigin = requires(T t) {
     t.origin;
 };
 
-// Bytes out: the pieces, then the table of names their numbers stand for (its offset first).
-class Writer {
-  public:
-    // `bytes`: about what the message will hold, reserved at once (on huge pages: the first touch
-    // of fresh memory is the cost of a large message, and growing it would touch it again).
-    explicit Writer(size_t bytes) {
-        reserve_huge(out_, bytes);
-        put(uint64_t(0));          // where the table starts, set by finish()
-        ids_.emplace(kNoName, 0);  // number 0, always
-        order_.push_back(kNoName);
-    }
+// The fragment's arrays that travel as their own bytes, in wire order (both sides run the same
+// binary). A new array of a plain piece's fragment is one more line here.
+template <class S, class F>
+void for_each_array(S& s, F&& f) {
+    f(s.groups);
+    f(s.child_refs);
+    f(s.translations);
+    f(s.matrices);
+    f(s.shapes);
+    f(s.appearances);
+    f(s.materials);
+}
+constexpr size_t kArrays = 7;
+// The parts: the sender's new names, the outer USE names, the arrays, the geometries' records.
+constexpr size_t kNamesPart = 0, kOuterPart = 1, kFirstArray = 2, kGeometryPart = 2 + kArrays;
+static_assert(kGeometryPart < WireHeader::kMaxParts);
 
-    template <class T>
-    void put(const T& value) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        const size_t at = grow(sizeof(T));
-        std::memcpy(out_.data() + at, &value, sizeof(T));
-    }
-    // A number standing for `name` in this message.
-    uint32_t name(Name name) {
-        if (name == kNoName) return 0;  // most names: an origin's DEF name
-        if (name == last_name_) return last_id_;
-        const auto [it, added] = ids_.try_emplace(name, uint32_t(order_.size()));
-        if (added) order_.push_back(name);
-        last_name_ = name;
-        return last_id_ = it->second;
-    }
-    // `count` elements, each copied with its origin's names as this message's numbers.
-    template <class Range>
-    void elements(const Range& range, size_t count) {
-        using T = std::decay_t<decltype(*std::begin(range))>;
-        static_assert(std::is_trivially_copyable_v<T>);
-        put(uint64_t(count));
-        size_t at = grow(count * sizeof(T));
-        for (const T& element : range) {
-            T e = element;
-            if constexpr (HasOrigin<T>) origin(e.origin);
-            std::memcpy(out_.data() + at, &e, sizeof(T));
-            at += sizeof(T);
-        }
-    }
-    void origin(sg::Origin& o) {
-        o.type = name(o.type);
-        o.def_name = name(o.def_name);
-    }
-    std::vector<uint8_t> finish() && {
-        const uint64_t table = out_.size();
-        std::memcpy(out_.data(), &table, sizeof table);
-        put(uint32_t(order_.size()));
-        for (Name n : order_) {
-            const std::string_view text = name_text(n);
-            put(uint32_t(text.size()));
-            const size_t at = grow(text.size());
-            if (!text.empty()) std::memcpy(out_.data() + at, text.data(), text.size());
-        }
-        return std::move(out_);
-    }
+template <class T>
+using Element = std::remove_cvref_t<decltype(std::declval<T&>()[0])>;
 
-  private:
-    size_t grow(size_t bytes) {
-        const size_t at = out_.size();
-        if (out_.capacity() < at + bytes) out_.reserve(std::max(2 * out_.capacity(), at + bytes));
-        out_.resize(at + bytes);
-        return at;
-    }
-    std::vector<uint8_t> out_;
-    std::unordered_map<Name, uint32_t> ids_;
-    std::vector<Name> order_;
-    Name last_name_ = UINT32_MAX;
-    uint32_t last_id_ = 0;
+// A geometry of a plain piece (Sphere, Box, Cylinder or Cone) without its variant, whose other
+// kinds own memory.
+constexpr size_t kShapeBytes =
+    std::max({sizeof(sg::Sphere), sizeof(sg::Box), sizeof(sg::Cylinder), sizeof(sg::Cone)});
+struct GeometryRecord {
+    sg::Origin origin;
+    sg::Index hints = sg::kNone;
+    uint8_t cull_back_faces = 0;
+    uint8_t kind = 0;        // the variant's index
+    uint8_t unused[2] = {};  // no padding: every byte sent is set
+    alignas(8) uint8_t shape[kShapeBytes] = {};
 };
+static_assert(sizeof(GeometryRecord) == sizeof(sg::Origin) + sizeof(sg::Index) + 4 + kShapeBytes);
 
-class Reader {
-  public:
-    explicit Reader(std::span<const uint8_t> in) : in_(in), end_(in.size()) {
-        const auto table = get<uint64_t>();
-        const size_t body = at_;
-        at_ = table;
-        const auto count = get<uint32_t>();
-        for (uint32_t k = 0; k < count; ++k) {
-            const auto length = get<uint32_t>();
-            names_.push_back(intern(
-                std::string_view(reinterpret_cast<const char*>(take(length).data()), length)));
-        }
-        end_ = table;  // the body ends where the table begins
-        at_ = body;
-    }
-    bool more() const { return at_ < end_; }
-
-    template <class T>
-    T get() {
-        T value;
-        std::memcpy(&value, take(sizeof(T)).data(), sizeof(T));
-        return value;
-    }
-    Name name(uint32_t id) const {
-        if (id >= names_.size()) throw std::runtime_error("a piece names a name it does not hold");
-        return names_[id];
-    }
-    void origin(sg::Origin& o) const {
-        o.type = name(o.type);
-        o.def_name = name(o.def_name);
-    }
-    template <class T>
-    std::vector<T> elements() {
-        const auto count = get<uint64_t>();
-        if (count > (end_ - std::min(at_, end_)) / sizeof(T))
-            throw std::runtime_error("a piece ends early");
-        std::vector<T> all;
-        resize_huge(all, count);
-        const std::span<const uint8_t> bytes = take(count * sizeof(T));
-        if (count > 0)
-            std::memcpy(all.data(), bytes.data(),
-                        bytes.size());  // an empty vector's data() may be null
-        if constexpr (HasOrigin<T>)
-            for (T& e : all) origin(e.origin);
-        return all;
-    }
-
-  private:
-    std::span<const uint8_t> take(size_t bytes) {
-        if (bytes > end_ - std::min(at_, end_)) throw std::runtime_error("a piece ends early");
-        const std::span<const uint8_t> s = in_.subspan(at_, bytes);
-        at_ += bytes;
-        return s;
-    }
-    std::span<const uint8_t> in_;
-    size_t at_ = 0, end_ = 0;  // end_: of what may be read now
-    std::vector<Name> names_;
-};
-
-// The geometry kinds a plain piece makes: the variant's index and its value's bytes.
 template <class Shape>
-void put_shape(Writer& w, const sg::Geometry& g) {
-    w.put(uint8_t(g.shape.index()));
-    w.put(std::get<Shape>(g.shape));
+bool put_shape(const sg::GeometryShape& from, GeometryRecord& r) {
+    const Shape* s = std::get_if<Shape>(&from);
+    if (s == nullptr) return false;
+    static_assert(std::is_trivially_copyable_v<Shape>);
+    r.kind = uint8_t(from.index());
+    std::memcpy(r.shape, s, sizeof(Shape));
+    return true;
 }
 
-void put_geometries(Writer& w, const std::vector<sg::Geometry>& all) {
-    w.put(uint64_t(all.size()));
-    for (const sg::Geometry& g : all) {
-        sg::Origin o = g.origin;
-        w.origin(o);
-        w.put(o);
-        w.put(g.hints);
-        w.put(uint8_t(g.cull_back_faces));
-        if (std::holds_alternative<sg::Sphere>(g.shape)) put_shape<sg::Sphere>(w, g);
-        if (std::holds_alternative<sg::Box>(g.shape)) put_shape<sg::Box>(w, g);
-        if (std::holds_alternative<sg::Cylinder>(g.shape)) put_shape<sg::Cylinder>(w, g);
-        if (std::holds_alternative<sg::Cone>(g.shape)) put_shape<sg::Cone>(w, g);
+template <class Shape>
+bool get_shape(const GeometryRecord& r, sg::GeometryShape& to) {
+    if (r.kind != sg::GeometryShape(Shape{}).index()) return false;
+    Shape s;
+    std::memcpy(&s, r.shape, sizeof(Shape));
+    to = s;
+    return true;
+}
+
+template <class T>
+std::span<const uint8_t> bytes_of(std::span<const T> s) {
+    return std::as_bytes(s).empty()
+               ? std::span<const uint8_t>()
+               : std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(s.data()),
+                                          s.size_bytes());
+}
+
+// A sender's array as one span of bytes: its storage, or a copy when it lies in several chunks.
+template <class T>
+std::span<const uint8_t> whole_bytes(const std::vector<T>& v, std::vector<std::vector<uint8_t>>&) {
+    return bytes_of(std::span<const T>(v));
+}
+template <class T>
+std::span<const uint8_t> whole_bytes(const ChunkedArray<T>& a,
+                                     std::vector<std::vector<uint8_t>>& copies) {
+    const size_t n = a.size();
+    if (n == 0) return {};
+    // A fragment as built keeps each array in one chunk: its last element is where the first's
+    // storage puts it.
+    const auto first = reinterpret_cast<uintptr_t>(&a[0]);
+    if (reinterpret_cast<uintptr_t>(&a[n - 1]) - first == (n - 1) * sizeof(T))
+        return bytes_of(a.span(0, n));
+    std::vector<uint8_t>& copy = copies.emplace_back(n * sizeof(T));
+    size_t at = 0;
+    for (const T& e : a) {
+        std::memcpy(copy.data() + at, &e, sizeof(T));
+        at += sizeof(T);
     }
+    return copy;
 }
 
-std::vector<sg::Geometry> get_geometries(Reader& r) {
-    const auto count = r.get<uint64_t>();
-    std::vector<sg::Geometry> all;
-    for (uint64_t k = 0; k < count; ++k) {
-        sg::Geometry& g = all.emplace_back();
-        g.origin = r.get<sg::Origin>();
-        r.origin(g.origin);
-        g.hints = r.get<sg::Index>();
-        g.cull_back_faces = r.get<uint8_t>() != 0;
-        const auto index = r.get<uint8_t>();
-        if (index == sg::GeometryShape(sg::Sphere{}).index())
-            g.shape = r.get<sg::Sphere>();
-        else if (index == sg::GeometryShape(sg::Box{}).index())
-            g.shape = r.get<sg::Box>();
-        else if (index == sg::GeometryShape(sg::Cylinder{}).index())
-            g.shape = r.get<sg::Cylinder>();
-        else if (index == sg::GeometryShape(sg::Cone{}).index())
-            g.shape = r.get<sg::Cone>();
-        else
-            throw std::runtime_error("a piece holds a geometry no plain piece makes");
-    }
-    return all;
+// A receiver's array of `count` elements, fresh (on huge pages, in one chunk), as the bytes to
+// receive into.
+template <class T>
+std::span<uint8_t> make_bytes(std::vector<T>& v, size_t count) {
+    resize_huge(v, count);
+    return {reinterpret_cast<uint8_t*>(v.data()), count * sizeof(T)};
+}
+template <class T>
+std::span<uint8_t> make_bytes(ChunkedArray<T>& a, size_t count) {
+    if (count == 0) return {};
+    a.reserve(count);
+    a.resize(count);
+    return {reinterpret_cast<uint8_t*>(&a[0]), count * sizeof(T)};
+}
+template <class T>
+std::span<T> elements(std::vector<T>& v) {
+    return v;
+}
+template <class T>
+std::span<T> elements(ChunkedArray<T>& a) {  // one chunk: a received array
+    return a.empty() ? std::span<T>() : std::span<T>(&a[0], a.size());
 }
 
-void put_fragment(Writer& w, const Scene& s, const TextConsumed& counts) {
-    w.put(counts.roots);
-    w.put(counts.nodes);
-    w.put(counts.uses);
-    w.put(uint32_t(counts.outer_uses.size()));
-    for (Name n : counts.outer_uses) w.put(w.name(n));
-    w.elements(s.groups, s.groups.size());
-    w.elements(s.child_refs, s.child_refs.size());
-    w.elements(s.translations, s.translations.size());
-    w.elements(s.matrices, s.matrices.size());
-    w.elements(s.shapes, s.shapes.size());
-    put_geometries(w, s.geometries);
-    w.elements(s.appearances, s.appearances.size());
-    w.elements(s.materials, s.materials.size());
-}
-
-void get_fragment(Reader& r, WirePiece& p) {
-    TextConsumed& c = p.counts;
-    c.roots = r.get<uint32_t>();
-    c.nodes = r.get<uint32_t>();
-    c.uses = r.get<uint32_t>();
-    const auto outer = r.get<uint32_t>();
-    for (uint32_t k = 0; k < outer; ++k) c.outer_uses.push_back(r.name(r.get<uint32_t>()));
-    Scene& s = p.fragment.emplace();
-    // One chunk each, as read_plain_piece's fragment has them (ChunkedArray::adopt).
-    s.groups.adopt(r.elements<sg::Group>());
-    s.child_refs.adopt(r.elements<sg::ChildRef>());
-    s.translations.adopt(r.elements<Vec3>());
-    s.matrices = r.elements<Mat4>();
-    s.shapes.adopt(r.elements<sg::Shape>());
-    s.geometries = get_geometries(r);
-    s.appearances = r.elements<sg::Appearance>();
-    s.materials = r.elements<sg::Material>();
+void remap(sg::Origin& o, const NameMap& names) {
+    o.type = names(o.type);
+    o.def_name = names(o.def_name);
 }
 
 }  // namespace
@@ -241,40 +143,143 @@ bool fits_wire(const Scene& s) {
     return only_plain_primitives(s);
 }
 
-// The bytes put_fragment writes, but for the names' table.
-size_t fragment_bytes(const Scene& s, const TextConsumed& counts) {
-    return 64 + 4 * counts.outer_uses.size() + s.groups.size() * sizeof(sg::Group) +
-           s.child_refs.size() * sizeof(sg::ChildRef) + s.translations.size() * sizeof(Vec3) +
-           s.matrices.size() * sizeof(Mat4) + s.shapes.size() * sizeof(sg::Shape) +
-           s.geometries.size() * (sizeof(sg::Origin) + 8 + sizeof(sg::Cylinder)) +
-           s.appearances.size() * sizeof(sg::Appearance) +
-           s.materials.size() * sizeof(sg::Material);
+std::vector<uint8_t> NameTexts::next(uint32_t& first, uint32_t& count) {
+    first = sent_;
+    std::vector<uint8_t> bytes;
+    for (;; ++sent_) {
+        const std::string_view text = name_text(sent_);
+        if (text.empty() && sent_ != kNoName) break;  // no such name yet: only kNoName is empty
+        const auto length = uint32_t(text.size());
+        const size_t at = bytes.size();
+        bytes.resize(at + sizeof length + text.size());
+        std::memcpy(bytes.data() + at, &length, sizeof length);
+        if (!text.empty()) std::memcpy(bytes.data() + at + sizeof length, text.data(), text.size());
+    }
+    count = sent_ - first;
+    return bytes;
 }
 
-std::vector<uint8_t> pack_pieces(std::span<const WirePiece> pieces) {
-    size_t bytes = 1024;
-    for (const WirePiece& p : pieces)
-        bytes += 8 + (p.fragment ? fragment_bytes(*p.fragment, p.counts) : 0);
-    Writer w(bytes);
-    for (const WirePiece& p : pieces) {
-        const bool plain = p.fragment && fits_wire(*p.fragment);
-        w.put(p.piece);
-        w.put(uint8_t(plain));
-        if (plain) put_fragment(w, *p.fragment, p.counts);
+void NameMap::add(std::span<const uint8_t> texts, uint32_t first, uint32_t count) {
+    if (first != names_.size()) throw std::runtime_error("a piece's names do not follow the last");
+    size_t at = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+        uint32_t length = 0;
+        if (texts.size() - at < sizeof length) throw std::runtime_error("a piece ends early");
+        std::memcpy(&length, texts.data() + at, sizeof length);
+        at += sizeof length;
+        if (texts.size() - at < length) throw std::runtime_error("a piece ends early");
+        const Name mine =
+            intern(std::string_view(reinterpret_cast<const char*>(texts.data() + at), length));
+        at += length;
+        identity_ = identity_ && mine == names_.size();
+        names_.push_back(mine);
     }
-    return std::move(w).finish();
 }
 
-std::vector<WirePiece> unpack_pieces(std::span<const uint8_t> message) {
-    std::vector<WirePiece> pieces;
-    if (message.empty()) return pieces;
-    Reader r(message);
-    while (r.more()) {
-        WirePiece& p = pieces.emplace_back();
-        p.piece = r.get<uint32_t>();
-        if (r.get<uint8_t>() != 0) get_fragment(r, p);
+Name NameMap::operator()(uint32_t sender_name) const {
+    if (sender_name >= names_.size())
+        throw std::runtime_error("a piece names a name it does not hold");
+    return names_[sender_name];
+}
+
+OutgoingPiece::OutgoingPiece(uint32_t piece, const Scene* fragment, const TextConsumed& counts,
+                             NameTexts& names) {
+    header_.piece = piece;
+    if (fragment == nullptr || !fits_wire(*fragment)) return;  // not plain: the header alone
+    const Scene& s = *fragment;
+    header_.plain = 1;
+    header_.roots = counts.roots;
+    header_.nodes = counts.nodes;
+    header_.uses = counts.uses;
+    // After the piece was built: its names are interned by now.
+    names_ = names.next(header_.first_name, header_.new_names);
+    outer_.assign(counts.outer_uses.begin(), counts.outer_uses.end());
+    std::vector<std::span<const uint8_t>> parts(kGeometryPart + 1);
+    parts[kNamesPart] = names_;
+    parts[kOuterPart] = bytes_of(std::span<const uint32_t>(outer_));
+    header_.counts[kNamesPart] = names_.size();
+    header_.counts[kOuterPart] = outer_.size();
+    size_t part = kFirstArray;
+    for_each_array(s, [&](const auto& array) {
+        using T = Element<decltype(array)>;
+        static_assert(std::is_trivially_copyable_v<T>);
+        header_.counts[part] = array.size();
+        parts[part++] = whole_bytes(array, copies_);
+    });
+    geometries_.resize(s.geometries.size() * sizeof(GeometryRecord));
+    for (size_t i = 0; i < s.geometries.size(); ++i) {
+        const sg::Geometry& g = s.geometries[i];
+        GeometryRecord r;
+        r.origin = g.origin;
+        r.hints = g.hints;
+        r.cull_back_faces = uint8_t(g.cull_back_faces);
+        put_shape<sg::Sphere>(g.shape, r) || put_shape<sg::Box>(g.shape, r) ||
+            put_shape<sg::Cylinder>(g.shape, r) || put_shape<sg::Cone>(g.shape, r);
+        std::memcpy(geometries_.data() + i * sizeof r, &r, sizeof r);
     }
-    return pieces;
+    header_.counts[kGeometryPart] = s.geometries.size();
+    parts[kGeometryPart] = geometries_;
+    for (const std::span<const uint8_t> p : parts)
+        if (!p.empty()) parts_.push_back(p);
+}
+
+size_t OutgoingPiece::bytes() const {
+    size_t bytes = sizeof header_;
+    for (const std::span<const uint8_t> p : parts_) bytes += p.size();
+    return bytes;
+}
+
+IncomingPiece::IncomingPiece(const WireHeader& header) : header_(header) {
+    if (!plain()) return;
+    std::vector<std::span<uint8_t>> parts(kGeometryPart + 1);
+    names_.resize(header_.counts[kNamesPart]);
+    parts[kNamesPart] = names_;
+    outer_.resize(header_.counts[kOuterPart]);
+    parts[kOuterPart] = {reinterpret_cast<uint8_t*>(outer_.data()),
+                         outer_.size() * sizeof(uint32_t)};
+    size_t part = kFirstArray;
+    for_each_array(fragment_, [&](auto& array) {
+        parts[part] = make_bytes(array, header_.counts[part]);
+        ++part;
+    });
+    geometries_.resize(header_.counts[kGeometryPart] * sizeof(GeometryRecord));
+    parts[kGeometryPart] = geometries_;
+    for (const std::span<uint8_t> p : parts)
+        if (!p.empty()) parts_.push_back(p);
+}
+
+std::optional<Scene> IncomingPiece::finish(NameMap& names, TextConsumed& counts) && {
+    if (!plain()) return std::nullopt;
+    names.add(names_, header_.first_name, header_.new_names);
+    counts.roots = header_.roots;
+    counts.nodes = header_.nodes;
+    counts.uses = header_.uses;
+    counts.outer_uses.clear();
+    for (const uint32_t n : outer_) counts.outer_uses.push_back(names(n));
+    // Origins keep their numbers when the sender's are this process's (one pass over the
+    // fragment saved, most of a received piece's time after the copy).
+    if (!names.identity())
+        for_each_array(fragment_, [&](auto& array) {
+            if constexpr (HasOrigin<Element<decltype(array)>>)
+                for (auto& e : elements(array)) remap(e.origin, names);
+        });
+    const size_t count = header_.counts[kGeometryPart];
+    std::vector<sg::Geometry>& geometries = fragment_.geometries;
+    reserve_huge(geometries, count);
+    for (size_t i = 0; i < count; ++i) {
+        GeometryRecord r;
+        std::memcpy(&r, geometries_.data() + i * sizeof r, sizeof r);
+        sg::Geometry& g = geometries.emplace_back();
+        g.origin = r.origin;
+        if (!names.identity()) remap(g.origin, names);
+        g.hints = r.hints;
+        g.cull_back_faces = r.cull_back_faces != 0;
+        if (!get_shape<sg::Sphere>(r, g.shape) && !get_shape<sg::Box>(r, g.shape) &&
+            !get_shape<sg::Cylinder>(r, g.shape) && !get_shape<sg::Cone>(r, g.shape))
+            throw std::runtime_error("a piece holds a geometry no plain piece makes");
+    }
+    geometries_ = std::vector<uint8_t>();
+    return std::move(fragment_);
 }
 
 }  // namespace vr

@@ -72,6 +72,10 @@ struct Module {
     VrMpiSendFn send = nullptr;
     VrMpiRecvFn recv = nullptr;
     VrMpiBcastFn bcast = nullptr;
+    VrMpiIsendFn isend = nullptr;
+    VrMpiIrecvFn irecv = nullptr;
+    VrMpiTestFn test = nullptr;
+    VrMpiWaitFn wait = nullptr;
 };
 Module g_mpi;
 
@@ -109,7 +113,10 @@ std::string load_module() {
             bind(handle, "vrmlray_mpi_max_double", m.max_double) &&
             bind(handle, "vrmlray_mpi_gather_doubles", m.gather_doubles) &&
             bind(handle, "vrmlray_mpi_send", m.send) && bind(handle, "vrmlray_mpi_recv", m.recv) &&
-            bind(handle, "vrmlray_mpi_bcast", m.bcast)) {
+            bind(handle, "vrmlray_mpi_bcast", m.bcast) &&
+            bind(handle, "vrmlray_mpi_isend", m.isend) &&
+            bind(handle, "vrmlray_mpi_irecv", m.irecv) &&
+            bind(handle, "vrmlray_mpi_test", m.test) && bind(handle, "vrmlray_mpi_wait", m.wait)) {
             g_mpi = m;
             return "";
         }
@@ -200,6 +207,29 @@ void MpiProcesses::broadcast(std::vector<uint8_t>& data, int root) const {
     g_mpi.bcast(&bytes, sizeof bytes, root);
     if (rank_ != root) resize_huge(data, bytes);  // fresh memory, touched first by the copy
     g_mpi.bcast(data.data(), data.size(), root);
+}
+
+MpiRequest MpiProcesses::send_async(std::span<const uint8_t> data, int to, int tag) const {
+    if (!parallel()) return {};
+    return {g_mpi.isend(data.data(), data.size(), to, tag)};
+}
+
+MpiRequest MpiProcesses::receive_async(std::span<uint8_t> data, int from, int tag) const {
+    if (!parallel()) return {};
+    return {g_mpi.irecv(data.data(), data.size(), from, tag)};
+}
+
+bool MpiProcesses::done(MpiRequest& request) const {
+    if (request.handle == nullptr) return true;
+    if (g_mpi.test(request.handle) == 0) return false;
+    request.handle = nullptr;
+    return true;
+}
+
+void MpiProcesses::wait(MpiRequest& request) const {
+    if (request.handle == nullptr) return;
+    g_mpi.wait(request.handle);
+    request.handle = nullptr;
 }
 
 MpiProcesses& MpiProcesses::get() {

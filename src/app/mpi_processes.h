@@ -5,10 +5,17 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
 namespace vr {
+
+// A nonblocking send or receive under way (MpiProcesses::send_async, receive_async), until
+// MpiProcesses::done or wait ends it; its storage must live until then.
+struct MpiRequest {
+    void* handle = nullptr;  // the module's; null: none under way
+};
 
 class MpiProcesses {
   public:
@@ -42,6 +49,13 @@ class MpiProcesses {
     // matching point of its own order (a frame file a process rendered, for rank 0 to write).
     void send(const std::vector<uint8_t>& data, int to) const;
     std::vector<uint8_t> receive(int from) const;
+    // Nonblocking: `data` to process `to` under `tag`, which takes it with receive_async(from,
+    // tag); the receives of one process's sends with one tag match them in their order.
+    MpiRequest send_async(std::span<const uint8_t> data, int to, int tag) const;
+    MpiRequest receive_async(std::span<uint8_t> data, int from, int tag) const;
+    // Whether `request` is done (then ended); also drives MPI's progress.
+    bool done(MpiRequest& request) const;
+    void wait(MpiRequest& request) const;
     // Process `root`'s `data` into every process's `data` (resized to it).
     void broadcast(std::vector<uint8_t>& data, int root) const;
 

@@ -70,14 +70,17 @@ LoadOptions load_options(const CommonOptions& common) {
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
                      bool build_pieces, int threads) {
     return load_and_report(path, common, scene,
-                           build_pieces ? std::make_shared<SceneFragments>() : nullptr, 0, threads);
+                           build_pieces ? std::make_shared<SceneFragments>() : nullptr, 0, 0,
+                           threads);
 }
 
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
-                     std::shared_ptr<PieceConsumer> consumer, size_t piece_bytes, int threads) {
+                     std::shared_ptr<PieceConsumer> consumer, size_t piece_bytes, size_t head_bytes,
+                     int threads) {
     LoadOptions options = load_options(common);
     options.limits.read_threads = unsigned(std::max(threads, 0));
     options.limits.piece_bytes = piece_bytes;
+    options.limits.head_bytes = head_bytes;
     options.piece_consumer = std::move(consumer);
     scene = load_scene(path, options);
     print_diagnostics(scene.diagnostics, scene.sources, common.quiet);

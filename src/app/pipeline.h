@@ -29,10 +29,12 @@ LoadOptions load_options(const CommonOptions& common);
 // `threads`: the command's --threads, which reading keeps to as well (0: one a core).
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
                      bool build_pieces = false, int threads = 0);
-// The same with `consumer` taking the main file's pieces, cut to `piece_bytes` bytes (0: the
-// reader's own size): processes that share the pieces (app/shared_pieces.h).
+// The same with `consumer` taking the main file's pieces, cut to `piece_bytes` bytes after a head
+// of `head_bytes` (0: the reader's own sizes): processes that share the pieces
+// (app/shared_pieces.h).
 bool load_and_report(const std::string& path, const CommonOptions& common, LoadedScene& scene,
-                     std::shared_ptr<PieceConsumer> consumer, size_t piece_bytes, int threads);
+                     std::shared_ptr<PieceConsumer> consumer, size_t piece_bytes, size_t head_bytes,
+                     int threads);
 // Evaluates the scene's TimeSensors, interpolators and ROUTEs at `time` into the node tree and
 // prints what the ROUTE check said; false when a ROUTE is an error. `routes_used`, when given, gets
 // the number of ROUTEs that connect fields and `animated` whether a TimeSensor drives any.

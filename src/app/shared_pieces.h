@@ -1,9 +1,10 @@
 // Processes that split the reading of a large file (docs/mpi.md "Split reading"). Under
 // `mpirun -np N` every process still reads the file's head and its top-level structure, but of the
 // pieces the parallel reader cuts the file into (parser/classic_pieces.h), process r builds only
-// pieces r, r + N, r + 2N, ... into scene fragments (src/scene/plain_piece.h), on its --threads;
-// then each process broadcasts what it built, and every process hands the reader all the
-// fragments as if its own threads had built them. The scene each process builds is then the one a
+// pieces r, r + N, r + 2N, ... into scene fragments (src/scene/plain_piece.h), on its --threads,
+// and sends each to every other process as soon as it is built, taking in theirs between its own
+// pieces; every process then hands the reader all the fragments as if its own threads had built
+// them. The scene each process builds is then the one a
 // single process builds, so the image stays the same bytes.
 //
 // What is not shared stays as it was: a piece that is not plain (whose owner's plain reader gave
@@ -25,15 +26,21 @@ namespace vr {
 // that each process gets a dozen or more (so that the head every process reads and the unevenness
 // of the deal are small), at most what one process uses.
 size_t shared_piece_bytes(size_t file_bytes, int processes);
+constexpr size_t kSharedHeadBytes = size_t(64) << 10;
+// The bytes of the head before the first piece (`piece`: shared_piece_bytes), which every process
+// reads itself: as short as the head of an export is (its lights, viewpoint and DEF'd
+// appearances), not a piece's worth. A cut inside the head's statements costs nothing wrong: the
+// reader drops that piece and reads its text itself.
+size_t shared_head_bytes(size_t piece);
 
 // What one process did of the reading, for --stats (processes[].reading).
 struct SharedReading {
     double read_seconds = 0.0;      // building its own pieces
-    double exchange_seconds = 0.0;  // packing, broadcasting and unpacking
+    double exchange_seconds = 0.0;  // sending and taking in, and waiting for the last pieces
     uint64_t pieces = 0;            // pieces the file was cut into
     uint64_t built_here = 0;        // of them built by this process
     uint64_t received = 0;          // built by another and received
-    uint64_t bytes_sent = 0;        // this process's message
+    uint64_t bytes_sent = 0;        // this process's pieces, once (each goes to every other)
 };
 
 class SharedPieces final : public PieceConsumer, public FragmentStore {
@@ -64,7 +71,8 @@ class SharedPieces final : public PieceConsumer, public FragmentStore {
         std::unique_ptr<Scene> fragment;
         TextConsumed counts;
     };
-    void exchange(std::vector<std::optional<PlainPiece>>& built, const std::vector<size_t>& mine);
+    // Puts a piece built here or received into its slot (null: not plain).
+    void keep(size_t piece, std::unique_ptr<Scene> fragment, TextConsumed counts);
 
     const MpiProcesses& world_;
     int threads_;

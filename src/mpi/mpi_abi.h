@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#define VRMLRAY_MPI_ABI_VERSION 2
+#define VRMLRAY_MPI_ABI_VERSION 3
 
 extern "C" {
 using VrMpiAbiVersionFn = int (*)();
@@ -25,4 +25,11 @@ using VrMpiSendFn = void (*)(const void* data, size_t bytes, int to);
 using VrMpiRecvFn = void (*)(void* data, size_t bytes, int from);
 // MPI_Bcast of `bytes` bytes from process `root` into every other's `data` (any byte count).
 using VrMpiBcastFn = void (*)(void* data, size_t bytes, int root);
+// Nonblocking point to point (MPI_Isend, MPI_Irecv) of any byte count under `tag`: a request that
+// test (true once done) or wait ends and frees. A receive matches the sends of `from` with its tag
+// in the order they were made.
+using VrMpiIsendFn = void* (*)(const void* data, size_t bytes, int to, int tag);
+using VrMpiIrecvFn = void* (*)(void* data, size_t bytes, int from, int tag);
+using VrMpiTestFn = int (*)(void* request);
+using VrMpiWaitFn = void (*)(void* request);
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 #include "mpi/mpi_abi.h"
 
@@ -80,6 +81,43 @@ void vrmlray_mpi_bcast(void* data, size_t bytes, int root) {
     char* p = static_cast<char*>(data);
     for (size_t at = 0; at < bytes; at += kChunk)
         MPI_Bcast(p + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, root, MPI_COMM_WORLD);
+}
+
+// A nonblocking message: one MPI request per chunk.
+struct Request {
+    std::vector<MPI_Request> chunks;
+};
+
+void* vrmlray_mpi_isend(const void* data, size_t bytes, int to, int tag) {
+    auto* r = new Request;
+    const char* p = static_cast<const char*>(data);
+    for (size_t at = 0; at < bytes; at += kChunk)
+        MPI_Isend(p + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, to, tag, MPI_COMM_WORLD,
+                  &r->chunks.emplace_back());
+    return r;
+}
+
+void* vrmlray_mpi_irecv(void* data, size_t bytes, int from, int tag) {
+    auto* r = new Request;
+    char* p = static_cast<char*>(data);
+    for (size_t at = 0; at < bytes; at += kChunk)
+        MPI_Irecv(p + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, from, tag, MPI_COMM_WORLD,
+                  &r->chunks.emplace_back());
+    return r;
+}
+
+int vrmlray_mpi_test(void* request) {
+    auto* r = static_cast<Request*>(request);
+    int done = 0;
+    MPI_Testall(int(r->chunks.size()), r->chunks.data(), &done, MPI_STATUSES_IGNORE);
+    if (done) delete r;
+    return done;
+}
+
+void vrmlray_mpi_wait(void* request) {
+    auto* r = static_cast<Request*>(request);
+    MPI_Waitall(int(r->chunks.size()), r->chunks.data(), MPI_STATUSES_IGNORE);
+    delete r;
 }
 
 }  // extern "C"

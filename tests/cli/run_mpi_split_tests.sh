@@ -57,6 +57,32 @@ split molecule 2 "$mol" -W 160 -H 120
 reading "$work/molecule.2.json" 2 1 && pass || fail "molecule, 2 processes: --stats reading is not the deal"
 split molecule 3 "$mol" -W 160 -H 120
 reading "$work/molecule.3.json" 3 1 && pass || fail "molecule, 3 processes: --stats reading is not the deal"
+split molecule 4 "$mol" -W 160 -H 120
+reading "$work/molecule.4.json" 4 1 && pass || fail "molecule, 4 processes: --stats reading is not the deal"
+# Two threads a process: a piece a thread at a time between the exchanges.
+expect 0 "molecule: 2 processes of 2 threads" -- "${mpi[@]}" -np 2 "$bin" render "$mol" -W 160 -H 120 -q \
+    --threads 2 -o "$work/molecule.2x2.png"
+if cmp -s "$work/molecule.1.png" "$work/molecule.2x2.png"; then pass; else
+    fail "molecule: 2 processes of 2 threads wrote other bytes than one"; fi
+# Appearances DEF'd in the head and USEd in the pieces, each stretch of the file another: each
+# process interns the names its own pieces USE first, so the processes number them differently
+# and every received origin is renumbered (src/app/fragment_wire.h).
+uses=$work/uses.wrl
+python3 - "$uses" <<'PY'
+import random, sys
+rng, n, kinds = random.Random(5), 6000, 24
+with open(sys.argv[1], "w") as f:
+    f.write("#VRML V2.0 utf8\nViewpoint { position 50 50 260 }\n")
+    for k in range(kinds):
+        f.write("DEF MAT_%d Appearance { material Material { diffuseColor %.2f %.2f %.2f } }\n"
+                % (k, rng.random(), rng.random(), rng.random()))
+    for i in range(n):
+        f.write("Transform { translation %.3f %.3f %.3f children Shape { appearance USE MAT_%d "
+                "geometry Sphere { radius %.2f } } }\n" % (rng.uniform(0, 100), rng.uniform(0, 100),
+                rng.uniform(0, 100), (n - 1 - i) * kinds // n, rng.uniform(0.5, 2.0)))
+PY
+split uses 3 "$uses" -W 160 -H 120
+reading "$work/uses.3.json" 3 1 && pass || fail "USE names, 3 processes: --stats reading is not the deal"
 # Gas: the same fragments, another integrator.
 split molecule_gas 2 "$mol" -W 120 -H 90 --spheres gas --density 0.05
 # PROTOs before the pieces: the reader uses none of them, every process reads the file whole.

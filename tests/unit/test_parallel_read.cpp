@@ -117,6 +117,37 @@ TEST(ParallelRead, PiecesMayUseWhatADefBeforeThemNames) {
     fs::remove(file);
 }
 
+// Processes that share the pieces keep the head before the first piece short (every one of them
+// reads it: app/shared_pieces.h). The first cut then comes after `head` bytes, the later ones a
+// piece apart; a cut inside the head's statements (a DEF'd Appearance over several lines, a
+// Viewpoint) must still read as one thread does.
+TEST(ParallelRead, AShortHeadStartsTheFirstPieceEarly) {
+    const std::string text = "#VRML V2.0 utf8\nViewpoint { position 0 0 40 }\nA\nB\nC\nD\nE\n";
+    EXPECT_EQ(piece_starts(text, 0, 20), std::vector<SourceOffset>({46}));  // "A": after 20 bytes
+    EXPECT_EQ(piece_starts(text, 0, 20, 0), piece_starts(text, 0, 20));     // 0: a piece's head
+    // "Viewpoint" after 2 bytes, then "A" 20 bytes on.
+    EXPECT_EQ(piece_starts(text, 0, 20, 2), std::vector<SourceOffset>({16, 46}));
+
+    const fs::path file = test::temp_path("vrmlray_parallel_head").string() + ".wrl";
+    {
+        std::ofstream out(file);
+        out << "#VRML V2.0 utf8\nDirectionalLight { direction 0 -1 0 }\n"
+               "DEF M Appearance {\n material Material {\n  diffuseColor 1 0 0\n }\n}\n";
+        for (int i = 0; i < 2000; ++i)
+            out << "Transform { translation " << i << " 0 0 children Shape { appearance USE M "
+                << "geometry Sphere { radius 1 } } }\n";
+    }
+    const LoadedScene one = load_with_pieces(file, 0);
+    for (size_t head : {1, 30, 60, 75, 100}) {
+        LoadOptions options;
+        options.limits.head_bytes = head;
+        const LoadedScene many = load_with_pieces(file, 4096, options);
+        EXPECT_EQ(difference(one, many), "") << "a head of " << head << " bytes";
+        EXPECT_GT(many.stats.pieces, 20u) << "a head of " << head << " bytes";
+    }
+    fs::remove(file);
+}
+
 // --threads 1 means one thread: the pieces are then read one after the other on the reading
 // thread (still in pieces, so that a render's fragments keep a large file's tree from being held
 // whole), never on reading threads of their own. A consumer sees on which thread each piece is
