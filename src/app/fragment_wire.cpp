@@ -194,6 +194,14 @@ std::vector<sg::Geometry> get_geometries(Reader& r) {
     return all;
 }
 
+// The atoms' records (sg::TranslatedShape), after the rest of a fragment: they hold no names.
+void put_translated_shapes(Writer& w, const Scene& s) {
+    w.elements(s.translated_shapes, s.translated_shapes.size());
+}
+void get_translated_shapes(Reader& r, Scene& s) {
+    s.translated_shapes.adopt(r.elements<sg::TranslatedShape>());
+}
+
 void put_fragment(Writer& w, const Scene& s, const TextConsumed& counts) {
     w.put(counts.roots);
     w.put(counts.nodes);
@@ -208,6 +216,7 @@ void put_fragment(Writer& w, const Scene& s, const TextConsumed& counts) {
     put_geometries(w, s.geometries);
     w.elements(s.appearances, s.appearances.size());
     w.elements(s.materials, s.materials.size());
+    put_translated_shapes(w, s);
 }
 
 void get_fragment(Reader& r, WirePiece& p) {
@@ -227,6 +236,7 @@ void get_fragment(Reader& r, WirePiece& p) {
     s.geometries = get_geometries(r);
     s.appearances = r.elements<sg::Appearance>();
     s.materials = r.elements<sg::Material>();
+    get_translated_shapes(r, s);
 }
 
 }  // namespace
@@ -248,7 +258,8 @@ size_t fragment_bytes(const Scene& s, const TextConsumed& counts) {
            s.matrices.size() * sizeof(Mat4) + s.shapes.size() * sizeof(sg::Shape) +
            s.geometries.size() * (sizeof(sg::Origin) + 8 + sizeof(sg::Cylinder)) +
            s.appearances.size() * sizeof(sg::Appearance) +
-           s.materials.size() * sizeof(sg::Material);
+           s.materials.size() * sizeof(sg::Material) +
+           s.translated_shapes.size() * sizeof(sg::TranslatedShape);
 }
 
 std::vector<uint8_t> pack_pieces(std::span<const WirePiece> pieces) {
