@@ -399,7 +399,7 @@ std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
     using sg::NodeKind;
     switch (child_kind(tree_.decl(id))) {
         case ChildKind::Transform:
-            return translated_or_group(make_group(id));
+            return translated_or_group(id, make_group(id));
         case ChildKind::Group:
         case ChildKind::MatrixTransform:
         case ChildKind::Billboard:
@@ -527,8 +527,13 @@ sg::Index Builder::make_group(NodeId id) {
     return index;
 }
 
-sg::ChildRef Builder::translated_or_group(sg::Index g) {
+sg::ChildRef Builder::translated_or_group(NodeId id, sg::Index g) {
     const sg::ChildRef as_group{sg::NodeKind::Group, g};
+    // A node referred to twice is shared whether it has a DEF or not (the VRML 1.0 reader hangs
+    // one Shape under every atom of a state): its memo keeps its typed index.
+    if (shared(id)) return as_group;
+    for (const NodeId child : nodes(id, "children"_n))
+        if (child != kNullNode && child < tree_.nodes.size() && shared(child)) return as_group;
     const sg::Group group = scene_.groups[g];
     if (g + 1 != scene_.groups.size() || group.child_count != 1 ||
         group.transform_kind != sg::GroupTransform::Translation ||

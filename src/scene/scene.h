@@ -428,8 +428,9 @@ struct Group {
 static_assert(sizeof(Group) <= 32, "a Group per sphere: keep it small");
 
 // A Transform whose transform is a translation and whose only drawn child is one Shape, neither
-// DEF'd nor with renderer hints, their files the same and the Shape at most 255 bytes after the
-// Transform: the molecule exporters' atom. It stands for the Group, its translation, its child
+// shared (DEF/USE, or a node the VRML 1.0 reader reuses) nor DEF'd nor with renderer hints, their
+// files the same and the Shape at most 255 bytes after the Transform: the molecule exporters'
+// atom. It stands for the Group, its translation, its child
 // reference and the Shape (92 bytes), and holds all that the scene knew of them: the flattening
 // draws it as it drew the pair (Flattener::visit_translated).
 struct TranslatedShape {

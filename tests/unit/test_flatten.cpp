@@ -181,6 +181,23 @@ TEST(Flatten, ARecordDrawsAsItsTransformAndShape) {
     EXPECT_EQ(deep.flat.spheres.size(), deep_twin.flat.spheres.size());
 }
 
+// The VRML 1.0 reader makes one Shape for the atoms that share a state and hangs it under each
+// atom's Transform, with no DEF: the Shape is shared, so its Transforms stay groups (a record in
+// their place once dropped the shared Shape, and the shapes built after it took its index).
+TEST(Flatten, AShapeSharedWithoutADefKeepsItsTransformsGroups) {
+    const Flat f = flatten(R"(Separator {
+        Material { diffuseColor 1 0 0 }
+        Transform { translation 1 0 0 } Sphere { radius 0.5 }
+        Transform { translation 2 0 0 } Sphere { radius 0.5 }
+        Cube { } })",
+                           {}, "#VRML V1.0 ascii\n");
+    ASSERT_EQ(f.flat.spheres.size(), 2u);
+    EXPECT_EQ(f.flat.spheres[0].center, Vec3(1, 0, 0));
+    EXPECT_EQ(f.flat.spheres[1].center, Vec3(3, 0, 0));
+    EXPECT_EQ(f.flat.spheres[1].radius, 0.5);
+    EXPECT_EQ(f.flat.quadrics.size(), 1u);  // the Cube
+}
+
 TEST(Flatten, DirectionalLightIsScopedToItsGroup) {
     const Flat f = flatten(R"(
         Group { children [
