@@ -142,7 +142,7 @@ class Builder {
 
     // The whole tree over the boxes, into `nodes`: slot 0 the root, slot 1 padding, so that the
     // pairs start at index 2.
-    void build_all(BvhNodeArray& nodes, std::vector<uint32_t>& order) {
+    void build_all(BvhNodeArray& nodes, NoFillVector<uint32_t>& order) {
         const int threads = std::max(options_.threads, 1);
         Task& top = tasks_.emplace_back();
         top.range = root(threads);
@@ -167,7 +167,7 @@ class Builder {
 
   private:
     // Caller ids in leaf order.
-    void leaf_order(std::vector<uint32_t>& order) const {
+    void leaf_order(NoFillVector<uint32_t>& order) const {
         resize_huge(order, boxes_.size());
         for (size_t i = 0; i < boxes_.size(); ++i)
             order[i] = boxes_[options_.morton ? uint32_t(keys_[i]) : i].id;

@@ -84,8 +84,8 @@ struct CacheAlignedAllocator {
 using BvhNodeArray = std::vector<BvhNode, CacheAlignedAllocator<BvhNode>>;
 
 struct Bvh {
-    BvhNodeArray nodes;           // nodes[0] is the root, nodes[1] padding; empty: no boxes
-    std::vector<uint32_t> order;  // caller ids in leaf order
+    BvhNodeArray nodes;            // nodes[0] is the root, nodes[1] padding; empty: no boxes
+    NoFillVector<uint32_t> order;  // caller ids in leaf order
     bool empty() const { return nodes.empty(); }
 };
 
