@@ -391,8 +391,12 @@ class Builder {
             pending_.erase(largest);
             ++busy_;
             lock.unlock();
+            // (Not on huge pages: a queued task's array is reserved for its worst case and filled
+            // to about a third of it, and the 2 MiB page its nodes end in would be held whole:
+            // 58 MiB of hundreds of tasks at the peak of a 10M-atom build, bench/README.md "Issue
+            // 45: the atom's record". The top task's array stays on them.)
             if (t->nodes.capacity() == 0)
-                reserve_huge(t->nodes, 2 * size_t(t->range.end - t->range.begin));
+                t->nodes.reserve(2 * size_t(t->range.end - t->range.begin));
             t->root = build(t->range, t->depth, *t, t->nodes);
             lock.lock();
             if (--busy_ == 0 && pending_.empty()) wake_.notify_all();
