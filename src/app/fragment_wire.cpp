@@ -29,8 +29,9 @@ void for_each_array(S& s, F&& f) {
     f(s.shapes);
     f(s.appearances);
     f(s.materials);
+    f(s.translated_shapes);  // the atoms' records: a place (PackedLoc), no names to renumber
 }
-constexpr size_t kArrays = 7;
+constexpr size_t kArrays = 8;
 // The parts: the sender's new names, the outer USE names, the arrays, the geometries' records.
 constexpr size_t kNamesPart = 0, kOuterPart = 1, kFirstArray = 2, kGeometryPart = 2 + kArrays;
 static_assert(kGeometryPart < WireHeader::kMaxParts);

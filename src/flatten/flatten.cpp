@@ -44,8 +44,8 @@ FlatScene Flattener::run() {
 
 void Flattener::reserve_primitives() {
     size_t spheres = 0, quadrics = 0, meshes = 0;
-    for (const sg::Shape& shape : scene_.shapes) {
-        const sg::GeometryShape& g = scene_.geometries[shape.geometry].shape;
+    const auto count = [&](sg::Index geometry) {
+        const sg::GeometryShape& g = scene_.geometries[geometry].shape;
         if (std::holds_alternative<sg::Sphere>(g))
             ++spheres;
         else if (std::holds_alternative<sg::Box>(g) || std::holds_alternative<sg::Cylinder>(g) ||
@@ -53,7 +53,9 @@ void Flattener::reserve_primitives() {
             ++quadrics;
         else if (!std::holds_alternative<std::monostate>(g))
             ++meshes;
-    }
+    };
+    for (const sg::Shape& shape : scene_.shapes) count(shape.geometry);
+    for (const sg::TranslatedShape& t : scene_.translated_shapes) count(t.geometry);
     reserve_huge(out_.spheres, spheres);
     reserve_huge(out_.quadrics, quadrics);
     out_.meshes.reserve(meshes);
@@ -63,14 +65,7 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
     if (stopped_) return;
     const sg::Group& group = scene_.groups[g];
     if (group.singular && !group.has_transform()) return;  // NaN or inf: nothing to draw
-    if (depth > options_.max_depth) {
-        if (!depth_warned_)
-            NodeReport(diagnostics_, group.origin)
-                .warn("depth", "is nested more than " + std::to_string(options_.max_depth) +
-                                   " levels deep; skipped");
-        depth_warned_ = true;
-        return;
-    }
+    if (too_deep(depth, group.origin)) return;
     if (++visits_ > options_.max_group_visits) return stop("grouping nodes");
     Mat4 m = parent;
     if (group.transform_kind == sg::GroupTransform::Translation && is_translation(parent)) {
@@ -121,6 +116,29 @@ void Flattener::visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_
     scoped_.resize(scoped_before);
 }
 
+bool Flattener::too_deep(size_t depth, const sg::Origin& origin) {
+    if (depth <= options_.max_depth) return false;
+    if (!depth_warned_)
+        NodeReport(diagnostics_, origin)
+            .warn("depth", "is nested more than " + std::to_string(options_.max_depth) +
+                               " levels deep; skipped");
+    depth_warned_ = true;
+    return true;
+}
+
+void Flattener::visit_translated(const sg::TranslatedShape& t, const Mat4& parent,
+                                 uint32_t light_set, size_t depth) {
+    // visit()'s steps for a group that is not singular, translates, and holds one Shape.
+    if (stopped_ || too_deep(depth, t.group_origin())) return;
+    if (++visits_ > options_.max_group_visits) return stop("grouping nodes");
+    Mat4 m = parent;
+    if (is_translation(parent))
+        m[3] = Vec4(Vec3(parent[3]) + t.translation, 1.0);
+    else
+        m = parent * translation_matrix(t.translation);
+    emit_shape(t.shape(), m, light_set);
+}
+
 void Flattener::visit_children(const sg::Group& group, const Mat4& m, uint32_t light_set,
                                size_t depth) {
     // A molecule export's atoms are the root's children: its typed nodes go as the walk passes.
@@ -136,6 +154,9 @@ void Flattener::visit_children(const sg::Group& group, const Mat4& m, uint32_t l
                 break;
             case sg::NodeKind::Shape:
                 emit_shape(scene_.shapes[c.index], m, light_set);
+                break;
+            case sg::NodeKind::TranslatedShape:
+                visit_translated(scene_.translated_shapes[c.index], m, light_set, depth + 1);
                 break;
             case sg::NodeKind::Light: {
                 const sg::Light& l = scene_.lights[c.index];

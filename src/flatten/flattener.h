@@ -79,7 +79,8 @@ class Flattener {
           frame_(frame) {}
 
     FlatScene run();
-    // Frees `scene`'s per-node chunks (groups, shapes, translations, child references) behind the
+    // Frees `scene`'s per-node chunks (groups, shapes, translations, child references, translated
+    // shapes) behind the
     // walk over its root's children, when its shape allows that (plan_release). `scene` is the
     // scene being flattened, which is then fit only to be destroyed.
     void release_behind(Scene& scene) { releasable_ = &scene; }
@@ -124,6 +125,11 @@ class Flattener {
 
     void visit(sg::Index g, const Mat4& parent, uint32_t light_set, size_t depth);
     void visit_children(const sg::Group& group, const Mat4& m, uint32_t light_set, size_t depth);
+    // An atom's record (scene.h): drawn as visit() draws the Transform and Shape it stands for.
+    void visit_translated(const sg::TranslatedShape& t, const Mat4& parent, uint32_t light_set,
+                          size_t depth);
+    // Past options_.max_depth: warned about once (at `origin`), and skipped.
+    bool too_deep(size_t depth, const sg::Origin& origin);
 
     // ---- ClipPlane, LocalFog and Layout (layers.cpp)
 
@@ -197,10 +203,11 @@ class Flattener {
     // ---- releasing the typed scene behind the walk (release.cpp)
 
     // The indices a subtree uses in each chunked array: groups, shapes, translations, child
-    // references.
+    // references, translated shapes.
+    static constexpr int kSpanArrays = 5;
     struct NodeSpan {
-        size_t lo[4] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
-        size_t hi[4] = {0, 0, 0, 0};
+        size_t lo[kSpanArrays] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
+        size_t hi[kSpanArrays] = {0, 0, 0, 0, 0};
     };
     // The span of the subtree under `c`; false when it takes more than `budget` nodes (which it
     // lowers).

@@ -53,7 +53,8 @@ void Flattener::mark_bindables() {
     // their cost on a large molecule: bench/README.md, "Figures behind the comments").
     const auto bindable = [](const sg::ChildRef& c) {
         return c.index != sg::kNone && c.kind != sg::NodeKind::Group &&
-               c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light;
+               c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light &&
+               c.kind != sg::NodeKind::TranslatedShape;
     };
     size_t at_top = 0, anywhere = 0;
     for (const sg::ChildRef& c : scene_.children_of(scene_.groups[Scene::kRoot]))
@@ -73,7 +74,8 @@ void Flattener::mark_bindables() {
             if (c.kind == sg::NodeKind::Group) {
                 if (c.index <= g) return mark_bindables_walk();
                 any |= has_bindable_[c.index];
-            } else if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light) {
+            } else if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light &&
+                       c.kind != sg::NodeKind::TranslatedShape) {
                 any = 1;
             }
         }
@@ -96,7 +98,8 @@ void Flattener::mark_bindables_walk() {
             if (next < children.size()) {
                 const sg::ChildRef c = children[next++];
                 if (c.kind != sg::NodeKind::Group) {
-                    if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light)
+                    if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::Light &&
+                        c.kind != sg::NodeKind::TranslatedShape)
                         has_bindable_[g] = 1;
                 } else if (state[c.index] == 2) {
                     has_bindable_[g] |= has_bindable_[c.index];

@@ -10,9 +10,10 @@
 namespace vr::flatten_detail {
 namespace {
 
-enum Array { kGroups, kShapes, kTranslations, kChildRefs };
+enum Array { kGroups, kShapes, kTranslations, kChildRefs, kTranslatedShapes };
 
-void note(size_t (&lo)[4], size_t (&hi)[4], int a, size_t i) {
+template <size_t N>
+void note(size_t (&lo)[N], size_t (&hi)[N], int a, size_t i) {
     lo[a] = std::min(lo[a], i);
     hi[a] = std::max(hi[a], i);
 }
@@ -23,6 +24,10 @@ bool Flattener::span_of(const sg::ChildRef& c, NodeSpan& span, size_t& budget) {
     span = NodeSpan{};
     if (c.kind == sg::NodeKind::Shape) {
         note(span.lo, span.hi, kShapes, c.index);
+        return budget-- > 0;
+    }
+    if (c.kind == sg::NodeKind::TranslatedShape) {
+        note(span.lo, span.hi, kTranslatedShapes, c.index);
         return budget-- > 0;
     }
     if (c.kind != sg::NodeKind::Group) return true;  // lights, bindables: plain vectors
@@ -43,6 +48,8 @@ bool Flattener::span_of(const sg::ChildRef& c, NodeSpan& span, size_t& budget) {
         for (const sg::ChildRef& child : scene_.children_of(group)) {
             if (child.kind == sg::NodeKind::Group) span_stack_.push_back(child.index);
             if (child.kind == sg::NodeKind::Shape) note(span.lo, span.hi, kShapes, child.index);
+            if (child.kind == sg::NodeKind::TranslatedShape)
+                note(span.lo, span.hi, kTranslatedShapes, child.index);
         }
     }
     return true;
@@ -52,13 +59,13 @@ bool Flattener::plan_release() {
     if (releasable_ == nullptr || frame_.root != Scene::kRoot || !scene_.layers.empty())
         return false;
     // Each node once: a node shared between subtrees (USE) would take the budget twice.
-    size_t budget = scene_.groups.size() + scene_.shapes.size();
-    size_t last[4] = {0, 0, 0, 0};
-    bool any[4] = {false, false, false, false};
+    size_t budget = scene_.groups.size() + scene_.shapes.size() + scene_.translated_shapes.size();
+    size_t last[kSpanArrays] = {};
+    bool any[kSpanArrays] = {};
     for (const sg::ChildRef& c : scene_.children_of(scene_.groups[Scene::kRoot])) {
         NodeSpan span;
         if (!span_of(c, span, budget)) return false;
-        for (int a = 0; a < 4; ++a) {
+        for (int a = 0; a < kSpanArrays; ++a) {
             if (span.lo[a] == SIZE_MAX) continue;
             if (any[a] && span.lo[a] <= last[a]) return false;
             last[a] = span.hi[a];
@@ -82,6 +89,8 @@ void Flattener::release_before(const sg::ChildRef& next) {
         released_bytes_ += s.translations.release_below(span.lo[kTranslations]);
     if (span.lo[kChildRefs] != SIZE_MAX)
         released_bytes_ += s.child_refs.release_below(span.lo[kChildRefs], root_children);
+    if (span.lo[kTranslatedShapes] != SIZE_MAX)
+        released_bytes_ += s.translated_shapes.release_below(span.lo[kTranslatedShapes]);
 }
 
 void Flattener::give_back_released() {

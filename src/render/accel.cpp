@@ -94,7 +94,7 @@ void Accel::build_prototypes(const FlatScene& scene, int threads) {
         Prototype& p = prototypes_[pi];
         p.bvh = collapse_bvh(binary);
         p.triangles.resize(binary.order.size());
-        p.triangle_index = binary.order;
+        p.triangle_index.assign(binary.order.begin(), binary.order.end());
         for (size_t i = 0; i < binary.order.size(); ++i) {
             const uint32_t* corner = &m.triangles[3 * size_t(binary.order[i])];
             p.triangles[i] = {m.positions[corner[0]], m.positions[corner[1]],
@@ -236,7 +236,7 @@ BuildBoxes Accel::candidate_boxes(const FlatScene& scene, int threads, const Bui
 // Compact copies in leaf order. Each chunk first counts its kinds, so that every primitive's place
 // in its kind's array is known before the parallel fill.
 void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildIds& ids,
-                               const std::vector<uint32_t>& order) {
+                               NoFillVector<uint32_t>& order) {
     const size_t n = order.size();
     const int chunks = chunks_for(n, threads);
     std::vector<std::array<uint32_t, 4>> chunk_start(size_t(chunks) + 1, {0, 0, 0, 0});
@@ -253,11 +253,11 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
     // fewer on a large scene).
     spheres_only_ = n > 0 && totals[0] == n;
     resize_huge(spheres_, totals[0]);
-    resize_huge(sphere_shading_, totals[0]);
     if (spheres_only_ && !scene.any_clip_planes()) {
         copy_spheres_in_leaf_order(scene, chunks, order);
         return;
     }
+    resize_huge(sphere_shading_, totals[0]);
 
     resize_huge(prims_, n);
     resize_huge(prim_transparency_, n);
@@ -286,8 +286,13 @@ void Accel::copy_in_leaf_order(const FlatScene& scene, int threads, const BuildI
 // An all-sphere scene without clip planes: entry i is sphere i (ref_at), so the references are
 // made only if some sphere is see-through (then shadow rays read its transparency by entry), and
 // for an opaque one never (8 bytes a sphere the build held beside the flat spheres and its own).
+//
+// The shading indices are written over the leaf order, entry by entry once it is read, and the
+// array becomes sphere_shading_: the two are never held together, nor beside the flat spheres,
+// the tracer's own and its nodes (4 bytes a sphere at the build's peak, bench/README.md "Issue 45:
+// the atom's record").
 void Accel::copy_spheres_in_leaf_order(const FlatScene& scene, int chunks,
-                                       const std::vector<uint32_t>& order) {
+                                       NoFillVector<uint32_t>& order) {
     const size_t n = order.size();
     std::vector<float> transparency(scene.shadings.size());
     for (size_t s = 0; s < transparency.size(); ++s)
@@ -299,11 +304,13 @@ void Accel::copy_spheres_in_leaf_order(const FlatScene& scene, int chunks,
             if (i + 8 < end) __builtin_prefetch(&scene.spheres[order[i + 8]]);
             const Sphere& sp = scene.spheres[order[i]];
             spheres_[i] = {sp.center, sp.radius};
-            sphere_shading_[i] = sp.shading;
+            order[i] = sp.shading;  // (entry i + 8, prefetched above, is not written yet)
             any = any || (sp.shading < transparency.size() && transparency[sp.shading] > 0.0f);
         }
         chunk_transparent[size_t(c)] = any;
     });
+    sphere_shading_.swap(order);
+    NoFillVector<uint32_t>().swap(order);
     any_transparent_ = std::any_of(chunk_transparent.begin(), chunk_transparent.end(),
                                    [](char t) { return t != 0; });
     if (!any_transparent_) return;

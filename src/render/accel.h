@@ -125,10 +125,11 @@ class Accel {
         }
     };
     BuildBoxes candidate_boxes(const FlatScene& scene, int threads, const BuildIds& ids) const;
+    // `order` (the BVH's leaf order) is consumed: an all-sphere scene's becomes sphere_shading_.
     void copy_in_leaf_order(const FlatScene& scene, int threads, const BuildIds& ids,
-                            const std::vector<uint32_t>& order);
+                            NoFillVector<uint32_t>& order);
     void copy_spheres_in_leaf_order(const FlatScene& scene, int chunks,
-                                    const std::vector<uint32_t>& order);
+                                    NoFillVector<uint32_t>& order);
     void copy_primitive(const FlatScene& scene, const BuildIds& ids, uint32_t id, size_t i,
                         std::array<uint32_t, 4>& next);
     void build_prototypes(const FlatScene& scene, int threads);

@@ -142,7 +142,7 @@ class Builder {
 
     // The whole tree over the boxes, into `nodes`: slot 0 the root, slot 1 padding, so that the
     // pairs start at index 2.
-    void build_all(BvhNodeArray& nodes, std::vector<uint32_t>& order) {
+    void build_all(BvhNodeArray& nodes, NoFillVector<uint32_t>& order) {
         const int threads = std::max(options_.threads, 1);
         Task& top = tasks_.emplace_back();
         top.range = root(threads);
@@ -158,7 +158,8 @@ class Builder {
         // are joined into one array, so that they are never held beside both (on a large molecule
         // 40 bytes a primitive, more than the nodes).
         leaf_order(order);
-        NoFillVector<uint64_t>().swap(keys_);
+        NoFillVector<uint32_t>().swap(codes_);
+        NoFillVector<uint32_t>().swap(index_);
         BuildBoxes().swap(boxes_);
         join(threads, nodes);
         nodes[1] = BvhNode{};
@@ -167,10 +168,9 @@ class Builder {
 
   private:
     // Caller ids in leaf order.
-    void leaf_order(std::vector<uint32_t>& order) const {
+    void leaf_order(NoFillVector<uint32_t>& order) const {
         resize_huge(order, boxes_.size());
-        for (size_t i = 0; i < boxes_.size(); ++i)
-            order[i] = boxes_[options_.morton ? uint32_t(keys_[i]) : i].id;
+        for (size_t i = 0; i < boxes_.size(); ++i) order[i] = box_at(i).id;
     }
 
     // Builds the subtree over `range` as part of task `self`: returns its root and appends the
@@ -245,20 +245,19 @@ class Builder {
         const uint32_t n = range.end - range.begin;
         if (n <= uint32_t(std::max(options_.max_leaf_size, 1))) {
             Box4 box;
-            for (uint32_t i = range.begin; i < range.end; ++i)
-                box.extend(load(boxes_[uint32_t(keys_[i])]));
+            for (uint32_t i = range.begin; i < range.end; ++i) box.extend(load(box_at(i)));
             set_bounds(node, box);
             return make_leaf(node, range);
         }
         int bit = range.bit;
         uint32_t mid = range.begin + n / 2;
         for (; bit >= 0; --bit) {
-            // Every key of the range agrees above `bit`: those with it set come last.
-            const uint64_t mask = uint64_t(1) << (32 + bit);
+            // Every code of the range agrees above `bit`: those with it set come last.
+            const uint32_t mask = uint32_t(1) << bit;
             const auto split =
-                std::partition_point(keys_.begin() + range.begin, keys_.begin() + range.end,
-                                     [mask](uint64_t key) { return (key & mask) == 0; });
-            const auto at = uint32_t(split - keys_.begin());
+                std::partition_point(codes_.begin() + range.begin, codes_.begin() + range.end,
+                                     [mask](uint32_t code) { return (code & mask) == 0; });
+            const auto at = uint32_t(split - codes_.begin());
             if (at != range.begin && at != range.end) {
                 mid = at;
                 break;
@@ -330,7 +329,61 @@ class Builder {
             });
             keys_.swap(other);
         }
+        NoFillVector<uint64_t>().swap(other);
+        if (n >= options_.boxes_in_code_order_from)
+            move_boxes_into_code_order();
+        else
+            split_keys(threads);
         top.bit = 29;
+    }
+
+    // The box at code order position i.
+    const BuildBox& box_at(size_t i) const { return boxes_[index_.empty() ? i : index_[i]]; }
+
+    // The sorted keys as their codes and box indices.
+    void split_keys(int threads) {
+        const size_t n = keys_.size();
+        resize_huge(codes_, n);
+        resize_huge(index_, n);
+        parallel_ranges(n, chunks_for(n, threads), [&](size_t begin, size_t end, int) {
+            for (size_t i = begin; i < end; ++i) {
+                codes_[i] = uint32_t(keys_[i] >> 32);
+                index_[i] = uint32_t(keys_[i]);
+            }
+        });
+        NoFillVector<uint64_t>().swap(keys_);
+    }
+
+    // The boxes moved into the sorted keys' order in place (following the permutation's cycles,
+    // each key marked once its box is in place), and the keys cut to their codes: box i is then
+    // the i-th in code order, and no index (4 bytes a box) is held beside the tasks' nodes at the
+    // build's peak. One thread, a cache miss a box: 1.2-1.5 s for 10M boxes under load
+    // (bench/README.md "Issue 45: the atom's record"), hence only from
+    // BvhBuildOptions::boxes_in_code_order_from boxes on.
+    void move_boxes_into_code_order() {
+        constexpr uint64_t kPlaced = uint64_t(1) << 63;  // above the 30-bit code
+        const size_t n = keys_.size();
+        for (size_t i = 0; i < n; ++i) {
+            if (keys_[i] & kPlaced) continue;
+            const BuildBox first = boxes_[i];
+            for (size_t j = i;;) {
+                const auto from = uint32_t(keys_[j]);
+                keys_[j] |= kPlaced;
+                if (from == i) {
+                    boxes_[j] = first;
+                    break;
+                }
+                boxes_[j] = boxes_[from];
+                j = from;
+            }
+        }
+        resize_huge(codes_, n);
+        parallel_ranges(n, chunks_for(n, std::max(options_.threads, 1)),
+                        [&](size_t begin, size_t end, int) {
+                            for (size_t i = begin; i < end; ++i)
+                                codes_[i] = uint32_t(keys_[i] >> 32) & 0x3fffffffu;
+                        });
+        NoFillVector<uint64_t>().swap(keys_);
     }
 
     // Interior bounds from the children's, last node first: a pair always follows its parent.
@@ -391,8 +444,12 @@ class Builder {
             pending_.erase(largest);
             ++busy_;
             lock.unlock();
+            // (Not on huge pages: a queued task's array is reserved for its worst case and filled
+            // to about a third of it, and the 2 MiB page its nodes end in would be held whole:
+            // 58 MiB of hundreds of tasks at the peak of a 10M-atom build, bench/README.md "Issue
+            // 45: the atom's record". The top task's array stays on them.)
             if (t->nodes.capacity() == 0)
-                reserve_huge(t->nodes, 2 * size_t(t->range.end - t->range.begin));
+                t->nodes.reserve(2 * size_t(t->range.end - t->range.begin));
             t->root = build(t->range, t->depth, *t, t->nodes);
             lock.lock();
             if (--busy_ == 0 && pending_.empty()) wake_.notify_all();
@@ -601,7 +658,9 @@ class Builder {
     }
 
     BuildBoxes& boxes_;
-    NoFillVector<uint64_t> keys_;  // the Morton build's order (sort_by_morton)
+    NoFillVector<uint64_t> keys_;   // the Morton build's order while it sorts (sort_by_morton)
+    NoFillVector<uint32_t> codes_;  // then the Morton codes of the boxes, in their order
+    NoFillVector<uint32_t> index_;  // and the box of each, unless the boxes were moved (box_at)
     const BvhBuildOptions& options_;
     const bool parallel_;
     std::deque<Task> tasks_;

@@ -84,8 +84,8 @@ struct CacheAlignedAllocator {
 using BvhNodeArray = std::vector<BvhNode, CacheAlignedAllocator<BvhNode>>;
 
 struct Bvh {
-    BvhNodeArray nodes;           // nodes[0] is the root, nodes[1] padding; empty: no boxes
-    std::vector<uint32_t> order;  // caller ids in leaf order
+    BvhNodeArray nodes;            // nodes[0] is the root, nodes[1] padding; empty: no boxes
+    NoFillVector<uint32_t> order;  // caller ids in leaf order
     bool empty() const { return nodes.empty(); }
 };
 
@@ -100,6 +100,11 @@ struct BvhBuildOptions {
     // render/accel.h says when it pays; the figures: bench/README.md, "Figures behind the
     // comments").
     bool morton = false;
+    // The Morton build with at least this many boxes moves them into code order in place (one
+    // thread, a cache miss a box) instead of keeping a box index beside each code: 4 bytes a box
+    // fewer at the build's peak, where memory is what bounds the scene (a 10M-atom molecule,
+    // bench/README.md "Issue 45: the atom's record"). The tree is the same either way.
+    size_t boxes_in_code_order_from = size_t(1) << 23;
 };
 
 // Builds over `boxes` (consumed: reordered). Deterministic: the result does not depend on

@@ -16,6 +16,7 @@
 #include "scene/hints.h"
 #include "scene/report.h"
 #include "scene/transform.h"
+#include "scene/translated_shape.h"
 
 namespace vr {
 namespace detail {
@@ -397,8 +398,9 @@ std::optional<sg::ChildRef> Builder::child(NodeId id) {
 std::optional<sg::ChildRef> Builder::make_child(NodeId id) {
     using sg::NodeKind;
     switch (child_kind(tree_.decl(id))) {
-        case ChildKind::Group:
         case ChildKind::Transform:
+            return translated_or_group(id, make_group(id));
+        case ChildKind::Group:
         case ChildKind::MatrixTransform:
         case ChildKind::Billboard:
         case ChildKind::Switch:
@@ -523,6 +525,34 @@ sg::Index Builder::make_group(NodeId id) {
     scene_.groups[index] = group;
     add_children(index, children);
     return index;
+}
+
+sg::ChildRef Builder::translated_or_group(NodeId id, sg::Index g) {
+    const sg::ChildRef as_group{sg::NodeKind::Group, g};
+    // A node referred to twice is shared whether it has a DEF or not (the VRML 1.0 reader hangs
+    // one Shape under every atom of a state): its memo keeps its typed index.
+    if (shared(id)) return as_group;
+    for (const NodeId child : nodes(id, "children"_n))
+        if (child != kNullNode && child < tree_.nodes.size() && shared(child)) return as_group;
+    const sg::Group group = scene_.groups[g];
+    if (g + 1 != scene_.groups.size() || group.child_count != 1 ||
+        group.transform_kind != sg::GroupTransform::Translation ||
+        group.transform + 1 != scene_.translations.size())
+        return as_group;
+    const sg::ChildRef only = scene_.child_refs[group.first_child];
+    if (only.kind != sg::NodeKind::Shape || only.index + 1 != scene_.shapes.size()) return as_group;
+    const std::optional<sg::TranslatedShape> t =
+        translated_shape(group, scene_.translations[group.transform], scene_.shapes[only.index]);
+    if (!t) return as_group;
+    // The group's child block is the last one: a Shape child claims none, and a child that
+    // claimed one (a group) would have been counted.
+    scene_.groups.resize(g);
+    scene_.translations.resize(group.transform);
+    scene_.shapes.resize(only.index);
+    scene_.child_refs.resize(group.first_child);
+    const auto index = static_cast<sg::Index>(scene_.translated_shapes.size());
+    scene_.translated_shapes.push_back(*t);
+    return sg::ChildRef{sg::NodeKind::TranslatedShape, index};
 }
 
 // A file's UNIT length factor (parser/units.h) as the scale of the group holding its top-level

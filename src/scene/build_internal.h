@@ -155,6 +155,10 @@ class Builder {
     // (free_fragments_; else copies of them).
     void splice(Scene& fragment, const ConsumedPiece& piece, size_t root_first, size_t& root_count);
     sg::Index make_group(NodeId node);
+    // The group just built as `g` from Transform `node`, or the sg::TranslatedShape that stands
+    // for it and its one Shape (translated_shape.h), which replaces them at the ends of their
+    // arrays.
+    sg::ChildRef translated_or_group(NodeId node, sg::Index g);
     void scale_lengths(sg::Group& group, double scale);
     // build_group_matrix.cpp: `m` as the group's transform (singular: the subtree skipped, warned)
     void set_group_matrix(sg::Group& group, NodeId node, const Mat4& m);

@@ -38,6 +38,7 @@ void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, si
     const auto group_base =
         static_cast<uint32_t>(scene_.groups.size() - 1);  // f's root is not kept
     const auto shape_base = static_cast<uint32_t>(scene_.shapes.size());
+    const auto translated_base = static_cast<uint32_t>(scene_.translated_shapes.size());
     const auto translation_base = static_cast<uint32_t>(scene_.translations.size());
     const auto matrix_base = static_cast<uint32_t>(scene_.matrices.size());
     // f's child blocks after its root's (one slot per top-level node read) follow ours.
@@ -87,7 +88,9 @@ void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, si
 
     const auto renumber = [&](sg::ChildRef r) {  // unused slots (kNone) stay unused
         if (r.index != sg::kNone)
-            r.index += r.kind == sg::NodeKind::Group ? group_base : shape_base;
+            r.index += r.kind == sg::NodeKind::Group   ? group_base
+                       : r.kind == sg::NodeKind::Shape ? shape_base
+                                                       : translated_base;
         return r;
     };
     const sg::Group root = f.groups[Scene::kRoot];
@@ -104,8 +107,7 @@ void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, si
     }
     std::vector<sg::ChildRef> refs = without_front(f.child_refs, read_roots, take);
     for (sg::ChildRef& r : refs) r = renumber(r);
-    std::vector<sg::Shape> shapes = without_front(f.shapes, 0, take);
-    for (sg::Shape& s : shapes) {
+    const auto renumber_shape = [&](auto& s) {  // sg::Shape or sg::TranslatedShape
         if (is_outer_node(s.appearance)) {
             // An Appearance DEF'd before the piece: built with the tree's nodes before this
             // fragment (the shared node's memo gives its index). Only one DEF'd where nothing
@@ -117,11 +119,16 @@ void Builder::splice(Scene& f, const ConsumedPiece& piece, size_t root_first, si
             s.appearance = appearance[s.appearance];
         }
         if (s.geometry != sg::kNone) s.geometry = geometry[s.geometry];
-    }
+    };
+    std::vector<sg::Shape> shapes = without_front(f.shapes, 0, take);
+    for (sg::Shape& s : shapes) renumber_shape(s);
+    std::vector<sg::TranslatedShape> translated = without_front(f.translated_shapes, 0, take);
+    for (sg::TranslatedShape& t : translated) renumber_shape(t);
     scene_.groups.adopt(std::move(groups));
     scene_.child_refs.adopt(std::move(refs));
     scene_.translations.adopt(without_front(f.translations, 0, take));
     scene_.shapes.adopt(std::move(shapes));
+    scene_.translated_shapes.adopt(std::move(translated));
 }
 
 }  // namespace detail

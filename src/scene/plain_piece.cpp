@@ -10,6 +10,7 @@
 #include "parser/lexer.h"
 #include "scene/build_internal.h"
 #include "scene/transform.h"
+#include "scene/translated_shape.h"
 
 namespace vr {
 
@@ -385,6 +386,7 @@ class FragmentWriter {
         scene_.child_refs.adopt(std::move(root_refs_));
         scene_.translations.adopt(std::move(translations_));
         scene_.shapes.adopt(std::move(shapes_));
+        scene_.translated_shapes.adopt(std::move(translated_shapes_));
         return std::move(scene_);
     }
 
@@ -397,7 +399,29 @@ class FragmentWriter {
 
     std::optional<sg::ChildRef> child(uint32_t n) {
         if (at(n).type == Type::Shape) return shape(n);
-        return sg::ChildRef{sg::NodeKind::Group, group(n)};
+        return translated_or_group(group(n));
+    }
+
+    // detail::Builder::translated_or_group's question, asked of the group just built.
+    sg::ChildRef translated_or_group(sg::Index g) {
+        const sg::ChildRef as_group{sg::NodeKind::Group, g};
+        const sg::Group group = groups_[g];
+        if (g + 1 != groups_.size() || group.child_count != 1 ||
+            group.transform_kind != sg::GroupTransform::Translation ||
+            group.transform + 1 != translations_.size())
+            return as_group;
+        const sg::ChildRef only = refs_[group.first_child];
+        if (only.kind != sg::NodeKind::Shape || only.index + 1 != shapes_.size()) return as_group;
+        const std::optional<sg::TranslatedShape> t =
+            translated_shape(group, translations_[group.transform], shapes_[only.index]);
+        if (!t) return as_group;
+        groups_.pop_back();
+        translations_.pop_back();
+        shapes_.pop_back();
+        refs_.resize(group.first_child);
+        const auto index = static_cast<sg::Index>(translated_shapes_.size());
+        translated_shapes_.push_back(*t);
+        return sg::ChildRef{sg::NodeKind::TranslatedShape, index};
     }
 
     sg::Index group(uint32_t id) {
@@ -537,6 +561,7 @@ class FragmentWriter {
     uint32_t root_count_ = 0;
     std::vector<Vec3> translations_;
     std::vector<sg::Shape> shapes_;
+    std::vector<sg::TranslatedShape> translated_shapes_;
     std::unordered_map<MaterialKey, sg::Index, detail::MaterialKeyHash> same_material_;
     FirstIndexMap same_appearance_, same_sphere_;
 };

@@ -387,8 +387,9 @@ enum class NodeKind : uint8_t {
     Background,
     Fog,
     NavigationInfo,
-    ClipPlane,  // into Scene::clip_planes
-    LocalFog,   // into Scene::fogs
+    ClipPlane,        // into Scene::clip_planes
+    LocalFog,         // into Scene::fogs
+    TranslatedShape,  // into Scene::translated_shapes
 };
 struct ChildRef {
     NodeKind kind = NodeKind::Group;
@@ -426,6 +427,24 @@ struct Group {
 };
 static_assert(sizeof(Group) <= 32, "a Group per sphere: keep it small");
 
+// A Transform whose transform is a translation and whose only drawn child is one Shape, neither
+// shared (DEF/USE, or a node the VRML 1.0 reader reuses) nor DEF'd nor with renderer hints, their
+// files the same and the Shape at most 255 bytes after the Transform: the molecule exporters'
+// atom. It stands for the Group, its translation, its child
+// reference and the Shape (92 bytes), and holds all that the scene knew of them: the flattening
+// draws it as it drew the pair (Flattener::visit_translated).
+struct TranslatedShape {
+    Vec3 translation{};
+    PackedLoc transform_loc;  // the Transform's origin: type Transform, no DEF
+    uint8_t shape_delta = 0;  // the Shape's offset minus the Transform's, in the same file
+    Index appearance = kNone;
+    Index geometry = kNone;
+
+    Origin group_origin() const;
+    Shape shape() const;  // the Shape node, hints kNone
+};
+static_assert(sizeof(TranslatedShape) == 40, "one per atom of a molecule export");
+
 }  // namespace vr::sg
 
 namespace vr {
@@ -441,6 +460,7 @@ struct Scene {
     std::vector<Vec3>
         billboard_axes;  // GroupTransform::Billboard: axisOfRotation; (0,0,0): screen-aligned
     ChunkedArray<sg::Shape> shapes;
+    ChunkedArray<sg::TranslatedShape> translated_shapes;  // NodeKind::TranslatedShape
     std::vector<sg::Geometry> geometries;
     std::vector<sg::Appearance> appearances;
     std::vector<sg::Material> materials;

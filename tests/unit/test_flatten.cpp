@@ -65,12 +65,22 @@ void expected_centres(const Scene& scene, sg::Index g, const Mat4& parent,
     const Mat4 m = group.has_transform() ? parent * scene.local_from_child(group) : parent;
     for (const sg::ChildRef& c : scene.children_of(group)) {
         if (c.kind == sg::NodeKind::Group) expected_centres(scene, c.index, m, centres, boxes);
-        if (c.kind != sg::NodeKind::Shape) continue;
-        const sg::Geometry& geometry = scene.geometries[scene.shapes[c.index].geometry];
+        if (c.kind != sg::NodeKind::Shape && c.kind != sg::NodeKind::TranslatedShape) continue;
+        // A record (sg::TranslatedShape) stands for a Transform [I | t] and its Shape.
+        Mat4 shape_m = m, translate(1.0);
+        sg::Index shape_geometry = sg::kNone;
+        if (c.kind == sg::NodeKind::TranslatedShape) {
+            translate[3] = Vec4(scene.translated_shapes[c.index].translation, 1.0);
+            shape_m = m * translate;
+            shape_geometry = scene.translated_shapes[c.index].geometry;
+        } else {
+            shape_geometry = scene.shapes[c.index].geometry;
+        }
+        const sg::Geometry& geometry = scene.geometries[shape_geometry];
         if (std::holds_alternative<sg::Sphere>(geometry.shape))
-            centres.push_back(Vec3(m * Vec4(0.0, 0.0, 0.0, 1.0)));
+            centres.push_back(Vec3(shape_m * Vec4(0.0, 0.0, 0.0, 1.0)));
         else
-            boxes.push_back(m);
+            boxes.push_back(shape_m);
     }
 }
 
@@ -96,6 +106,7 @@ TEST(Flatten, NestedTranslationsGiveTheProductsOfTheirMatrices) {
                 " children Shape { geometry Box {} } } ] } Shape { geometry Sphere {} } ] }\n";
     }
     const Flat f = flatten(body);
+    EXPECT_EQ(f.scene.translated_shapes.size(), 200u);  // the innermost Transforms
     std::vector<Vec3> centres;
     std::vector<Mat4> boxes;
     expected_centres(f.scene, Scene::kRoot, Mat4(1.0), centres, boxes);
@@ -105,6 +116,86 @@ TEST(Flatten, NestedTranslationsGiveTheProductsOfTheirMatrices) {
     for (size_t i = 0; i < boxes.size(); ++i)
         EXPECT_EQ(f.flat.quadrics[i].world_from_object, boxes[i]);
     for (const Sphere& s : f.flat.spheres) EXPECT_TRUE(s.radius == 0.5 || s.radius == 1.0);
+}
+
+// A record (sg::TranslatedShape) draws what the Transform and Shape it stands for drew: the same
+// primitives, bit for bit, in the same order, with the same shading, at the top and under rotated,
+// scaled and translated parents; and the depth limit warns at the same Transform. The twin of
+// each file gives every Transform a second child that draws nothing (a light that is off, which
+// keeps it a group), where the file itself has as many spaces: every node stands at the same
+// offset.
+TEST(Flatten, ARecordDrawsAsItsTransformAndShape) {
+    const auto file = [](bool twin) {
+        const std::string light = " DirectionalLight { on FALSE }";
+        const std::string extra = twin ? light : std::string(light.size(), ' ');
+        std::string body =
+            "Shape { appearance DEF A Appearance { material Material { diffuseColor 1 0 0 } } }\n";
+        const char* geometry[] = {"Sphere { radius 0.5 }", "Box { size 1 2 3 }",
+                                  "Cylinder { radius 0.2 height 2 }", "Cone {}"};
+        for (int i = 0; i < 24; ++i) {
+            const std::string atom = "Transform { translation " + std::to_string(i * 0.37) +
+                                     " -1.25 " + std::to_string(i % 5) +
+                                     " children [ Shape { appearance USE A geometry " +
+                                     geometry[i % 4] + " }" + extra + " ] }";
+            if (i % 3 == 0)
+                body += atom + "\n";
+            else
+                body += "Transform { rotation 0.6 0 0.8 0.7 scale " +
+                        std::string(i % 3 == 1 ? "2 2 2" : "1 2 3") +
+                        " translation 1 2 3 children " + atom + " }\n";
+        }
+        return body;
+    };
+    const Flat compact = flatten(file(false)), twin = flatten(file(true));
+    EXPECT_EQ(compact.scene.translated_shapes.size(), 24u);
+    EXPECT_EQ(twin.scene.translated_shapes.size(), 0u);
+    ASSERT_EQ(compact.flat.spheres.size(), twin.flat.spheres.size());
+    ASSERT_GT(compact.flat.spheres.size(), 0u);
+    for (size_t i = 0; i < twin.flat.spheres.size(); ++i) {
+        const Sphere &a = compact.flat.spheres[i], &b = twin.flat.spheres[i];
+        EXPECT_EQ(a.center, b.center);
+        EXPECT_EQ(a.radius, b.radius);
+        EXPECT_EQ(a.shading, b.shading);
+    }
+    ASSERT_EQ(compact.flat.quadrics.size(), twin.flat.quadrics.size());
+    ASSERT_GT(compact.flat.quadrics.size(), 0u);
+    for (size_t i = 0; i < twin.flat.quadrics.size(); ++i) {
+        EXPECT_EQ(compact.flat.quadrics[i].world_from_object,
+                  twin.flat.quadrics[i].world_from_object);
+        EXPECT_EQ(compact.flat.quadrics[i].shading, twin.flat.quadrics[i].shading);
+    }
+    EXPECT_EQ(compact.stats.spheres, twin.stats.spheres);
+    EXPECT_EQ(compact.stats.quadrics, twin.stats.quadrics);
+
+    FlattenOptions shallow;
+    shallow.max_depth = 1;  // the top-level Transforms only
+    const Flat deep = flatten(file(false), shallow), deep_twin = flatten(file(true), shallow);
+    const auto messages = [](const Flat& f) {  // the text and place (the echoed line differs)
+        std::string all;
+        for (const Diagnostic& d : f.diagnostics.all())
+            all += d.message + " @" + std::to_string(d.loc.offset) + "\n";
+        return all;
+    };
+    EXPECT_EQ(messages(deep), messages(deep_twin));
+    EXPECT_TRUE(has_message(deep.diagnostics, "Transform"));
+    EXPECT_EQ(deep.flat.spheres.size(), deep_twin.flat.spheres.size());
+}
+
+// The VRML 1.0 reader makes one Shape for the atoms that share a state and hangs it under each
+// atom's Transform, with no DEF: the Shape is shared, so its Transforms stay groups (a record in
+// their place once dropped the shared Shape, and the shapes built after it took its index).
+TEST(Flatten, AShapeSharedWithoutADefKeepsItsTransformsGroups) {
+    const Flat f = flatten(R"(Separator {
+        Material { diffuseColor 1 0 0 }
+        Transform { translation 1 0 0 } Sphere { radius 0.5 }
+        Transform { translation 2 0 0 } Sphere { radius 0.5 }
+        Cube { } })",
+                           {}, "#VRML V1.0 ascii\n");
+    ASSERT_EQ(f.flat.spheres.size(), 2u);
+    EXPECT_EQ(f.flat.spheres[0].center, Vec3(1, 0, 0));
+    EXPECT_EQ(f.flat.spheres[1].center, Vec3(3, 0, 0));
+    EXPECT_EQ(f.flat.spheres[1].radius, 0.5);
+    EXPECT_EQ(f.flat.quadrics.size(), 1u);  // the Cube
 }
 
 TEST(Flatten, DirectionalLightIsScopedToItsGroup) {

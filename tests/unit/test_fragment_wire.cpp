@@ -15,8 +15,9 @@
 namespace vr {
 namespace {
 
-// Every node type and transform kind a plain piece makes, and a Shape whose Appearance is a USE
-// of a DEF before the piece (an outer node, resolved where the piece joins).
+// Every node type and transform kind a plain piece makes, the atoms' records (sg::TranslatedShape),
+// and a Shape and a record whose Appearance is a USE of a DEF before the piece (an outer node,
+// resolved where the piece joins).
 const std::string kPiece = R"(Transform { translation 1 2 3 children Shape {
   appearance Appearance { material Material { diffuseColor 0.2 0.4 0.6 shininess 0.3 } }
   geometry Sphere { radius 0.75 } } }
@@ -25,6 +26,8 @@ Transform { translation 0 1 0 rotation 1 0 0 0.5 children Shape {
   geometry Cylinder { radius 0.1 height 2 top FALSE } } }
 Group { children [ Shape { appearance USE ATOM_GREY geometry Box { size 1 2 3 } }
   Shape { geometry Cone { bottomRadius 0.5 height 1 } } ] }
+Transform { translation 4 5 6 children Shape { appearance USE ATOM_GREY
+  geometry Sphere { radius 0.75 } } }
 )";
 
 PlainPiece read(const std::string& text) {
@@ -85,6 +88,15 @@ void expect_same_fragment(const Scene& t, const Scene& s) {
         EXPECT_EQ(t.shapes[i].appearance, s.shapes[i].appearance);  // an outer node stays one
         EXPECT_EQ(t.shapes[i].geometry, s.shapes[i].geometry);
     }
+    ASSERT_EQ(t.translated_shapes.size(), s.translated_shapes.size());
+    for (size_t i = 0; i < s.translated_shapes.size(); ++i) {
+        const sg::TranslatedShape &x = t.translated_shapes[i], &y = s.translated_shapes[i];
+        expect_same_origin(x.group_origin(), y.group_origin());
+        expect_same_origin(x.shape().origin, y.shape().origin);
+        EXPECT_EQ(x.translation, y.translation);
+        EXPECT_EQ(x.appearance, y.appearance);  // an outer node stays one
+        EXPECT_EQ(x.geometry, y.geometry);
+    }
     ASSERT_EQ(t.geometries.size(), s.geometries.size());
     for (size_t i = 0; i < s.geometries.size(); ++i) {
         expect_same_origin(t.geometries[i].origin, s.geometries[i].origin);
@@ -111,7 +123,8 @@ TEST(FragmentWire, APlainPieceArrivesAsItLeft) {
     const PlainPiece plain = read(kPiece);
     const Scene& s = plain.fragment;
     ASSERT_TRUE(fits_wire(s));
-    ASSERT_EQ(s.matrices.size(), 1u);  // the rotated Transform
+    ASSERT_EQ(s.matrices.size(), 1u);           // the rotated Transform
+    ASSERT_EQ(s.translated_shapes.size(), 2u);  // the first and the last Transform
     ASSERT_EQ(s.geometries.size(), 4u);
     ASSERT_EQ(plain.counts.outer_uses.size(), 1u);
 
@@ -130,6 +143,7 @@ TEST(FragmentWire, APlainPieceArrivesAsItLeft) {
     EXPECT_EQ(name_text(in.counts.outer_uses[0]), "ATOM_GREY");
     const Scene& t = *in.fragment;
     expect_same_fragment(t, s);
+    EXPECT_TRUE(is_outer_node(t.translated_shapes[1].appearance));
     EXPECT_EQ(std::get<sg::Sphere>(t.geometries[0].shape).radius, 0.75);
     const auto& cylinder = std::get<sg::Cylinder>(t.geometries[1].shape);
     EXPECT_EQ(cylinder.height, 2.0);

@@ -229,26 +229,33 @@ TEST(SceneBuild, ChildrenKeepTheirOrderAcrossNestedGroups) {
 }
 
 // A Transform that rotates or scales keeps its full matrix; one that only translates rebuilds the
-// very same matrix from its translation.
+// very same matrix from its translation, as a group or as an atom's record (sg::TranslatedShape).
 TEST(SceneBuild, TransformsKeepTheirExactMatrix) {
     const Built b = build(R"(
         Transform { translation 0.1 0.2 0.3 children Shape { geometry Box {} } }
         Transform { rotation 0 1 0 0.5 scale 2 2 2 center 1 0 0 children Shape { geometry Box {} } }
-        Transform { children Shape { geometry Box {} } })");
+        Transform { children Shape { geometry Box {} } }
+        Transform { translation 0.1 0.2 0.3 children [ Shape { geometry Box {} } Shape { geometry Box {} } ] })");
     const Scene& s = b.scene;
-    ASSERT_EQ(s.groups.size(), 4u);
-    EXPECT_EQ(s.groups[1].transform_kind, sg::GroupTransform::Translation);
-    EXPECT_EQ(s.groups[2].transform_kind, sg::GroupTransform::Matrix);
-    EXPECT_EQ(s.groups[3].transform_kind, sg::GroupTransform::Translation);  // the identity
+    ASSERT_EQ(s.groups.size(), 3u);
+    ASSERT_EQ(s.translated_shapes.size(), 2u);  // the first and the third
+    EXPECT_EQ(s.groups[1].transform_kind, sg::GroupTransform::Matrix);
+    EXPECT_EQ(s.groups[2].transform_kind, sg::GroupTransform::Translation);
+    const auto record_matrix = [&](size_t i) {
+        Mat4 m(1.0);
+        m[3] = Vec4(s.translated_shapes[i].translation, 1.0);
+        return m;
+    };
     TransformFields f;
     f.translation = Vec3(0.1, 0.2, 0.3);
-    EXPECT_EQ(s.local_from_child(s.groups[1]), transform_matrix(f));
+    EXPECT_EQ(record_matrix(0), transform_matrix(f));
+    EXPECT_EQ(s.local_from_child(s.groups[2]), transform_matrix(f));
+    EXPECT_EQ(record_matrix(1), Mat4(1.0));  // the identity
     f = TransformFields{};
     f.rotation = Vec4(0, 1, 0, 0.5);
     f.scale = Vec3(2.0);
     f.center = Vec3(1, 0, 0);
-    EXPECT_EQ(s.local_from_child(s.groups[2]), transform_matrix(f));
-    EXPECT_EQ(s.local_from_child(s.groups[3]), Mat4(1.0));
+    EXPECT_EQ(s.local_from_child(s.groups[1]), transform_matrix(f));
 }
 
 TEST(SceneBuild, BillboardAxisKeptBesideTheGroup) {
@@ -267,7 +274,8 @@ TEST(SceneBuild, BillboardAxisKeptBesideTheGroup) {
 }
 
 // PyMOL writes an own, identical Material and Appearance per atom: they become one typed node, as
-// do Spheres of one radius. Different values stay apart.
+// do Spheres of one radius. Different values stay apart. (Each atom is a record,
+// sg::TranslatedShape.)
 TEST(SceneBuild, ContentEqualMaterialsAppearancesAndSpheresMerge) {
     std::string body;
     for (int i = 0; i < 4; ++i) {
@@ -279,19 +287,20 @@ TEST(SceneBuild, ContentEqualMaterialsAppearancesAndSpheresMerge) {
     }
     const Built b = build(body);
     const Scene& s = b.scene;
-    ASSERT_EQ(s.shapes.size(), 4u);
+    ASSERT_EQ(s.translated_shapes.size(), 4u);
     ASSERT_EQ(s.materials.size(), 2u);
     EXPECT_EQ(s.materials[0].diffuse_color, Vec3(0.5));
     EXPECT_EQ(s.materials[1].diffuse_color, Vec3(0.2, 0.3, 1.0));
     ASSERT_EQ(s.appearances.size(), 2u);
-    EXPECT_EQ(s.shapes[0].appearance, s.shapes[2].appearance);
-    EXPECT_EQ(s.shapes[1].appearance, s.shapes[3].appearance);
-    EXPECT_NE(s.shapes[0].appearance, s.shapes[1].appearance);
-    EXPECT_EQ(s.appearances[s.shapes[1].appearance].material, 1u);
+    EXPECT_EQ(s.translated_shapes[0].appearance, s.translated_shapes[2].appearance);
+    EXPECT_EQ(s.translated_shapes[1].appearance, s.translated_shapes[3].appearance);
+    EXPECT_NE(s.translated_shapes[0].appearance, s.translated_shapes[1].appearance);
+    EXPECT_EQ(s.appearances[s.translated_shapes[1].appearance].material, 1u);
     ASSERT_EQ(s.geometries.size(), 2u);
-    EXPECT_EQ(s.shapes[0].geometry, s.shapes[2].geometry);
-    EXPECT_NE(s.shapes[0].geometry, s.shapes[3].geometry);
-    EXPECT_EQ(std::get<sg::Sphere>(s.geometries[s.shapes[3].geometry].shape).radius, 0.7);
+    EXPECT_EQ(s.translated_shapes[0].geometry, s.translated_shapes[2].geometry);
+    EXPECT_NE(s.translated_shapes[0].geometry, s.translated_shapes[3].geometry);
+    EXPECT_EQ(std::get<sg::Sphere>(s.geometries[s.translated_shapes[3].geometry].shape).radius,
+              0.7);
 }
 
 // Materials that differ in any value, in their model, or carry hints or non-finite values (which
@@ -339,6 +348,70 @@ TEST(SceneBuild, DefUseStillSharedNextToMerging) {
     EXPECT_EQ(s.materials.size(), 1u);
     EXPECT_EQ(s.geometries.size(), 1u);
     EXPECT_EQ(b.diagnostics.warning_count(), 0u);
+}
+
+// A molecule exporter's atom, a Transform that only translates and one Shape, is one record
+// (sg::TranslatedShape) that keeps what the Group, its translation and the Shape held: the
+// translation, both origins, the appearance and the geometry.
+TEST(SceneBuild, ATransformThatTranslatesOneShapeIsOneRecord) {
+    const std::string body =
+        "DEF A Appearance { material Material { diffuseColor 1 0 0 } }\n"
+        "Transform { translation 1 -2.5 3e2 children [ Shape { appearance USE A geometry Sphere { "
+        "radius 0.5 } } ] }\n";
+    const Built b = build(body, "#X3D V3.3 utf8\nPROFILE Interchange\n");
+    const Scene& s = b.scene;
+    EXPECT_EQ(s.groups.size(), 1u);  // the root
+    EXPECT_EQ(s.shapes.size(), 0u);
+    EXPECT_EQ(s.translations.size(), 0u);
+    ASSERT_EQ(s.translated_shapes.size(), 1u);
+    const auto root = s.children_of(s.groups[Scene::kRoot]);
+    ASSERT_EQ(root.size(), 1u);
+    EXPECT_EQ(root[0].kind, sg::NodeKind::TranslatedShape);
+    const sg::TranslatedShape& t = s.translated_shapes[root[0].index];
+    EXPECT_EQ(t.translation, Vec3(1, -2.5, 300));
+    const std::string text = "#X3D V3.3 utf8\nPROFILE Interchange\n" + body;
+    EXPECT_EQ(t.group_origin().type_text(), "Transform");
+    EXPECT_EQ(t.group_origin().def_text(), "");
+    EXPECT_EQ(t.group_origin().loc.get().offset, text.find("Transform"));
+    const sg::Shape shape = t.shape();
+    EXPECT_EQ(shape.origin.type_text(), "Shape");
+    EXPECT_EQ(shape.origin.loc.get().offset, text.find("Shape"));
+    EXPECT_EQ(shape.origin.loc.get().file, t.group_origin().loc.get().file);
+    EXPECT_EQ(shape.hints, sg::kNone);
+    ASSERT_EQ(s.appearances.size(), 1u);
+    EXPECT_EQ(shape.appearance, 0u);
+    ASSERT_NE(shape.geometry, sg::kNone);
+    EXPECT_EQ(std::get<sg::Sphere>(s.geometries[shape.geometry].shape).radius, 0.5);
+}
+
+// Whatever the record cannot hold keeps the Transform a group and the Shape a shape: a DEF on
+// either (USE shares the typed node), a rotation, two drawn children, renderer hints, a Shape more
+// than 255 bytes after its Transform. An invisible second child draws nothing, so that Transform
+// is a record.
+TEST(SceneBuild, TransformsTheRecordCannotHoldStayGroups) {
+    const std::string far(300, ' ');
+    const Built b = build(R"(
+        DEF T Transform { translation 1 0 0 children Shape { geometry Sphere {} } }
+        Transform { translation 1 0 0 children DEF S Shape { geometry Sphere {} } }
+        Transform { translation 1 0 0 rotation 0 0 1 0.5 children Shape { geometry Sphere {} } }
+        Transform { translation 1 0 0 children [ Shape { geometry Sphere {} } Shape { geometry Box {} } ] }
+        Transform { translation 1 0 0 children Shape { geometry Sphere {}
+          metadata MetadataSet { name "vrmlray" value [ MetadataString { name "sphereMode" value "gas" } ] } } }
+        Transform { translation 1 0 0 children [)" +
+                              far + R"(Shape { geometry Sphere {} } ] }
+        Transform { translation 1 0 0 children [ Shape { geometry Sphere {} } Shape { visible FALSE geometry Box {} } ] }
+        USE T
+        Transform { children USE S })",
+                          "#X3D V3.3 utf8\nPROFILE Immersive\n");
+    const Scene& s = b.scene;
+    EXPECT_EQ(b.diagnostics.warning_count(), 0u) << b.diagnostics.format(b.loaded.sources);
+    const auto root = s.children_of(s.groups[Scene::kRoot]);
+    ASSERT_EQ(root.size(), 9u);
+    for (size_t i = 0; i < root.size(); ++i)
+        EXPECT_EQ(root[i].kind, i == 6 ? sg::NodeKind::TranslatedShape : sg::NodeKind::Group) << i;
+    EXPECT_EQ(root[7].index, root[0].index);  // USE T: the same group
+    EXPECT_EQ(s.translated_shapes.size(), 1u);
+    EXPECT_EQ(s.groups.size(), 8u);  // the root and seven Transforms
 }
 
 }  // namespace

@@ -43,15 +43,17 @@ std::string loc(const sg::Origin& o) {
 // "" when the two scenes are equal in every array the flattening reads; else the first difference.
 std::string scene_difference(const Scene& a, const Scene& b) {
     const auto sizes = [](const Scene& s) {
-        return std::array<size_t, 14>{
-            s.groups.size(),   s.child_refs.size(),    s.translations.size(), s.matrices.size(),
-            s.shapes.size(),   s.geometries.size(),    s.appearances.size(),  s.materials.size(),
-            s.textures.size(), s.lights.size(),        s.viewpoints.size(),   s.backgrounds.size(),
-            s.hints.size(),    s.billboard_axes.size()};
+        return std::array<size_t, 15>{
+            s.groups.size(),      s.child_refs.size(),     s.translations.size(),
+            s.matrices.size(),    s.shapes.size(),         s.geometries.size(),
+            s.appearances.size(), s.materials.size(),      s.textures.size(),
+            s.lights.size(),      s.viewpoints.size(),     s.backgrounds.size(),
+            s.hints.size(),       s.billboard_axes.size(), s.translated_shapes.size()};
     };
-    static const char* const kArrays[14] = {
-        "group",    "child_ref", "translation", "matrix",    "shape",      "geometry", "appearance",
-        "material", "texture",   "light",       "viewpoint", "background", "hints",    "billboard"};
+    static const char* const kArrays[15] = {"group",   "child_ref", "translation",     "matrix",
+                                            "shape",   "geometry",  "appearance",      "material",
+                                            "texture", "light",     "viewpoint",       "background",
+                                            "hints",   "billboard", "translated shape"};
     const auto na = sizes(a), nb = sizes(b);
     for (size_t k = 0; k < na.size(); ++k)
         if (na[k] != nb[k])
@@ -78,6 +80,13 @@ std::string scene_difference(const Scene& a, const Scene& b) {
         if (loc(x.origin) != loc(y.origin) || x.appearance != y.appearance ||
             x.geometry != y.geometry || x.hints != y.hints)
             return "shape " + std::to_string(i);
+    }
+    for (size_t i = 0; i < a.translated_shapes.size(); ++i) {
+        const sg::TranslatedShape &x = a.translated_shapes[i], &y = b.translated_shapes[i];
+        if (loc(x.group_origin()) != loc(y.group_origin()) ||
+            loc(x.shape().origin) != loc(y.shape().origin) || x.translation != y.translation ||
+            x.appearance != y.appearance || x.geometry != y.geometry)
+            return "translated shape " + std::to_string(i) + " (" + loc(x.group_origin()) + ")";
     }
     for (size_t i = 0; i < a.geometries.size(); ++i) {
         const sg::Geometry &x = a.geometries[i], &y = b.geometries[i];
