@@ -173,6 +173,8 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
                     : choose_bvh_build(double(boxes.size()), choice.camera_samples, choice.lights,
                                        choice.soft_light);
     options.morton = built_by_ == BvhBuild::Morton;
+    // A box is remade from its primitive, the same box, when the build puts the boxes in order.
+    options.remake_box = [&](uint32_t id, BuildBox& box) { candidate_box(scene, ids, id, box); };
     Bvh binary = build_bvh(std::move(boxes), options);
     bvh_ = collapse_bvh(binary);
     // The binary nodes (about 25 bytes a sphere of a large molecule) are not read again: freed
@@ -188,33 +190,37 @@ void Accel::build(const FlatScene& scene, int threads, const BvhChoice& choice) 
     if (choice.soft_light) build_triangle_blocks();
 }
 
+bool Accel::candidate_box(const FlatScene& scene, const BuildIds& ids, uint32_t id,
+                          BuildBox& box) const {
+    const size_t i = id;
+    switch (ids.kind_of(id)) {
+        case PrimKind::Sphere: {
+            const Sphere& s = scene.spheres[i];
+            // Gas spheres are volumes for render/gas.h, not surfaces.
+            if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center))
+                return false;
+            box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
+            return true;
+        }
+        case PrimKind::Quadric:
+            if (!quadric_box(scene.quadrics[i - ids.first_quadric], id, box)) return false;
+            box.cost = kQuadricCost;
+            return true;
+        case PrimKind::Instance:
+            return instance_box(scene.instances[i - ids.first_instance], id, box);
+        case PrimKind::Triangle:
+            break;
+    }
+    const auto [mi, t] = ids.triangle_refs[i - ids.first_triangle];
+    return triangle_box(scene.meshes[mi], t, id, box);
+}
+
 // One box per candidate, made in parallel; the skipped ones (nothing to hit) are removed after.
 BuildBoxes Accel::candidate_boxes(const FlatScene& scene, int threads, const BuildIds& ids) const {
     BuildBoxes boxes;
     resize_huge(boxes, size_t(ids.first_instance) + scene.instances.size());
-    // The box of candidate i, or false when it has nothing to hit.
     auto make_box = [&](size_t i, BuildBox& box) {
-        const uint32_t id = uint32_t(i);
-        switch (ids.kind_of(id)) {
-            case PrimKind::Sphere: {
-                const Sphere& s = scene.spheres[i];
-                // Gas spheres are volumes for render/gas.h, not surfaces.
-                if (s.gas || !(s.radius > 0.0) || !std::isfinite(s.radius) || !finite3(s.center))
-                    return false;
-                box = padded_box(s.center - Vec3(s.radius), s.center + Vec3(s.radius), id);
-                return true;
-            }
-            case PrimKind::Quadric:
-                if (!quadric_box(scene.quadrics[i - ids.first_quadric], id, box)) return false;
-                box.cost = kQuadricCost;
-                return true;
-            case PrimKind::Instance:
-                return instance_box(scene.instances[i - ids.first_instance], id, box);
-            case PrimKind::Triangle:
-                break;
-        }
-        const auto [mi, t] = ids.triangle_refs[i - ids.first_triangle];
-        return triangle_box(scene.meshes[mi], t, id, box);
+        return candidate_box(scene, ids, uint32_t(i), box);
     };
     const int box_chunks = chunks_for(boxes.size(), threads);
     std::vector<size_t> skipped(size_t(box_chunks), 0);

@@ -125,6 +125,9 @@ class Accel {
         }
     };
     BuildBoxes candidate_boxes(const FlatScene& scene, int threads, const BuildIds& ids) const;
+    // The box of candidate `id` (an index of ids' numbering); false when it has nothing to hit.
+    bool candidate_box(const FlatScene& scene, const BuildIds& ids, uint32_t id,
+                       BuildBox& box) const;
     // `order` (the BVH's leaf order) is consumed: an all-sphere scene's becomes sphere_shading_.
     void copy_in_leaf_order(const FlatScene& scene, int threads, const BuildIds& ids,
                             NoFillVector<uint32_t>& order);

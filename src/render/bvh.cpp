@@ -293,6 +293,8 @@ class Builder {
             scale[k] = extent > 0.0f ? 1024.0f * (1.0f - 1e-6f) / extent : 0.0f;
         }
         resize_huge(keys_, n);
+        const bool in_code_order = n >= options_.boxes_in_code_order_from;
+        const bool remake = in_code_order && options_.remake_box != nullptr;
         const int chunks = chunks_for(n, threads);
         parallel_ranges(n, chunks, [&](size_t begin, size_t end, int) {
             const i4 zero = {0, 0, 0, 0}, last = {1023, 1023, 1023, 1023};
@@ -303,7 +305,9 @@ class Builder {
                 const uint32_t code = (spread_bits(uint32_t(q[0])) << 2) |
                                       (spread_bits(uint32_t(q[1])) << 1) |
                                       spread_bits(uint32_t(q[2]));
-                keys_[i] = (uint64_t(code) << 32) | i;
+                // The id when the boxes are remade from it in code order (the sort moves only
+                // code bytes and is stable, so the order is the same).
+                keys_[i] = (uint64_t(code) << 32) | (remake ? boxes_[i].id : uint32_t(i));
             }
         });
         NoFillVector<uint64_t> other;
@@ -330,7 +334,9 @@ class Builder {
             keys_.swap(other);
         }
         NoFillVector<uint64_t>().swap(other);
-        if (n >= options_.boxes_in_code_order_from)
+        if (remake)
+            remake_boxes_in_code_order(threads);
+        else if (in_code_order)
             move_boxes_into_code_order();
         else
             split_keys(threads);
@@ -383,6 +389,22 @@ class Builder {
                             for (size_t i = begin; i < end; ++i)
                                 codes_[i] = uint32_t(keys_[i] >> 32) & 0x3fffffffu;
                         });
+        NoFillVector<uint64_t>().swap(keys_);
+    }
+
+    // The boxes in code order made again from their ids (keys_ holds ids, not indices): box i then
+    // is the i-th in code order, as move_boxes_into_code_order leaves it, but each box is written
+    // once from the caller's primitives, on every thread, where following the cycles waits on a
+    // cache miss a box.
+    void remake_boxes_in_code_order(int threads) {
+        const size_t n = keys_.size();
+        resize_huge(codes_, n);
+        parallel_ranges(n, chunks_for(n, threads), [&](size_t begin, size_t end, int) {
+            for (size_t i = begin; i < end; ++i) {
+                options_.remake_box(uint32_t(keys_[i]), boxes_[i]);
+                codes_[i] = uint32_t(keys_[i] >> 32);
+            }
+        });
         NoFillVector<uint64_t>().swap(keys_);
     }
 

@@ -1,6 +1,7 @@
 // The BVH: structure invariants, and closest hits equal to a brute-force search.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -211,6 +212,41 @@ TEST(Bvh, MortonBuildWithBoxesMovedInPlaceEqualsTheIndexedOne) {
         EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)))
             << threads;
         EXPECT_EQ(a.order, b.order) << threads;
+    }
+}
+
+// The same when the boxes are remade from their ids in code order (what Accel asks of a build of
+// 2^23 boxes or more): the very tree and leaf order of the indexed build, and every box is remade
+// once, from the id of the box that belongs there.
+TEST(Bvh, MortonBuildWithBoxesRemadeInCodeOrderEqualsTheIndexedOne) {
+    Rng rng(12);
+    std::uniform_real_distribution<double> pos(-100.0, 100.0);
+    std::vector<Vec3> centre(3 * 150000);  // ids 1, 4, 7, ... 449998
+    BuildBoxes boxes;
+    for (uint32_t i = 0; i < 150000; ++i) {
+        const uint32_t id = i * 3 + 1;
+        centre[id] = i % 7 == 0 ? Vec3(3.0, -2.0, 1.0) : Vec3(pos(rng), pos(rng), pos(rng));
+        boxes.push_back(make_build_box(centre[id] - Vec3(0.5), centre[id] + Vec3(0.5), id));
+    }
+    for (int threads : {1, 2, 4}) {
+        BvhBuildOptions indexed;
+        indexed.morton = true;
+        indexed.threads = threads;
+        indexed.boxes_in_code_order_from = SIZE_MAX;
+        std::vector<std::atomic<int>> remade(centre.size());
+        BvhBuildOptions remaking = indexed;
+        remaking.boxes_in_code_order_from = 0;
+        remaking.remake_box = [&](uint32_t id, BuildBox& box) {
+            ++remade[id];
+            box = make_build_box(centre[id] - Vec3(0.5), centre[id] + Vec3(0.5), id);
+        };
+        const Bvh a = build_bvh(boxes, indexed), b = build_bvh(boxes, remaking);
+        ASSERT_EQ(a.nodes.size(), b.nodes.size()) << threads;
+        EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)))
+            << threads;
+        EXPECT_EQ(a.order, b.order) << threads;
+        for (uint32_t id = 0; id < centre.size(); ++id)
+            ASSERT_EQ(remade[id].load(), id % 3 == 1 ? 1 : 0) << "id " << id;
     }
 }
 
