@@ -13,6 +13,7 @@
 // the `gen_molecule` CMake target.
 // Usage: gen_molecule N_ATOMS OUT.wrl [--seed S] [--no-bonds]
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -129,34 +130,12 @@ class Writer {
         buf_.append(s);
         if (buf_.size() >= kFlush) flush();
     }
-    // a * scale rounded to the nearest integer, ties to even, as printf rounds: the product's own
-    // rounding may cross a half, so the exact product (fma, one rounding, which keeps its sign) is
-    // compared with the halves on either side.
-    static uint64_t round_scaled(double a, double scale) {
-        double k = std::floor(a * scale + 0.5);
-        if (std::fma(a, scale, -(k - 0.5)) < 0) k -= 1;
-        const double above = std::fma(a, scale, -(k + 0.5));
-        if (above > 0 || (above == 0 && std::fmod(k, 2) != 0)) k += 1;
-        const double below = std::fma(a, scale, -(k - 0.5));
-        if (below == 0 && std::fmod(k, 2) != 0) k -= 1;
-        return static_cast<uint64_t>(k);
-    }
-    // `v` as printf's "%.<decimals>f" writes it (negative zero keeps its sign, as printf's does);
-    // the values here are coordinates and angles, far below 2^63 / 10^5.
+    // `v` as printf's "%.<decimals>f" writes it: std::to_chars rounds the exact binary value the
+    // same way (negative zero keeps its sign), without parsing a format an atom.
     void fixed(double v, int decimals) {
-        static constexpr double kScale[] = {1, 10, 100, 1000, 10000, 100000};
-        char tmp[32];
-        char* end = tmp + sizeof tmp;
-        char* p = end;
-        uint64_t k = round_scaled(std::fabs(v), kScale[decimals]);
-        for (int i = 0; i < decimals; ++i, k /= 10) *--p = static_cast<char>('0' + k % 10);
-        *--p = '.';
-        do {
-            *--p = static_cast<char>('0' + k % 10);
-            k /= 10;
-        } while (k != 0);
-        if (std::signbit(v)) *--p = '-';
-        text({p, static_cast<size_t>(end - p)});
+        char tmp[64];
+        const auto r = std::to_chars(tmp, tmp + sizeof tmp, v, std::chars_format::fixed, decimals);
+        text({tmp, static_cast<size_t>(r.ptr - tmp)});
     }
     void flush() {
         if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), f_) != buf_.size())

@@ -293,8 +293,8 @@ class Builder {
             scale[k] = extent > 0.0f ? 1024.0f * (1.0f - 1e-6f) / extent : 0.0f;
         }
         resize_huge(keys_, n);
-        const bool in_code_order = n >= options_.boxes_in_code_order_from;
-        const bool remake = in_code_order && options_.remake_box != nullptr;
+        const bool remake =
+            n >= options_.boxes_in_code_order_from && options_.remake_box != nullptr;
         const int chunks = chunks_for(n, threads);
         parallel_ranges(n, chunks, [&](size_t begin, size_t end, int) {
             const i4 zero = {0, 0, 0, 0}, last = {1023, 1023, 1023, 1023};
@@ -336,8 +336,6 @@ class Builder {
         NoFillVector<uint64_t>().swap(other);
         if (remake)
             remake_boxes_in_code_order(threads);
-        else if (in_code_order)
-            move_boxes_into_code_order();
         else
             split_keys(threads);
         top.bit = 29;
@@ -360,42 +358,10 @@ class Builder {
         NoFillVector<uint64_t>().swap(keys_);
     }
 
-    // The boxes moved into the sorted keys' order in place (following the permutation's cycles,
-    // each key marked once its box is in place), and the keys cut to their codes: box i is then
-    // the i-th in code order, and no index (4 bytes a box) is held beside the tasks' nodes at the
-    // build's peak. One thread, a cache miss a box: 1.2-1.5 s for 10M boxes under load
-    // (bench/README.md "Issue 45: the atom's record"), hence only from
-    // BvhBuildOptions::boxes_in_code_order_from boxes on.
-    void move_boxes_into_code_order() {
-        constexpr uint64_t kPlaced = uint64_t(1) << 63;  // above the 30-bit code
-        const size_t n = keys_.size();
-        for (size_t i = 0; i < n; ++i) {
-            if (keys_[i] & kPlaced) continue;
-            const BuildBox first = boxes_[i];
-            for (size_t j = i;;) {
-                const auto from = uint32_t(keys_[j]);
-                keys_[j] |= kPlaced;
-                if (from == i) {
-                    boxes_[j] = first;
-                    break;
-                }
-                boxes_[j] = boxes_[from];
-                j = from;
-            }
-        }
-        resize_huge(codes_, n);
-        parallel_ranges(n, chunks_for(n, std::max(options_.threads, 1)),
-                        [&](size_t begin, size_t end, int) {
-                            for (size_t i = begin; i < end; ++i)
-                                codes_[i] = uint32_t(keys_[i] >> 32) & 0x3fffffffu;
-                        });
-        NoFillVector<uint64_t>().swap(keys_);
-    }
-
     // The boxes in code order made again from their ids (keys_ holds ids, not indices): box i then
-    // is the i-th in code order, as move_boxes_into_code_order leaves it, but each box is written
-    // once from the caller's primitives, on every thread, where following the cycles waits on a
-    // cache miss a box.
+    // is the i-th in code order, so no index (4 bytes a box) is held beside the tasks' nodes at the
+    // build's peak. Each box is written once from the caller's primitives, on every thread
+    // (moving them along the permutation's cycles instead waited on a cache miss a box, on one).
     void remake_boxes_in_code_order(int threads) {
         const size_t n = keys_.size();
         resize_huge(codes_, n);

@@ -101,16 +101,16 @@ struct BvhBuildOptions {
     // render/accel.h says when it pays; the figures: bench/README.md, "Figures behind the
     // comments").
     bool morton = false;
-    // The Morton build with at least this many boxes puts them into code order in place (see
-    // remake_box) instead of keeping a box index beside each code: 4 bytes a box
-    // fewer at the build's peak, where memory is what bounds the scene (a 10M-atom molecule,
-    // bench/README.md "Issue 45: the atom's record"). The tree is the same either way.
+    // The Morton build with at least this many boxes, given remake_box, puts them into code order
+    // in place instead of keeping a box index beside each code: 4 bytes a box fewer at the
+    // build's peak, where memory is what bounds the scene (a 10M-atom molecule, bench/README.md
+    // "Issue 45: the atom's record"). The tree is the same either way.
     size_t boxes_in_code_order_from = size_t(1) << 23;
     // Makes the box of the primitive `id` again, the same as the one given (the caller's boxes are
-    // made from its primitives). With it, the boxes are put into code order by remaking box i from
-    // the i-th key's id, in parallel, instead of following the permutation's cycles on one thread
-    // with a cache miss a box (the BVH phase of 10M atoms 1.3 s against 3.35 s, of 100M 11.7 s
-    // against 28.5 s: bench/README.md "Issue 45: the closing run", "Issue 45: 100 million atoms").
+    // made from its primitives): box i is remade from the i-th key's id, in parallel. (Moving the
+    // boxes along the permutation's cycles instead, on one thread with a cache miss a box, made
+    // the BVH phase of 10M atoms 3.35 s against 1.3 s, of 100M 28.5 s against 11.7 s:
+    // bench/README.md "Issue 45: the closing run", "Issue 45: 100 million atoms".)
     std::function<void(uint32_t id, BuildBox& box)> remake_box;
 };
 

@@ -189,35 +189,10 @@ TEST(Bvh, ParallelBuildEqualsSerialBuild) {
     }
 }
 
-// The Morton build that moves its boxes into code order in place (what a build of 2^23 boxes or
-// more does) makes the very tree and leaf order of the one that keeps an index a box, on one
-// thread and on several, with boxes of equal codes among them (their order is the index's).
-TEST(Bvh, MortonBuildWithBoxesMovedInPlaceEqualsTheIndexedOne) {
-    Rng rng(11);
-    std::uniform_real_distribution<double> pos(-100.0, 100.0);
-    BuildBoxes boxes;
-    for (uint32_t i = 0; i < 150000; ++i) {
-        const Vec3 c = i % 7 == 0 ? Vec3(3.0, -2.0, 1.0) : Vec3(pos(rng), pos(rng), pos(rng));
-        boxes.push_back(make_build_box(c - Vec3(0.5), c + Vec3(0.5), i * 3 + 1));
-    }
-    for (int threads : {1, 2, 4}) {
-        BvhBuildOptions indexed;
-        indexed.morton = true;
-        indexed.threads = threads;
-        indexed.boxes_in_code_order_from = SIZE_MAX;
-        BvhBuildOptions moved = indexed;
-        moved.boxes_in_code_order_from = 0;
-        const Bvh a = build_bvh(boxes, indexed), b = build_bvh(boxes, moved);
-        ASSERT_EQ(a.nodes.size(), b.nodes.size()) << threads;
-        EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)))
-            << threads;
-        EXPECT_EQ(a.order, b.order) << threads;
-    }
-}
-
-// The same when the boxes are remade from their ids in code order (what Accel asks of a build of
-// 2^23 boxes or more): the very tree and leaf order of the indexed build, and every box is remade
-// once, from the id of the box that belongs there.
+// The Morton build that remakes its boxes from their ids in code order (what Accel asks of a build
+// of 2^23 boxes or more) makes the very tree and leaf order of the one that keeps an index a box,
+// on one thread and on several, with boxes of equal codes among them (their order is the
+// index's), and remakes every box once, from the id of the box that belongs there.
 TEST(Bvh, MortonBuildWithBoxesRemadeInCodeOrderEqualsTheIndexedOne) {
     Rng rng(12);
     std::uniform_real_distribution<double> pos(-100.0, 100.0);
